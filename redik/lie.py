@@ -1,0 +1,371 @@
+r"""Rotations, rigid transforms and the pose-error metrics built on them.
+
+Conventions (twist order ``(v, ω)``, scalar-first quaternions, ``T_ab``) are those of
+:mod:`redik.conventions`. Quaternion conversions use MuJoCo's ``mju_*`` functions; the
+exponential and logarithm maps are written here because they sit in every solver's inner
+loop, where ``mink.lie.SE3`` (a dataclass per call, ~50 µs a log) is too slow. The tests check
+both maps against ``mink.lie`` as an independent implementation.
+
+Formulas follow Lynch & Park, *Modern Robotics* (2017), §3.2.3 (SO(3) exp/log), §3.3.3
+(SE(3) exp/log) and §3.3.2 (adjoint), rewritten for the ``(v, ω)`` order:
+
+.. math::
+
+    \exp([ω]) = I + \frac{\sin θ}{θ}[ω] + \frac{1 - \cos θ}{θ^2}[ω]^2, \qquad θ = ‖ω‖
+
+    \exp\begin{pmatrix} v \\ ω \end{pmatrix} =
+    \begin{pmatrix} \exp([ω]) & V(ω) v \\ 0 & 1 \end{pmatrix}, \qquad
+    V(ω) = I + \frac{1 - \cos θ}{θ^2}[ω] + \frac{θ - \sin θ}{θ^3}[ω]^2
+
+    \mathrm{Ad}_T = \begin{pmatrix} R & [p] R \\ 0 & R \end{pmatrix}
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from .exceptions import InvalidInput, InvalidPose, InvalidRotation
+
+ROTATION_TOLERANCE = 1e-6
+"""Largest ``‖RᵀR − I‖_max`` and ``|det R − 1|`` accepted for a rotation matrix."""
+
+_SMALL_ANGLE = 1e-6
+
+
+# --------------------------------------------------------------------------------------
+# Validation at the boundary
+
+
+def as_rotation(R: np.ndarray, name: str = "R", tol: float = ROTATION_TOLERANCE) -> np.ndarray:
+    """Return ``R`` as a float (3, 3) array after checking it is a rotation matrix.
+
+    Raises:
+        InvalidRotation: wrong shape, non-finite entries, not orthonormal, or det ≠ +1.
+    """
+    R = np.asarray(R, dtype=float)
+    if R.shape != (3, 3):
+        raise InvalidRotation(f"{name} must be a (3, 3) rotation matrix, got shape {R.shape}")
+    if not np.all(np.isfinite(R)):
+        raise InvalidRotation(f"{name} holds NaN or inf: {R.tolist()}")
+    orthogonality = float(np.max(np.abs(R.T @ R - np.eye(3))))
+    det = float(np.linalg.det(R))
+    if orthogonality > tol or abs(det - 1.0) > tol:
+        raise InvalidRotation(
+            f"{name} is not a rotation matrix: max|RᵀR − I| = {orthogonality:.3g}, "
+            f"det = {det:.6g} (expected orthonormal with det +1 within {tol:g})"
+        )
+    return R
+
+
+def as_pose(T: np.ndarray, name: str = "T", tol: float = ROTATION_TOLERANCE) -> np.ndarray:
+    """Return ``T`` as a float (4, 4) array after checking it is a rigid transform.
+
+    Raises:
+        InvalidPose: wrong shape, non-finite entries, bad last row, or a non-rotation block.
+    """
+    T = np.asarray(T, dtype=float)
+    if T.shape != (4, 4):
+        raise InvalidPose(f"{name} must be a (4, 4) homogeneous transform, got shape {T.shape}")
+    if not np.all(np.isfinite(T)):
+        raise InvalidPose(f"{name} holds NaN or inf: {T.tolist()}")
+    if np.max(np.abs(T[3] - (0.0, 0.0, 0.0, 1.0))) > tol:
+        raise InvalidPose(f"{name} must end with the row [0, 0, 0, 1], got {T[3].tolist()}")
+    try:
+        as_rotation(T[:3, :3], name=f"{name}[:3, :3]", tol=tol)
+    except InvalidRotation as error:
+        raise InvalidPose(str(error)) from None
+    return T
+
+
+def as_vector(x: np.ndarray, size: int, name: str) -> np.ndarray:
+    """Return ``x`` as a finite float vector of length ``size``, or raise :class:`InvalidInput`."""
+    x = np.asarray(x, dtype=float)
+    if x.shape != (size,):
+        raise InvalidInput(f"{name} must have shape ({size},), got {x.shape}")
+    if not np.all(np.isfinite(x)):
+        raise InvalidInput(f"{name} holds NaN or inf: {x.tolist()}")
+    return x
+
+
+def as_quaternion(quat: np.ndarray, name: str = "quat", tol: float = 1e-6) -> np.ndarray:
+    """Return a finite unit quaternion ``(w, x, y, z)`` or raise :class:`InvalidInput`."""
+    quat = as_vector(quat, 4, name)
+    norm = float(np.linalg.norm(quat))
+    if abs(norm - 1.0) > tol:
+        raise InvalidInput(f"{name} must be a unit quaternion (w, x, y, z), got norm {norm:.6g}")
+    return quat
+
+
+# --------------------------------------------------------------------------------------
+# Building blocks
+
+
+def skew(w: np.ndarray) -> np.ndarray:
+    """The 3×3 skew-symmetric matrix ``[w]`` with ``[w] x = w × x``."""
+    return np.array([[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]])
+
+
+def make_pose(R: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """The 4×4 transform with rotation ``R`` and translation ``p``."""
+    T = np.eye(4)
+    T[:3, :3] = R
+    T[:3, 3] = p
+    return T
+
+
+def inverse(T: np.ndarray) -> np.ndarray:
+    """``T⁻¹ = [[Rᵀ, −Rᵀ p], [0, 1]]`` without a general matrix inverse."""
+    Ti = np.eye(4)
+    Rt = T[:3, :3].T
+    Ti[:3, :3] = Rt
+    Ti[:3, 3] = -Rt @ T[:3, 3]
+    return Ti
+
+
+def adjoint(T: np.ndarray) -> np.ndarray:
+    """The 6×6 adjoint ``Ad_T`` acting on ``(v, ω)`` twists: ``V_a = Ad_{T_ab} V_b``."""
+    R = T[:3, :3]
+    Ad = np.zeros((6, 6))
+    Ad[:3, :3] = R
+    Ad[:3, 3:] = skew(T[:3, 3]) @ R
+    Ad[3:, 3:] = R
+    return Ad
+
+
+def quat_from_matrix(R: np.ndarray) -> np.ndarray:
+    """Unit quaternion ``(w, x, y, z)`` of a rotation matrix (``mju_mat2Quat``), ``w ≥ 0``."""
+    quat = np.empty(4)
+    mujoco.mju_mat2Quat(quat, np.ascontiguousarray(R, dtype=float).reshape(9))
+    if quat[0] < 0.0:
+        quat *= -1.0
+    return quat
+
+
+def matrix_from_quat(quat: np.ndarray) -> np.ndarray:
+    """Rotation matrix of a quaternion ``(w, x, y, z)`` (``mju_quat2Mat``; normalised first)."""
+    quat = np.array(quat, dtype=float)
+    mujoco.mju_normalize4(quat)
+    R = np.empty(9)
+    mujoco.mju_quat2Mat(R, quat)
+    return R.reshape(3, 3)
+
+
+# --------------------------------------------------------------------------------------
+# Exponential and logarithm maps
+
+
+def so3_exp(omega: np.ndarray) -> np.ndarray:
+    """``exp([ω]) ∈ SO(3)`` for an exponential-coordinate vector ``ω = θ u`` (Rodrigues)."""
+    wx, wy, wz = float(omega[0]), float(omega[1]), float(omega[2])
+    theta2 = wx * wx + wy * wy + wz * wz
+    theta = math.sqrt(theta2)
+    if theta < _SMALL_ANGLE:
+        a, b = 1.0 - theta2 / 6.0, 0.5 - theta2 / 24.0
+    else:
+        a, b = math.sin(theta) / theta, (1.0 - math.cos(theta)) / theta2
+    return np.array(
+        [
+            [1.0 - b * (wy * wy + wz * wz), b * wx * wy - a * wz, b * wx * wz + a * wy],
+            [b * wx * wy + a * wz, 1.0 - b * (wx * wx + wz * wz), b * wy * wz - a * wx],
+            [b * wx * wz - a * wy, b * wy * wz + a * wx, 1.0 - b * (wx * wx + wy * wy)],
+        ]
+    )
+
+
+def so3_log(R: np.ndarray) -> np.ndarray:
+    """``ω = θ u`` with ``exp([ω]) = R`` and ``θ ∈ [0, π]``.
+
+    Goes through the quaternion (``mju_mat2Quat``, Shepperd's robust branch selection), so it
+    stays accurate at θ → 0 (no arccos of the trace) and at θ → π (no division by sin θ).
+    """
+    quat = np.empty(4)
+    mujoco.mju_mat2Quat(quat, np.ascontiguousarray(R, dtype=float).reshape(9))
+    w, x, y, z = quat
+    if w < 0.0:
+        w, x, y, z = -w, -x, -y, -z
+    s = math.sqrt(x * x + y * y + z * z)
+    if s < 1e-12:
+        # θ = 2 atan2(s, w) ≈ 2 s / w: the vector part carries the axis to first order.
+        scale = 2.0 / w
+    else:
+        scale = 2.0 * math.atan2(s, w) / s
+    return np.array([x * scale, y * scale, z * scale])
+
+
+def _v_matrices(omega: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """``[ω]`` with the coefficients of ``V(ω) = I + c1 [ω] + c2 [ω]²``."""
+    W = skew(omega)
+    theta2 = float(omega @ omega)
+    theta = math.sqrt(theta2)
+    if theta < _SMALL_ANGLE:
+        return W, 0.5 - theta2 / 24.0, 1.0 / 6.0 - theta2 / 120.0
+    return W, (1.0 - math.cos(theta)) / theta2, (theta - math.sin(theta)) / (theta2 * theta)
+
+
+def se3_exp(xi: np.ndarray) -> np.ndarray:
+    """``exp(ξ) ∈ SE(3)`` for a twist ``ξ = (v, ω)`` (Modern Robotics Prop. 3.25)."""
+    xi = np.asarray(xi, dtype=float)
+    omega = xi[3:]
+    W, c1, c2 = _v_matrices(omega)
+    V = np.eye(3) + c1 * W + c2 * (W @ W)
+    return make_pose(so3_exp(omega), V @ xi[:3])
+
+
+def se3_log(T: np.ndarray) -> np.ndarray:
+    """``ξ = (v, ω)`` with ``exp(ξ) = T`` and ``‖ω‖ ≤ π`` (Modern Robotics §3.3.3.2).
+
+    ``v = V(ω)⁻¹ p`` with ``V⁻¹ = I − ½[ω] + (1/θ²)(1 − (θ/2) cot(θ/2)) [ω]²``.
+    """
+    omega = so3_log(T[:3, :3])
+    W = skew(omega)
+    theta2 = float(omega @ omega)
+    theta = math.sqrt(theta2)
+    if theta < _SMALL_ANGLE:
+        c = 1.0 / 12.0 + theta2 / 720.0
+    else:
+        half = 0.5 * theta
+        c = (1.0 - half * math.cos(half) / math.sin(half)) / theta2
+    Vinv = np.eye(3) - 0.5 * W + c * (W @ W)
+    xi = np.empty(6)
+    xi[:3] = Vinv @ T[:3, 3]
+    xi[3:] = omega
+    return xi
+
+
+# --------------------------------------------------------------------------------------
+# Pose-error metrics
+
+
+def position_distance(T_a: np.ndarray, T_b: np.ndarray) -> float:
+    """Euclidean distance ``‖p_b − p_a‖`` between two poses' origins (metres)."""
+    return float(np.linalg.norm(T_b[:3, 3] - T_a[:3, 3]))
+
+
+def rotation_angle(R_a: np.ndarray, R_b: np.ndarray) -> float:
+    """Angle of the relative rotation ``R_aᵀ R_b`` by the logarithm, in ``[0, π]``.
+
+    Accurate at every angle; this is the rotation error every redik solver reports.
+    """
+    return float(np.linalg.norm(so3_log(R_a.T @ R_b)))
+
+
+def rotation_angle_trace(R_a: np.ndarray, R_b: np.ndarray) -> float:
+    """Angle of ``R_aᵀ R_b`` by ``arccos((tr(R_aᵀ R_b) − 1)/2)``.
+
+    The textbook formula. Its derivative is unbounded at 0, so it loses about half the
+    digits for small angles: an error of 1e-8 rad reads as ~1e-8 ± 1e-8. Prefer
+    :func:`rotation_angle` for tolerances.
+    """
+    cos_angle = 0.5 * (float(np.sum(R_a * R_b)) - 1.0)
+    return math.acos(min(1.0, max(-1.0, cos_angle)))
+
+
+def quaternion_geodesic_distance(q_a: np.ndarray, q_b: np.ndarray) -> float:
+    """Rotation angle between two unit quaternions, ``2 atan2(‖vec(q_a⁻¹ q_b)‖, |w|)``.
+
+    Sign-invariant (``q`` and ``−q`` are the same rotation); equals :func:`rotation_angle`
+    of the corresponding matrices, in ``[0, π]``.
+    """
+    qa_inv = np.empty(4)
+    mujoco.mju_negQuat(qa_inv, np.asarray(q_a, dtype=float))
+    rel = np.empty(4)
+    mujoco.mju_mulQuat(rel, qa_inv, np.asarray(q_b, dtype=float))
+    return 2.0 * math.atan2(float(np.linalg.norm(rel[1:])), abs(float(rel[0])))
+
+
+def quaternion_chordal_distance(q_a: np.ndarray, q_b: np.ndarray) -> float:
+    """``min(‖q_a − q_b‖, ‖q_a + q_b‖)`` = ``2 sin(θ/4)`` for a relative angle θ.
+
+    A metric on unit quaternions that is cheap and smooth; it is not an angle.
+    """
+    q_a = np.asarray(q_a, dtype=float)
+    q_b = np.asarray(q_b, dtype=float)
+    return float(min(np.linalg.norm(q_a - q_b), np.linalg.norm(q_a + q_b)))
+
+
+def exp_coordinate_difference(T_a: np.ndarray, T_b: np.ndarray) -> np.ndarray:
+    """Exponential coordinates ``log(T_a⁻¹ T_b) = (v, ω)`` of ``T_b`` seen from ``T_a``.
+
+    This is the body-frame pose error of :mod:`redik.conventions` (``T_a`` the current pose,
+    ``T_b`` the desired one).
+    """
+    return se3_log(inverse(T_a) @ T_b)
+
+
+def euler_angles(R: np.ndarray, convention: str = "xyz") -> np.ndarray:
+    """Euler angles of ``R``: intrinsic ``"xyz"`` (roll-pitch-yaw, ``R = Rx Ry Rz``) or
+    ``"zyx"`` (``R = Rz Ry Rx``), or ``"zyz"``. Singular (gimbal lock) where the middle
+    angle is ±π/2 (``xyz``/``zyx``) or 0/π (``zyz``)."""
+    convention = convention.lower()
+    if convention == "xyz":
+        beta = math.asin(max(-1.0, min(1.0, R[0, 2])))
+        return np.array([math.atan2(-R[1, 2], R[2, 2]), beta, math.atan2(-R[0, 1], R[0, 0])])
+    if convention == "zyx":
+        beta = math.asin(max(-1.0, min(1.0, -R[2, 0])))
+        return np.array([math.atan2(R[1, 0], R[0, 0]), beta, math.atan2(R[2, 1], R[2, 2])])
+    if convention == "zyz":
+        beta = math.atan2(math.hypot(R[0, 2], R[1, 2]), R[2, 2])
+        return np.array([math.atan2(R[1, 2], R[0, 2]), beta, math.atan2(R[2, 1], -R[2, 0])])
+    raise InvalidInput(f"Euler convention must be 'xyz', 'zyx' or 'zyz', got {convention!r}")
+
+
+def euler_difference(R_a: np.ndarray, R_b: np.ndarray, convention: str = "xyz") -> np.ndarray:
+    """Difference of Euler angles ``euler(R_b) − euler(R_a)``, each wrapped to (−π, π].
+
+    **Valid only for small errors away from gimbal lock**: Euler angles are not a metric,
+    their difference depends on the convention, and near the singular middle angle a tiny
+    rotation can change the first and last angles by up to π. Use it to read an error in
+    familiar terms, never as a convergence test.
+    """
+    diff = euler_angles(R_b, convention) - euler_angles(R_a, convention)
+    return wrap_angle(diff)
+
+
+def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
+    """Wrap angles to (−π, π]."""
+    wrapped = np.pi - np.mod(np.pi - np.asarray(angle, dtype=float), 2.0 * np.pi)
+    return float(wrapped) if np.ndim(wrapped) == 0 else wrapped
+
+
+def pose_errors(T: np.ndarray, T_target: np.ndarray) -> tuple[float, float]:
+    """``(‖p_d − p‖, angle(Rᵀ R_d))``: the position (m) and rotation (rad) errors."""
+    return position_distance(T, T_target), rotation_angle(T[:3, :3], T_target[:3, :3])
+
+
+# --------------------------------------------------------------------------------------
+# Interpolation
+
+
+def slerp(q_a: np.ndarray, q_b: np.ndarray, t: float) -> np.ndarray:
+    """Spherical linear interpolation between unit quaternions along the shorter arc.
+
+    ``slerp(q_a, q_b, t) = q_a (q_a⁻¹ q_b)^t``: constant angular speed, ``t = 0`` gives
+    ``q_a`` and ``t = 1`` gives ``±q_b`` (the same rotation). Shoemake (1985).
+    """
+    q_a = np.asarray(q_a, dtype=float)
+    q_b = np.asarray(q_b, dtype=float)
+    if float(q_a @ q_b) < 0.0:
+        q_b = -q_b
+    qa_inv = np.empty(4)
+    mujoco.mju_negQuat(qa_inv, q_a)
+    rel = np.empty(4)
+    mujoco.mju_mulQuat(rel, qa_inv, q_b)
+    velocity = np.empty(3)
+    mujoco.mju_quat2Vel(velocity, rel, 1.0)  # rel = exp(velocity): the relative rotation vector
+    step = np.empty(4)
+    angle = float(np.linalg.norm(velocity))
+    if angle < 1e-15:
+        return q_a.copy()
+    mujoco.mju_axisAngle2Quat(step, velocity / angle, t * angle)
+    out = np.empty(4)
+    mujoco.mju_mulQuat(out, q_a, step)
+    return out
+
+
+def interpolate_pose(T_a: np.ndarray, T_b: np.ndarray, t: float) -> np.ndarray:
+    """Pose at fraction ``t``: position linear, orientation by SLERP (constant speed)."""
+    R = T_a[:3, :3] @ so3_exp(t * so3_log(T_a[:3, :3].T @ T_b[:3, :3]))
+    return make_pose(R, (1.0 - t) * T_a[:3, 3] + t * T_b[:3, 3])

@@ -1,0 +1,45 @@
+"""The bundled scenes: where they live and how to load them.
+
+The MJCF files are in the repository's ``scenes/`` folder (shipped inside the wheel as
+``redik/_scenes``). :mod:`redik.scene_library` holds the tables they are generated from.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from .exceptions import ModelError
+from .robot import Robot
+
+_PACKAGE = Path(__file__).resolve().parent
+
+
+def scenes_dir() -> Path:
+    """The folder holding the bundled scene files."""
+    for candidate in (_PACKAGE / "_scenes", _PACKAGE.parent / "scenes"):
+        if candidate.is_dir():
+            return candidate
+    raise ModelError(f"bundled scenes not found next to {_PACKAGE}")
+
+
+def list_scenes() -> list[str]:
+    """Names of the bundled scenes (file stems), sorted."""
+    return sorted(path.stem for path in scenes_dir().glob("*.xml"))
+
+
+def scene_path(name: str | Path) -> Path:
+    """Path of a scene given its bundled name (``"panda"``) or a path to any MJCF/URDF file."""
+    path = Path(name)
+    if path.suffix in (".xml", ".urdf", ".mjcf") or path.exists():
+        if not path.is_file():
+            raise ModelError(f"robot file not found: {str(path)!r}")
+        return path
+    bundled = scenes_dir() / f"{name}.xml"
+    if not bundled.is_file():
+        raise ModelError(f"no bundled scene named {str(name)!r}; available: {list_scenes()}")
+    return bundled
+
+
+def load(name: str | Path, ee: str | None = None) -> Robot:
+    """Load a bundled scene by name (``redik.load("panda")``) or any MJCF/URDF file by path."""
+    return Robot.from_file(scene_path(name), ee=ee)

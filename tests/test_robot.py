@@ -1,0 +1,160 @@
+"""Robot: chain extraction, FK, Jacobians (all references) against finite differences, errors."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+import redik
+from redik import lie
+from redik.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
+
+from .conftest import ARM_XML
+
+
+def numeric_jacobian(robot: redik.Robot, q: np.ndarray, frame, reference: str) -> np.ndarray:
+    """Central differences of FK on SE(3), step 1e-6 (error O(h²) ≈ 1e-12)."""
+    h = 1e-6
+    J = np.empty((6, robot.dof))
+    for i in range(robot.dof):
+        dq = np.zeros(robot.dof)
+        dq[i] = h
+        T_plus, T_minus = robot.fk(q + dq, frame), robot.fk(q - dq, frame)
+        if reference == "space":
+            J[:, i] = lie.se3_log(T_plus @ lie.inverse(T_minus)) / (2 * h)
+        elif reference == "body":
+            J[:, i] = lie.se3_log(lie.inverse(T_minus) @ T_plus) / (2 * h)
+        else:
+            J[:3, i] = (T_plus[:3, 3] - T_minus[:3, 3]) / (2 * h)
+            J[3:, i] = lie.so3_log(T_plus[:3, :3] @ T_minus[:3, :3].T) / (2 * h)
+    return J
+
+
+def test_chain_joints_limits_and_home(arm):
+    assert arm.joint_names == ("j1", "j2", "j3", "j4", "j5", "j6", "j7")
+    assert arm.dof == 7
+    assert arm.ee.kind == "site" and arm.ee.name == "ee"
+    assert arm.lower[3] == -np.inf and arm.upper[3] == np.inf
+    np.testing.assert_allclose(arm.lower[[0, 2]], [-2.8, 0.0])
+    np.testing.assert_array_equal(arm.revolute, [1, 1, 0, 1, 1, 1, 1])
+    np.testing.assert_allclose(arm.home, [0.1, 0.2, 0.05, -0.3, 0.4, 0.5, 0.6])
+    # Off-chain joints stay at their home values.
+    assert arm.data.qpos[7] == pytest.approx(0.02)
+    fingertip = redik.Robot(arm.model, ee="fingertip")
+    assert fingertip.joint_names[-1] == "grip"
+
+
+def test_fk_matches_an_independent_product_of_transforms(arm, rng):
+    """Rebuild the chain by hand from the MJCF numbers: body offsets, joint motions, site."""
+
+    def T(pos=(0, 0, 0), R=None):
+        return lie.make_pose(np.eye(3) if R is None else R, np.array(pos, dtype=float))
+
+    def euler(a, b, c):  # MuJoCo's default eulerseq 'xyz' is intrinsic
+        return lie.so3_exp([a, 0, 0]) @ lie.so3_exp([0, b, 0]) @ lie.so3_exp([0, 0, c])
+
+    def rot(axis, angle):
+        axis = np.asarray(axis, float)
+        return T(R=lie.so3_exp(angle * axis / np.linalg.norm(axis)))
+
+    base_R = lie.matrix_from_quat([0.9238795, 0, 0, 0.3826834])
+    for _ in range(50):
+        q = arm.random_q(rng)
+        expected = (
+            T((0.1, -0.2, 0.3), base_R)
+            @ rot([0, 0, 1], q[0])
+            @ T((0, 0, 0.3))
+            @ rot([0, 1, 0], q[1])
+            @ T((0.3, 0, 0), euler(0.3, 0, 0))
+            @ T((q[2], 0, 0))
+            @ T((0.2, 0, 0))
+            @ rot([0, 1, 0], q[3])
+            @ T((0.25, 0, 0))
+            @ rot([1, 0, 0], q[4])
+            @ rot([0, 1, 0], q[5])
+            @ T((0.05, 0, 0.02))
+            @ rot([0.6, 0, 0.8], q[6])
+            @ T((0.1, 0.01, 0.02), euler(0.1, 0.2, 0.3))
+        )
+        np.testing.assert_allclose(arm.fk(q), expected, atol=1e-7)  # MJCF quat has 7 digits
+
+
+@pytest.mark.parametrize("reference", ["space", "body", "world"])
+@pytest.mark.parametrize("frame", [None, "fingertip", "l5", "l2"])
+def test_jacobian_matches_finite_differences(arm, rng, reference, frame):
+    for _ in range(10):
+        q = arm.random_q(rng)
+        np.testing.assert_allclose(
+            arm.jacobian(q, frame, reference),
+            numeric_jacobian(arm, q, frame, reference),
+            atol=1e-8,
+        )
+
+
+def test_jacobian_references_are_related_by_the_adjoint(arm, rng):
+    q = arm.random_q(rng)
+    T = arm.fk(q)
+    np.testing.assert_allclose(
+        arm.jacobian(q, reference="space"),
+        lie.adjoint(T) @ arm.jacobian(q, reference="body"),
+        atol=1e-12,
+    )
+
+
+def test_hot_path_equals_checked_path(arm, rng):
+    q = arm.random_q(rng)
+    T, J = np.empty((4, 4)), np.empty((6, arm.dof))
+    T[3] = (0, 0, 0, 1)
+    arm.kinematics(q, arm.ee, T, J)
+    np.testing.assert_array_equal(T, arm.fk(q))
+    np.testing.assert_array_equal(J, arm.jacobian(q, reference="world"))
+
+
+def test_random_q_within_limits_and_reproducible(arm):
+    samples = arm.random_q(7, size=500)
+    assert samples.shape == (500, 7)
+    assert all(arm.within_limits(q) for q in samples)
+    np.testing.assert_array_equal(samples, arm.random_q(7, size=500))
+    assert np.all(np.abs(samples[:, 3]) <= np.pi)  # unlimited hinge sampled in [−π, π]
+
+
+def test_urdf_loads(tmp_path):
+    urdf = """<robot name="two_link">
+      <link name="base"/><link name="l1"/><link name="l2"/>
+      <joint name="a" type="revolute"><parent link="base"/><child link="l1"/>
+        <origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-1" upper="1"/></joint>
+      <joint name="b" type="revolute"><parent link="l1"/><child link="l2"/>
+        <origin xyz="0.5 0 0"/><axis xyz="0 0 1"/><limit lower="-2" upper="2"/></joint>
+    </robot>"""
+    path = tmp_path / "two_link.urdf"
+    path.write_text(urdf)
+    robot = redik.Robot.from_file(path, ee="l2")
+    assert robot.joint_names == ("a", "b")
+    np.testing.assert_allclose(robot.upper, [1, 2])
+    T = robot.fk([np.pi / 2, 0.0])
+    np.testing.assert_allclose(T[:3, 3], [0.0, 0.5, 0.1], atol=1e-12)
+
+
+def test_bad_inputs_raise_redik_errors(arm, tmp_path):
+    with pytest.raises(InvalidConfiguration, match=r"shape \(7,\)"):
+        arm.fk(np.zeros(6))
+    with pytest.raises(InvalidConfiguration, match="NaN"):
+        arm.fk(np.full(7, np.nan))
+    with pytest.raises(InvalidConfiguration, match="NaN"):
+        arm.jacobian([0, 0, 0, np.inf, 0, 0, 0])
+    with pytest.raises(UnknownFrame, match="no site or body named 'nowhere'"):
+        arm.fk(np.zeros(7), frame="nowhere")
+    with pytest.raises(InvalidInput, match="reference"):
+        arm.jacobian(np.zeros(7), reference="hybrid")
+    with pytest.raises(ModelError, match="not found"):
+        redik.Robot.from_file(tmp_path / "missing.xml")
+    with pytest.raises(ModelError, match="could not"):
+        redik.Robot.from_xml_string("<mujoco><worldbody><body></mujoco>")
+    with pytest.raises(UnknownFrame):
+        redik.Robot.from_xml_string(ARM_XML, ee="wrist_camera")
+    with pytest.raises(ModelError, match="no hinge or slide joint"):
+        redik.Robot(mujoco.MjModel.from_xml_string(ARM_XML), ee="floating")
+    # every redik error is catchable at the root
+    with pytest.raises(redik.RedikError):
+        arm.fk(np.zeros(3))
