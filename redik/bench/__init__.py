@@ -1,0 +1,22 @@
+"""Benchmarks behind ``redik bench NAME`` — scripts that measure, never tests.
+
+Each module here is one benchmark: its docstring's first line is the help text, and it
+defines ``add_arguments(parser)`` and ``run(args) -> int``. ``redik bench all`` runs every
+benchmark with its defaults. Machines are noisy: benchmarks report medians and, where they
+compare, ratios against a reference measured in the same run.
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+from types import ModuleType
+
+
+def benchmarks() -> dict[str, ModuleType]:
+    """The benchmark modules by name."""
+    return {
+        info.name: importlib.import_module(f"{__name__}.{info.name}")
+        for info in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name)
+        if not info.name.startswith("_")
+    }
