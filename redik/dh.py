@@ -32,7 +32,8 @@ from typing import Any, Literal
 
 import numpy as np
 
-from redik.exceptions import InvalidConfiguration, InvalidInput, InvalidPose, ModelError
+from .exceptions import InvalidConfiguration, InvalidInput, ModelError
+from .lie import as_pose
 
 Convention = Literal["standard", "modified"]
 JointType = Literal["revolute", "prismatic"]
@@ -197,25 +198,6 @@ def row_transform(row: DHRow, q: float, convention: Convention) -> np.ndarray:
     if convention == "standard":
         return rot_z(theta) @ trans(z=d) @ trans(x=row.a) @ rot_x(row.alpha)
     return rot_x(row.alpha) @ trans(x=row.a) @ rot_z(theta) @ trans(z=d)
-
-
-def as_pose(T: Any, what: str = "pose") -> np.ndarray:
-    """Validate a 4×4 rigid transform (orthonormal R with det +1, last row 0 0 0 1).
-
-    Raises:
-        InvalidPose: ``T`` is not a finite 4×4 rigid transform.
-    """
-    T = np.asarray(T, dtype=float)
-    if T.shape != (4, 4) or not np.all(np.isfinite(T)):
-        raise InvalidPose(f"{what} must be a finite 4×4 transform, got shape {T.shape}")
-    R = T[:3, :3]
-    if (
-        not np.allclose(R.T @ R, np.eye(3), atol=1e-9)
-        or np.linalg.det(R) < 0
-        or not np.allclose(T[3], (0, 0, 0, 1), atol=0)
-    ):
-        raise InvalidPose(f"{what} must be a rigid transform [[R, p], [0, 1]], got\n{T}")
-    return T
 
 
 def tool_transform(tool: Any, convention: Convention) -> np.ndarray:

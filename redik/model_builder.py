@@ -33,16 +33,16 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from redik.dh import (
+from .dh import (
     DHRow,
     RowLike,
-    as_pose,
     parse_convention,
     parse_rows,
     split_row,
     tool_transform,
 )
-from redik.exceptions import InvalidInput, ModelError
+from .exceptions import InvalidInput, ModelError
+from .lie import adjoint, as_pose, quat_from_matrix
 
 # Names of the <custom> entries that carry the kinematic description.
 DH_NUMERICS = ("redik_dh_a", "redik_dh_d", "redik_dh_alpha", "redik_dh_theta")
@@ -245,7 +245,7 @@ def read_dh(model: mujoco.MjModel) -> tuple[tuple[DHRow, ...], str, np.ndarray]:
         convention = parse_convention(_text(model, DH_CONVENTION))
     except (KeyError, ValueError) as error:
         raise ModelError(
-            f"model {_model_name(model)!r} carries no DH table (custom numerics "
+            f"the model carries no DH table (custom numerics "
             f"{', '.join(DH_NUMERICS)}, {DH_PRISMATIC}, {DH_TOOL} and text {DH_CONVENTION}): "
             f"{error}"
         ) from None
@@ -267,8 +267,7 @@ def read_screws(model: mujoco.MjModel) -> tuple[np.ndarray, np.ndarray]:
         M = _numeric(model, POE_HOME).reshape(4, 4)
     except (KeyError, ValueError) as error:
         raise ModelError(
-            f"model {_model_name(model)!r} carries no screw axes (custom numerics "
-            f"{POE_SCREWS}, {POE_HOME}): {error}"
+            f"the model carries no screw axes (custom numerics {POE_SCREWS}, {POE_HOME}): {error}"
         ) from None
     return S, M
 
@@ -276,20 +275,6 @@ def read_screws(model: mujoco.MjModel) -> tuple[np.ndarray, np.ndarray]:
 # ---------------------------------------------------------------------------------------
 # Validation of the kinematic inputs
 # ---------------------------------------------------------------------------------------
-
-
-def adjoint(T: np.ndarray) -> np.ndarray:
-    r"""The 6×6 adjoint of ``T`` in Modern Robotics order (ω, v) — MR Definition 3.20.
-
-    .. math:: [\mathrm{Ad}_T] = \begin{bmatrix} R & 0 \\ [p] R & R \end{bmatrix}
-    """
-    R, p = T[:3, :3], T[:3, 3]
-    hat_p = np.array([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
-    Ad = np.zeros((6, 6))
-    Ad[:3, :3] = R
-    Ad[3:, 3:] = R
-    Ad[3:, :3] = hat_p @ R
-    return Ad
 
 
 def _space_screws(screws: Any, M: Any, frame: str) -> np.ndarray:
@@ -309,7 +294,9 @@ def _space_screws(screws: Any, M: Any, frame: str) -> np.ndarray:
     if frame not in ("space", "body"):
         raise InvalidInput(f"frame must be 'space' or 'body', got {frame!r}")
     if frame == "body":
-        S = adjoint(as_pose(M, "M")) @ S
+        # S = [Ad_M] B (MR §4.1.3); lie.adjoint acts on (v, ω), so swap the halves around it.
+        swap = np.r_[3:6, 0:3]
+        S = (adjoint(as_pose(M, "M")) @ S[swap])[swap]
     for i in range(S.shape[1]):
         omega, v = S[:3, i], S[3:, i]
         norm_omega = float(np.linalg.norm(omega))
@@ -431,9 +418,7 @@ def _pose_attrs(T: np.ndarray) -> str:
         attrs.append(f'pos="{_vec(T[:3, 3])}"')
     R = np.where(np.abs(T[:3, :3]) < 1e-14, 0.0, T[:3, :3])
     if not np.array_equal(R, np.eye(3)):
-        quat = np.empty(4)
-        mujoco.mju_mat2Quat(quat, R.ravel())
-        attrs.append(f'quat="{_vec(quat)}"')
+        attrs.append(f'quat="{_vec(quat_from_matrix(R))}"')
     return (" " + " ".join(attrs)) if attrs else ""
 
 
@@ -634,7 +619,3 @@ def _text(model: mujoco.MjModel, key: str) -> str:
     start = int(model.text_adr[index])
     raw = bytes(model.text_data[start : start + int(model.text_size[index])])
     return raw.split(b"\x00", 1)[0].decode()
-
-
-def _model_name(model: mujoco.MjModel) -> str:
-    return bytes(model.names).split(b"\x00", 1)[0].decode()  # the model name comes first
