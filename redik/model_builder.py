@@ -371,7 +371,7 @@ def _home(home: Any, ranges: np.ndarray) -> np.ndarray:
     if outside.size:
         i = int(outside[0])
         raise InvalidInput(
-            f"home[{i}] = {q[i]!r} lies outside the joint range {tuple(ranges[i].tolist())}"
+            f"home[{i}] = {float(q[i])!r} lies outside the joint range {tuple(ranges[i].tolist())}"
         )
     return q
 
