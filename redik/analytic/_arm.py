@@ -1,0 +1,116 @@
+"""What the 6-joint closed-form solvers (PUMA, Stanford, UR) share: slot labels, the kernel
+output, and the assembly of one target's solutions with their singularities.
+
+A kernel solves B targets at once into S = 8 slots ordered shoulder × elbow × wrist
+(slot = 4·shoulder + 2·elbow + wrist); the scalar solvers run it with B = 1 and keep the valid,
+distinct slots.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from redik.analytic._solution import (
+    IKSolutions,
+    JointSolution,
+    SolutionFamily,
+    finalize,
+)
+from redik.analytic.wrist import WRIST_LABELS
+
+SHOULDER_LABELS = ("left", "right")
+ELBOW_LABELS = ("up", "down")
+ARM_LABELS = tuple(
+    f"{shoulder}-{elbow}-{wrist}"
+    for shoulder in SHOULDER_LABELS
+    for elbow in ELBOW_LABELS
+    for wrist in WRIST_LABELS
+)
+
+#: Singularity kinds a kernel reports, in the order their families take precedence.
+SINGULARITY_KINDS = ("base_axis", "elbow_free", "shoulder_boundary", "elbow_boundary", "wrist")
+
+
+@dataclass(frozen=True)
+class ArmBranches:
+    """Kernel output for B targets and S slots.
+
+    Attributes:
+        q: (B, S, n) joint vectors (finite but meaningless where not valid).
+        valid: (B, S) whether the slot solves its target.
+        flags: Singularity kind → (B, S) bool. ``base_axis``: θ1 arbitrary;
+            ``elbow_free``: θ2 arbitrary (wrist centre at the shoulder);
+            ``shoulder_boundary``: left and right coincide; ``elbow_boundary``: up and down
+            coincide (arm stretched or folded); ``wrist``: the wrist is singular.
+        shoulder_ok: (B,) the first sub-problem (θ1) is solvable.
+        plane_radius: (B,) distance the elbow sub-problem has to span (for the reason).
+    """
+
+    q: np.ndarray
+    valid: np.ndarray
+    flags: dict[str, np.ndarray]
+    shoulder_ok: np.ndarray
+    plane_radius: np.ndarray
+
+    @property
+    def singular(self) -> np.ndarray:
+        """(B, S) whether the slot is at any singularity."""
+        return np.logical_or.reduce([self.flags[kind] for kind in SINGULARITY_KINDS])
+
+
+#: ``describe(q, slot)`` → (text, family or None) for one singularity kind.
+Describer = Callable[[np.ndarray, int], tuple[str, SolutionFamily | None]]
+
+
+def arm_solutions(
+    branches: ArmBranches,
+    describers: dict[str, Describer],
+    revolute: np.ndarray,
+    limits: tuple[np.ndarray, np.ndarray] | None,
+) -> IKSolutions:
+    """The distinct solutions of target 0 of ``branches``, with their singularities.
+
+    At a wrist singularity the flip slot belongs to the same family as the noflip slot and
+    is left out; coincident slots (shoulder or elbow boundary) are merged by ``finalize``.
+    """
+    candidates = []
+    n_joints = branches.q.shape[-1]
+    for slot in range(branches.q.shape[1]):
+        if not branches.valid[0, slot]:
+            continue
+        q = branches.q[0, slot]
+        if branches.flags["wrist"][0, slot] and slot % 2 == 1:
+            continue
+        texts, family = [], None
+        for kind in SINGULARITY_KINDS:
+            if branches.flags[kind][0, slot]:
+                text, kind_family = describers[kind](q, slot)
+                texts.append(text)
+                family = family or kind_family
+        candidates.append(JointSolution(q, ARM_LABELS[slot], "; ".join(texts), family))
+    return finalize(candidates, n_joints, revolute, limits)
+
+
+def rotate_z_transpose(theta: np.ndarray, R: np.ndarray) -> np.ndarray:
+    """:math:`R_z(θ)^T R` for θ of shape (...) and R broadcastable to (..., 3, 3)."""
+    c, s = np.cos(theta), np.sin(theta)
+    return np.stack(
+        [
+            c[..., None] * R[..., 0, :] + s[..., None] * R[..., 1, :],
+            c[..., None] * R[..., 1, :] - s[..., None] * R[..., 0, :],
+            np.broadcast_to(R[..., 2, :], (*theta.shape, 3)),
+        ],
+        axis=-2,
+    )
+
+
+def rotate_y_transpose(theta: np.ndarray, M: np.ndarray) -> np.ndarray:
+    """:math:`R_y(θ)^T M` for θ of shape (...) and M of shape (..., 3, 3)."""
+    c, s = np.cos(theta)[..., None], np.sin(theta)[..., None]
+    return np.stack(
+        [c * M[..., 0, :] - s * M[..., 2, :], M[..., 1, :], s * M[..., 0, :] + c * M[..., 2, :]],
+        axis=-2,
+    )

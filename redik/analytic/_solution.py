@@ -1,0 +1,291 @@
+r"""Result types shared by the closed-form solvers, and the steps every solver ends with.
+
+Every solver in :mod:`redik.analytic` returns an :class:`IKSolutions`: a sequence of
+:class:`JointSolution` (a joint vector that carries a ``label``), with ``reachable`` and, when
+empty, a ``reason``. A configuration at a singularity is still returned once, as a
+representative, with its ``singular`` text and, where the solutions form a continuum, the
+:class:`SolutionFamily` that generates the others. The batch solvers return a
+:class:`BatchSolutions` with a fixed label per slot.
+
+Angles are wrapped to (−π, π] (:func:`wrap_angle`); prismatic joints are left as they are.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass, field
+from typing import overload
+
+import numpy as np
+
+from redik.exceptions import InvalidInput
+
+#: Default tolerance (metres) by which a target may lie outside the workspace and still be
+#: solved, clipped onto the boundary; also the size of a sine below which a configuration is
+#: reported as singular. A solution then reproduces the pose to about this tolerance.
+DEFAULT_TOL = 1e-10
+
+#: Two solutions closer than this (radians or metres, per joint, angles modulo 2π) are one.
+DUPLICATE_TOL = 1e-9
+
+
+def wrap_angle(angle: np.ndarray | float) -> np.ndarray:
+    """Wrap angles to (−π, π]: ``π − ((π − a) mod 2π)``."""
+    wrapped = np.pi - np.mod(np.pi - np.asarray(angle, dtype=float), 2.0 * np.pi)
+    # (π − a) mod 2π can round up to 2π for a just above −π + 2πk.
+    return np.where(wrapped <= -np.pi, wrapped + 2.0 * np.pi, wrapped)
+
+
+class JointSolution(np.ndarray):
+    """A joint vector (a 1-D numpy array) with the name of its branch.
+
+    Attributes:
+        label: Branch name, e.g. ``"left-up-noflip"`` or ``"elbow-down"``.
+        singular: Empty for a regular solution, else what is singular about it.
+        family: The continuum this representative belongs to, when there is one.
+
+    Arithmetic on a solution returns a plain array: the label describes only the solution.
+    """
+
+    label: str
+    singular: str
+    family: SolutionFamily | None
+
+    def __new__(
+        cls,
+        q: np.ndarray,
+        label: str,
+        singular: str = "",
+        family: SolutionFamily | None = None,
+    ) -> JointSolution:
+        solution = np.array(q, dtype=float).view(cls)
+        solution.label = label
+        solution.singular = singular
+        solution.family = family
+        return solution
+
+    def __array_finalize__(self, obj: object) -> None:
+        self.label = getattr(obj, "label", "")
+        self.singular = getattr(obj, "singular", "")
+        self.family = getattr(obj, "family", None)
+
+    def __array_wrap__(
+        self, array: np.ndarray, context: object = None, return_scalar: bool = False
+    ) -> np.ndarray:
+        plain = np.asarray(array)
+        return plain[()] if return_scalar else plain
+
+    def __reduce__(self) -> tuple:
+        # Keep the label through pickling (multiprocessing); a family holds a closure and is
+        # not pickled.
+        rebuild, args, state = super().__reduce__()
+        return rebuild, args, (state, self.label, self.singular)
+
+    def __setstate__(self, state: tuple) -> None:
+        array_state, self.label, self.singular = state
+        self.family = None
+        super().__setstate__(array_state)
+
+    @property
+    def q(self) -> np.ndarray:
+        """The joint vector as a plain array."""
+        return np.asarray(self)
+
+    def __repr__(self) -> str:
+        text = np.array2string(np.asarray(self), precision=6, separator=", ")
+        extra = f", singular={self.singular!r}" if self.singular else ""
+        return f"JointSolution({text}, label={self.label!r}{extra})"
+
+
+@dataclass(frozen=True)
+class SolutionFamily:
+    """A continuum of solutions ``q(t)`` through one representative.
+
+    Attributes:
+        free: Indices of the joints whose values may be chosen (one per parameter of ``at``).
+        description: What is determined and what is not, e.g. ``"θ4 + θ6 = 0.5236"``.
+        invariants: The quantities every member shares, e.g. ``{"theta4+theta6": 0.5236}``.
+        generator: ``generator(*t) -> q``; use :meth:`at`.
+    """
+
+    free: tuple[int, ...]
+    description: str
+    generator: Callable[..., np.ndarray] = field(repr=False)
+    invariants: dict[str, float] = field(default_factory=dict)
+
+    def at(self, *t: float) -> np.ndarray:
+        """The member whose free joints take the values ``t`` (one value per free joint)."""
+        if len(t) != len(self.free):
+            raise InvalidInput(
+                f"this family has {len(self.free)} free parameter(s) (joints {self.free}), "
+                f"got {len(t)} value(s)"
+            )
+        return self.generator(*(float(v) for v in t))
+
+
+@dataclass(frozen=True)
+class IKSolutions(Sequence[JointSolution]):
+    """Every closed-form solution of one target, as a sequence of :class:`JointSolution`.
+
+    Attributes:
+        solutions: The solutions, distinct modulo 2π, in the solver's slot order.
+        n_joints: Length of each joint vector (so an empty result still has a shape).
+        reachable: Whether the target lies in the workspace (joint limits aside).
+        reason: Why there is no solution, when there is none; else empty.
+        preferred: Label of the branch conventionally used by the hardware (e.g. a hexapod's
+            ``"knee-up"``), or empty.
+    """
+
+    solutions: tuple[JointSolution, ...]
+    n_joints: int
+    reachable: bool
+    reason: str = ""
+    preferred: str = ""
+
+    @overload
+    def __getitem__(self, index: int) -> JointSolution: ...
+    @overload
+    def __getitem__(self, index: slice) -> tuple[JointSolution, ...]: ...
+    def __getitem__(self, index: int | slice) -> JointSolution | tuple[JointSolution, ...]:
+        return self.solutions[index]
+
+    def __len__(self) -> int:
+        return len(self.solutions)
+
+    def __iter__(self) -> Iterator[JointSolution]:
+        return iter(self.solutions)
+
+    @property
+    def labels(self) -> tuple[str, ...]:
+        return tuple(solution.label for solution in self.solutions)
+
+    @property
+    def singular(self) -> bool:
+        """Whether any returned solution is at a singularity."""
+        return any(solution.singular for solution in self.solutions)
+
+    @property
+    def families(self) -> tuple[SolutionFamily, ...]:
+        """The continua of solutions, one per singular representative that has one."""
+        return tuple(s.family for s in self.solutions if s.family is not None)
+
+    def as_array(self) -> np.ndarray:
+        """The solutions stacked as a (k, n) array (k = 0 when there is none)."""
+        return np.array([s.q for s in self.solutions], dtype=float).reshape(-1, self.n_joints)
+
+    def by_label(self, label: str) -> JointSolution:
+        """The solution with this label; raises :class:`InvalidInput` naming the labels."""
+        for solution in self.solutions:
+            if solution.label == label:
+                return solution
+        raise InvalidInput(f"no solution labelled {label!r}; the labels are {list(self.labels)}")
+
+    def nearest(self, q_ref: np.ndarray, revolute: np.ndarray | None = None) -> JointSolution:
+        """The solution closest to ``q_ref`` (angles compared modulo 2π, all joints if
+        ``revolute`` is None): the branch to follow along a trajectory."""
+        if not self.solutions:
+            raise InvalidInput(f"there is no solution to choose from: {self.reason}")
+        q_ref = np.asarray(q_ref, dtype=float)
+        if q_ref.shape != (self.n_joints,):
+            raise InvalidInput(f"q_ref must have shape ({self.n_joints},), got {q_ref.shape}")
+        mask = np.ones(self.n_joints, bool) if revolute is None else np.asarray(revolute, bool)
+        difference = self.as_array() - q_ref
+        difference[:, mask] = wrap_angle(difference[:, mask])
+        return self.solutions[int(np.argmin(np.linalg.norm(difference, axis=1)))]
+
+
+@dataclass(frozen=True)
+class BatchSolutions:
+    """Closed-form solutions of B targets at once, slot by slot.
+
+    Attributes:
+        q: (B, S, n) joint vectors; a slot that is not ``valid`` holds NaN.
+        valid: (B, S) whether the slot holds a solution (reachable and within the limits).
+        singular: (B, S) whether that solution is at (within the tolerance of) a singularity;
+            two valid slots of one target may then hold the same configuration.
+        labels: The S slot labels, the same for every target.
+    """
+
+    q: np.ndarray
+    valid: np.ndarray
+    singular: np.ndarray
+    labels: tuple[str, ...]
+
+    def __len__(self) -> int:
+        return self.q.shape[0]
+
+    @property
+    def n_solutions(self) -> np.ndarray:
+        """(B,) number of valid slots per target (duplicates at singularities included)."""
+        return self.valid.sum(axis=1)
+
+
+def limit_representatives(
+    q: np.ndarray, lower: np.ndarray, upper: np.ndarray, revolute: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Move each revolute angle by a multiple of 2π into ``[lower, upper]`` when one exists.
+
+    Returns ``(q_shifted, within)`` for ``q`` of shape (..., n): the shift is the smallest that
+    brings the angle into range (none if it is already in range), and ``within`` (...,) says
+    whether every joint of the vector is in range. A value outside by less than
+    :data:`DUPLICATE_TOL` is clipped onto the limit.
+    """
+    two_pi = 2.0 * np.pi
+    below = lower - q
+    above = q - upper
+    shift = np.where(below > 0.0, two_pi * np.ceil(below / two_pi), 0.0)
+    shift = np.where(above > 0.0, -two_pi * np.ceil(above / two_pi), shift)
+    shifted = np.where(revolute, q + np.nan_to_num(shift), q)
+    inside = (shifted >= lower - DUPLICATE_TOL) & (shifted <= upper + DUPLICATE_TOL)
+    return np.clip(shifted, lower, upper), np.all(inside, axis=-1)
+
+
+def finalize(
+    candidates: Sequence[JointSolution],
+    n_joints: int,
+    revolute: np.ndarray,
+    limits: tuple[np.ndarray, np.ndarray] | None,
+    preferred: str = "",
+) -> IKSolutions:
+    """Wrap angles, drop duplicates (modulo 2π) and filter by joint limits.
+
+    The candidates come from a reachable target; if the limits exclude all of them the result
+    is empty with a reason naming the joints that are out of range.
+    """
+    distinct: list[JointSolution] = []
+    for candidate in candidates:
+        q = np.asarray(candidate, dtype=float).copy()
+        q[revolute] = wrap_angle(q[revolute])
+        if any(_same(q, other.q, revolute) for other in distinct):
+            continue
+        distinct.append(JointSolution(q, candidate.label, candidate.singular, candidate.family))
+    if limits is None:
+        return IKSolutions(tuple(distinct), n_joints, True, preferred=preferred)
+    lower, upper = limits
+    kept: list[JointSolution] = []
+    violated: set[int] = set()
+    for solution in distinct:
+        q, within = limit_representatives(solution.q, lower, upper, revolute)
+        if within:
+            kept.append(JointSolution(q, solution.label, solution.singular, solution.family))
+        else:
+            out = (q < lower - DUPLICATE_TOL) | (q > upper + DUPLICATE_TOL)
+            violated.update(int(i) for i in np.flatnonzero(out))
+    reason = ""
+    if not kept:
+        reason = (
+            f"none of the {len(distinct)} solutions lies within the joint limits "
+            f"(joints out of range: {sorted(violated)})"
+        )
+    return IKSolutions(tuple(kept), n_joints, True, reason, preferred)
+
+
+def unreachable(n_joints: int, reason: str) -> IKSolutions:
+    """The empty result for a target outside the workspace."""
+    return IKSolutions((), n_joints, False, reason)
+
+
+def _same(a: np.ndarray, b: np.ndarray, revolute: np.ndarray) -> bool:
+    difference = a - b
+    difference[revolute] = wrap_angle(difference[revolute])
+    return bool(np.all(np.abs(difference) < DUPLICATE_TOL))

@@ -1,0 +1,276 @@
+r"""PUMA-type 6R arm with a spherical wrist: all eight solutions by wrist-centre decoupling.
+
+Standard DH table (Spong, Hutchinson & Vidyasagar §3.3; the PUMA 560 of Craig 3rd ed.
+§3.7/§4.7 in standard form), joint offsets 0:
+
+=====  =====  =====  =====  ======
+joint  θ      d      a      α
+=====  =====  =====  =====  ======
+1      θ1     0      0      −π/2
+2      θ2     0      a2     0
+3      θ3     d3     a3     π/2
+4      θ4     d4     0      −π/2
+5      θ5     0      0      π/2
+6      θ6     d6     0      0
+=====  =====  =====  =====  ======
+
+(``d6 = 0`` by default: the tool point is the wrist centre.) Multiplying out,
+:math:`R_0^3 = R_z(θ_1) R_y(θ_2 + θ_3)`, :math:`R_3^6 = R_z(θ_4) R_y(θ_5) R_z(θ_6)` and the
+wrist centre :math:`p_c = p - d_6 R \hat z` is
+
+.. math::
+    p_c = R_z(θ_1) \begin{pmatrix} X \\ d_3 \\ -Z \end{pmatrix},\quad
+    X = a_2 c_2 + a_3 c_{23} + d_4 s_{23},\quad Z = a_2 s_2 + a_3 s_{23} - d_4 c_{23}.
+
+Inverse position (Craig §4.7, Paul's solution, rearranged as two planar problems):
+
+1. Shoulder: :math:`X = \pm\sqrt{p_x^2 + p_y^2 - d_3^2}`,
+   :math:`θ_1 = \operatorname{atan2}(p_y, p_x) - \operatorname{atan2}(d_3, X)`.
+2. Elbow: :math:`(X, Z)` is reached by a 2R arm of lengths :math:`|a_2|` and
+   :math:`\sqrt{a_3^2 + d_4^2}` whose second joint is :math:`θ_3 - \operatorname{atan2}(d_4, a_3)`
+   (law of cosines, :func:`redik.analytic.planar.two_link`), two branches.
+3. Wrist: :math:`R_3^6 = R_y(θ_{23})^T R_z(θ_1)^T R` gives θ4, θ5, θ6 as ZYZ Euler angles,
+   two branches (:func:`redik.analytic.wrist.zyz_angles`).
+
+Labels ``"{left|right}-{up|down}-{noflip|flip}"``: *left* when the arm's lateral offset d3
+lies to the left of the vertical plane through the base axis and the wrist centre, seen from
+the base (:math:`X d_3 > 0`; for d3 = 0, :math:`X > 0`); *up* when the elbow is above the
+shoulder–wrist-centre line; *noflip* when θ5 ∈ [0, π].
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from redik.analytic import _checks
+from redik.analytic._arm import (
+    ARM_LABELS,
+    ArmBranches,
+    arm_solutions,
+    rotate_y_transpose,
+    rotate_z_transpose,
+)
+from redik.analytic._solution import (
+    DEFAULT_TOL,
+    BatchSolutions,
+    IKSolutions,
+    SolutionFamily,
+    unreachable,
+    wrap_angle,
+)
+from redik.analytic.planar import batch_result, two_link, two_link_reason
+from redik.analytic.wrist import wrist_singularity, zyz_angles
+
+REVOLUTE = np.ones(6, bool)
+
+
+def dh_rows(a2: float, a3: float, d3: float, d4: float, d6: float = 0.0) -> np.ndarray:
+    """The standard DH table (θ offset, d, a, α) of this arm, one row per joint."""
+    half = np.pi / 2.0
+    return np.array(
+        [
+            [0.0, 0.0, 0.0, -half],
+            [0.0, 0.0, a2, 0.0],
+            [0.0, d3, a3, half],
+            [0.0, d4, 0.0, -half],
+            [0.0, 0.0, 0.0, half],
+            [0.0, d6, 0.0, 0.0],
+        ]
+    )
+
+
+def puma_branches(
+    T: np.ndarray,
+    a2: float,
+    a3: float,
+    d3: float,
+    d4: float,
+    d6: float = 0.0,
+    tol: float = DEFAULT_TOL,
+    theta1: float | None = None,
+    theta2: float | None = None,
+) -> ArmBranches:
+    """The eight slots for a (B, 4, 4) stack of validated poses (the vectorised kernel).
+
+    ``theta1`` / ``theta2`` fix that joint instead of solving for it: how the members of a
+    family are generated at the base-axis and shoulder-point singularities.
+    """
+    R, p = T[:, :3, :3], T[:, :3, 3] - d6 * T[:, :3, 2]
+    px, py, pz = p[:, 0], p[:, 1], p[:, 2]
+    # 1. Shoulder: slot 0 ("left") has X·d3 > 0.
+    rho = np.hypot(px, py)
+    side = 1.0 if d3 >= 0.0 else -1.0
+    shoulder_ok = rho >= abs(d3) - tol
+    shoulder_boundary = np.abs(rho - abs(d3)) <= tol
+    reach = np.where(
+        shoulder_boundary, 0.0, np.sqrt(np.maximum((rho - abs(d3)) * (rho + abs(d3)), 0.0))
+    )
+    X = np.stack([side * reach, -side * reach], axis=-1)
+    th1 = wrap_angle(np.arctan2(py, px)[:, None] - np.arctan2(d3, X))
+    if theta1 is not None:
+        th1 = np.full_like(X, theta1)
+        X = np.cos(th1) * px[:, None] + np.sin(th1) * py[:, None]
+    # 2. Elbow: a 2R arm (|a2|, ρ3) in the plane of joints 2 and 3; slot "up" first.
+    rho3, gamma = float(np.hypot(a3, d4)), float(np.arctan2(d4, a3))
+    Z = np.broadcast_to(-pz[:, None], X.shape)
+    plane = two_link(X, Z, abs(a2), rho3, tol)
+    flipped = np.pi if a2 < 0.0 else 0.0
+    up_first = np.array([[0, 1], [1, 0]] if side > 0 else [[1, 0], [0, 1]])[None]
+    phi2 = np.take_along_axis(plane.theta1, up_first, axis=2)
+    phi3 = np.take_along_axis(plane.theta2, up_first, axis=2)
+    th2 = wrap_angle(phi2 - flipped) if theta2 is None else np.full_like(phi2, theta2)
+    th3 = wrap_angle(phi3 + gamma + flipped)
+    # 3. Wrist: R36 = Ry(θ2 + θ3)ᵀ Rz(θ1)ᵀ R, ZYZ Euler angles.
+    th1_e = np.broadcast_to(th1[:, :, None], th2.shape)
+    R36 = rotate_y_transpose(th2 + th3, rotate_z_transpose(th1_e, R[:, None, None]))
+    wrist = zyz_angles(R36)  # (B, 2, 2, 2, 3)
+    arm = np.stack([th1_e, th2, th3], axis=-1)[:, :, :, None, :]
+    q = np.concatenate([np.broadcast_to(arm, (*wrist.shape[:-1], 3)), wrist], axis=-1)
+    B = T.shape[0]
+    per_shoulder = (B, 2, 2, 2)
+    valid = shoulder_ok[:, None, None, None] & plane.reachable[:, :, None, None]
+    flags = {
+        "base_axis": (rho <= tol) & (abs(d3) <= tol),
+        "shoulder_boundary": shoulder_boundary,
+        "elbow_free": plane.boundary & (plane.radius <= tol),
+        "elbow_boundary": plane.boundary,
+        "wrist": np.abs(np.sin(wrist[..., 1])) <= tol,
+    }
+    flags = {
+        kind: np.broadcast_to(
+            flag.reshape(flag.shape + (1,) * (4 - flag.ndim)), per_shoulder
+        ).reshape(B, 8)
+        for kind, flag in flags.items()
+    }
+    return ArmBranches(
+        q.reshape(B, 8, 6),
+        np.broadcast_to(valid, per_shoulder).reshape(B, 8),
+        flags,
+        shoulder_ok,
+        plane.radius[:, 0],
+    )
+
+
+def puma(
+    T: np.ndarray,
+    a2: float,
+    a3: float,
+    d3: float,
+    d4: float,
+    *,
+    d6: float = 0.0,
+    limits: tuple[np.ndarray, np.ndarray] | None = None,
+    tol: float = DEFAULT_TOL,
+) -> IKSolutions:
+    """Every joint vector of a PUMA-type arm (module docstring) that reaches the pose ``T``.
+
+    Args:
+        T: 4×4 pose of frame 6 in the base frame (metres).
+        a2, a3, d3, d4: DH parameters (metres, signed; ``a2 ≠ 0``).
+        d6: Tool offset along the last axis (0: the pose is the wrist centre's).
+        limits: Optional ``(lower, upper)`` arrays of 6; angles compared modulo 2π.
+        tol: Distance (m) by which the wrist centre may lie outside the workspace and be
+            clipped onto its boundary; also the size of ``sin θ5`` reported as singular.
+
+    Returns:
+        Up to 8 solutions labelled ``"left-up-noflip"`` … ``"right-down-flip"``; fewer where
+        branches coincide (singular, with ``singular`` text and a ``family`` where the
+        solutions form a continuum); none, with a ``reason``, when the wrist centre is out of
+        reach.
+    """
+    T = _checks.pose(T)
+    params = _puma_parameters(a2, a3, d3, d4, d6)
+    checked_limits = _checks.limits(limits, 6)
+    branches = puma_branches(T[None], *params, tol=tol)
+    if not branches.valid.any():
+        return unreachable(6, _reason(T, branches, *params))
+
+    def resolve(slot: int, **fixed: float) -> np.ndarray:
+        return puma_branches(T[None], *params, tol=tol, **fixed).q[0, slot]
+
+    describers = {
+        "base_axis": lambda q, slot: _free(
+            "wrist centre on the base axis: θ1 is arbitrary", 0, lambda t: resolve(slot, theta1=t)
+        ),
+        "elbow_free": lambda q, slot: _free(
+            "wrist centre at the shoulder: θ2 is arbitrary", 1, lambda t: resolve(slot, theta2=t)
+        ),
+        "shoulder_boundary": lambda q, slot: (
+            f"wrist centre at distance |d3| = {abs(params[2]):.6g} m from the base axis: "
+            "left and right coincide",
+            None,
+        ),
+        "elbow_boundary": lambda q, slot: (
+            "arm stretched or folded: elbow up and down coincide",
+            None,
+        ),
+        "wrist": _wrist_describer,
+    }
+    return arm_solutions(branches, describers, REVOLUTE, checked_limits)
+
+
+def puma_batch(
+    T: np.ndarray,
+    a2: float,
+    a3: float,
+    d3: float,
+    d4: float,
+    *,
+    d6: float = 0.0,
+    limits: tuple[np.ndarray, np.ndarray] | None = None,
+    tol: float = DEFAULT_TOL,
+) -> BatchSolutions:
+    """:func:`puma` for a (B, 4, 4) stack of poses, vectorised.
+
+    Returns ``q`` (B, 8, 6) in the slot order of :data:`ARM_LABELS` with a (B, 8) ``valid``
+    mask; at a singularity several valid slots may hold the same (or an equivalent) solution.
+    """
+    T = _checks.poses(T)
+    params = _puma_parameters(a2, a3, d3, d4, d6)
+    checked_limits = _checks.limits(limits, 6)
+    branches = puma_branches(T, *params, tol=tol)
+    return batch_result(
+        branches.q, branches.valid, branches.singular, ARM_LABELS, REVOLUTE, checked_limits
+    )
+
+
+def _puma_parameters(
+    a2: float, a3: float, d3: float, d4: float, d6: float
+) -> tuple[float, float, float, float, float]:
+    a2 = _checks.nonzero(a2, "a2")
+    a3, d3, d4, d6 = (
+        _checks.scalar(v, n) for v, n in ((a3, "a3"), (d3, "d3"), (d4, "d4"), (d6, "d6"))
+    )
+    if a3 == 0.0 and d4 == 0.0:
+        raise _checks.InvalidInput("a3 and d4 must not both be 0 (the forearm has no length)")
+    return a2, a3, d3, d4, d6
+
+
+def _reason(
+    T: np.ndarray, branches: ArmBranches, a2: float, a3: float, d3: float, d4: float, d6: float
+) -> str:
+    if not branches.shoulder_ok[0]:
+        centre = T[:3, 3] - d6 * T[:3, 2]
+        return (
+            f"wrist centre is {np.hypot(centre[0], centre[1]):.6g} m from the base axis, "
+            f"closer than the shoulder offset |d3| = {abs(d3):.6g} m"
+        )
+    return two_link_reason(
+        float(branches.plane_radius[0]), abs(a2), float(np.hypot(a3, d4)), "the wrist centre"
+    )
+
+
+def _free(
+    text: str, joint: int, member: Callable[[float], np.ndarray]
+) -> tuple[str, SolutionFamily]:
+    return text, SolutionFamily((joint,), text, member)
+
+
+def _wrist_describer(q: np.ndarray, slot: int) -> tuple[str, SolutionFamily]:
+    text, wrist = wrist_singularity(q[3:], "ZYZ")
+    arm = q[:3].copy()
+    return text, SolutionFamily(
+        (3,), text, lambda t: np.concatenate([arm, wrist.at(t)]), wrist.invariants
+    )
