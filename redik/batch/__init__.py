@@ -1,0 +1,12 @@
+"""Batch inverse kinematics: many targets at once, vectorised, on all cores or a Ray cluster.
+
+- :mod:`~redik.batch.chain` compiles a robot's MuJoCo chain once into arrays;
+- :mod:`~redik.batch.kinematics` evaluates FK and Jacobians over a whole batch;
+- :mod:`~redik.batch.solve` runs damped least squares on a batch (:func:`solve_batch`);
+- :mod:`~redik.batch.engines` spreads chunks over this process, a process pool or Ray.
+"""
+
+from .chain import Chain
+from .kinematics import forward_kinematics, jacobian
+
+__all__ = ["Chain", "forward_kinematics", "jacobian"]
