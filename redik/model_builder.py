@@ -11,7 +11,7 @@ textbook or a datasheet becomes one. Both builders produce the same kind of scen
   the arm;
 * joint ranges from ``limits`` (a joint is limited only where its limits are finite);
 * a keyframe ``home``, and with ``actuators=True`` one ``<position>`` servo per joint
-  (critically damped, stiffness from the joint-space inertia at ``home`` for a ≈2 Hz
+  (critically damped, stiffness from the joint-space inertia at ``home`` for a ≈4 Hz
   response, ``ctrlrange`` = joint range); bodies are gravity-compensated so the servos
   track commands without sagging;
 * the kinematic description itself, stored in ``<custom>`` so it can be recovered from the
@@ -52,7 +52,7 @@ DH_CONVENTION = "redik_convention"
 POE_SCREWS = "redik_poe_screws"
 POE_HOME = "redik_poe_M"
 
-SERVO_FREQUENCY = 2.0
+SERVO_FREQUENCY = 4.0
 """Natural frequency (Hz) of the generated position servos at the ``home`` posture."""
 
 _UNIT_TOL = 1e-6
