@@ -22,6 +22,8 @@ from redik.analytic._solution import (
 from redik.analytic.wrist import WRIST_LABELS
 
 SHOULDER_LABELS = ("left", "right")
+#: Slot labels of an arm without an elbow choice (the Stanford arm): shoulder × wrist.
+SHOULDER_WRIST_LABELS = tuple(f"{s}-{w}" for s in SHOULDER_LABELS for w in WRIST_LABELS)
 ELBOW_LABELS = ("up", "down")
 ARM_LABELS = tuple(
     f"{shoulder}-{elbow}-{wrist}"
@@ -29,6 +31,18 @@ ARM_LABELS = tuple(
     for elbow in ELBOW_LABELS
     for wrist in WRIST_LABELS
 )
+
+
+def broadcast_flags(flags: dict[str, np.ndarray], shape: tuple[int, ...]) -> dict[str, np.ndarray]:
+    """Broadcast per-target/per-branch flags, whose axes are a prefix of ``shape`` (B, …),
+    to ``shape`` and flatten the branch axes into slots (B, S)."""
+    return {
+        kind: np.broadcast_to(
+            flag.reshape(flag.shape + (1,) * (len(shape) - flag.ndim)), shape
+        ).reshape(shape[0], -1)
+        for kind, flag in flags.items()
+    }
+
 
 #: Singularity kinds a kernel reports, in the order their families take precedence.
 SINGULARITY_KINDS = ("base_axis", "elbow_free", "shoulder_boundary", "elbow_boundary", "wrist")
@@ -41,7 +55,7 @@ class ArmBranches:
     Attributes:
         q: (B, S, n) joint vectors (finite but meaningless where not valid).
         valid: (B, S) whether the slot solves its target.
-        flags: Singularity kind → (B, S) bool. ``base_axis``: θ1 arbitrary;
+        flags: Singularity kind → (B, S) bool, for the kinds the arm can have. ``base_axis``: θ1 arbitrary;
             ``elbow_free``: θ2 arbitrary (wrist centre at the shoulder);
             ``shoulder_boundary``: left and right coincide; ``elbow_boundary``: up and down
             coincide (arm stretched or folded); ``wrist``: the wrist is singular.
@@ -58,7 +72,7 @@ class ArmBranches:
     @property
     def singular(self) -> np.ndarray:
         """(B, S) whether the slot is at any singularity."""
-        return np.logical_or.reduce([self.flags[kind] for kind in SINGULARITY_KINDS])
+        return np.logical_or.reduce(list(self.flags.values()))
 
 
 #: ``describe(q, slot)`` → (text, family or None) for one singularity kind.
@@ -67,14 +81,16 @@ Describer = Callable[[np.ndarray, int], tuple[str, SolutionFamily | None]]
 
 def arm_solutions(
     branches: ArmBranches,
+    labels: tuple[str, ...],
     describers: dict[str, Describer],
     revolute: np.ndarray,
     limits: tuple[np.ndarray, np.ndarray] | None,
 ) -> IKSolutions:
     """The distinct solutions of target 0 of ``branches``, with their singularities.
 
-    At a wrist singularity the flip slot belongs to the same family as the noflip slot and
-    is left out; coincident slots (shoulder or elbow boundary) are merged by ``finalize``.
+    ``labels`` names the slots, wrist branch last (odd slots are "flip"). At a wrist
+    singularity the flip slot belongs to the same family as the noflip slot and is left out;
+    coincident slots (shoulder or elbow boundary) are merged by ``finalize``.
     """
     candidates = []
     n_joints = branches.q.shape[-1]
@@ -86,12 +102,19 @@ def arm_solutions(
             continue
         texts, family = [], None
         for kind in SINGULARITY_KINDS:
-            if branches.flags[kind][0, slot]:
+            if kind in branches.flags and branches.flags[kind][0, slot]:
                 text, kind_family = describers[kind](q, slot)
                 texts.append(text)
                 family = family or kind_family
-        candidates.append(JointSolution(q, ARM_LABELS[slot], "; ".join(texts), family))
+        candidates.append(JointSolution(q, labels[slot], "; ".join(texts), family))
     return finalize(candidates, n_joints, revolute, limits)
+
+
+def free_joint(
+    text: str, joint: int, member: Callable[[float], np.ndarray]
+) -> tuple[str, SolutionFamily]:
+    """A singularity's text and the family in which ``joint`` is free (``member(t) -> q``)."""
+    return text, SolutionFamily((joint,), text, member)
 
 
 def rotate_z_transpose(theta: np.ndarray, R: np.ndarray) -> np.ndarray:

@@ -40,8 +40,6 @@ shoulder–wrist-centre line; *noflip* when θ5 ∈ [0, π].
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import numpy as np
 
 from redik.analytic import _checks
@@ -49,6 +47,8 @@ from redik.analytic._arm import (
     ARM_LABELS,
     ArmBranches,
     arm_solutions,
+    broadcast_flags,
+    free_joint,
     rotate_y_transpose,
     rotate_z_transpose,
 )
@@ -138,16 +138,10 @@ def puma_branches(
         "elbow_boundary": plane.boundary,
         "wrist": np.abs(np.sin(wrist[..., 1])) <= tol,
     }
-    flags = {
-        kind: np.broadcast_to(
-            flag.reshape(flag.shape + (1,) * (4 - flag.ndim)), per_shoulder
-        ).reshape(B, 8)
-        for kind, flag in flags.items()
-    }
     return ArmBranches(
         q.reshape(B, 8, 6),
         np.broadcast_to(valid, per_shoulder).reshape(B, 8),
-        flags,
+        broadcast_flags(flags, per_shoulder),
         shoulder_ok,
         plane.radius[:, 0],
     )
@@ -191,10 +185,10 @@ def puma(
         return puma_branches(T[None], *params, tol=tol, **fixed).q[0, slot]
 
     describers = {
-        "base_axis": lambda q, slot: _free(
+        "base_axis": lambda q, slot: free_joint(
             "wrist centre on the base axis: θ1 is arbitrary", 0, lambda t: resolve(slot, theta1=t)
         ),
-        "elbow_free": lambda q, slot: _free(
+        "elbow_free": lambda q, slot: free_joint(
             "wrist centre at the shoulder: θ2 is arbitrary", 1, lambda t: resolve(slot, theta2=t)
         ),
         "shoulder_boundary": lambda q, slot: (
@@ -208,7 +202,7 @@ def puma(
         ),
         "wrist": _wrist_describer,
     }
-    return arm_solutions(branches, describers, REVOLUTE, checked_limits)
+    return arm_solutions(branches, ARM_LABELS, describers, REVOLUTE, checked_limits)
 
 
 def puma_batch(
@@ -260,12 +254,6 @@ def _reason(
     return two_link_reason(
         float(branches.plane_radius[0]), abs(a2), float(np.hypot(a3, d4)), "the wrist centre"
     )
-
-
-def _free(
-    text: str, joint: int, member: Callable[[float], np.ndarray]
-) -> tuple[str, SolutionFamily]:
-    return text, SolutionFamily((joint,), text, member)
 
 
 def _wrist_describer(q: np.ndarray, slot: int) -> tuple[str, SolutionFamily]:

@@ -1,0 +1,187 @@
+r"""Stanford arm (RRP with a spherical wrist): every solution with :math:`d_3 \ge 0`.
+
+Standard DH table (Spong, Hutchinson & Vidyasagar §3.3.5), joint offsets 0, q3 = d3:
+
+=====  =====  =====  =====  ======
+joint  θ      d      a      α
+=====  =====  =====  =====  ======
+1      θ1     d1     0      −π/2
+2      θ2     d2     0      π/2
+3      0      d3     0      0
+4      θ4     0      0      −π/2
+5      θ5     0      0      π/2
+6      θ6     d6     0      0
+=====  =====  =====  =====  ======
+
+(``d1 = 0`` in Spong: base frame at the shoulder.) Multiplying out,
+:math:`R_0^3 = R_z(θ_1) R_y(θ_2)`, :math:`R_3^6 = R_z(θ_4) R_y(θ_5) R_z(θ_6)`, and the wrist
+centre :math:`p_c = p - d_6 R\hat z` is
+:math:`R_z(θ_1)\,(d_3 s_2,\; d_2,\; d_1 + d_3 c_2)`. Inverse (Spong §3.3.5):
+
+1. :math:`X = \pm\sqrt{p_{cx}^2 + p_{cy}^2 - d_2^2}`,
+   :math:`θ_1 = \operatorname{atan2}(p_{cy}, p_{cx}) - \operatorname{atan2}(d_2, X)`.
+2. :math:`d_3 = \sqrt{X^2 + (p_{cz} - d_1)^2} \ge 0`, :math:`θ_2 = \operatorname{atan2}(X,
+   p_{cz} - d_1)` (the other sign of d3 is excluded).
+3. :math:`R_3^6 = R_y(θ_2)^T R_z(θ_1)^T R`, ZYZ Euler angles, two branches.
+
+Labels ``"{left|right}-{noflip|flip}"``: *left* when the offset d2 lies to the left of the
+vertical plane through the base axis and the wrist centre, seen from the base
+(:math:`X d_2 > 0`; for d2 = 0, :math:`X > 0`); *noflip* when θ5 ∈ [0, π].
+Singular: the wrist centre on the shoulder cylinder (left = right), at the shoulder
+(d3 = 0, θ2 free), on the base axis when d2 = 0 (θ1 free), and the wrist.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from redik.analytic import _checks
+from redik.analytic._arm import (
+    SHOULDER_WRIST_LABELS,
+    ArmBranches,
+    arm_solutions,
+    broadcast_flags,
+    free_joint,
+    rotate_y_transpose,
+    rotate_z_transpose,
+)
+from redik.analytic._solution import (
+    DEFAULT_TOL,
+    IKSolutions,
+    SolutionFamily,
+    unreachable,
+    wrap_angle,
+)
+from redik.analytic.wrist import wrist_singularity, zyz_angles
+
+#: Which joints are angles (q3 = d3 is a length).
+REVOLUTE = np.array([True, True, False, True, True, True])
+
+
+def dh_rows(d2: float, d6: float, d1: float = 0.0) -> np.ndarray:
+    """The standard DH table (θ offset, d, a, α) of this arm; row 3's d is the offset
+    added to q3 (0)."""
+    half = np.pi / 2.0
+    return np.array(
+        [
+            [0.0, d1, 0.0, -half],
+            [0.0, d2, 0.0, half],
+            [0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, -half],
+            [0.0, 0.0, 0.0, half],
+            [0.0, d6, 0.0, 0.0],
+        ]
+    )
+
+
+def stanford_branches(
+    T: np.ndarray,
+    d2: float,
+    d6: float,
+    d1: float = 0.0,
+    tol: float = DEFAULT_TOL,
+    theta1: float | None = None,
+    theta2: float | None = None,
+) -> ArmBranches:
+    """The four slots (shoulder × wrist) for a (B, 4, 4) stack of validated poses.
+
+    ``theta1`` / ``theta2`` fix that joint instead of solving for it (family members).
+    """
+    B = T.shape[0]
+    R, p = T[:, :3, :3], T[:, :3, 3] - d6 * T[:, :3, 2]
+    rho = np.hypot(p[:, 0], p[:, 1])
+    side = 1.0 if d2 >= 0.0 else -1.0
+    shoulder_ok = rho >= abs(d2) - tol
+    shoulder_boundary = np.abs(rho - abs(d2)) <= tol
+    reach = np.where(
+        shoulder_boundary, 0.0, np.sqrt(np.maximum((rho - abs(d2)) * (rho + abs(d2)), 0.0))
+    )
+    X = np.stack([side * reach, -side * reach], axis=-1)  # (B, 2)
+    th1 = wrap_angle(np.arctan2(p[:, 1], p[:, 0])[:, None] - np.arctan2(d2, X))
+    if theta1 is not None:
+        th1 = np.full_like(X, theta1)
+        X = np.cos(th1) * p[:, None, 0] + np.sin(th1) * p[:, None, 1]
+    Z = np.broadcast_to((p[:, 2] - d1)[:, None], X.shape)
+    d3 = np.hypot(X, Z)
+    th2 = np.arctan2(X, Z) if theta2 is None else np.full_like(X, theta2)
+    R36 = rotate_y_transpose(th2, rotate_z_transpose(th1, R[:, None]))
+    wrist = zyz_angles(R36)  # (B, 2, 2, 3)
+    shape = (B, 2, 2)
+    arm = np.stack([th1, th2, d3], axis=-1)[:, :, None, :]
+    q = np.concatenate([np.broadcast_to(arm, (*shape, 3)), wrist], axis=-1)
+    flags = {
+        "base_axis": (rho <= tol) & (abs(d2) <= tol),
+        "shoulder_boundary": shoulder_boundary,
+        "elbow_free": d3 <= tol,
+        "wrist": np.abs(np.sin(wrist[..., 1])) <= tol,
+    }
+    valid = np.broadcast_to(shoulder_ok[:, None, None], shape).reshape(B, 4)
+    return ArmBranches(
+        q.reshape(B, 4, 6), valid, broadcast_flags(flags, shape), shoulder_ok, d3[:, 0]
+    )
+
+
+def stanford(
+    T: np.ndarray,
+    d2: float,
+    d6: float,
+    *,
+    d1: float = 0.0,
+    limits: tuple[np.ndarray, np.ndarray] | None = None,
+    tol: float = DEFAULT_TOL,
+) -> IKSolutions:
+    """Every ``(θ1, θ2, d3, θ4, θ5, θ6)`` with ``d3 ≥ 0`` of a Stanford arm reaching ``T``.
+
+    Args:
+        T: 4×4 pose of frame 6 in the base frame (metres).
+        d2: Shoulder offset (m, signed). d6: Tool length along the last axis (m, signed).
+        d1: Height of the shoulder above the base frame (m; 0 in Spong's table).
+        limits: Optional ``(lower, upper)`` arrays of 6; angles compared modulo 2π, d3 as is.
+        tol: Distance (m) from a singular set reported as singular.
+
+    Returns:
+        Up to 4 solutions ``"left-noflip"`` … ``"right-flip"``; none, with a ``reason``,
+        when the wrist centre is closer to the base axis than ``|d2|``.
+    """
+    T = _checks.pose(T)
+    d2, d6, d1 = (_checks.scalar(v, n) for v, n in ((d2, "d2"), (d6, "d6"), (d1, "d1")))
+    checked_limits = _checks.limits(limits, 6)
+    branches = stanford_branches(T[None], d2, d6, d1, tol)
+    if not branches.valid.any():
+        centre = T[:3, 3] - d6 * T[:3, 2]
+        return unreachable(
+            6,
+            f"wrist centre is {np.hypot(centre[0], centre[1]):.6g} m from the base axis, "
+            f"closer than the shoulder offset |d2| = {abs(d2):.6g} m",
+        )
+
+    def resolve(slot: int, **fixed: float) -> np.ndarray:
+        return stanford_branches(T[None], d2, d6, d1, tol, **fixed).q[0, slot]
+
+    describers = {
+        "base_axis": lambda q, slot: free_joint(
+            "wrist centre on the base axis (d2 = 0): θ1 is arbitrary",
+            0,
+            lambda t: resolve(slot, theta1=t),
+        ),
+        "elbow_free": lambda q, slot: free_joint(
+            "wrist centre at the shoulder (d3 = 0): θ2 is arbitrary",
+            1,
+            lambda t: resolve(slot, theta1=q[0], theta2=t),
+        ),
+        "shoulder_boundary": lambda q, slot: (
+            f"wrist centre at distance |d2| = {abs(d2):.6g} m from the base axis: "
+            "left and right coincide",
+            None,
+        ),
+        "wrist": _wrist_describer,
+    }
+    return arm_solutions(branches, SHOULDER_WRIST_LABELS, describers, REVOLUTE, checked_limits)
+
+
+def _wrist_describer(q: np.ndarray, slot: int) -> tuple[str, SolutionFamily]:
+    text, wrist = wrist_singularity(q[3:], "ZYZ")
+    arm = q[:3].copy()
+    return text, SolutionFamily(
+        (3,), text, lambda t: np.concatenate([arm, wrist.at(t)]), wrist.invariants
+    )

@@ -1,0 +1,301 @@
+r"""UR-type 6R arm (Universal Robots): all eight solutions in closed form.
+
+Standard DH table as published by Universal Robots (joint offsets 0; for the UR5e
+a2 = −0.425, a3 = −0.3922 m, negative because the arm points along −x at q = 0):
+
+=====  =====  =====  =====  ======
+joint  θ      d      a      α
+=====  =====  =====  =====  ======
+1      θ1     d1     0      π/2
+2      θ2     0      a2     0
+3      θ3     0      a3     0
+4      θ4     d4     0      π/2
+5      θ5     d5     0      −π/2
+6      θ6     d6     0      0
+=====  =====  =====  =====  ======
+
+Joints 2, 3 and 4 are parallel to :math:`\hat z_1 = (s_1, -c_1, 0)`, so everything after
+joint 1 keeps a constant offset :math:`d_4` along it. Following Hawkins (2013), "Analytic
+Inverse Kinematics for the Universal Robots UR-5/UR-10 Arms", and Andersen (2018),
+"Kinematics of a UR5":
+
+1. :math:`p_5 = p - d_6 R\hat z` satisfies :math:`\hat z_1 \cdot p_5 = d_4`, so with
+   :math:`X = \pm\sqrt{p_{5x}^2 + p_{5y}^2 - d_4^2}`,
+   :math:`θ_1 = \operatorname{atan2}(p_{5y}, p_{5x}) + \operatorname{atan2}(d_4, X)`.
+2. :math:`\hat z_1` seen from frame 6 is :math:`(s_5 c_6, -s_5 s_6, c_5)`:
+   :math:`c_5 = \hat z_1\cdot\hat z_6`,
+   :math:`θ_5 = \pm\operatorname{atan2}(s_5, c_5)` with
+   :math:`s_5 = \sqrt{(\hat z_1\cdot\hat x_6)^2 + (\hat z_1\cdot\hat y_6)^2}`, and
+   :math:`θ_6 = \operatorname{atan2}(-\hat z_1\cdot\hat y_6 / s_5,\;
+   \hat z_1\cdot\hat x_6 / s_5)`; at :math:`s_5 = 0` θ6 is free.
+3. :math:`T_1^4 = A_1^{-1}\, T\, (A_5 A_6)^{-1}` gives the frame-4 origin
+   :math:`(a_2 c_2 + a_3 c_{23},\; a_2 s_2 + a_3 s_{23})` and :math:`θ_{234}`; θ2, θ3 by the
+   law of cosines (:func:`redik.analytic.planar.two_link`, with :math:`|a_2|, |a_3|` and
+   shifts of π for negative lengths), :math:`θ_4 = θ_{234} - θ_2 - θ_3`.
+
+Labels ``"{left|right}-{up|down}-{noflip|flip}"``: *left* when the lateral offset d4 lies to
+the left of the vertical plane through the base axis and :math:`p_5`, seen from the base
+(:math:`X d_4 < 0`); *up* when the elbow lies above the shoulder–wrist line with
+:math:`p_5` in front (:math:`X > 0`) of the shoulder (the same branch is kept behind);
+*noflip* when θ5 ∈ [0, π].
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from redik.analytic import _checks
+from redik.analytic._arm import (
+    ARM_LABELS,
+    ArmBranches,
+    arm_solutions,
+    broadcast_flags,
+    free_joint,
+)
+from redik.analytic._solution import (
+    DEFAULT_TOL,
+    BatchSolutions,
+    IKSolutions,
+    unreachable,
+    wrap_angle,
+)
+from redik.analytic.planar import batch_result, two_link, two_link_reason
+
+REVOLUTE = np.ones(6, bool)
+
+#: UR5e parameters (d1, a2, a3, d4, d5, d6) from Universal Robots' DH table, in metres.
+UR5E = (0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996)
+
+
+def dh_rows(d1: float, a2: float, a3: float, d4: float, d5: float, d6: float) -> np.ndarray:
+    """The standard DH table (θ offset, d, a, α) of this arm, one row per joint."""
+    half = np.pi / 2.0
+    return np.array(
+        [
+            [0.0, d1, 0.0, half],
+            [0.0, 0.0, a2, 0.0],
+            [0.0, 0.0, a3, 0.0],
+            [0.0, d4, 0.0, half],
+            [0.0, d5, 0.0, -half],
+            [0.0, d6, 0.0, 0.0],
+        ]
+    )
+
+
+def ur_branches(
+    T: np.ndarray,
+    d1: float,
+    a2: float,
+    a3: float,
+    d4: float,
+    d5: float,
+    d6: float,
+    tol: float = DEFAULT_TOL,
+    theta1: float | None = None,
+    theta2: float | None = None,
+    theta6: float | None = None,
+) -> ArmBranches:
+    """The eight slots for a (B, 4, 4) stack of validated poses (the vectorised kernel).
+
+    ``theta1`` / ``theta2`` / ``theta6`` fix that joint instead of solving for it: how the
+    members of a family are generated at a singularity.
+    """
+    B = T.shape[0]
+    x6, y6, z6, p = T[:, :3, 0], T[:, :3, 1], T[:, :3, 2], T[:, :3, 3]
+    p5 = p - d6 * z6
+    # 1. Shoulder: slot 0 ("left") has X·d4 < 0.
+    rho = np.hypot(p5[:, 0], p5[:, 1])
+    side = -1.0 if d4 > 0.0 else 1.0
+    shoulder_ok = rho >= abs(d4) - tol
+    shoulder_boundary = np.abs(rho - abs(d4)) <= tol
+    reach = np.where(
+        shoulder_boundary, 0.0, np.sqrt(np.maximum((rho - abs(d4)) * (rho + abs(d4)), 0.0))
+    )
+    X = np.stack([side * reach, -side * reach], axis=-1)
+    th1 = wrap_angle(np.arctan2(p5[:, 1], p5[:, 0])[:, None] + np.arctan2(d4, X))
+    if theta1 is not None:
+        th1 = np.full_like(X, theta1)
+    c1, s1 = np.cos(th1)[..., None], np.sin(th1)[..., None]  # (B, 2, 1)
+
+    # 2. Wrist: ẑ1 = (s1, −c1, 0) seen from frame 6 is (s5 c6, −s5 s6, c5).
+    def along_z1(axis: np.ndarray) -> np.ndarray:
+        return s1[..., 0] * axis[:, None, 0] - c1[..., 0] * axis[:, None, 1]
+
+    u6, v6, c5 = along_z1(x6), along_z1(y6), along_z1(z6)  # (B, 2)
+    sin5 = np.hypot(u6, v6)  # ≥ 0, accurate near the singularity
+    sign = np.array([1.0, -1.0])  # noflip, flip
+    th5 = sign * np.arctan2(sin5, c5)[..., None]  # (B, 2, 2)
+    if theta6 is None:
+        th6 = np.arctan2(-sign * v6[..., None], sign * u6[..., None])
+    else:
+        th6 = np.full_like(th5, theta6)
+    # 3. Frame 4: o4 = p + d5 (s6 x̂6 + c6 ŷ6) − d6 ẑ6 and x̂4 = c5 c6 x̂6 − c5 s6 ŷ6 − s5 ẑ6.
+    c5, s5 = np.cos(th5)[..., None], np.sin(th5)[..., None]
+    c6, s6 = np.cos(th6)[..., None], np.sin(th6)[..., None]
+    x6, y6, z6, p = x6[:, None, None], y6[:, None, None], z6[:, None, None], p[:, None, None]
+    o4 = p + d5 * (s6 * x6 + c6 * y6) - d6 * z6  # (B, 2, 2, 3)
+    x4 = c5 * c6 * x6 - c5 * s6 * y6 - s5 * z6
+    plane_x = c1 * o4[..., 0] + s1 * o4[..., 1]
+    plane_y = o4[..., 2] - d1
+    th234 = np.arctan2(x4[..., 2], c1 * x4[..., 0] + s1 * x4[..., 1])
+    plane = two_link(plane_x, plane_y, abs(a2), abs(a3), tol)  # (B, 2, 2, 2): s, w, kernel
+    up_first = np.array([[1, 0], [0, 1]] if side > 0 else [[0, 1], [1, 0]])[None, :, None]
+    phi2 = np.take_along_axis(plane.theta1, up_first, axis=3)
+    phi3 = np.take_along_axis(plane.theta2, up_first, axis=3)
+    shift2 = np.pi if a2 < 0.0 else 0.0
+    shift3 = (np.pi if a3 < 0.0 else 0.0) - shift2
+    th2 = phi2 - shift2 if theta2 is None else np.full_like(phi2, theta2)
+    th3 = phi3 - shift3
+    th4 = th234[..., None] - th2 - th3
+    shape = (B, 2, 2, 2)  # shoulder, wrist, elbow
+    q = np.stack(
+        [
+            np.broadcast_to(th1[:, :, None, None], shape),
+            th2,
+            th3,
+            th4,
+            np.broadcast_to(th5[..., None], shape),
+            np.broadcast_to(th6[..., None], shape),
+        ],
+        axis=-1,
+    )
+    q = wrap_angle(q.transpose(0, 1, 3, 2, 4))  # slots: shoulder, elbow, wrist
+    valid = shoulder_ok[:, None, None] & plane.reachable
+    flags = {
+        "base_axis": (rho <= tol) & (abs(d4) <= tol),
+        "shoulder_boundary": shoulder_boundary,
+        # The elbow sub-problem is solved per (shoulder, wrist): give it an elbow axis.
+        "elbow_free": (plane.boundary & (plane.radius <= tol))[:, :, None, :],
+        "elbow_boundary": plane.boundary[:, :, None, :],
+        "wrist": sin5 <= tol,
+    }
+    return ArmBranches(
+        q.reshape(B, 8, 6),
+        np.broadcast_to(valid[:, :, None, :], shape).reshape(B, 8),
+        broadcast_flags(flags, shape),
+        shoulder_ok,
+        plane.radius[:, 0, 0],
+    )
+
+
+def ur(
+    T: np.ndarray,
+    d1: float,
+    a2: float,
+    a3: float,
+    d4: float,
+    d5: float,
+    d6: float,
+    *,
+    limits: tuple[np.ndarray, np.ndarray] | None = None,
+    tol: float = DEFAULT_TOL,
+) -> IKSolutions:
+    """Every joint vector of a UR-type arm (module docstring) that reaches the pose ``T``.
+
+    Args:
+        T: 4×4 pose of frame 6 (the flange) in the base frame (metres).
+        d1, a2, a3, d4, d5, d6: DH parameters as published (metres, signed; a2, a3, d6 ≠ 0),
+            e.g. :data:`UR5E`.
+        limits: Optional ``(lower, upper)`` arrays of 6; angles compared modulo 2π (UR
+            joints span ±2π: the in-range representative nearest the wrapped angle is kept).
+        tol: Distance (m) by which a sub-problem may be out of reach and be clipped onto its
+            boundary; also the size of ``sin θ5`` reported as singular.
+
+    Returns:
+        Up to 8 solutions ``"left-up-noflip"`` … ``"right-down-flip"``; at ``sin θ5 = 0`` one
+        representative per arm branch with θ6 free (``family``); none, with a ``reason``,
+        when the pose is out of reach.
+    """
+    T = _checks.pose(T)
+    params = _ur_parameters(d1, a2, a3, d4, d5, d6)
+    checked_limits = _checks.limits(limits, 6)
+    branches = ur_branches(T[None], *params, tol=tol)
+    if not branches.valid.any():
+        return unreachable(6, _reason(T, branches, *params))
+
+    def resolve(slot: int, **fixed: float) -> np.ndarray:
+        return ur_branches(T[None], *params, tol=tol, **fixed).q[0, slot]
+
+    describers = {
+        "base_axis": lambda q, slot: free_joint(
+            "wrist point p − d6·ẑ on the base axis (d4 = 0): θ1 is arbitrary",
+            0,
+            lambda t: resolve(slot, theta1=t),
+        ),
+        "elbow_free": lambda q, slot: free_joint(
+            "frame-4 origin on the shoulder axis (|a2| = |a3|): θ2 is arbitrary",
+            1,
+            lambda t: resolve(slot, theta1=q[0], theta2=t, theta6=q[5]),
+        ),
+        "shoulder_boundary": lambda q, slot: (
+            f"wrist point at distance |d4| = {abs(params[3]):.6g} m from the base axis: "
+            "left and right coincide",
+            None,
+        ),
+        "elbow_boundary": lambda q, slot: (
+            "arm stretched or folded: elbow up and down coincide",
+            None,
+        ),
+        "wrist": lambda q, slot: free_joint(
+            f"wrist singular (θ5 = {'0' if np.cos(q[4]) > 0 else 'π'}): axes 4 and 6 "
+            "aligned, θ6 is arbitrary",
+            5,
+            lambda t: resolve(slot, theta1=q[0], theta6=t),
+        ),
+    }
+    return arm_solutions(branches, ARM_LABELS, describers, REVOLUTE, checked_limits)
+
+
+def ur_batch(
+    T: np.ndarray,
+    d1: float,
+    a2: float,
+    a3: float,
+    d4: float,
+    d5: float,
+    d6: float,
+    *,
+    limits: tuple[np.ndarray, np.ndarray] | None = None,
+    tol: float = DEFAULT_TOL,
+) -> BatchSolutions:
+    """:func:`ur` for a (B, 4, 4) stack of poses, vectorised.
+
+    Returns ``q`` (B, 8, 6) in the slot order of :data:`ARM_LABELS` with a (B, 8) ``valid``
+    mask; at a singularity several valid slots may hold equivalent solutions.
+    """
+    T = _checks.poses(T)
+    params = _ur_parameters(d1, a2, a3, d4, d5, d6)
+    checked_limits = _checks.limits(limits, 6)
+    branches = ur_branches(T, *params, tol=tol)
+    return batch_result(
+        branches.q, branches.valid, branches.singular, ARM_LABELS, REVOLUTE, checked_limits
+    )
+
+
+def _ur_parameters(
+    d1: float, a2: float, a3: float, d4: float, d5: float, d6: float
+) -> tuple[float, ...]:
+    d1, d4, d5 = (_checks.scalar(v, n) for v, n in ((d1, "d1"), (d4, "d4"), (d5, "d5")))
+    a2, a3, d6 = (_checks.nonzero(v, n) for v, n in ((a2, "a2"), (a3, "a3"), (d6, "d6")))
+    return d1, a2, a3, d4, d5, d6
+
+
+def _reason(
+    T: np.ndarray,
+    branches: ArmBranches,
+    d1: float,
+    a2: float,
+    a3: float,
+    d4: float,
+    d5: float,
+    d6: float,
+) -> str:
+    if not branches.shoulder_ok[0]:
+        p5 = T[:3, 3] - d6 * T[:3, 2]
+        return (
+            f"wrist point p − d6·ẑ is {np.hypot(p5[0], p5[1]):.6g} m from the base axis, "
+            f"closer than the lateral offset |d4| = {abs(d4):.6g} m"
+        )
+    return two_link_reason(
+        float(branches.plane_radius[0]), abs(a2), abs(a3), "the frame-4 origin (every branch)"
+    )
