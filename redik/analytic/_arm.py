@@ -55,8 +55,8 @@ class ArmBranches:
     Attributes:
         q: (B, S, n) joint vectors (finite but meaningless where not valid).
         valid: (B, S) whether the slot solves its target.
-        flags: Singularity kind → (B, S) bool, for the kinds the arm can have. ``base_axis``: θ1 arbitrary;
-            ``elbow_free``: θ2 arbitrary (wrist centre at the shoulder);
+        flags: Singularity kind → (B, S) bool, for the kinds the arm can have.
+            ``base_axis``: θ1 arbitrary; ``elbow_free``: θ2 arbitrary (wrist at the shoulder);
             ``shoulder_boundary``: left and right coincide; ``elbow_boundary``: up and down
             coincide (arm stretched or folded); ``wrist``: the wrist is singular.
         shoulder_ok: (B,) the first sub-problem (θ1) is solvable.
