@@ -549,7 +549,7 @@ def _document_lines(
         f'    <geom name="base" type="cylinder" fromto="0 0 {_fmt(floor_height)} 0 0'
         f' {_fmt(max(floor_height + r, 0.0))}" size="{_fmt(2 * r)}" material="joint"/>',
         f'    <camera name="track" mode="targetbodycom" target="link1"'
-        f' pos="{_vec(np.round([2 * reach, -2 * reach, 1.5 * reach], 3))}"/>',
+        f' pos="{_vec(np.round([1.2 * reach, -1.2 * reach, 0.8 * reach], 3))}"/>',
     ]
     indent = "    "
     for i, link in enumerate(links, start=1):
