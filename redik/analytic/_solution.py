@@ -247,45 +247,36 @@ def finalize(
     limits: tuple[np.ndarray, np.ndarray] | None,
     preferred: str = "",
 ) -> IKSolutions:
-    """Wrap angles, drop duplicates (modulo 2π) and filter by joint limits.
+    """Wrap angles, drop duplicates (modulo 2π, the first of equals is kept) and filter by
+    joint limits.
 
     The candidates come from a reachable target; if the limits exclude all of them the result
     is empty with a reason naming the joints that are out of range.
     """
-    distinct: list[JointSolution] = []
-    for candidate in candidates:
-        q = np.asarray(candidate, dtype=float).copy()
-        q[revolute] = wrap_angle(q[revolute])
-        if any(_same(q, other.q, revolute) for other in distinct):
-            continue
-        distinct.append(JointSolution(q, candidate.label, candidate.singular, candidate.family))
-    if limits is None:
-        return IKSolutions(tuple(distinct), n_joints, True, preferred=preferred)
-    lower, upper = limits
-    kept: list[JointSolution] = []
-    violated: set[int] = set()
-    for solution in distinct:
-        q, within = limit_representatives(solution.q, lower, upper, revolute)
-        if within:
-            kept.append(JointSolution(q, solution.label, solution.singular, solution.family))
-        else:
-            out = (q < lower - DUPLICATE_TOL) | (q > upper + DUPLICATE_TOL)
-            violated.update(int(i) for i in np.flatnonzero(out))
+    q = np.array(candidates, dtype=float).reshape(-1, n_joints)
+    q[:, revolute] = wrap_angle(q[:, revolute])
+    difference = q[:, None, :] - q[None, :, :]
+    difference[..., revolute] = wrap_angle(difference[..., revolute])
+    same = np.all(np.abs(difference) < DUPLICATE_TOL, axis=-1)
+    first = ~np.any(np.tril(same, k=-1), axis=1)
+    within = np.ones(len(q), bool)
+    if limits is not None:
+        q, within = limit_representatives(q, limits[0], limits[1], revolute)
+    kept = tuple(
+        JointSolution(q[i], c.label, c.singular, c.family)
+        for i, c in enumerate(candidates)
+        if first[i] and within[i]
+    )
     reason = ""
-    if not kept:
+    if limits is not None and not kept:
+        out = (q < limits[0] - DUPLICATE_TOL) | (q > limits[1] + DUPLICATE_TOL)
         reason = (
-            f"none of the {len(distinct)} solutions lies within the joint limits "
-            f"(joints out of range: {sorted(violated)})"
+            f"none of the {int(first.sum())} solutions lies within the joint limits "
+            f"(joints out of range: {np.flatnonzero(out[first].any(axis=0)).tolist()})"
         )
-    return IKSolutions(tuple(kept), n_joints, True, reason, preferred)
+    return IKSolutions(kept, n_joints, True, reason, preferred)
 
 
 def unreachable(n_joints: int, reason: str) -> IKSolutions:
     """The empty result for a target outside the workspace."""
     return IKSolutions((), n_joints, False, reason)
-
-
-def _same(a: np.ndarray, b: np.ndarray, revolute: np.ndarray) -> bool:
-    difference = a - b
-    difference[revolute] = wrap_angle(difference[revolute])
-    return bool(np.all(np.abs(difference) < DUPLICATE_TOL))

@@ -62,22 +62,21 @@ from redik.analytic._solution import (
 )
 from redik.analytic.planar import batch_result, two_link, two_link_reason
 from redik.analytic.wrist import wrist_singularity, zyz_angles
+from redik.dh import DHRow
 
 REVOLUTE = np.ones(6, bool)
 
 
-def dh_rows(a2: float, a3: float, d3: float, d4: float, d6: float = 0.0) -> np.ndarray:
-    """The standard DH table (θ offset, d, a, α) of this arm, one row per joint."""
+def dh_rows(a2: float, a3: float, d3: float, d4: float, d6: float = 0.0) -> tuple[DHRow, ...]:
+    """The standard DH table of this arm (the module docstring's), for :func:`redik.dh.forward`."""
     half = np.pi / 2.0
-    return np.array(
-        [
-            [0.0, 0.0, 0.0, -half],
-            [0.0, 0.0, a2, 0.0],
-            [0.0, d3, a3, half],
-            [0.0, d4, 0.0, -half],
-            [0.0, 0.0, 0.0, half],
-            [0.0, d6, 0.0, 0.0],
-        ]
+    return (
+        DHRow(0.0, 0.0, -half),
+        DHRow(a2, 0.0, 0.0),
+        DHRow(a3, d3, half),
+        DHRow(0.0, d4, -half),
+        DHRow(0.0, 0.0, half),
+        DHRow(0.0, d6, 0.0),
     )
 
 
@@ -124,7 +123,7 @@ def puma_branches(
     th3 = wrap_angle(phi3 + gamma + flipped)
     # 3. Wrist: R36 = Ry(θ2 + θ3)ᵀ Rz(θ1)ᵀ R, ZYZ Euler angles.
     th1_e = np.broadcast_to(th1[:, :, None], th2.shape)
-    R36 = rotate_y_transpose(th2 + th3, rotate_z_transpose(th1_e, R[:, None, None]))
+    R36 = rotate_y_transpose(th2 + th3, rotate_z_transpose(th1, R[:, None])[:, :, None])
     wrist = zyz_angles(R36)  # (B, 2, 2, 2, 3)
     arm = np.stack([th1_e, th2, th3], axis=-1)[:, :, :, None, :]
     q = np.concatenate([np.broadcast_to(arm, (*wrist.shape[:-1], 3)), wrist], axis=-1)

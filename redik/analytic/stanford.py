@@ -53,24 +53,23 @@ from redik.analytic._solution import (
     wrap_angle,
 )
 from redik.analytic.wrist import wrist_singularity, zyz_angles
+from redik.dh import DHRow
 
 #: Which joints are angles (q3 = d3 is a length).
 REVOLUTE = np.array([True, True, False, True, True, True])
 
 
-def dh_rows(d2: float, d6: float, d1: float = 0.0) -> np.ndarray:
-    """The standard DH table (θ offset, d, a, α) of this arm; row 3's d is the offset
-    added to q3 (0)."""
+def dh_rows(d2: float, d6: float, d1: float = 0.0) -> tuple[DHRow, ...]:
+    """The standard DH table of this arm (the module docstring's), for :func:`redik.dh.forward`;
+    row 3 is prismatic with offset 0, so q3 = d3."""
     half = np.pi / 2.0
-    return np.array(
-        [
-            [0.0, d1, 0.0, -half],
-            [0.0, d2, 0.0, half],
-            [0.0, 0.0, 0.0, 0.0],
-            [0.0, 0.0, 0.0, -half],
-            [0.0, 0.0, 0.0, half],
-            [0.0, d6, 0.0, 0.0],
-        ]
+    return (
+        DHRow(0.0, d1, -half),
+        DHRow(0.0, d2, half),
+        DHRow(0.0, 0.0, 0.0, 0.0, "prismatic"),
+        DHRow(0.0, 0.0, -half),
+        DHRow(0.0, 0.0, half),
+        DHRow(0.0, d6, 0.0),
     )
 
 

@@ -60,6 +60,7 @@ from redik.analytic._solution import (
     wrap_angle,
 )
 from redik.analytic.planar import batch_result, two_link, two_link_reason
+from redik.dh import DHRow
 
 REVOLUTE = np.ones(6, bool)
 
@@ -67,18 +68,16 @@ REVOLUTE = np.ones(6, bool)
 UR5E = (0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996)
 
 
-def dh_rows(d1: float, a2: float, a3: float, d4: float, d5: float, d6: float) -> np.ndarray:
-    """The standard DH table (θ offset, d, a, α) of this arm, one row per joint."""
+def dh_rows(d1: float, a2: float, a3: float, d4: float, d5: float, d6: float) -> tuple[DHRow, ...]:
+    """The standard DH table of this arm (the module docstring's), for :func:`redik.dh.forward`."""
     half = np.pi / 2.0
-    return np.array(
-        [
-            [0.0, d1, 0.0, half],
-            [0.0, 0.0, a2, 0.0],
-            [0.0, 0.0, a3, 0.0],
-            [0.0, d4, 0.0, half],
-            [0.0, d5, 0.0, -half],
-            [0.0, d6, 0.0, 0.0],
-        ]
+    return (
+        DHRow(0.0, d1, half),
+        DHRow(a2, 0.0, 0.0),
+        DHRow(a3, 0.0, 0.0),
+        DHRow(0.0, d4, half),
+        DHRow(0.0, d5, -half),
+        DHRow(0.0, d6, 0.0),
     )
 
 
