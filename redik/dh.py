@@ -70,7 +70,8 @@ class DHRow:
     def __post_init__(self) -> None:
         for field in ("a", "d", "alpha", "theta"):
             value = getattr(self, field)
-            if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)):
+            real = isinstance(value, (int, float, np.integer, np.floating))
+            if isinstance(value, bool) or not real:
                 raise InvalidInput(f"DHRow.{field} must be a real number, got {value!r}")
             if not math.isfinite(value):
                 raise InvalidInput(f"DHRow.{field} must be finite, got {value!r}")
