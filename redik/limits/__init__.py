@@ -1,0 +1,15 @@
+"""Limits: hard inequalities on the joint step. The contract is in :mod:`redik.limits.limit`."""
+
+from .limit import BoxLimit, InequalityLimit, Limit
+from .mink_limit import MinkLimit
+from .position_limit import PositionLimit
+from .velocity_limit import VelocityLimit
+
+__all__ = [
+    "BoxLimit",
+    "InequalityLimit",
+    "Limit",
+    "MinkLimit",
+    "PositionLimit",
+    "VelocityLimit",
+]

@@ -1,0 +1,56 @@
+r"""The limit contract: hard inequalities on the joint step ``Δq``.
+
+A limit restricts the step of the chain joints (``robot.dof`` of them) to
+
+.. math::
+
+    G(q)\, Δq \le h(q) .
+
+Most limits are boxes, :math:`l(q) \le Δq \le u(q)` (:class:`BoxLimit`): they are
+intersected into one pair of bounds per step, which every back-end takes natively
+(simple bounds in daqp, box constraints in proxsuite). Other limits
+(:class:`~redik.limits.mink_limit.MinkLimit`) give general rows ``(G, h)``.
+A :class:`redik.Problem` binds its limits to its robot and passes the back-end's
+feasibility ``tolerance``, by which position boxes are shrunk so that a solution
+returned within tolerance still lies inside the true limits.
+"""
+
+from __future__ import annotations
+
+import abc
+
+import numpy as np
+
+from ..robot import Robot
+
+
+class Limit:
+    """Base class of hard limits on the chain's joint step."""
+
+    robot: Robot | None = None
+
+    def bind(self, robot: Robot, tolerance: float = 0.0) -> Limit:
+        """Prepare for ``robot``; ``tolerance`` is the back-end's feasibility tolerance."""
+        self.robot = robot
+        return self
+
+
+class BoxLimit(Limit, abc.ABC):
+    """A limit of the form ``lower(q, dt) ≤ Δq ≤ upper(q, dt)``, joint by joint."""
+
+    @abc.abstractmethod
+    def bounds_into(
+        self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
+    ) -> None:
+        """Intersect this box with ``[lower, upper]`` in place (``lower = max(lower, l)``…)."""
+
+
+class InequalityLimit(Limit, abc.ABC):
+    """A limit of general rows ``G Δq ≤ h`` over the chain joints."""
+
+    needs_configuration = False
+    """True when the rows are computed from a ``mink.Configuration`` kept in sync."""
+
+    @abc.abstractmethod
+    def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
+        """``(G, h)`` with ``G`` of shape (m, ``robot.dof``), or None when inactive."""

@@ -1,0 +1,41 @@
+r"""Use a mink limit (``mink.ConfigurationLimit``, ``mink.CollisionAvoidanceLimit``…).
+
+A mink limit returns :math:`G Δv \le h` over the model's ``nv`` velocity columns from a
+``mink.Configuration``. The adapter keeps the chain columns (``robot.dof_indices``) and
+drops the rows that then vanish — they constrain joints off the chain, which redik holds
+fixed. :class:`redik.Problem` keeps a configuration in sync only when such a limit (or a
+mink task) is present, since the sync costs a second forward kinematics per step.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .limit import InequalityLimit
+
+
+class MinkLimit(InequalityLimit):
+    """Wrap a ``mink.Limit`` (anything with ``compute_qp_inequalities(configuration, dt)``).
+
+    Args:
+        limit: The mink limit.
+        dt: The ``dt`` handed to mink when the step has none (mink limits other than
+            velocity limits ignore it).
+    """
+
+    needs_configuration = True
+
+    def __init__(self, limit, dt: float = 1.0):
+        self.limit = limit
+        self.dt = float(dt)
+
+    def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
+        constraint = self.limit.compute_qp_inequalities(state, self.dt if dt is None else dt)
+        if constraint.G is None or constraint.h is None:
+            return None
+        G = np.atleast_2d(constraint.G)[:, self.robot.dof_indices]
+        h = np.atleast_1d(constraint.h)
+        keep = np.any(G != 0.0, axis=1)
+        if not np.any(keep):
+            return None
+        return G[keep], h[keep]

@@ -1,0 +1,58 @@
+r"""The joint velocity box: :math:`|Δq_i| \le v_{max,i}\, dt`.
+
+Needs the step duration ``dt`` (``problem.step(q, dt)``); it is the limit to use for
+online control at a fixed rate.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from ..exceptions import InvalidInput
+from ..robot import Robot
+from .limit import BoxLimit
+
+
+class VelocityLimit(BoxLimit):
+    """Bound each chain joint's speed.
+
+    Args:
+        max_velocity: A scalar, one value per chain joint, or a mapping from joint name to
+            its bound (rad/s or m/s, > 0); joints not in the mapping are unbounded.
+    """
+
+    def __init__(self, max_velocity):
+        self._spec = max_velocity
+        self.max_velocity = np.empty(0)
+
+    def bind(self, robot: Robot, tolerance: float = 0.0) -> VelocityLimit:
+        spec = self._spec
+        if isinstance(spec, Mapping):
+            unknown = sorted(set(spec) - set(robot.joint_names))
+            if unknown:
+                raise InvalidInput(
+                    f"VelocityLimit names joints {unknown} not on the chain {robot.joint_names}"
+                )
+            limit = np.array([float(spec.get(name, np.inf)) for name in robot.joint_names])
+        else:
+            limit = np.atleast_1d(np.asarray(spec, dtype=float))
+            if limit.shape not in ((1,), (robot.dof,)):
+                raise InvalidInput(
+                    f"max_velocity must be a scalar, ({robot.dof},) or a mapping, "
+                    f"got shape {limit.shape}"
+                )
+            limit = np.broadcast_to(limit, (robot.dof,)).copy()
+        if np.any(np.isnan(limit)) or np.any(limit <= 0.0):
+            raise InvalidInput(f"max_velocity must be > 0, got {limit.tolist()}")
+        self.max_velocity = limit
+        return super().bind(robot, tolerance)
+
+    def bounds_into(
+        self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
+    ) -> None:
+        if dt is None:
+            raise InvalidInput("VelocityLimit needs the step duration: call problem.step(q, dt)")
+        np.maximum(lower, -self.max_velocity * dt, out=lower)
+        np.minimum(upper, self.max_velocity * dt, out=upper)

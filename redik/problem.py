@@ -1,0 +1,295 @@
+r"""The optimisation driver: a robot, a stack of tasks and limits, one QP per step.
+
+``problem.step(q, dt)`` returns the joint step :math:`Δq` for online control at a fixed
+rate; ``problem.solve(q0)`` iterates :math:`q \leftarrow q + Δq` until the highest-priority
+tasks converge. Each step runs forward kinematics once, fills preallocated per-level
+objectives (:mod:`redik.qp.assembly`), intersects the box limits, and solves the levels
+lexicographically (:mod:`redik.qp.hierarchy`) with the chosen back-end
+(:mod:`redik.qp.backends`).
+
+**Limits are never left.** The position box is shrunk by the back-end's tolerance and
+:math:`q + Δq` is then clipped into the joint limits, so every configuration ``step`` leads
+to and ``solve`` returns lies within them (:mod:`redik.limits.position_limit`).
+
+mink tasks and limits may be mixed in; a ``mink.Configuration`` is then kept in sync with
+``q`` (one more forward kinematics per step, paid only when one is present).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import mink
+import numpy as np
+
+from .exceptions import InfeasibleProblem, InvalidInput
+from .limits import BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
+from .qp.assembly import Assembly
+from .qp.backends import Backend, make_backend
+from .qp.hierarchy import solve_lexicographic
+from .result import IKResult
+from .robot import Robot
+from .tasks.frame_task import FrameTask
+from .tasks.kinematics import KinematicState
+from .tasks.task import ResidualTask, Task
+
+
+class Problem:
+    """Differential IK as a (hierarchical) QP over the chain joints of ``robot``.
+
+    Args:
+        robot: The robot; ``Δq`` has ``robot.dof`` entries (its chain joints).
+        tasks: redik tasks and/or mink tasks (``mink.FrameTask``, ``mink.ComTask``…). Tasks
+            of equal ``priority`` are weighted and summed; priorities are strict.
+        limits: redik or mink limits; None is ``[PositionLimit()]``, ``[]`` is none.
+        backend: A back-end name, a list of names (a fallback chain) or a
+            :class:`~redik.qp.backends.Backend` (see :func:`~redik.qp.backends.make_backend`).
+        damping: Regularisation ``ε`` added to each level's Hessian (default 1e-6: keeps
+            active-set solvers out of trouble, changes a converged solution by nothing).
+        rank_tol: Relative eigenvalue threshold of the null space between levels.
+        backend_options: Settings passed to the back-end.
+
+    Attributes:
+        levels: The priority values, highest first.
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        tasks: Sequence,
+        limits: Sequence | None = None,
+        backend: str | Sequence[str] | Backend = "daqp",
+        *,
+        damping: float = 1e-6,
+        rank_tol: float = 1e-10,
+        backend_options: dict | None = None,
+    ):
+        if not isinstance(robot, Robot):
+            raise InvalidInput(f"robot must be a redik.Robot, got {type(robot).__name__}")
+        tasks = list(tasks)
+        if not tasks:
+            raise InvalidInput("a Problem needs at least one task")
+        for task in tasks:
+            if not hasattr(task, "compute_qp_objective"):
+                raise InvalidInput(f"{task!r} is not a task (no compute_qp_objective)")
+        if not (np.isfinite(damping) and damping >= 0.0):
+            raise InvalidInput(f"damping must be finite and >= 0, got {damping}")
+        self.robot = robot
+        self.tasks = tasks
+        self.damping = float(damping)
+        self.rank_tol = float(rank_tol)
+        self._assembly = Assembly(robot, tasks)
+        self.levels = [level.priority for level in self._assembly.levels]
+        options = backend_options or {}
+        self.backends = [make_backend(backend, **options) for _ in self.levels]
+        tolerance = max(b.tolerance for b in self.backends)
+
+        limits = [PositionLimit()] if limits is None else list(limits)
+        self.limits: list[Limit] = []
+        for limit in limits:
+            if not isinstance(limit, Limit):
+                if not hasattr(limit, "compute_qp_inequalities"):
+                    raise InvalidInput(f"{limit!r} is not a limit")
+                limit = MinkLimit(limit)
+            self.limits.append(limit.bind(robot, tolerance))
+        self._boxes = [limit for limit in self.limits if isinstance(limit, BoxLimit)]
+        self._rows = [limit for limit in self.limits if isinstance(limit, InequalityLimit)]
+        self._clip = any(isinstance(limit, PositionLimit) for limit in self.limits)
+
+        self._state = KinematicState.for_robot(robot)
+        self._configuration = None
+        if self._assembly.needs_configuration or any(r.needs_configuration for r in self._rows):
+            self._configuration = mink.Configuration(robot.model)
+        self._lb = np.empty(robot.dof)
+        self._ub = np.empty(robot.dof)
+        self._level0 = self._assembly.levels[0].tasks
+
+    # ----------------------------------------------------------------------------------
+    # Online control
+
+    def step(self, q: np.ndarray, dt: float | None = None) -> np.ndarray:
+        """The joint step ``Δq`` at ``q`` (``q + Δq`` stays within the position limits).
+
+        ``dt`` (seconds) is needed by velocity limits; divide ``Δq`` by it for a velocity.
+
+        Raises:
+            InfeasibleProblem: the limits admit no step (e.g. a joint outside its range
+                by more than its velocity limit allows to recover in ``dt``).
+            BackendError: the back-end (every back-end of a chain) failed.
+        """
+        q = self.robot.check_q(q)
+        if dt is not None and not (np.isfinite(dt) and dt > 0.0):
+            raise InvalidInput(f"dt must be a positive number of seconds, got {dt}")
+        self._update(q)
+        return self._step(q, dt)
+
+    def _update(self, q: np.ndarray) -> None:
+        self._state.update(q)
+        if self._configuration is not None:
+            self._configuration.update(self.robot.data.qpos)
+
+    def _step(self, q: np.ndarray, dt: float | None, max_step: float | None = None):
+        objectives = self._assembly.objectives(self._state, self._configuration)
+        lb, ub = self._lb, self._ub
+        lb.fill(-np.inf)
+        ub.fill(np.inf)
+        for limit in self._boxes:
+            limit.bounds_into(q, dt, lb, ub)
+        if max_step is not None:
+            np.maximum(lb, -max_step, out=lb)
+            np.minimum(ub, max_step, out=ub)
+        if np.any(lb > ub):
+            bad = np.flatnonzero(lb > ub)
+            names = [self.robot.joint_names[i] for i in bad]
+            raise InfeasibleProblem(
+                f"the limits admit no step for joints {names}: lower bounds "
+                f"{lb[bad].tolist()} exceed upper bounds {ub[bad].tolist()} at q = "
+                f"{q[bad].tolist()} (dt = {dt})"
+            )
+        C = low = up = None
+        if self._rows:
+            source = self._configuration
+            blocks = [limit.inequalities(source, dt) for limit in self._rows]
+            blocks = [block for block in blocks if block is not None]
+            if blocks:
+                C = np.vstack([G for G, _ in blocks])
+                up = np.concatenate([h for _, h in blocks])
+                low = np.full_like(up, -np.inf)
+        bounded = bool(np.isfinite(lb).any() or np.isfinite(ub).any())
+        dq = solve_lexicographic(
+            objectives,
+            self.backends,
+            lb if bounded else None,
+            ub if bounded else None,
+            C,
+            low,
+            up,
+            damping=self.damping,
+            rank_tol=self.rank_tol,
+        )
+        if self._clip:
+            np.clip(dq, self.robot.lower - q, self.robot.upper - q, out=dq)
+        return dq
+
+    # ----------------------------------------------------------------------------------
+    # Iterative solve
+
+    def solve(
+        self,
+        q0: np.ndarray,
+        pos_tol: float = 1e-6,
+        rot_tol: float = 1e-5,
+        max_iter: int = 100,
+        *,
+        q_tol: float = 1e-12,
+        max_step: float | None = None,
+        dt: float | None = None,
+    ) -> IKResult:
+        """Iterate ``q ← q + Δq`` from ``q0`` until the priority-0 tasks converge.
+
+        Converged means: every frame task of level 0 within ``pos_tol`` (m) and
+        ``rot_tol`` (rad) — position and rotation errors of :mod:`redik.conventions` —
+        and every other level-0 task with ``‖e‖ ≤ pos_tol``. Lower levels shape the
+        solution but are not waited for.
+
+        Args:
+            q0: Initial chain configuration.
+            pos_tol, rot_tol: Tolerances.
+            max_iter: Iteration budget.
+            q_tol: Stop as ``"stalled"`` when ``‖Δq‖ < q_tol`` before converging.
+            max_step: Optional trust region, ``|Δq_i| ≤ max_step`` per iteration.
+            dt: Passed to the limits (velocity limits need it).
+
+        Returns:
+            :class:`~redik.result.IKResult` with ``method="qp"`` and the history.
+        """
+        q = self.robot.check_q(q0, "q0").copy()
+        if max_iter < 0:
+            raise InvalidInput(f"max_iter must be >= 0, got {max_iter}")
+        if max_step is not None and not max_step > 0.0:
+            raise InvalidInput(f"max_step must be > 0, got {max_step}")
+        if self._clip:
+            q = np.clip(q, self.robot.lower, self.robot.upper)
+        history = [q.copy()]
+        errors = []
+        status = "max_iterations"
+        iterations = 0
+        while True:
+            self._update(q)
+            converged, error, position_error, rotation_error = self._level0_errors(pos_tol, rot_tol)
+            errors.append(error)
+            if converged:
+                status = "converged"
+                break
+            if iterations >= max_iter:
+                break
+            dq = self._step(q, dt, max_step)
+            q += dq
+            iterations += 1
+            history.append(q.copy())
+            if float(np.linalg.norm(dq)) < q_tol:
+                self._update(q)
+                converged, error, position_error, rotation_error = self._level0_errors(
+                    pos_tol, rot_tol
+                )
+                errors.append(error)
+                status = "converged" if converged else "stalled"
+                break
+        return IKResult(
+            q=q,
+            success=status == "converged",
+            status=status,
+            iterations=iterations,
+            error=error,
+            position_error=position_error,
+            rotation_error=rotation_error,
+            history=np.array(history),
+            error_history=np.array(errors),
+            method="qp",
+            message=self._message(status, position_error, rotation_error, error),
+        )
+
+    def _level0_errors(self, pos_tol: float, rot_tol: float):
+        converged = True
+        squared = 0.0
+        position_error = rotation_error = None
+        for task in self._level0:
+            if isinstance(task, ResidualTask):
+                e, _ = task.error_and_jacobian(self._state)
+            elif isinstance(task, Task):
+                continue  # a gradient task has no error to converge
+            else:
+                e = task.compute_error(self._configuration)
+            squared += float(e @ e)
+            if isinstance(task, FrameTask):
+                p_err, r_err = task.pose_errors(self._state)
+                if p_err is not None:
+                    converged &= p_err <= pos_tol
+                    position_error = p_err if position_error is None else position_error
+                if r_err is not None:
+                    converged &= r_err <= rot_tol
+                    rotation_error = r_err if rotation_error is None else rotation_error
+            else:
+                converged &= float(np.linalg.norm(e)) <= pos_tol
+        return bool(converged), float(np.sqrt(squared)), position_error, rotation_error
+
+    @staticmethod
+    def _message(status, position_error, rotation_error, error) -> str:
+        if status == "converged":
+            return ""
+        parts = []
+        if position_error is not None:
+            parts.append(f"position error {position_error:.3g} m")
+        if rotation_error is not None:
+            parts.append(f"rotation error {rotation_error:.3g} rad")
+        if not parts:
+            parts.append(f"|e| = {error:.3g}")
+        reason = "the step vanished" if status == "stalled" else "the iteration budget ran out"
+        return f"{reason} with {', '.join(parts)} (limits may block the target)"
+
+    def __repr__(self) -> str:
+        names = [type(task).__name__ for task in self.tasks]
+        return (
+            f"Problem({self.robot!r}, tasks={names}, levels={self.levels}, "
+            f"backend={self.backends[0].name!r})"
+        )

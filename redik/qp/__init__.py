@@ -1,0 +1,20 @@
+"""The optimisation core: QP data, assembly from tasks and limits, hierarchy, back-ends.
+
+Formulation in :mod:`redik.qp.assembly`, strict priorities in :mod:`redik.qp.hierarchy`,
+back-ends in :mod:`redik.qp.backends`.
+"""
+
+from .backends import Backend, FallbackChain, available_backends, make_backend
+from .hierarchy import solve_lexicographic
+from .problem_data import QP
+from .solve import solve_pose_qp
+
+__all__ = [
+    "QP",
+    "Backend",
+    "FallbackChain",
+    "available_backends",
+    "make_backend",
+    "solve_lexicographic",
+    "solve_pose_qp",
+]

@@ -1,0 +1,326 @@
+r"""QP back-ends behind one small interface, chosen by name.
+
+A :class:`Backend` solves a :class:`~redik.qp.problem_data.QP` and returns ``x``, or
+raises :class:`~redik.exceptions.InfeasibleProblem` (the solver proved the constraints
+empty) or :class:`~redik.exceptions.BackendError` (anything else), each naming the
+back-end and the problem size. Names accepted by :func:`make_backend`:
+
+``"daqp"``
+    DAQP's own Python API called directly (no qpsolvers wrapping): the fast path. Bounds
+    go in as DAQP's simple bounds.
+``"proxsuite"``
+    A persistent proxsuite ``dense.QP`` that keeps its workspace between calls and
+    warm-starts from the previous solution (re-initialised when the sizes change).
+``"cvxpy"``
+    The QP written as a cvxpy program (slow; a readable reference).
+any solver in ``qpsolvers.available_solvers`` (``"proxqp"``, ``"clarabel"``, ``"osqp"``,
+``"quadprog"``, ``"highs"``, ``"piqp"``, ``"scs"``, and ``"daqp"`` as ``"qpsolvers:daqp"``)
+    Through ``qpsolvers.solve_problem``, with tight default tolerances (below) that a
+    keyword argument overrides.
+
+A list of names is a :class:`FallbackChain`: each is tried in turn, and the error is
+raised only when all fail.
+
+Each back-end states ``tolerance``, the primal feasibility it guarantees; the position
+box is shrunk by it (:mod:`redik.limits.position_limit`). First-order solvers (osqp, scs)
+are only accurate to about 1e-6 even with these settings.
+"""
+
+from __future__ import annotations
+
+import abc
+import warnings
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..exceptions import BackendError, InfeasibleProblem
+from .problem_data import QP
+
+_BIG = 1e20  # proxsuite wants finite bounds
+
+QPSOLVERS_SETTINGS: dict[str, dict] = {
+    "proxqp": {"eps_abs": 1e-10, "eps_rel": 0.0},
+    "osqp": {"eps_abs": 1e-8, "eps_rel": 1e-8, "polish": True, "max_iter": 20000},
+    "scs": {"eps_abs": 1e-9, "eps_rel": 1e-9, "max_iters": 100000},
+    "clarabel": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
+    "piqp": {"eps_abs": 1e-10, "eps_rel": 1e-10},
+}
+"""Per-solver defaults for qpsolvers back-ends (tighter than the solvers' own)."""
+
+QPSOLVERS_TOLERANCE = {"osqp": 1e-6, "scs": 1e-6, "highs": 1e-7}
+"""Accuracy of the looser qpsolvers back-ends (first-order osqp and scs, HiGHS' QP
+solver); the others are taken as 1e-9."""
+
+
+_DAQP_EXITFLAGS = {-1: "infeasible", -2: "cycling", -3: "unbounded", -4: "iteration limit"}
+
+
+class Backend(abc.ABC):
+    """Solves one QP; a fresh instance per QP of a hierarchy (they may keep state).
+
+    Attributes:
+        name: The name it was made from.
+        tolerance: Primal feasibility the solver guarantees.
+    """
+
+    name: str = ""
+    tolerance: float = 1e-9
+
+    @abc.abstractmethod
+    def solve(self, qp: QP) -> np.ndarray:
+        """The minimiser ``x`` (a fresh array)."""
+
+    def _error(self, reason: str, qp: QP) -> BackendError:
+        return BackendError(f"QP back-end {self.name!r} failed ({reason}) on a QP with {qp.size()}")
+
+    def _infeasible(self, qp: QP) -> InfeasibleProblem:
+        return InfeasibleProblem(
+            f"QP back-end {self.name!r} reports the constraints infeasible on a QP with "
+            f"{qp.size()}: no joint step satisfies every limit"
+        )
+
+    def _checked(self, x, qp: QP) -> np.ndarray:
+        if x is None or not np.all(np.isfinite(x)):
+            raise self._error("non-finite solution", qp)
+        return np.array(x, dtype=float)
+
+
+class DaqpBackend(Backend):
+    """DAQP (dual active set, Arnström et al. 2022) through ``daqp.solve``."""
+
+    name = "daqp"
+    tolerance = 1e-9
+
+    def __init__(self, **settings):
+        import daqp
+
+        self._solve = daqp.solve
+        self.settings = {"primal_tol": 1e-9, **settings}
+        self._sense: np.ndarray | None = None
+
+    def solve(self, qp: QP) -> np.ndarray:
+        n = qp.n
+        uppers, lowers, rows = [], [], []
+        if qp.lb is not None:
+            uppers.append(qp.ub)
+            lowers.append(qp.lb)
+        if qp.C is not None:
+            uppers.append(qp.u)
+            lowers.append(qp.l)
+            rows.append(qp.C)
+        if qp.A is not None:
+            uppers.append(qp.b)
+            lowers.append(qp.b)
+            rows.append(qp.A)
+        upper = np.concatenate(uppers) if uppers else np.empty(0)
+        lower = np.concatenate(lowers) if lowers else np.empty(0)
+        A = np.vstack(rows) if len(rows) > 1 else rows[0] if rows else np.empty((0, n))
+        sense = self._sense
+        if sense is None or sense.shape[0] != upper.shape[0] or qp.n_eq:
+            sense = np.zeros(upper.shape[0], dtype=np.int32)
+            if qp.n_eq:
+                sense[-qp.n_eq :] = 5
+            self._sense = sense
+        else:
+            sense[:] = 0
+        x, _, exitflag, _ = self._solve(
+            qp.H, qp.c, np.ascontiguousarray(A), upper, lower, sense, **self.settings
+        )
+        if exitflag == -1:
+            raise self._infeasible(qp)
+        if exitflag < 1:
+            raise self._error(f"exit flag {exitflag}: {_DAQP_EXITFLAGS.get(exitflag, '?')}", qp)
+        return self._checked(x, qp)
+
+
+class ProxsuiteBackend(Backend):
+    """proxsuite's dense ProxQP (Bambade et al. 2022), persistent and warm-started."""
+
+    name = "proxsuite"
+    tolerance = 1e-9
+
+    def __init__(self, eps_abs: float = 1e-10, **settings):
+        from proxsuite import proxqp
+
+        self._proxqp = proxqp
+        self._qp = None
+        self._dims: tuple | None = None
+        self.settings = {"eps_abs": eps_abs, "eps_rel": 0.0, **settings}
+
+    def solve(self, qp: QP) -> np.ndarray:
+        proxqp = self._proxqp
+        box = qp.lb is not None
+        dims = (qp.n, qp.n_eq, qp.n_rows, box)
+        A = qp.A if qp.A is not None else np.empty((0, qp.n))
+        b = qp.b if qp.b is not None else np.empty(0)
+        C = qp.C if qp.C is not None else np.empty((0, qp.n))
+        l = np.maximum(qp.l, -_BIG) if qp.C is not None else np.empty(0)
+        u = np.minimum(qp.u, _BIG) if qp.C is not None else np.empty(0)
+        boxes = (np.maximum(qp.lb, -_BIG), np.minimum(qp.ub, _BIG)) if box else ()
+        if self._qp is None or dims != self._dims:
+            self._qp = proxqp.dense.QP(qp.n, qp.n_eq, qp.n_rows, box)
+            for key, value in self.settings.items():
+                setattr(self._qp.settings, key, value)
+            self._qp.settings.initial_guess = proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
+            self._dims = dims
+            setup = self._qp.init
+        else:
+            setup = self._qp.update
+        if box:
+            setup(qp.H, qp.c, A, b, C, l, u, *boxes)
+        else:
+            setup(qp.H, qp.c, A, b, C, l, u)
+        self._qp.solve()
+        status = self._qp.results.info.status
+        if status == proxqp.QPSolverOutput.PROXQP_PRIMAL_INFEASIBLE:
+            self._qp = None
+            raise self._infeasible(qp)
+        if status != proxqp.QPSolverOutput.PROXQP_SOLVED:
+            self._qp = None
+            raise self._error(f"status {status.name}", qp)
+        return self._checked(self._qp.results.x, qp)
+
+
+class QpsolversBackend(Backend):
+    """Any solver of ``qpsolvers`` (Caron et al.) through ``qpsolvers.solve_problem``."""
+
+    def __init__(self, solver: str, **settings):
+        import qpsolvers
+        from qpsolvers.warnings import SparseConversionWarning
+
+        if solver not in qpsolvers.available_solvers:
+            raise BackendError(
+                f"unknown or uninstalled QP back-end {solver!r}; available: {available_backends()}"
+            )
+        self._qpsolvers = qpsolvers
+        self._sparse_warning = SparseConversionWarning
+        self.solver = solver
+        self.name = solver
+        self.tolerance = QPSOLVERS_TOLERANCE.get(solver, 1e-9)
+        self.settings = {**QPSOLVERS_SETTINGS.get(solver, {}), **settings}
+
+    def solve(self, qp: QP) -> np.ndarray:
+        G, h = qp.one_sided()
+        problem = self._qpsolvers.Problem(qp.H, qp.c, G, h, qp.A, qp.b, qp.lb, qp.ub)
+        try:
+            with warnings.catch_warnings():
+                # Dense matrices are converted for sparse solvers; fine at these sizes.
+                warnings.simplefilter("ignore", self._sparse_warning)
+                solution = self._qpsolvers.solve_problem(
+                    problem, solver=self.solver, **self.settings
+                )
+        except Exception as error:  # a solver's own exception types vary by solver
+            raise self._error(f"{type(error).__name__}: {error}", qp) from error
+        if not solution.found:
+            raise self._error("no solution found", qp)
+        return self._checked(solution.x, qp)
+
+
+class CvxpyBackend(Backend):
+    """The QP as a cvxpy program (Diamond & Boyd 2016), solved by cvxpy's default solver."""
+
+    name = "cvxpy"
+    tolerance = 1e-7
+
+    def __init__(self, **settings):
+        import cvxpy
+
+        self._cp = cvxpy
+        self.settings = settings
+
+    def solve(self, qp: QP) -> np.ndarray:
+        cp = self._cp
+        x = cp.Variable(qp.n)
+        H = 0.5 * (qp.H + qp.H.T)
+        objective = 0.5 * cp.quad_form(x, cp.psd_wrap(H)) + qp.c @ x
+        constraints = []
+        if qp.lb is not None:
+            finite_lb, finite_ub = np.isfinite(qp.lb), np.isfinite(qp.ub)
+            if np.any(finite_lb):
+                constraints.append(x[finite_lb] >= qp.lb[finite_lb])
+            if np.any(finite_ub):
+                constraints.append(x[finite_ub] <= qp.ub[finite_ub])
+        G, h = qp.one_sided()
+        if G is not None:
+            constraints.append(G @ x <= h)
+        if qp.A is not None:
+            constraints.append(qp.A @ x == qp.b)
+        problem = cp.Problem(cp.Minimize(objective), constraints)
+        try:
+            problem.solve(**self.settings)
+        except cp.error.SolverError as error:
+            raise self._error(str(error), qp) from error
+        if problem.status in (cp.INFEASIBLE, cp.INFEASIBLE_INACCURATE):
+            raise self._infeasible(qp)
+        if problem.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
+            raise self._error(f"status {problem.status}", qp)
+        return self._checked(x.value, qp)
+
+
+class FallbackChain(Backend):
+    """Try back-ends in order; the first that succeeds wins.
+
+    Raises :class:`InfeasibleProblem` when every back-end reports infeasibility, else a
+    :class:`BackendError` listing each back-end's failure.
+    """
+
+    def __init__(self, backends: Sequence[Backend]):
+        if not backends:
+            raise BackendError("a fallback chain needs at least one back-end")
+        self.backends = list(backends)
+        self.name = " -> ".join(backend.name for backend in self.backends)
+        self.tolerance = max(backend.tolerance for backend in self.backends)
+        self.last_used: str | None = None
+
+    def solve(self, qp: QP) -> np.ndarray:
+        failures: list[Exception] = []
+        for backend in self.backends:
+            try:
+                x = backend.solve(qp)
+            except (BackendError, InfeasibleProblem) as error:
+                failures.append(error)
+                continue
+            self.last_used = backend.name
+            return x
+        if all(isinstance(error, InfeasibleProblem) for error in failures):
+            raise InfeasibleProblem(
+                f"every back-end of {self.name!r} reports the constraints infeasible on a QP "
+                f"with {qp.size()}"
+            )
+        raise BackendError(
+            f"every back-end of the fallback chain failed on a QP with {qp.size()}: "
+            + "; ".join(str(error) for error in failures)
+        )
+
+
+def available_backends() -> list[str]:
+    """Every name :func:`make_backend` accepts on this machine."""
+    import qpsolvers
+
+    names = ["daqp", "proxsuite", "cvxpy"]
+    names += [name for name in qpsolvers.available_solvers if name != "daqp"]
+    names += ["qpsolvers:daqp"] if "daqp" in qpsolvers.available_solvers else []
+    return names
+
+
+def make_backend(spec: str | Sequence[str] | Backend, **settings) -> Backend:
+    """A fresh back-end from a name, a list of names (fallback chain) or a :class:`Backend`.
+
+    ``settings`` go to the solver (e.g. ``eps_abs`` for proxqp). Raises
+    :class:`BackendError` for an unknown or uninstalled name.
+    """
+    if isinstance(spec, Backend):
+        return spec
+    if not isinstance(spec, str):
+        return FallbackChain([make_backend(name, **settings) for name in spec])
+    try:
+        if spec == "daqp":
+            return DaqpBackend(**settings)
+        if spec == "proxsuite":
+            return ProxsuiteBackend(**settings)
+        if spec == "cvxpy":
+            return CvxpyBackend(**settings)
+    except ImportError as error:
+        raise BackendError(f"QP back-end {spec!r} is not installed: {error}") from None
+    return QpsolversBackend(spec.removeprefix("qpsolvers:"), **settings)

@@ -1,0 +1,81 @@
+r"""The quadratic program handed to a back-end.
+
+.. math::
+
+    \min_x \; \tfrac12 x^\top H x + c^\top x
+    \quad\text{s.t.}\quad
+    l_b \le x \le u_b, \qquad l \le C x \le u, \qquad A x = b
+
+Bounds and two-sided rows are the compact form of :math:`G x \le h` (one row per finite
+side); back-ends that take only :math:`G x \le h` get :meth:`QP.one_sided`. Infinite
+entries of ``lb``/``ub``/``l``/``u`` mean "no bound".
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+
+@dataclasses.dataclass
+class QP:
+    """One convex QP. ``H`` must be symmetric positive semi-definite (definite for daqp)."""
+
+    H: np.ndarray
+    c: np.ndarray
+    lb: np.ndarray | None = None
+    ub: np.ndarray | None = None
+    C: np.ndarray | None = None
+    l: np.ndarray | None = None
+    u: np.ndarray | None = None
+    A: np.ndarray | None = None
+    b: np.ndarray | None = None
+
+    @property
+    def n(self) -> int:
+        """Number of variables."""
+        return self.c.shape[0]
+
+    @property
+    def n_rows(self) -> int:
+        """Number of two-sided inequality rows of ``C``."""
+        return 0 if self.C is None else self.C.shape[0]
+
+    @property
+    def n_eq(self) -> int:
+        """Number of equality rows."""
+        return 0 if self.A is None else self.A.shape[0]
+
+    def size(self) -> str:
+        """``"n=7 variables, 7 bounds, 0 inequality rows, 0 equalities"`` for messages."""
+        bounds = 0 if self.lb is None else self.n
+        return (
+            f"n={self.n} variables, {bounds} bounds, {self.n_rows} inequality rows, "
+            f"{self.n_eq} equalities"
+        )
+
+    def one_sided(self) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """``(G, h)`` of the rows ``l ≤ C x ≤ u`` as ``G x ≤ h`` (finite sides only)."""
+        if self.C is None:
+            return None, None
+        G = np.vstack([self.C, -self.C])
+        h = np.concatenate([self.u, -self.l])
+        finite = np.isfinite(h)
+        if not np.any(finite):
+            return None, None
+        return G[finite], h[finite]
+
+    def max_violation(self, x: np.ndarray) -> float:
+        """Largest violation of any constraint at ``x`` (0 when feasible)."""
+        violation = 0.0
+        if self.lb is not None:
+            violation = max(violation, float(np.max(self.lb - x, initial=0.0)))
+            violation = max(violation, float(np.max(x - self.ub, initial=0.0)))
+        if self.C is not None:
+            Cx = self.C @ x
+            violation = max(violation, float(np.max(self.l - Cx, initial=0.0)))
+            violation = max(violation, float(np.max(Cx - self.u, initial=0.0)))
+        if self.A is not None:
+            violation = max(violation, float(np.max(np.abs(self.A @ x - self.b), initial=0.0)))
+        return violation

@@ -1,0 +1,72 @@
+r"""Keep joints away from their limits by descending a quadratic potential.
+
+.. math::
+
+    φ(q) = \sum_i \left(\frac{q_i - \bar q_i}{q_{max,i} - q_{min,i}}\right)^2, \qquad
+    \bar q = \tfrac12 (q_{min} + q_{max})
+
+(Liégeois 1977; Chan & Dubey 1995 use the same normalisation). With
+:math:`s_i = 1 / (q_{max,i} - q_{min,i})` (0 for a joint without limits), the gradient and
+Hessian are
+
+.. math::
+
+    ∇φ = 2 s^2 ⊙ (q - \bar q), \qquad ∇^2 φ = 2\,\mathrm{diag}(s^2).
+
+The task enters the QP through them, as the residual :math:`e = \sqrt2\, s ⊙ (q - \bar q)`
+with :math:`J = \sqrt2\, \mathrm{diag}(s)`, so :math:`φ = \|e\|^2/2`, :math:`J^\top J =
+∇^2φ` and :math:`J^\top e = ∇φ`: its objective :math:`w^2 (\tfrac12 Δq^\top ∇^2φ\, Δq +
+α ∇φ^\top Δq)` is a (damped, for :math:`α < 1`) Newton step on :math:`w^2 φ`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..robot import Robot
+from .kinematics import KinematicState
+from .task import ResidualTask
+
+
+class JointLimitAvoidanceTask(ResidualTask):
+    """Descend ``φ(q)`` towards the middle of each limited joint's range.
+
+    Args:
+        weight: Scalar or per-joint weight ``w`` (the objective scales with ``w²``).
+        gain: Newton step fraction ``α ∈ [0, 1]``.
+        priority: Priority level, 0 highest.
+    """
+
+    def __init__(self, weight=1.0, gain: float = 1.0, priority: int = 1):
+        super().__init__(weight, gain, priority)
+        self.scale = np.empty(0)
+        self.middle = np.empty(0)
+
+    def bind(self, robot: Robot) -> JointLimitAvoidanceTask:
+        self._set_size(robot.dof)
+        limited = np.isfinite(robot.lower) & np.isfinite(robot.upper)
+        span = np.where(limited, robot.upper - robot.lower, 1.0)
+        self.scale = np.where(limited & (span > 0.0), 1.0 / span, 0.0)
+        self.middle = np.where(limited, 0.5 * (robot.lower + robot.upper), 0.0)
+        return super().bind(robot)
+
+    def value(self, q: np.ndarray) -> float:
+        """The potential ``φ(q)``."""
+        return float(np.sum((self.scale * (q - self.middle)) ** 2))
+
+    def gradient(self, q: np.ndarray) -> np.ndarray:
+        """``∇φ(q) = 2 s² ⊙ (q − q̄)``."""
+        return 2.0 * self.scale**2 * (q - self.middle)
+
+    def hessian(self) -> np.ndarray:
+        """``∇²φ = 2 diag(s²)`` (constant)."""
+        return np.diag(2.0 * self.scale**2)
+
+    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+        root2_scale = math.sqrt(2.0) * self.scale
+        np.subtract(state.q, self.middle, out=e)
+        e *= root2_scale
+        J[:] = 0.0
+        J[np.arange(self.k), state.chain_columns] = root2_scale

@@ -1,0 +1,94 @@
+"""The kinematic snapshot a task reads: frame poses, world Jacobians and the chain's ``q``.
+
+A redik task is evaluated in two settings, and both hand it a :class:`KinematicState`:
+
+- inside a :class:`redik.Problem` (the hot path), the state wraps the robot's own
+  ``MjData`` after **one** ``robot.update(q)`` per step, and Jacobians have one column per
+  chain joint (``robot.dof`` columns);
+- inside ``mink.solve_ik`` (interoperability), the state wraps the ``mink.Configuration``'s
+  data, and Jacobians have one column per degree of freedom of the model (``model.nv``),
+  the chain joints sitting at ``robot.dof_indices``.
+
+Jacobians are MuJoCo's ``"world"`` Jacobians of :mod:`redik.conventions` (origin velocity
+and angular velocity in world axes, ``(v, ω)`` order). They are computed at most once per
+frame and per update, into preallocated buffers.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from ..exceptions import InvalidInput
+from ..robot import Frame, Robot
+
+
+class KinematicState:
+    """Frame poses and Jacobians of one configuration, computed lazily and cached.
+
+    Attributes:
+        robot: The robot whose chain defines ``q`` and the frames.
+        q: The chain joint values (``robot.dof``,) of the current configuration.
+        n_columns: Number of Jacobian columns (``robot.dof`` or ``model.nv``).
+        chain_columns: Column of each chain joint among the ``n_columns``.
+    """
+
+    def __init__(self, robot: Robot, model: mujoco.MjModel, data: mujoco.MjData, full: bool):
+        self.robot = robot
+        self.model = model
+        self.data = data
+        self._full = full
+        self.n_columns = model.nv if full else robot.dof
+        self.chain_columns = robot.dof_indices if full else np.arange(robot.dof)
+        self.q = np.zeros(robot.dof)
+        self._jacobians: dict[Frame, np.ndarray] = {}
+        self._fresh: set[Frame] = set()
+        self._jacp = np.zeros((3, model.nv))
+        self._jacr = np.zeros((3, model.nv))
+
+    @classmethod
+    def for_robot(cls, robot: Robot) -> KinematicState:
+        """A state on the robot's own data with ``robot.dof`` Jacobian columns (hot path)."""
+        return cls(robot, robot.model, robot.data, full=False)
+
+    @classmethod
+    def for_configuration(cls, robot: Robot, configuration) -> KinematicState:
+        """A state on a ``mink.Configuration`` (already updated) with ``model.nv`` columns."""
+        model = configuration.model
+        if model.nq != robot.model.nq or model.nv != robot.model.nv:
+            raise InvalidInput(
+                f"the configuration's model (nq={model.nq}, nv={model.nv}) is not the model of "
+                f"{robot!r} (nq={robot.model.nq}, nv={robot.model.nv})"
+            )
+        state = cls(robot, model, configuration.data, full=True)
+        state.q[:] = configuration.data.qpos[robot.qpos_indices]
+        return state
+
+    def update(self, q: np.ndarray) -> None:
+        """Run forward kinematics at the chain values ``q`` (robot path only; no checks)."""
+        self.robot.update(q)
+        self.q[:] = q
+        self._fresh.clear()
+
+    def pose(self, frame: Frame) -> tuple[np.ndarray, np.ndarray]:
+        """Views ``(R, p)`` of the frame's world rotation (3 × 3) and position (3,)."""
+        if frame.kind == "site":
+            return self.data.site_xmat[frame.id].reshape(3, 3), self.data.site_xpos[frame.id]
+        return self.data.xmat[frame.id].reshape(3, 3), self.data.xpos[frame.id]
+
+    def jacobian(self, frame: Frame) -> np.ndarray:
+        """The world Jacobian (6 × ``n_columns``) of ``frame``; do not modify it."""
+        J = self._jacobians.get(frame)
+        if J is None:
+            J = self._jacobians[frame] = np.empty((6, self.n_columns))
+        elif frame in self._fresh:
+            return J
+        if not self._full:
+            self.robot.world_jacobian_into(frame, J)
+        else:
+            jac = mujoco.mj_jacSite if frame.kind == "site" else mujoco.mj_jacBody
+            jac(self.model, self.data, self._jacp, self._jacr, frame.id)
+            J[:3] = self._jacp
+            J[3:] = self._jacr
+        self._fresh.add(frame)
+        return J

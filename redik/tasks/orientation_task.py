@@ -1,0 +1,69 @@
+r"""Regulate the orientation of a frame: :math:`e = \log(R^\top R_d)`, in body axes.
+
+.. math::
+
+    e(q) = \log\big(R(q)^\top R_d\big) \in \mathbb{R}^3, \qquad
+    J(q) = -J_l^{-1}(e)\, R^\top J_ω(q)
+
+with :math:`J_ω` the angular block of the world Jacobian and :math:`J_l^{-1}` the SO(3)
+inverse left Jacobian (:mod:`redik.tasks.frame_task`). These are the angular rows of
+:class:`~redik.tasks.pose_task.PoseTask`. The position is left free.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import lie
+from .frame_task import FrameTask, so3_left_jacobian_inverse
+from .kinematics import KinematicState
+
+
+def as_target_rotation(target) -> np.ndarray:
+    """A 3 × 3 rotation from a matrix, a unit quaternion ``(w, x, y, z)`` or ``mink.SO3``."""
+    if hasattr(target, "as_matrix"):
+        target = target.as_matrix()
+    target = np.asarray(target, dtype=float)
+    if target.shape == (4,):
+        return lie.matrix_from_quat(lie.as_quaternion(target, "target_rotation"))
+    return lie.as_rotation(target, name="target_rotation").copy()
+
+
+class OrientationTask(FrameTask):
+    """Drive a frame to a target orientation ``R_d`` (world frame).
+
+    Args:
+        target_rotation: 3 × 3 rotation matrix, unit quaternion ``(w, x, y, z)`` or
+            ``mink.SO3``.
+        frame: Site or body name; None is the robot's end-effector.
+        weight: Scalar or per-axis (3, body axes) weight.
+        gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
+        priority: Priority level, 0 highest.
+    """
+
+    def __init__(
+        self,
+        target_rotation,
+        frame: str | None = None,
+        weight=1.0,
+        gain: float = 1.0,
+        priority: int = 0,
+    ):
+        super().__init__(frame, weight, gain, priority, size=3)
+        self.target = as_target_rotation(target_rotation)
+
+    def set_target(self, target_rotation) -> None:
+        """Replace the target orientation (validated)."""
+        self.target = as_target_rotation(target_rotation)
+
+    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+        R, _ = state.pose(self.frame)
+        Rt = R.T
+        e[:] = lie.so3_log(Rt @ self.target)
+        Jinv = so3_left_jacobian_inverse(e)
+        Jinv *= -1.0
+        np.matmul(Jinv @ Rt, state.jacobian(self.frame)[3:], out=J)
+
+    def pose_errors(self, state: KinematicState) -> tuple[None, float]:
+        R, _ = state.pose(self.frame)
+        return None, lie.rotation_angle(R, self.target)

@@ -1,0 +1,49 @@
+r"""Pull the chain towards a nominal posture: :math:`e = q - q_{nom}`, :math:`J = I`.
+
+Usually a low-priority regulariser: in a redundant arm it picks, among the joint steps
+that serve the higher levels equally well, the one that moves towards :math:`q_{nom}`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import lie
+from ..robot import Robot
+from .kinematics import KinematicState
+from .task import ResidualTask
+
+
+class PostureTask(ResidualTask):
+    """Drive the chain joints towards ``q_nominal``.
+
+    Args:
+        q_nominal: The nominal chain configuration (``robot.dof``,); None is the robot's
+            ``home``, taken when the task is bound.
+        weight: Scalar or per-joint weight.
+        gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
+        priority: Priority level, 0 highest.
+    """
+
+    def __init__(self, q_nominal=None, weight=1.0, gain: float = 1.0, priority: int = 1):
+        super().__init__(weight, gain, priority)
+        self._q_nominal_given = q_nominal
+        self.q_nominal: np.ndarray | None = None
+
+    def bind(self, robot: Robot) -> PostureTask:
+        self._set_size(robot.dof)
+        if self._q_nominal_given is None:
+            self.q_nominal = robot.home.copy()
+        else:
+            self.q_nominal = lie.as_vector(self._q_nominal_given, robot.dof, "q_nominal").copy()
+        return super().bind(robot)
+
+    def set_target(self, q_nominal) -> None:
+        """Replace the nominal posture (validated against the bound robot)."""
+        robot = self._require_robot()
+        self.q_nominal = lie.as_vector(q_nominal, robot.dof, "q_nominal").copy()
+
+    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+        np.subtract(state.q, self.q_nominal, out=e)
+        J[:] = 0.0
+        J[np.arange(self.k), state.chain_columns] = 1.0

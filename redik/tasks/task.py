@@ -1,0 +1,187 @@
+r"""The task contract: what a task asks of the joint step ``Δq`` in one QP.
+
+Every task contributes a convex quadratic to the objective of its priority level,
+
+.. math::
+
+    \tfrac12 \Delta q^\top H \Delta q + c^\top \Delta q ,
+
+and the tasks of one level are summed (:mod:`redik.qp.assembly`). Most tasks are
+**residual tasks** (:class:`ResidualTask`): a task error :math:`e(q) \in \mathbb{R}^k` with
+Jacobian :math:`J(q) = \partial e / \partial q` (``k × n``), a weight :math:`W =
+\mathrm{diag}(w)` and a gain :math:`\alpha \in [0, 1]`, entering as the first-order task
+dynamics :math:`J \Delta q = -\alpha e` in the least-squares sense:
+
+.. math::
+
+    \tfrac12 \| W (J \Delta q + \alpha e) \|^2
+    \quad\Longrightarrow\quad
+    H = J^\top W^2 J, \qquad c = \alpha J^\top W^2 e .
+
+This is mink's task protocol (``mink.Task``: ``compute_error``, ``compute_jacobian``,
+``cost`` = :math:`w`, ``gain``), so a redik task can be handed to ``mink.solve_ik`` and a
+mink task to :class:`redik.Problem`. Weights multiply the residual, as mink's ``cost``
+does: the objective scales with :math:`w^2`. A weight is a scalar or one value per error
+component. Tasks that are not least squares (:class:`ManipulabilityTask`) implement
+:meth:`Task.add_objective` directly.
+
+A task names frames, not ids; :meth:`Task.bind` resolves them against a
+:class:`redik.Robot` (a :class:`redik.Problem` binds its tasks; ``frame=None`` is the
+robot's end-effector). Errors and Jacobians follow :mod:`redik.conventions`.
+"""
+
+from __future__ import annotations
+
+import abc
+
+import numpy as np
+from mink.tasks import BaseTask, Objective
+from mink.tasks import Task as MinkTask
+
+from ..exceptions import InvalidInput
+from ..robot import Robot
+from .kinematics import KinematicState
+
+
+def as_weight(weight, size: int, name: str) -> np.ndarray:
+    """A non-negative finite weight, scalar or per component, as a (``size``,) array."""
+    array = np.atleast_1d(np.asarray(weight, dtype=float))
+    if array.ndim != 1 or array.shape[0] not in (1, size):
+        raise InvalidInput(f"{name} must be a scalar or have shape ({size},), got {array.shape}")
+    if not np.all(np.isfinite(array)) or np.any(array < 0.0):
+        raise InvalidInput(f"{name} must be finite and >= 0, got {array.tolist()}")
+    return np.broadcast_to(array, (size,)).copy()
+
+
+def as_gain(gain: float) -> float:
+    """A task gain in [0, 1] (1 = dead-beat, smaller = low-pass)."""
+    gain = float(gain)
+    if not 0.0 <= gain <= 1.0:
+        raise InvalidInput(f"gain must be in [0, 1], got {gain}")
+    return gain
+
+
+def as_priority(priority: int) -> int:
+    """A priority level: an integer >= 0, 0 being the highest."""
+    if isinstance(priority, bool) or int(priority) != priority or priority < 0:
+        raise InvalidInput(f"priority must be an integer >= 0 (0 is highest), got {priority!r}")
+    return int(priority)
+
+
+class Task(BaseTask):
+    """Base class of redik tasks: a priority, a robot binding and a QP contribution.
+
+    Attributes:
+        priority: Level in the hierarchy, 0 (highest) first. Tasks of equal priority are
+            weighted and summed; a lower level never degrades a higher one.
+        robot: The robot the task is bound to, or None before :meth:`bind`.
+    """
+
+    def __init__(self, priority: int = 0):
+        self.priority = as_priority(priority)
+        self.robot: Robot | None = None
+
+    def bind(self, robot: Robot) -> Task:
+        """Resolve frames and sizes against ``robot``; returns the task. Subclasses extend it."""
+        self.robot = robot
+        return self
+
+    def _require_robot(self) -> Robot:
+        if self.robot is None:
+            raise InvalidInput(
+                f"{type(self).__name__} is not bound to a robot: call task.bind(robot) before "
+                "using it outside a redik.Problem (e.g. in mink.solve_ik)"
+            )
+        return self.robot
+
+    def _state(self, configuration) -> KinematicState:
+        return KinematicState.for_configuration(self._require_robot(), configuration)
+
+    @abc.abstractmethod
+    def add_objective(self, state: KinematicState, H: np.ndarray, c: np.ndarray) -> None:
+        """Add this task's ``(H, c)`` (``n × n``, ``n``) at ``state`` into ``H`` and ``c``."""
+
+    def compute_qp_objective(self, configuration) -> Objective:
+        """mink protocol: the pair ``(H, c)`` over the model's ``nv`` velocity columns."""
+        state = self._state(configuration)
+        H = np.zeros((state.n_columns, state.n_columns))
+        c = np.zeros(state.n_columns)
+        self.add_objective(state, H, c)
+        return Objective(H, c)
+
+
+class ResidualTask(Task, MinkTask):
+    r"""A task with an error :math:`e(q)` (``k``,) and its Jacobian :math:`J = ∂e/∂q`.
+
+    Subclasses implement :meth:`residual_into` (error and Jacobian into buffers); the
+    weighted least-squares objective of the module docstring follows.
+
+    Attributes:
+        k: Dimension of the error.
+        cost: The weight :math:`w` (``k``,) — mink's name, so mink reads it too.
+        gain: The gain :math:`α`.
+        lm_damping: Always 0 (mink reads it); redik regularises the QP as a whole.
+    """
+
+    k: int
+
+    def __init__(self, weight, gain: float, priority: int, size: int | None = None):
+        Task.__init__(self, priority)
+        self.gain = as_gain(gain)
+        self.lm_damping = 0.0
+        self._weight_spec = weight
+        self.cost = np.empty(0)
+        if size is not None:
+            self._set_size(size)
+
+    def _set_size(self, size: int) -> None:
+        self.k = size
+        self.cost = as_weight(self._weight_spec, size, f"{type(self).__name__} weight")
+
+    def set_weight(self, weight) -> None:
+        """Replace the weight (scalar or per component)."""
+        self.cost[:] = as_weight(weight, self.k, f"{type(self).__name__} weight")
+
+    @abc.abstractmethod
+    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+        """Write the error (``k``,) into ``e`` and its Jacobian (``k × n``) into ``J``."""
+
+    def weighted_residual_into(self, state: KinematicState, A: np.ndarray, b: np.ndarray) -> None:
+        """Write ``A = W J`` and ``b = −α W e``, the rows of ``½‖A Δq − b‖²`` (hot path)."""
+        self.residual_into(state, b, A)
+        A *= self.cost[:, None]
+        b *= self.cost
+        b *= -self.gain
+
+    def add_objective(self, state: KinematicState, H: np.ndarray, c: np.ndarray) -> None:
+        A = np.empty((self.k, state.n_columns))
+        b = np.empty(self.k)
+        self.weighted_residual_into(state, A, b)
+        H += A.T @ A
+        c -= A.T @ b
+
+    def error_and_jacobian(self, state: KinematicState) -> tuple[np.ndarray, np.ndarray]:
+        """Fresh arrays ``(e, J)`` at ``state``."""
+        e = np.empty(self.k)
+        J = np.empty((self.k, state.n_columns))
+        self.residual_into(state, e, J)
+        return e, J
+
+    def compute_error(self, configuration) -> np.ndarray:
+        """mink protocol: the error :math:`e(q)` at a ``mink.Configuration``."""
+        return self.error_and_jacobian(self._state(configuration))[0]
+
+    def compute_jacobian(self, configuration) -> np.ndarray:
+        """mink protocol: :math:`J(q)` over the model's ``nv`` velocity columns."""
+        return self.error_and_jacobian(self._state(configuration))[1]
+
+    def compute_qp_objective(self, configuration) -> Objective:
+        return Task.compute_qp_objective(self, configuration)
+
+    def compute_qp_residual(self, configuration) -> tuple[np.ndarray, np.ndarray, float]:
+        """mink protocol: ``(W J, −α W e, 0)``, the weighted residual mink stacks."""
+        state = self._state(configuration)
+        A = np.empty((self.k, state.n_columns))
+        b = np.empty(self.k)
+        self.weighted_residual_into(state, A, b)
+        return A, b, 0.0
