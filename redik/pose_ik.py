@@ -1,0 +1,765 @@
+r"""Inverse kinematics of a :class:`~redik.robot.Robot` to a pose target in SE(3).
+
+:func:`solve_pose` validates its inputs once, then runs one of the iterations below in a
+tight loop on preallocated buffers (one :meth:`Robot.kinematics` call — FK and world
+Jacobian — per trial), restarting from random configurations when an attempt fails.
+:func:`solve_all` collects the distinct solutions found from many starts. Frames, twist
+order ``(v, ω)`` and Jacobian references are those of :mod:`redik.conventions`.
+
+Methods
+    ``"newton"``
+        Modern Robotics' *IKinBody* (Lynch & Park §6.2.2): the body error twist
+        ``V_b = log(T_sb⁻¹ T_sd)`` and ``q ← q + J_b⁺ V_b``. With ``form="space"`` it is the
+        space form, ``V_s = Ad_{T_sb} V_b`` and ``q ← q + J_s⁺ V_s``.
+    ``"transpose"``
+        Gradient descent on ``½‖e‖²``, ``q ← q + α Jᵀ e``. ``step="armijo"`` (default)
+        starts each line search at Buss's step ``α₀ = ⟨e, JJᵀe⟩ / ‖JJᵀe‖²`` (the minimiser
+        along ``Jᵀe`` of the linearised error) and backtracks until the Armijo condition
+        holds, so ``‖e‖`` never increases; a number is a constant ``α``.
+    ``"hybrid"``
+        Transpose (Armijo) steps while ``‖e‖ > switch_error`` (default 0.1), where the
+        gradient is robust, then Newton steps ``q ← q + J⁺ e`` for quadratic terminal
+        convergence; an increasing Newton step falls back to a gradient step.
+    ``"dls"`` (default)
+        Damped least squares / Levenberg–Marquardt (Wampler 1986; Nakamura & Hanafusa 1986;
+        damping after Sugihara 2011):
+
+        .. math:: Δq = J^T (J J^T + λ I)^{-1} e, \qquad λ = μ\,‖e‖^2 + λ_{min},
+
+        with ``(JᵀJ + λI)⁻¹Jᵀe`` when ``n < 6``. A trial is accepted only when it lowers
+        ``‖e‖`` (then ``μ`` shrinks), otherwise it is rejected and ``μ`` grows; an attempt
+        that stops making progress ends early and a restart takes over.
+    ``"qp"``
+        Dispatched to :func:`redik.qp.solve.solve_pose_qp` (the QP core).
+
+Error
+    ``"transpose"``, ``"hybrid"`` and ``"dls"`` drive the world-frame error
+    ``e = (p_d − p, log(R_d Rᵀ))`` whose Jacobian is MuJoCo's world Jacobian (``"world"``
+    in :mod:`redik.conventions`) and whose two halves are exactly the reported position and
+    rotation errors; ``"newton"`` drives the body (or space) twist. ``error_history`` holds
+    ``‖e‖`` of the method's own error; ``result.error`` is always ``‖log(T⁻¹ T_d)‖``.
+
+Limits
+    With ``respect_limits=True`` every iterate is projected into the joint limits
+    (``q ← clip(q + Δq)``) and random restarts are drawn inside them, so the returned ``q``
+    is inside the limits. With ``respect_limits=False`` the iterations are the textbook
+    ones and the limits are not part of success (the message says when ``q`` is outside).
+    In both cases a revolute joint outside its range is first shifted by multiples of 2π
+    when that brings it inside (the pose is unchanged).
+
+Success
+    Decided from the pose of the returned ``q``: ``‖p_d − p‖ ≤ pos_tol``,
+    ``angle(Rᵀ R_d) ≤ rot_tol`` and, with ``respect_limits``, ``lower ≤ q ≤ upper``.
+    A target farther from the first joint than the chain can reach, or one at which every
+    attempt stops at the same non-zero error with a vanishing gradient ``Jᵀe``, is
+    ``"unreachable"``; other failures are ``"max_iterations"`` (or ``"diverged"`` when
+    every attempt hit a NaN). ``q`` is then the closest configuration found.
+"""
+
+from __future__ import annotations
+
+import math
+import weakref
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from .exceptions import InvalidInput
+from .lie import adjoint, as_pose, inverse, pose_errors, se3_log, skew, so3_log
+from .result import IKResult
+from .robot import Frame, Robot
+
+METHODS = ("newton", "transpose", "hybrid", "dls", "qp")
+"""The methods of :func:`solve_pose`."""
+
+MAX_ITER = {"newton": 100, "transpose": 2000, "hybrid": 200, "dls": 60, "qp": 200}
+"""Default iteration budget per attempt, by method."""
+
+RESTARTS = {"newton": 20, "transpose": 5, "hybrid": 20, "dls": 100, "qp": 20}
+"""Default number of random restarts after the first attempt, by method."""
+
+_DLS_OPTIONS = {
+    "damping": 1.0,
+    "min_damping": 1e-9,
+    "max_damping": 1e6,
+    "patience": 5,
+    "progress": 0.5,
+}
+_NEWTON_OPTIONS = {"form": "body", "step": 1.0}
+_TRANSPOSE_OPTIONS = {"step": "armijo"}
+_HYBRID_OPTIONS = {"switch_error": 0.1}
+_OPTIONS = {
+    "dls": _DLS_OPTIONS,
+    "newton": _NEWTON_OPTIONS,
+    "transpose": _TRANSPOSE_OPTIONS,
+    "hybrid": _HYBRID_OPTIONS,
+}
+
+_ARMIJO_C = 1e-4
+_ARMIJO_TRIALS = 30
+
+
+# --------------------------------------------------------------------------------------
+# Public API
+
+
+def solve_pose(
+    robot: Robot,
+    T_target: np.ndarray,
+    q0: np.ndarray | None = None,
+    method: str = "dls",
+    pos_tol: float = 1e-6,
+    rot_tol: float = 1e-5,
+    max_iter: int | None = None,
+    restarts: int | None = None,
+    respect_limits: bool = True,
+    seed: int | np.random.Generator | None = None,
+    frame: str | Frame | None = None,
+    **method_options: object,
+) -> IKResult:
+    """Joint values that put ``frame`` at ``T_target`` (see the module docstring).
+
+    Args:
+        robot: The robot.
+        T_target: Desired pose ``T_sd`` of ``frame`` in the world (4 × 4).
+        q0: First initial guess; default ``robot.home``.
+        method: One of :data:`METHODS`.
+        pos_tol: Position tolerance (m) on ``‖p_d − p‖``.
+        rot_tol: Rotation tolerance (rad) on ``angle(Rᵀ R_d)``.
+        max_iter: Iterations per attempt; default :data:`MAX_ITER` for the method.
+        restarts: Random restarts after the first attempt; default :data:`RESTARTS`.
+        respect_limits: Keep every iterate inside the joint limits (see the module docstring).
+        seed: Seed (or generator) of the random restarts, for reproducible results.
+        frame: Site or body to place; default the end-effector.
+        **method_options: ``"dls"``: ``damping`` (initial μ), ``min_damping`` (λ_min),
+            ``max_damping``, ``patience`` and ``progress`` (an attempt ends as stalled when
+            ``‖e‖²`` fell by less than the fraction ``progress`` in ``patience`` iterations);
+            ``"newton"``: ``form`` ("body" or "space"), ``step``;
+            ``"transpose"``: ``step`` ("armijo" or a number); ``"hybrid"``: ``switch_error``;
+            ``"qp"``: passed on to the QP solver (which runs one attempt: no restarts).
+
+    Returns:
+        An :class:`~redik.result.IKResult`; ``restarts`` counts the attempts after the first,
+        ``history`` is that of the returned attempt.
+
+    Raises:
+        InvalidPose: ``T_target`` is not a finite rigid transform.
+        InvalidConfiguration: ``q0`` has the wrong length or is not finite.
+        InvalidInput: unknown method or option, or a non-positive tolerance or budget.
+        UnknownFrame: ``frame`` names no site or body.
+    """
+    T_target = as_pose(T_target, "T_target")
+    q_start = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
+    if method not in METHODS:
+        raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
+    for name, tol in (("pos_tol", pos_tol), ("rot_tol", rot_tol)):
+        if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
+            raise InvalidInput(f"{name} must be a positive number, got {tol!r}")
+    max_iter = _count(MAX_ITER[method] if max_iter is None else max_iter, "max_iter", 1)
+    restarts = _count(RESTARTS[method] if restarts is None else restarts, "restarts", 0)
+    resolved = robot.frame(frame)
+
+    if method == "qp":
+        try:
+            from .qp.solve import solve_pose_qp
+        except ImportError as error:
+            raise InvalidInput(
+                f"method 'qp' needs redik.qp.solve.solve_pose_qp, which is not available ({error})"
+            ) from None
+        return solve_pose_qp(
+            robot, T_target, q_start, pos_tol=pos_tol, rot_tol=rot_tol, max_iter=max_iter,
+            respect_limits=respect_limits, frame=frame, **method_options,
+        )  # fmt: skip
+
+    options = dict(_OPTIONS[method])
+    unknown = sorted(set(method_options) - set(options))
+    if unknown:
+        raise InvalidInput(
+            f"unknown option(s) {unknown} for method {method!r}; it takes {sorted(options)}"
+        )
+    options.update(method_options)
+    iterate = _ITERATIONS[method](options)
+
+    problem = _Problem(robot, resolved, T_target, pos_tol, rot_tol, respect_limits)
+    attempts = [iterate(problem, problem.project(q_start), max_iter)]
+    reach = 0.0
+    if attempts[0].status != "converged":
+        reach = _reach_excess(robot, resolved, problem.p_d)
+        if reach > 0.0:
+            restarts = min(restarts, 2)  # a closest q is all there is to find
+        rng = np.random.default_rng(seed)
+        for _ in range(restarts):
+            attempts.append(iterate(problem, problem.project(robot.random_q(rng)), max_iter))
+            if attempts[-1].status == "converged":
+                break
+    return _finish(problem, attempts, method, reach)
+
+
+def solve_all(
+    robot: Robot,
+    T_target: np.ndarray,
+    n_starts: int = 100,
+    seed: int | np.random.Generator | None = None,
+    method: str = "dls",
+    pos_tol: float = 1e-6,
+    rot_tol: float = 1e-5,
+    max_iter: int | None = None,
+    respect_limits: bool = True,
+    frame: str | Frame | None = None,
+    cluster_tol: float = 1e-3,
+    **method_options: object,
+) -> list[IKResult]:
+    """The distinct solutions reached from ``n_starts`` random starts.
+
+    Each start is solved by :func:`solve_pose` without restarts; the successful results are
+    clustered: two solutions are the same when every joint differs by at most
+    ``cluster_tol`` (radians or metres), comparing angles modulo 2π for revolute joints
+    without limits or whose range spans more than 2π. A redundant arm has a continuum of
+    solutions: the list then samples it.
+
+    Returns:
+        The successful results, one per cluster (the most accurate), ordered by
+        ``‖log(T⁻¹ T_d)‖`` — empty when no start converged.
+    """
+    n_starts = _count(n_starts, "n_starts", 1)
+    if not (isinstance(cluster_tol, (int, float)) and cluster_tol > 0):
+        raise InvalidInput(f"cluster_tol must be a positive number, got {cluster_tol!r}")
+    rng = np.random.default_rng(seed)
+    periodic = robot.revolute & ((robot.upper - robot.lower) >= 2.0 * np.pi)
+    solutions: list[IKResult] = []
+    for _ in range(n_starts):
+        result = solve_pose(
+            robot, T_target, robot.random_q(rng), method=method, pos_tol=pos_tol,
+            rot_tol=rot_tol, max_iter=max_iter, restarts=0, respect_limits=respect_limits,
+            frame=frame, **method_options,
+        )  # fmt: skip
+        if not result.success:
+            continue
+        for index, known in enumerate(solutions):
+            difference = result.q - known.q
+            difference[periodic] = np.abs(_wrap(difference[periodic]))
+            if np.max(np.abs(difference)) <= cluster_tol:
+                if result.error < known.error:
+                    solutions[index] = result
+                break
+        else:
+            solutions.append(result)
+    return sorted(solutions, key=lambda r: r.error)
+
+
+# --------------------------------------------------------------------------------------
+# The problem and one attempt
+
+
+class _Problem:
+    """A validated solve: target, tolerances, limits and preallocated buffers."""
+
+    def __init__(
+        self,
+        robot: Robot,
+        frame: Frame,
+        T_target: np.ndarray,
+        pos_tol: float,
+        rot_tol: float,
+        respect_limits: bool,
+    ) -> None:
+        self.robot = robot
+        self.frame = frame
+        self.T_target = T_target
+        self.p_d = T_target[:3, 3].copy()
+        self.R_d = T_target[:3, :3].copy()
+        self.pos_tol = pos_tol
+        self.rot_tol = rot_tol
+        self.respect_limits = respect_limits
+        self.lower = robot.lower
+        self.upper = robot.upper
+        self.bounded = respect_limits and bool(
+            np.any(np.isfinite(robot.lower) | np.isfinite(robot.upper))
+        )
+        self.n = robot.dof
+        self.periodic = robot.revolute & (robot.upper - robot.lower >= 2.0 * np.pi)
+        """Revolute joints whose range spans a full turn: q ± 2π stays inside."""
+        self.periodic_any = bool(np.any(self.periodic))
+
+    def project(self, q: np.ndarray) -> np.ndarray:
+        """``q`` clipped into the limits when they are respected (a new array)."""
+        return np.clip(q, self.lower, self.upper) if self.bounded else np.array(q, dtype=float)
+
+    def world_error(self, T: np.ndarray, e: np.ndarray) -> tuple[float, float]:
+        """Fill ``e = (p_d − p, log(R_d Rᵀ))``; return the position and rotation errors."""
+        np.subtract(self.p_d, T[:3, 3], out=e[:3])
+        e[3:] = so3_log(self.R_d @ T[:3, :3].T)
+        return math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]), math.sqrt(
+            e[3] * e[3] + e[4] * e[4] + e[5] * e[5]
+        )
+
+    def within(self, position_error: float, rotation_error: float) -> bool:
+        return position_error <= self.pos_tol and rotation_error <= self.rot_tol
+
+
+@dataclass
+class _Attempt:
+    """The outcome of one attempt from one start."""
+
+    q: np.ndarray
+    status: str  # "converged", "stalled", "max_iterations" or "diverged"
+    history: list[np.ndarray]
+    errors: list[float]
+    error_sq: float  # ‖e‖² of the world error at q, to pick the closest attempt
+    T: np.ndarray  # pose of the frame at q
+    J: np.ndarray  # world Jacobian at q
+    e: np.ndarray  # world error at q
+
+
+Iteration = Callable[[_Problem, np.ndarray, int], _Attempt]
+
+
+def _stationarity(attempt: _Attempt, lower: np.ndarray, upper: np.ndarray) -> float:
+    """``‖Jᵀe‖`` without the components that push against an active joint limit."""
+    g = attempt.J.T @ attempt.e
+    g[(attempt.q <= lower) & (g < 0.0)] = 0.0
+    g[(attempt.q >= upper) & (g > 0.0)] = 0.0
+    return float(np.linalg.norm(g))
+
+
+# --------------------------------------------------------------------------------------
+# Damped least squares (Levenberg–Marquardt)
+
+
+def _dls(options: dict) -> Iteration:
+    mu0 = _positive(options["damping"], "damping")
+    lambda_min = _positive(options["min_damping"], "min_damping")
+    lambda_max = _positive(options["max_damping"], "max_damping")
+    patience = _count(options["patience"], "patience", 1)
+    progress_ratio = _positive(options["progress"], "progress")
+    # An attempt whose ‖e‖ has not dropped by the factor ``progress`` over the last
+    # ``patience`` iterations is stuck (a local minimum, a joint limit): a restart is cheaper.
+    required = math.sqrt(1.0 - min(progress_ratio, 1.0))
+
+    def iterate(problem: _Problem, q: np.ndarray, max_iter: int) -> _Attempt:
+        robot, frame, n = problem.robot, problem.frame, problem.n
+        lower, upper, bounded = problem.lower, problem.upper, problem.bounded
+        T, J, e = np.eye(4), np.empty((6, n)), np.empty(6)
+        T_trial, J_trial, e_trial = np.eye(4), np.empty((6, n)), np.empty(6)
+        wide = n >= 6  # solve the smaller of the 6×6 and n×n normal equations
+        size = 6 if wide else n
+        A = np.empty((size, size))
+        identity = np.eye(size).reshape(-1)
+        A_flat = A.reshape(-1)
+        y, dq = np.empty(size), np.empty(n)
+        periodic, periodic_any = problem.periodic, problem.periodic_any
+
+        def damped_step(J: np.ndarray, e: np.ndarray, damping: float) -> None:
+            if wide:  # Δq = Jᵀ (JJᵀ + λI)⁻¹ e
+                mujoco.mju_mulMatMatT(A, J, J)
+                mujoco.mju_addToScl(A_flat, identity, damping)
+                mujoco.mju_cholFactor(A, 0.0)
+                mujoco.mju_cholSolve(y, A, e)
+                mujoco.mju_mulMatTVec(dq, J, y)
+            else:  # Δq = (JᵀJ + λI)⁻¹ Jᵀ e
+                mujoco.mju_mulMatTMat(A, J, J)
+                mujoco.mju_addToScl(A_flat, identity, damping)
+                mujoco.mju_mulMatTVec(y, J, e)
+                mujoco.mju_cholFactor(A, 0.0)
+                mujoco.mju_cholSolve(dq, A, y)
+
+        def saturated_step(
+            q: np.ndarray, J: np.ndarray, e: np.ndarray, damping: float, q_trial: np.ndarray
+        ) -> np.ndarray:
+            """Joints that would leave their range stop at the limit; the others re-solve.
+
+            Clipping alone bends the step away from the Gauss–Newton direction and parks the
+            arm on its limits; instead each saturated joint's share of the error is handed to
+            the joints still free (the clamping loop of Chan & Dubey 1995, with damping).
+            """
+            fixed = np.zeros(n, dtype=bool)
+            limit_value = np.zeros(n)
+            for _ in range(n):
+                over = (q_trial < lower) | (q_trial > upper)
+                if not over.any():
+                    break
+                limit_value[over] = np.minimum(np.maximum(q_trial[over], lower[over]), upper[over])
+                fixed |= over
+                J_free = J.copy()
+                J_free[:, fixed] = 0.0
+                damped_step(J_free, e - J @ np.where(fixed, limit_value - q, 0.0), damping)
+                q_trial = q + dq
+                q_trial[fixed] = limit_value[fixed]
+            return q_trial
+
+        robot.kinematics(q, frame, T, J)
+        position_error, rotation_error = problem.world_error(T, e)
+        E = float(e @ e)
+        history, errors = [q.copy()], [math.sqrt(E)]
+        mu = mu0
+        status = "max_iterations"
+        for _ in range(max_iter):
+            if problem.within(position_error, rotation_error):
+                status = "converged"
+                break
+            damping = mu * E + lambda_min
+            damped_step(J, e, damping)
+            q_trial = q + dq
+            if bounded and (np.any(q_trial < lower) or np.any(q_trial > upper)):
+                if periodic_any:  # a turn of 2π is the same pose: wrap instead of stopping
+                    q_trial[periodic] = lower[periodic] + np.mod(
+                        q_trial[periodic] - lower[periodic], 2.0 * np.pi
+                    )
+                q_trial = saturated_step(q, J, e, damping, q_trial)
+            robot.kinematics(q_trial, frame, T_trial, J_trial)
+            trial_errors = problem.world_error(T_trial, e_trial)
+            E_trial = float(e_trial @ e_trial)
+            if E_trial < E:  # accept, and trust the Gauss–Newton model more
+                q, T, J, e, T_trial, J_trial, e_trial = q_trial, T_trial, J_trial, e_trial, T, J, e
+                position_error, rotation_error = trial_errors
+                E = E_trial
+                mu = max(0.5 * mu, 1e-12)
+            elif math.isfinite(float(dq @ dq)):  # reject, and lean towards the gradient
+                mu *= 8.0
+            else:
+                status = "diverged"
+                break
+            history.append(q.copy())
+            errors.append(math.sqrt(E))
+            if damping > lambda_max or (
+                len(errors) > patience and errors[-1] > required * errors[-1 - patience]
+            ):
+                status = "stalled"
+                break
+        else:
+            if problem.within(position_error, rotation_error):
+                status = "converged"
+        return _Attempt(q, status, history, errors, E, T, J, e)
+
+    return iterate
+
+
+# --------------------------------------------------------------------------------------
+# Newton–Raphson (Modern Robotics IKinBody / IKinSpace)
+
+
+def _newton(options: dict) -> Iteration:
+    form = options["form"]
+    if form not in ("body", "space"):
+        raise InvalidInput(f"form must be 'body' or 'space', got {form!r}")
+    step = _positive(options["step"], "step")
+
+    def twist_and_jacobian(
+        T: np.ndarray, J: np.ndarray, T_target: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        V_b = se3_log(inverse(T) @ T_target)  # body error twist, (v, ω)
+        R, p = T[:3, :3], T[:3, 3]
+        if form == "body":
+            return V_b, np.vstack((R.T @ J[:3], R.T @ J[3:]))
+        return adjoint(T) @ V_b, np.vstack((J[:3] + skew(p) @ J[3:], J[3:]))
+
+    def iterate(problem: _Problem, q: np.ndarray, max_iter: int) -> _Attempt:
+        robot, frame, n = problem.robot, problem.frame, problem.n
+        T, J, e = np.eye(4), np.empty((6, n)), np.empty(6)
+        robot.kinematics(q, frame, T, J)
+        V, J_form = twist_and_jacobian(T, J, problem.T_target)
+        history, errors = [q.copy()], [float(np.linalg.norm(V))]
+        status = "max_iterations"
+        for _ in range(max_iter):
+            if problem.within(*pose_errors(T, problem.T_target)):
+                status = "converged"
+                break
+            q_next = problem.project(q + step * (np.linalg.pinv(J_form) @ V))
+            if not np.all(np.isfinite(q_next)):
+                status = "diverged"
+                break
+            q = q_next
+            robot.kinematics(q, frame, T, J)
+            V, J_form = twist_and_jacobian(T, J, problem.T_target)
+            history.append(q.copy())
+            errors.append(float(np.linalg.norm(V)))
+        else:
+            if problem.within(*pose_errors(T, problem.T_target)):
+                status = "converged"
+        problem.world_error(T, e)
+        return _Attempt(q, status, history, errors, float(e @ e), T, J, e)
+
+    return iterate
+
+
+# --------------------------------------------------------------------------------------
+# Jacobian transpose, and the transpose-then-Newton hybrid
+
+
+def _transpose_step(
+    problem: _Problem,
+    q: np.ndarray,
+    J: np.ndarray,
+    e: np.ndarray,
+    E: float,
+    step: float | str,
+    trial: tuple[np.ndarray, np.ndarray, np.ndarray],
+) -> tuple[np.ndarray, float] | None:
+    """One gradient step ``q + α Jᵀe`` evaluated into ``trial = (T, J, e)``.
+
+    Armijo: start from Buss's ``α₀ = ⟨e, JJᵀe⟩/‖JJᵀe‖²`` and halve until
+    ``‖e(q + αg)‖² ≤ ‖e‖² − 2cα‖g‖²``. Returns ``(q_new, ‖e_new‖²)``, or None when no trial
+    decreases the error (or every trial is non-finite).
+    """
+    T_trial, J_trial, e_trial = trial
+    g = J.T @ e
+    slope = float(g @ g)
+    if step == "armijo":
+        Jg = J @ g
+        curvature = float(Jg @ Jg)
+        alpha = slope / curvature if curvature > 0.0 else 1.0
+        trials = _ARMIJO_TRIALS
+    else:
+        alpha, trials = float(step), 1
+    for _ in range(trials):
+        q_new = problem.project(q + alpha * g)
+        problem.robot.kinematics(q_new, problem.frame, T_trial, J_trial)
+        problem.world_error(T_trial, e_trial)
+        E_new = float(e_trial @ e_trial)
+        if step != "armijo":
+            return (q_new, E_new) if math.isfinite(E_new) else None
+        if E_new <= E - 2.0 * _ARMIJO_C * alpha * slope:
+            return q_new, E_new
+        alpha *= 0.5
+    return None
+
+
+def _transpose(options: dict) -> Iteration:
+    step = options["step"]
+    if step != "armijo":
+        step = _positive(step, "step")
+
+    def iterate(problem: _Problem, q: np.ndarray, max_iter: int) -> _Attempt:
+        return _gradient_then_newton(problem, q, max_iter, step, switch_error=0.0)
+
+    return iterate
+
+
+def _hybrid(options: dict) -> Iteration:
+    switch_error = _positive(options["switch_error"], "switch_error")
+
+    def iterate(problem: _Problem, q: np.ndarray, max_iter: int) -> _Attempt:
+        return _gradient_then_newton(problem, q, max_iter, "armijo", switch_error)
+
+    return iterate
+
+
+def _gradient_then_newton(
+    problem: _Problem, q: np.ndarray, max_iter: int, step: float | str, switch_error: float
+) -> _Attempt:
+    """Gradient steps while ``‖e‖ > switch_error``, Newton steps ``J⁺e`` below it."""
+    robot, frame, n = problem.robot, problem.frame, problem.n
+    T, J, e = np.eye(4), np.empty((6, n)), np.empty(6)
+    trial = (np.eye(4), np.empty((6, n)), np.empty(6))
+    robot.kinematics(q, frame, T, J)
+    errors_now = problem.world_error(T, e)
+    E = float(e @ e)
+    history, errors = [q.copy()], [math.sqrt(E)]
+    status = "max_iterations"
+    for _ in range(max_iter):
+        if problem.within(*errors_now):
+            status = "converged"
+            break
+        stepped = None
+        if E < switch_error**2:
+            q_new = problem.project(q + np.linalg.pinv(J) @ e)
+            robot.kinematics(q_new, frame, trial[0], trial[1])
+            E_new = float(np.sum(np.square(_error_into(problem, trial))))
+            if E_new < E:
+                stepped = q_new, E_new
+        if stepped is None:
+            stepped = _transpose_step(problem, q, J, e, E, step, trial)
+        if stepped is None or not math.isfinite(stepped[1]):
+            status = "stalled" if stepped is None else "diverged"
+            break
+        q, E = stepped
+        (T, J, e), trial = trial, (T, J, e)
+        errors_now = (float(np.linalg.norm(e[:3])), float(np.linalg.norm(e[3:])))
+        history.append(q.copy())
+        errors.append(math.sqrt(E))
+    else:
+        if problem.within(*errors_now):
+            status = "converged"
+    return _Attempt(q, status, history, errors, E, T, J, e)
+
+
+def _error_into(problem: _Problem, trial: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
+    problem.world_error(trial[0], trial[2])
+    return trial[2]
+
+
+_ITERATIONS: dict[str, Callable[[dict], Iteration]] = {
+    "dls": _dls,
+    "newton": _newton,
+    "transpose": _transpose,
+    "hybrid": _hybrid,
+}
+
+
+# --------------------------------------------------------------------------------------
+# Finishing: success by the FK of the returned q, and the unreachable diagnosis
+
+
+def _finish(problem: _Problem, attempts: list[_Attempt], method: str, reach: float) -> IKResult:
+    robot = problem.robot
+    best = attempts[-1]
+    if best.status != "converged":
+        best = min(attempts, key=lambda attempt: attempt.error_sq)
+    q, T, e = _shift_into_limits(robot, best.q), best.T, best.e
+    if q is not best.q:
+        T, e = np.eye(4), np.empty(6)
+        robot.kinematics(q, problem.frame, T)
+        problem.world_error(T, e)
+    position_error, rotation_error = pose_errors(T, problem.T_target)
+    inside = robot.within_limits(q)
+    success = problem.within(position_error, rotation_error) and (
+        inside or not problem.respect_limits
+    )
+    iterations = sum(len(attempt.history) - 1 for attempt in attempts)
+    closest = f"closest pose found: {position_error:.3g} m, {rotation_error:.3g} rad away"
+    message = ""
+    if success:
+        status = "converged"
+        if not inside:
+            message = "q is outside the joint limits (respect_limits=False)"
+    elif reach > 0.0:
+        status = "unreachable"
+        message = (
+            f"the target is {reach:.3g} m beyond the reach of the chain from its first joint; "
+            f"{closest}"
+        )
+    elif _same_stationary_point(attempts, robot.lower, robot.upper):
+        status = "unreachable"
+        message = (
+            f"all {len(attempts)} attempts stopped at the same error with a vanishing "
+            f"gradient Jᵀe; {closest}"
+        )
+    elif all(attempt.status == "diverged" for attempt in attempts):
+        status = "diverged"
+        message = f"every attempt produced NaN or inf; {closest}"
+    else:
+        status = "max_iterations"
+        message = f"no attempt of {len(attempts)} converged ({iterations} iterations); {closest}"
+    return IKResult(
+        q=q.copy(),
+        success=success,
+        status=status,
+        iterations=iterations,
+        error=_body_twist_norm(e),
+        position_error=position_error,
+        rotation_error=rotation_error,
+        history=np.array(best.history),
+        error_history=np.array(best.errors),
+        restarts=len(attempts) - 1,
+        method=method,
+        message=message,
+    )
+
+
+def _body_twist_norm(e: np.ndarray) -> float:
+    r"""``‖log(T⁻¹ T_d)‖`` from the world error ``e = (d, w) = (p_d − p, log(R_d Rᵀ))``.
+
+    The body twist is ``ω_b = Rᵀ w`` and ``v_b = V(ω_b)⁻¹ Rᵀ d = Rᵀ V(w)⁻¹ d`` (``V`` is
+    equivariant under rotation), so ``‖ξ_b‖² = ‖V(w)⁻¹ d‖² + ‖w‖²`` with
+    ``V⁻¹ = I − ½[w] + c [w]²`` as in :func:`redik.lie.se3_log`.
+    """
+    dx, dy, dz, wx, wy, wz = (float(value) for value in e)
+    theta2 = wx * wx + wy * wy + wz * wz
+    theta = math.sqrt(theta2)
+    if theta < 1e-6:
+        c = 1.0 / 12.0 + theta2 / 720.0
+    else:
+        half = 0.5 * theta
+        c = (1.0 - half * math.cos(half) / math.sin(half)) / theta2
+    ax, ay, az = wy * dz - wz * dy, wz * dx - wx * dz, wx * dy - wy * dx  # w × d
+    bx, by, bz = wy * az - wz * ay, wz * ax - wx * az, wx * ay - wy * ax  # w × (w × d)
+    vx, vy, vz = dx - 0.5 * ax + c * bx, dy - 0.5 * ay + c * by, dz - 0.5 * az + c * bz
+    return math.sqrt(vx * vx + vy * vy + vz * vz + theta2)
+
+
+def _same_stationary_point(attempts: list[_Attempt], lower: np.ndarray, upper: np.ndarray) -> bool:
+    """Every attempt (at least two) ended at one non-zero error with ``Jᵀe ≈ 0``."""
+    if len(attempts) < 2:
+        return False
+    errors = np.sqrt([a.error_sq for a in attempts])
+    gradients = np.array([_stationarity(a, lower, upper) for a in attempts])
+    return bool(
+        np.all(np.isfinite(errors))
+        and errors.min() > 0.0
+        and errors.max() <= 1.01 * errors.min()
+        and np.all(gradients <= 1e-4 * errors)
+    )
+
+
+_REACH: weakref.WeakKeyDictionary[Robot, dict[str, tuple[np.ndarray, float]]] = (
+    weakref.WeakKeyDictionary()
+)
+
+
+def _reach_excess(robot: Robot, frame: Frame, p_d: np.ndarray) -> float:
+    """How far (m) ``p_d`` lies beyond the chain's reach from its first joint (≤ 0 inside).
+
+    The distance between the anchors of two consecutive hinges is constant (each hinge
+    rotates everything after it about a line through its own anchor), so ``‖p − a_1‖`` is at
+    most the sum of the anchor-to-anchor distances and the last anchor-to-frame distance,
+    plus the full travel of every slide joint. Unlimited slides make the reach infinite.
+    """
+    cache = _REACH.setdefault(robot, {})
+    if frame.name not in cache:
+        model, data = robot.model, mujoco.MjData(robot.model)
+        data.qpos[robot.qpos_indices] = robot.midrange
+        mujoco.mj_kinematics(model, data)
+        joint_ids = [int(np.flatnonzero(model.jnt_qposadr == adr)[0]) for adr in robot.qpos_indices]
+        anchors = data.xanchor[joint_ids]
+        if frame.kind == "site":
+            point = data.site_xpos[frame.id]
+        else:
+            point = data.xpos[frame.id]
+        points = np.vstack((anchors, point))
+        reach = float(np.sum(np.linalg.norm(np.diff(points, axis=0), axis=1)))
+        travel = (robot.upper - robot.lower)[~robot.revolute]
+        reach += float(np.sum(travel))  # inf for an unlimited slide
+        cache[frame.name] = (anchors[0].copy(), reach)
+    origin, reach = cache[frame.name]
+    if not math.isfinite(reach):
+        return 0.0
+    excess = float(np.linalg.norm(p_d - origin)) - reach
+    return excess if excess > 1e-9 * max(1.0, reach) else 0.0
+
+
+# --------------------------------------------------------------------------------------
+# Small helpers
+
+
+def _shift_into_limits(robot: Robot, q: np.ndarray) -> np.ndarray:
+    """Revolute joints outside their range moved by the multiple of 2π that fits, if any.
+
+    Returns ``q`` itself when no joint moved.
+    """
+    outside = robot.revolute & ((q < robot.lower) | (q > robot.upper))
+    if not np.any(outside):
+        return q
+    q = q.copy()
+    for i in np.flatnonzero(outside):
+        shifted = robot.lower[i] + np.mod(q[i] - robot.lower[i], 2.0 * np.pi)
+        if shifted <= robot.upper[i]:
+            q[i] = shifted
+    return q
+
+
+def _wrap(angle: np.ndarray) -> np.ndarray:
+    return np.mod(angle + np.pi, 2.0 * np.pi) - np.pi
+
+
+def _positive(value: object, name: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
+        raise InvalidInput(f"{name} must be a positive number, got {value!r}")
+    return float(value)
+
+
+def _count(value: object, name: str, minimum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise InvalidInput(f"{name} must be an integer ≥ {minimum}, got {value!r}")
+    return int(value)
