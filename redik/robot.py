@@ -94,6 +94,13 @@ class Robot:
 
         self._jacp = np.zeros((3, model.nv))
         self._jacr = np.zeros((3, model.nv))
+        # Hot-path shortcuts: a slice instead of fancy indexing when the chain is contiguous
+        # in qpos, and MuJoCo writing straight into the caller's J when the chain is every dof.
+        self._qpos_index = _as_slice(self._qpos_adr)
+        self._jacobian_is_direct = model.nv == self.dof and np.array_equal(
+            self._dof_adr, np.arange(self.dof)
+        )
+        self._views: dict[Frame, tuple[np.ndarray, np.ndarray]] = {}
 
     # ----------------------------------------------------------------------------------
     # Construction
@@ -301,14 +308,20 @@ class Robot:
 
     def update(self, q: np.ndarray) -> None:
         """Write ``q`` into the model state and run forward kinematics (no checks)."""
-        self.data.qpos[self._qpos_adr] = q
+        self.data.qpos[self._qpos_index] = q
         mujoco.mj_kinematics(self.model, self.data)
         mujoco.mj_comPos(self.model, self.data)
 
     def _pose_views(self, frame: Frame) -> tuple[np.ndarray, np.ndarray]:
-        if frame.kind == "site":
-            return self.data.site_xmat[frame.id].reshape(3, 3), self.data.site_xpos[frame.id]
-        return self.data.xmat[frame.id].reshape(3, 3), self.data.xpos[frame.id]
+        """Views of ``frame``'s rotation and position inside ``data`` (valid after update)."""
+        views = self._views.get(frame)
+        if views is None:
+            if frame.kind == "site":
+                views = self.data.site_xmat[frame.id].reshape(3, 3), self.data.site_xpos[frame.id]
+            else:
+                views = self.data.xmat[frame.id].reshape(3, 3), self.data.xpos[frame.id]
+            self._views[frame] = views
+        return views
 
     def pose_into(self, frame: Frame, T: np.ndarray) -> np.ndarray:
         """Copy the current pose of ``frame`` (after :meth:`update`) into the 4 × 4 ``T``."""
@@ -319,10 +332,11 @@ class Robot:
 
     def world_jacobian_into(self, frame: Frame, J: np.ndarray) -> np.ndarray:
         """Write the ``"world"`` Jacobian of ``frame`` (after :meth:`update`) into 6 × n ``J``."""
-        if frame.kind == "site":
-            mujoco.mj_jacSite(self.model, self.data, self._jacp, self._jacr, frame.id)
-        else:
-            mujoco.mj_jacBody(self.model, self.data, self._jacp, self._jacr, frame.id)
+        jac = mujoco.mj_jacSite if frame.kind == "site" else mujoco.mj_jacBody
+        if self._jacobian_is_direct and J.flags.c_contiguous:
+            jac(self.model, self.data, J[:3], J[3:], frame.id)
+            return J
+        jac(self.model, self.data, self._jacp, self._jacr, frame.id)
         J[:3] = self._jacp[:, self._dof_adr]
         J[3:] = self._jacr[:, self._dof_adr]
         return J
@@ -374,6 +388,13 @@ def _compile(spec: mujoco.MjSpec, source: str) -> mujoco.MjModel:
         return spec.compile()
     except ValueError as error:
         raise ModelError(f"MuJoCo could not compile {source}: {error}") from None
+
+
+def _as_slice(indices: np.ndarray) -> slice | np.ndarray:
+    """``indices`` as a slice when they are consecutive, else unchanged."""
+    if np.array_equal(indices, np.arange(indices[0], indices[0] + len(indices))):
+        return slice(int(indices[0]), int(indices[0]) + len(indices))
+    return indices
 
 
 def _chain_joints(model: mujoco.MjModel, body: int) -> list[int]:

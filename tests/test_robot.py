@@ -158,3 +158,28 @@ def test_bad_inputs_raise_redik_errors(arm, tmp_path):
     # every redik error is catchable at the root
     with pytest.raises(redik.RedikError):
         arm.fk(np.zeros(3))
+
+
+@pytest.mark.parametrize("scene", redik.list_scenes())
+def test_every_scene_jacobian_matches_finite_differences(scene, rng):
+    robot = redik.load(scene)
+    for reference in ("space", "body", "world"):
+        for _ in range(3):
+            q = robot.random_q(rng)
+            np.testing.assert_allclose(
+                robot.jacobian(q, reference=reference),
+                numeric_jacobian(robot, q, None, reference),
+                atol=1e-8,
+            )
+
+
+def test_scene_fast_path_equals_generic_path():
+    """The bundled scenes use MuJoCo's Jacobian in place; a non-contiguous buffer copies."""
+    robot = redik.load("panda")
+    q = robot.random_q(3)
+    T = np.eye(4)
+    J_direct = np.empty((6, robot.dof))
+    J_strided = np.empty((robot.dof, 6)).T  # not C-contiguous: takes the copying path
+    robot.kinematics(q, robot.ee, T, J_direct)
+    robot.kinematics(q, robot.ee, T, J_strided)
+    np.testing.assert_array_equal(J_direct, J_strided)
