@@ -10,7 +10,7 @@ OUT ?= out/demo
 export MUJOCO_GL ?= egl
 export PYOPENGL_PLATFORM ?= egl
 
-.PHONY: demo test lint bench env clean
+.PHONY: demo test lint bench env clean scenes
 
 env: $(STAMP)
 
@@ -35,3 +35,7 @@ bench: $(STAMP)
 
 clean:
 	rm -rf $(VENV) out .pytest_cache .ruff_cache
+
+# Regenerate scenes/*.xml and scenes/README.md from redik/scene_library.py.
+scenes: $(STAMP)
+	$(BIN)/python -m redik.scene_library

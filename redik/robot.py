@@ -144,6 +144,7 @@ class Robot:
         *,
         name: str = "dh_robot",
         home: Sequence[float] | None = None,
+        **builder_options,
     ) -> Robot:
         """Build from a Denavit–Hartenberg table (see :func:`redik.dh.parse_rows`).
 
@@ -169,16 +170,18 @@ class Robot:
         *,
         name: str = "poe_robot",
         home: Sequence[float] | None = None,
+        **builder_options,
     ) -> Robot:
         """Build from a product of exponentials (Modern Robotics §4.1).
 
         ``screws`` is 6 × n with columns ``S_i = (ω_i, v_i)`` (Modern Robotics order) in the
         space frame, or body screws ``B_i`` when ``frame="body"``; ``M`` is the home pose of the
         end-effector. ``robot.fk(q) = e^{[S_1] q_1} ⋯ e^{[S_n] q_n} M``.
+        ``builder_options`` go to :func:`redik.model_builder.screws_to_mjcf`.
         """
         from .model_builder import screws_to_mjcf
 
-        xml = screws_to_mjcf(screws, M, frame=frame, limits=limits, name=name, home=home)
+        xml = screws_to_mjcf(screws, M, frame, limits, name=name, home=home, **builder_options)
         return cls.from_xml_string(xml, name=name)
 
     # ----------------------------------------------------------------------------------
