@@ -215,18 +215,22 @@ def _rtb_solver(robot: Robot) -> Solver | None:
         else:
             link = kind(a=row.a, d=row.d, alpha=row.alpha, offset=row.theta, qlim=qlim)
         links.append(link)
-    dh_robot = rtb.DHRobot(links, tool=tool, name=robot.name)
-    base = robot.fk(robot.home) @ lie.inverse(np.asarray(dh_robot.fkine(robot.home).A))
-    dh_robot.base = base
+    # The C++ solver ignores the DHRobot's base and tool: solve for the DH flange frame,
+    # T_flange = base⁻¹ T_target tool⁻¹, where the scene may place the DH base elsewhere.
+    dh_robot = rtb.DHRobot(links, name=robot.name)
+    tool_inverse = lie.inverse(tool)
+    base = robot.fk(robot.home) @ tool_inverse @ lie.inverse(dh_robot.fkine(robot.home).A)
+    base_inverse = lie.inverse(base)
     q_check = robot.random_q(np.random.default_rng(1))
-    if not np.allclose(np.asarray(dh_robot.fkine(q_check).A), robot.fk(q_check), atol=1e-9):
+    if not np.allclose(base @ dh_robot.fkine(q_check).A @ tool, robot.fk(q_check), atol=1e-9):
         print(f"note: the rtb DH model of {robot.name} does not match the scene; ik_LM skipped")
         return None
 
     def solve(T_target: np.ndarray, q0: np.ndarray, index: int) -> np.ndarray | None:
         solution = dh_robot.ik_LM(
-            T_target, q0=q0, ilimit=30, slimit=100, tol=5e-13, joint_limits=True, tool=tool
-        )
+            base_inverse @ T_target @ tool_inverse, q0=q0, ilimit=30, slimit=100, tol=5e-13,
+            joint_limits=True,
+        )  # fmt: skip
         return np.asarray(solution[0], dtype=float)
 
     return solve
