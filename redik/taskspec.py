@@ -43,6 +43,7 @@ from typing import Any, TypeVar
 import numpy as np
 
 from .exceptions import InvalidInput
+from .robot import Robot
 
 T = TypeVar("T")
 
@@ -264,6 +265,28 @@ def run_spec(spec: TaskSpec | str | Path, context: Context | None = None) -> Spe
         fast=context.fast,
         description=spec.description,
     )
+
+
+def sample_poses(
+    robot: Robot, rng: np.random.Generator, count: int, min_sigma: float = 0.0
+) -> list[np.ndarray]:
+    """End-effector poses of random joint values (uniform in the limits) — reachable targets.
+
+    With ``min_sigma > 0`` configurations where ``σ_min`` of the world Jacobian is below it
+    are redrawn: near a singularity a pose tolerance of 1e-6 m admits joint errors far above
+    1e-4 rad, so comparing solutions branch by branch there would test the tolerance, not
+    the solvers.
+    """
+    poses = []
+    while len(poses) < count:
+        q = robot.random_q(rng)
+        if (
+            min_sigma <= 0.0
+            or np.linalg.svd(robot.jacobian(q, reference="world"), compute_uv=False)[-1]
+            >= min_sigma
+        ):
+            poses.append(robot.fk(q))
+    return poses
 
 
 def format_value(value: float | None) -> str:

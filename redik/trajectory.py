@@ -36,7 +36,8 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from .exceptions import InvalidInput
-from .lie import as_pose, interpolate_pose, pose_errors
+from .lie import as_pose, interpolate_pose, pose_errors, so3_exp
+from .pose_ik import solve_pose
 from .result import IKResult
 from .robot import Robot
 
@@ -55,7 +56,36 @@ def time_scaling(tau: float, kind: str) -> float:
     return tau * tau * tau * (10.0 + tau * (-15.0 + 6.0 * tau))
 
 
-class CartesianPath:
+class Path:
+    """A timed pose path: :meth:`pose` at any time from ``start_time`` to ``end_time``.
+
+    Subclasses define :meth:`pose`, ``start_time`` and ``end_time``; sampling is shared.
+    """
+
+    start_time: float
+    end_time: float
+
+    def pose(self, t: float) -> np.ndarray:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    @property
+    def duration(self) -> float:
+        return float(self.end_time - self.start_time)
+
+    def sample_times(self, rate: float) -> np.ndarray:
+        """Times at ``rate`` Hz from the start to the end, both included."""
+        if not rate > 0.0:
+            raise InvalidInput(f"rate must be positive (Hz), got {rate!r}")
+        count = int(np.ceil(self.duration * rate - 1e-9))
+        return np.linspace(self.start_time, self.end_time, count + 1)
+
+    def sample(self, rate: float) -> tuple[np.ndarray, np.ndarray]:
+        """``(times, poses)``: the path sampled at ``rate`` Hz, poses as an (N, 4, 4) array."""
+        times = self.sample_times(rate)
+        return times, np.array([self.pose(t) for t in times])
+
+
+class CartesianPath(Path):
     """A path through timed waypoint poses: straight lines in position, SLERP in rotation.
 
     Args:
@@ -97,10 +127,6 @@ class CartesianPath:
             raise InvalidInput(f"duration must be positive, got {duration!r}")
         return cls([T_start, T_end], [0.0, duration], time_scaling)
 
-    @property
-    def duration(self) -> float:
-        return float(self.times[-1] - self.times[0])
-
     def pose(self, t: float) -> np.ndarray:
         """The pose at time ``t`` (held at the end poses outside the waypoint times)."""
         if t <= self.times[0]:
@@ -113,17 +139,59 @@ class CartesianPath:
             self.poses[k], self.poses[k + 1], time_scaling(tau, self.time_scaling)
         )
 
-    def sample_times(self, rate: float) -> np.ndarray:
-        """Times at ``rate`` Hz from the first to the last waypoint, both included."""
-        if not rate > 0.0:
-            raise InvalidInput(f"rate must be positive (Hz), got {rate!r}")
-        count = int(np.ceil(self.duration * rate - 1e-9))
-        return np.linspace(self.times[0], self.times[-1], count + 1)
+    @property
+    def start_time(self) -> float:
+        return float(self.times[0])
 
-    def sample(self, rate: float) -> tuple[np.ndarray, np.ndarray]:
-        """``(times, poses)``: the path sampled at ``rate`` Hz, poses as an (N, 4, 4) array."""
-        times = self.sample_times(rate)
-        return times, np.array([self.pose(t) for t in times])
+    @property
+    def end_time(self) -> float:
+        return float(self.times[-1])
+
+
+class CircularPath(Path):
+    """The end-effector moving once around a circle, orientation held.
+
+    The circle passes through ``T_start``'s position, around ``center``, in the plane normal
+    to ``normal`` (world coordinates); the angle follows ``2π s(t / duration)`` with the
+    time scaling ``s`` (quintic: starts and ends at rest with no acceleration jump, the
+    reference a servo can follow).
+    """
+
+    def __init__(
+        self,
+        T_start: np.ndarray,
+        center: np.ndarray,
+        normal: np.ndarray,
+        duration: float,
+        time_scaling: str = "quintic",
+    ):
+        self.T_start = as_pose(T_start, "T_start")
+        self.center = np.asarray(center, dtype=float)
+        normal = np.asarray(normal, dtype=float)
+        if self.center.shape != (3,) or normal.shape != (3,) or np.linalg.norm(normal) == 0.0:
+            raise InvalidInput("center and normal must be 3-vectors, normal non-zero")
+        self.axis = normal / np.linalg.norm(normal)
+        offset = self.T_start[:3, 3] - self.center
+        self.offset = offset - (offset @ self.axis) * self.axis  # in the circle's plane
+        if np.linalg.norm(self.offset) < 1e-9:
+            raise InvalidInput("the start position lies on the circle's axis (radius 0)")
+        if not duration > 0.0:
+            raise InvalidInput(f"duration must be positive, got {duration!r}")
+        if time_scaling not in TIME_SCALINGS:
+            raise InvalidInput(f"time_scaling must be one of {TIME_SCALINGS}, got {time_scaling!r}")
+        self.start_time, self.end_time = 0.0, float(duration)
+        self.time_scaling = time_scaling
+
+    @property
+    def radius(self) -> float:
+        return float(np.linalg.norm(self.offset))
+
+    def pose(self, t: float) -> np.ndarray:
+        tau = min(max(t / self.end_time, 0.0), 1.0)
+        angle = 2.0 * np.pi * time_scaling(tau, self.time_scaling)
+        T = self.T_start.copy()
+        T[:3, 3] += so3_exp(angle * self.axis) @ self.offset - self.offset
+        return T
 
 
 @dataclasses.dataclass(frozen=True)
@@ -263,9 +331,9 @@ def limit_contacts(times: np.ndarray, q: np.ndarray, robot: Robot, margin: float
 
 def follow_path(
     robot: Robot,
-    path: CartesianPath,
+    path: Path,
     q0: np.ndarray,
-    solver: Solver,
+    solver: Solver | None = None,
     *,
     rate: float = 100.0,
     jump_tol: float = 0.1,
@@ -277,11 +345,12 @@ def follow_path(
 
     Args:
         robot: The robot.
-        path: The Cartesian path of ``frame``.
+        path: The path of ``frame`` (a :class:`CartesianPath`, :class:`CircularPath`, …).
         q0: Start configuration for the first sample (ideally already on the path).
-        solver: ``solver(T_target, q_start) -> IKResult``, e.g.
-            ``lambda T, q: redik.solve_pose(robot, T, q0=q, restarts=0)``. Restarts would
-            break continuity, so a path solver should not jump to random seeds.
+        solver: ``solver(T_target, q_start) -> IKResult``. Default: damped least squares
+            (:func:`redik.pose_ik.solve_pose`) without restarts — a restart would jump to a
+            random seed and break continuity. A QP stack works too, e.g.
+            ``lambda T, q: (task.set_target(T), problem.solve(q))[1]``.
         rate: Sampling rate in Hz.
         jump_tol: Largest joint change per sample (rad or m) still counted as continuous.
         singular_tol: ``σ_min(J)`` below which a sample counts as singular.
@@ -295,6 +364,11 @@ def follow_path(
     """
     q = robot.check_q(q0, name="q0")
     resolved = robot.frame(frame)
+    if solver is None:
+
+        def solver(T_target: np.ndarray, q_start: np.ndarray) -> IKResult:
+            return solve_pose(robot, T_target, q0=q_start, restarts=0, frame=resolved)
+
     times, targets = path.sample(rate)
     count = len(times)
     qs = np.empty((count, robot.dof))
