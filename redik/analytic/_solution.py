@@ -225,10 +225,10 @@ def limit_representatives(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Move each revolute angle by a multiple of 2π into ``[lower, upper]`` when one exists.
 
-    Returns ``(q_shifted, within)`` for ``q`` of shape (..., n): the shift is the smallest that
-    brings the angle into range (none if it is already in range), and ``within`` (...,) says
-    whether every joint of the vector is in range. A value outside by less than
-    :data:`DUPLICATE_TOL` is clipped onto the limit.
+    Returns ``(q_shifted, inside)`` for ``q`` of shape (..., n): the shift is the smallest that
+    brings the angle into range (none if it is already in range), and ``inside`` (..., n) says
+    which joints are then in range. A value outside by less than :data:`DUPLICATE_TOL` is
+    clipped onto the limit.
     """
     two_pi = 2.0 * np.pi
     below = lower - q
@@ -237,7 +237,7 @@ def limit_representatives(
     shift = np.where(above > 0.0, -two_pi * np.ceil(above / two_pi), shift)
     shifted = np.where(revolute, q + np.nan_to_num(shift), q)
     inside = (shifted >= lower - DUPLICATE_TOL) & (shifted <= upper + DUPLICATE_TOL)
-    return np.clip(shifted, lower, upper), np.all(inside, axis=-1)
+    return np.clip(shifted, lower, upper), inside
 
 
 def finalize(
@@ -259,9 +259,10 @@ def finalize(
     difference[..., revolute] = wrap_angle(difference[..., revolute])
     same = np.all(np.abs(difference) < DUPLICATE_TOL, axis=-1)
     first = ~np.any(np.tril(same, k=-1), axis=1)
-    within = np.ones(len(q), bool)
+    inside = np.ones(q.shape, bool)
     if limits is not None:
-        q, within = limit_representatives(q, limits[0], limits[1], revolute)
+        q, inside = limit_representatives(q, limits[0], limits[1], revolute)
+    within = inside.all(axis=1)
     kept = tuple(
         JointSolution(q[i], c.label, c.singular, c.family)
         for i, c in enumerate(candidates)
@@ -269,10 +270,10 @@ def finalize(
     )
     reason = ""
     if limits is not None and not kept:
-        out = (q < limits[0] - DUPLICATE_TOL) | (q > limits[1] + DUPLICATE_TOL)
         reason = (
             f"none of the {int(first.sum())} solutions lies within the joint limits "
-            f"(joints out of range: {np.flatnonzero(out[first].any(axis=0)).tolist()})"
+            f"(joints out of range in some solution: "
+            f"{np.flatnonzero(~inside[first].all(axis=0)).tolist()})"
         )
     return IKSolutions(kept, n_joints, True, reason, preferred)
 

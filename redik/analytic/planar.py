@@ -189,8 +189,8 @@ def batch_result(
 ) -> BatchSolutions:
     """Apply the joint limits to a batch and blank the invalid slots with NaN."""
     if limits is not None:
-        q, within = limit_representatives(q, limits[0], limits[1], revolute)
-        valid = valid & within
+        q, inside = limit_representatives(q, limits[0], limits[1], revolute)
+        valid = valid & inside.all(axis=-1)
     q = np.where(valid[..., None], q, np.nan)
     return BatchSolutions(q, valid, singular & valid, labels)
 
