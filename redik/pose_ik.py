@@ -279,8 +279,13 @@ class _Problem:
             np.any(np.isfinite(robot.lower) | np.isfinite(robot.upper))
         )
         self.n = robot.dof
-        self.periodic = robot.revolute & (robot.upper - robot.lower >= 2.0 * np.pi)
-        """Revolute joints whose range spans a full turn: q ± 2π stays inside."""
+        self.periodic = (
+            robot.revolute
+            & np.isfinite(robot.lower)
+            & np.isfinite(robot.upper)
+            & (robot.upper - robot.lower >= 2.0 * np.pi)
+        )
+        """Limited revolute joints whose range spans a full turn: one of q ± 2π fits."""
         self.periodic_any = bool(np.any(self.periodic))
 
     def project(self, q: np.ndarray) -> np.ndarray:

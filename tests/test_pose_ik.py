@@ -1,0 +1,257 @@
+"""solve_pose and solve_all: FK∘IK on every scene, each method, limits, failures, misuse."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+import redik
+from redik import lie
+from redik.exceptions import InvalidInput, InvalidPose, RedikError
+from redik.pose_ik import _body_twist_norm, _Problem, solve_all, solve_pose
+from redik.result import IKResult
+
+SCENES = redik.list_scenes()
+
+
+def check_solution(robot, result, T_target, pos_tol=1e-6, rot_tol=1e-5, limits=True):
+    """Success checked independently: FK of the returned q, not the solver's flag."""
+    assert np.all(np.isfinite(result.q))
+    position_error, rotation_error = lie.pose_errors(robot.fk(result.q), T_target)
+    assert position_error <= pos_tol and rotation_error <= rot_tol, result.summary()
+    assert result.position_error == pytest.approx(position_error, abs=1e-12)
+    assert result.rotation_error == pytest.approx(rotation_error, abs=1e-12)
+    if limits:
+        assert robot.within_limits(result.q)
+
+
+def test_the_scenes_are_there():
+    assert {"panda", "iiwa14", "ur5e"} <= set(SCENES)
+
+
+@pytest.mark.parametrize("name", SCENES)
+def test_fk_of_ik_is_the_identity_on_random_poses_of_every_scene(name):
+    """Targets are FK of random q inside the limits, so they are reachable even for planar
+    arms and 3-joint legs, whose 6-D pose target is then consistent (rank-deficient J)."""
+    robot = redik.load(name)
+    rng = np.random.default_rng(7)
+    for index in range(8):
+        T_target = robot.fk(robot.random_q(rng))
+        result = solve_pose(robot, T_target, robot.random_q(rng), seed=index)
+        assert result.success and result.status == "converged", (name, result.message)
+        check_solution(robot, result, T_target)
+
+
+@pytest.mark.parametrize("method", ["newton", "hybrid", "transpose", "dls"])
+def test_every_method_solves_panda_near_a_solution(method):
+    robot = redik.load("panda")
+    rng = np.random.default_rng(3)
+    q_goal = robot.clip(robot.home + rng.uniform(-0.3, 0.3, robot.dof))
+    T_target = robot.fk(q_goal)
+    q0 = robot.clip(q_goal + rng.uniform(-0.1, 0.1, robot.dof))
+    result = solve_pose(robot, T_target, q0, method=method, seed=0)
+    assert result.success, result.message
+    assert result.method == method
+    check_solution(robot, result, T_target)
+    # History: q0 (projected into the limits) first, one row per iteration of the attempt.
+    assert result.history.shape[1] == robot.dof
+    assert result.error_history.shape == (result.history.shape[0],)
+    if result.restarts == 0:
+        np.testing.assert_allclose(result.history[0], q0)
+        assert result.history.shape[0] == result.iterations + 1
+
+
+def test_newton_body_and_space_forms_converge_quadratically():
+    robot = redik.load("ur5e")  # square J: both forms take the same step
+    q_goal = robot.home + 0.2
+    T_target = robot.fk(q_goal)
+    q0 = q_goal + 0.05
+    body = solve_pose(robot, T_target, q0, method="newton", restarts=0, pos_tol=1e-12,
+                      rot_tol=1e-12)  # fmt: skip
+    space = solve_pose(robot, T_target, q0, method="newton", restarts=0, form="space",
+                       pos_tol=1e-12, rot_tol=1e-12)  # fmt: skip
+    assert body.success and space.success
+    np.testing.assert_allclose(body.history, space.history, atol=1e-9)
+    e = body.error_history
+    for a, b in itertools.pairwise(e):
+        if 1e-8 < a < 1e-2:
+            assert b <= 10.0 * a**2
+
+
+def test_transpose_with_armijo_decreases_monotonically():
+    robot = redik.load("planar_3r")
+    T_target = robot.fk(np.array([0.3, 0.5, -0.4]))
+    result = solve_pose(robot, T_target, np.array([0.1, 0.2, 0.1]), method="transpose",
+                        restarts=0, max_iter=3000)  # fmt: skip
+    assert np.all(np.diff(result.error_history) <= 0.0)
+    assert result.success, result.message
+
+
+def test_dls_error_never_increases_within_an_attempt():
+    robot = redik.load("iiwa14")
+    rng = np.random.default_rng(11)
+    T_target = robot.fk(robot.random_q(rng))
+    result = solve_pose(robot, T_target, robot.random_q(rng), restarts=0)
+    assert np.all(np.diff(result.error_history) <= 0.0)
+
+
+def test_singular_start_is_handled(arm):
+    """Start exactly at a singular posture (wrist axes aligned): no NaN, still converges."""
+    robot = redik.load("puma560")
+    q0 = np.zeros(robot.dof)  # θ5 = 0 aligns joints 4 and 6
+    assert np.linalg.matrix_rank(robot.jacobian(q0), tol=1e-9) < 6
+    T_target = robot.fk(robot.home)
+    for method in ("dls", "newton"):
+        result = solve_pose(robot, T_target, q0, method=method, seed=1)
+        assert np.all(np.isfinite(result.q)) and np.all(np.isfinite(result.history))
+        assert result.success, (method, result.message)
+
+
+def test_respect_limits_keeps_every_iterate_inside(arm, rng):
+    T_target = arm.fk(arm.random_q(rng))
+    result = solve_pose(arm, T_target, arm.random_q(rng), seed=2)
+    assert result.success
+    lower, upper = arm.lower - 1e-12, arm.upper + 1e-12
+    assert np.all((result.history >= lower) & (result.history <= upper))
+    check_solution(arm, result, T_target)
+
+
+def test_without_limits_success_ignores_them():
+    robot = redik.load("panda")
+    q_outside = robot.home.copy()
+    q_outside[3] = 0.5  # joint 4 of the panda only bends one way: [-3.07, -0.07]
+    T_target = robot.fk(q_outside)
+    result = solve_pose(robot, T_target, q_outside + 0.02, respect_limits=False, restarts=0)
+    assert result.success and result.status == "converged"
+    check_solution(robot, result, T_target, limits=False)
+    assert not robot.within_limits(result.q) and "outside" in result.message
+
+
+def test_reproducible_with_a_seed():
+    robot = redik.load("panda")
+    T_target = robot.fk(robot.random_q(np.random.default_rng(5)))
+    q0 = robot.lower + 0.01  # a poor start, so restarts are likely used
+    first = solve_pose(robot, T_target, q0, seed=42, max_iter=5)
+    second = solve_pose(robot, T_target, q0, seed=42, max_iter=5)
+    np.testing.assert_array_equal(first.q, second.q)
+    assert first.restarts == second.restarts and first.restarts > 0
+
+
+def test_target_outside_the_workspace_is_unreachable_and_finite():
+    robot = redik.load("ur5e")
+    T_target = lie.make_pose(np.eye(3), np.array([3.0, 0.0, 0.5]))
+    for method in ("dls", "newton", "hybrid"):
+        result = solve_pose(robot, T_target, method=method, seed=0, max_iter=50)
+        assert not result.success
+        assert result.status in ("unreachable", "max_iterations")
+        assert result.status == "unreachable"  # 3 m is beyond the ~1 m arm: we can tell
+        assert np.all(np.isfinite(result.q)) and np.isfinite(result.error)
+        assert "closest" in result.message
+        reached = robot.fk(result.q)[:3, 3]
+        assert np.linalg.norm(reached - T_target[:3, 3]) == pytest.approx(result.position_error)
+        if method != "newton":  # undamped Newton is not a minimiser far from a root
+            # The closest q found stretches the arm towards the target (~1 m reach, 3 m away).
+            assert result.position_error < 2.2
+
+
+def test_orientation_out_of_reach_of_a_planar_arm_is_a_failure_without_nan():
+    """Inside the planar arm's reach but tilted out of its plane: no q matches it."""
+    robot = redik.load("planar_2r")
+    T_target = robot.fk(np.array([0.3, 0.6]))
+    T_target[:3, :3] = T_target[:3, :3] @ lie.so3_exp([0.5, 0.0, 0.0])
+    result = solve_pose(robot, T_target, seed=0, restarts=3)
+    assert not result.success
+    assert result.status in ("unreachable", "max_iterations")
+    assert np.all(np.isfinite(result.q))
+    assert result.rotation_error == pytest.approx(0.5, abs=1e-6)
+    assert result.position_error < 1e-6
+
+
+@pytest.mark.parametrize(
+    "T_target",
+    [
+        np.full((4, 4), np.nan),
+        np.eye(3),
+        np.diag([2.0, 1.0, 1.0, 1.0]),  # not a rotation
+        np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 1, 1]], dtype=float),
+    ],
+    ids=["nan", "shape", "not-rigid", "last-row"],
+)
+def test_bad_targets_raise(arm, T_target):
+    with pytest.raises(RedikError):
+        solve_pose(arm, T_target)
+    with pytest.raises(InvalidPose):
+        solve_all(arm, T_target, n_starts=1)
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        {"method": "secant"},
+        {"pos_tol": 0.0},
+        {"rot_tol": -1.0},
+        {"max_iter": 0},
+        {"restarts": -1},
+        {"q0": np.zeros(3)},
+        {"q0": np.full(7, np.nan)},
+        {"frame": "no_such_frame"},
+        {"bogus_option": 1.0},
+        {"method": "newton", "form": "diagonal"},
+        {"method": "dls", "damping": -1.0},
+    ],
+)
+def test_bad_arguments_raise(arm, kwargs):
+    with pytest.raises(RedikError):
+        solve_pose(arm, arm.fk(arm.home), **kwargs)
+
+
+def test_qp_is_dispatched_to_the_qp_core():
+    pytest.importorskip("redik.qp.solve", reason="the QP core is not in this tree")
+    robot = redik.load("iiwa14")
+    T_target = robot.fk(robot.clip(robot.home + 0.2))
+    result = solve_pose(robot, T_target, method="qp")
+    assert isinstance(result, IKResult) and result.method == "qp"
+    assert result.success, result.message
+    check_solution(robot, result, T_target)
+
+
+def test_body_twist_norm_from_the_world_error(rng):
+    robot = redik.load("panda")
+    for _ in range(10):
+        T, T_d = robot.fk(robot.random_q(rng)), robot.fk(robot.random_q(rng))
+        e = np.empty(6)
+        _Problem(robot, robot.ee, T_d, 1e-6, 1e-5, True).world_error(T, e)
+        expected = np.linalg.norm(lie.se3_log(lie.inverse(T) @ T_d))
+        assert _body_twist_norm(e) == pytest.approx(expected, rel=1e-12)
+
+
+def test_solve_all_finds_the_elbow_up_and_down_solutions_of_a_planar_3r_arm():
+    """Position and heading (x, y, φ) of a planar 3R arm: exactly two solutions."""
+    robot = redik.load("planar_3r")
+    q_goal = np.array([0.4, 1.2, -0.5])
+    T_target = robot.fk(q_goal)
+    solutions = solve_all(robot, T_target, n_starts=40, seed=0)
+    assert len(solutions) == 2
+    for solution in solutions:
+        check_solution(robot, solution, T_target)
+    elbows = sorted(s.q[1] for s in solutions)
+    assert elbows[0] == pytest.approx(-1.2, abs=1e-5) and elbows[1] == pytest.approx(1.2, abs=1e-5)
+
+
+def test_solve_all_compares_unlimited_angles_modulo_two_pi():
+    robot = redik.load("ur5e")  # ranges of ±2π: q and q ± 2π are the same solution
+    T_target = robot.fk(robot.home)
+    solutions = solve_all(robot, T_target, n_starts=30, seed=3)
+    assert 1 <= len(solutions) <= 8  # a 6R arm with an offset wrist has at most 8
+    for a in solutions:
+        check_solution(robot, a, T_target)
+    for i, a in enumerate(solutions):
+        for b in solutions[i + 1 :]:
+            assert np.max(np.abs(lie.wrap_angle(a.q - b.q))) > 1e-3
+
+
+def test_solve_all_rejects_bad_counts(arm):
+    with pytest.raises(InvalidInput):
+        solve_all(arm, arm.fk(arm.home), n_starts=0)
