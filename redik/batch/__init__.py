@@ -7,6 +7,16 @@
 """
 
 from .chain import Chain
+from .engines import ENGINES
 from .kinematics import forward_kinematics, jacobian
+from .solve import BATCH_STATUSES, BatchResult, solve_batch
 
-__all__ = ["Chain", "forward_kinematics", "jacobian"]
+__all__ = [
+    "BATCH_STATUSES",
+    "ENGINES",
+    "BatchResult",
+    "Chain",
+    "forward_kinematics",
+    "jacobian",
+    "solve_batch",
+]

@@ -39,11 +39,12 @@ def chain_poses(chain: Chain, q: np.ndarray) -> tuple[np.ndarray, ...]:
     R[:] = base[:3, :3, None]
     p = np.empty((3, size))
     p[:] = base[:3, 3, None]
-    axes = np.empty((n, 3, size))
-    origins = np.empty((n, 3, size))
+    axes: list[np.ndarray] = []
+    origins: list[np.ndarray] = []
     for i in range(n):
-        axes[i] = R[:, 2]
-        origins[i] = p
+        # Every step below makes new arrays, so the views kept here stay valid.
+        axes.append(R[:, 2])
+        origins.append(p)
         link = chain.links[i]
         if chain.revolute[i]:
             c, s = np.cos(q[i]), np.sin(q[i])
@@ -59,7 +60,7 @@ def chain_poses(chain: Chain, q: np.ndarray) -> tuple[np.ndarray, ...]:
             p = p + R[:, 2] * q[i]
         p = p + np.matmul(link[:3, 3], moved)
         R = np.matmul(link[:3, :3].T, moved)
-    return R, p, axes, origins
+    return R, p, np.stack(axes), np.stack(origins)
 
 
 def world_jacobian(
