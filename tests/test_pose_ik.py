@@ -97,7 +97,7 @@ def test_dls_error_never_increases_within_an_attempt():
     assert np.all(np.diff(result.error_history) <= 0.0)
 
 
-def test_singular_start_is_handled(arm):
+def test_singular_start_is_handled():
     """Start exactly at a singular posture (wrist axes aligned): no NaN, still converges."""
     robot = redik.load("puma560")
     q0 = np.zeros(robot.dof)  # θ5 = 0 aligns joints 4 and 6

@@ -1,0 +1,50 @@
+"""redik.plot: convergence curves are drawn from results and saved as PNG."""
+
+from __future__ import annotations
+
+import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+from redik import plot
+from redik.exceptions import InvalidInput
+from redik.iterative import gradient, newton
+
+
+def square(q: np.ndarray) -> np.ndarray:
+    return np.array([q[0] ** 2 + q[1], q[1] ** 3])
+
+
+def test_convergence_draws_one_curve_per_result_and_saves_a_png(tmp_path):
+    results = [
+        newton(square, [2.0, 1.0], [1.0, 0.5], tol=1e-12),
+        gradient(square, [2.0, 1.0], [1.0, 0.5], step="armijo", max_iter=50),
+    ]
+    path = tmp_path / "sub" / "convergence.png"
+    ax = plot.convergence(results, ["Newton", "gradient"], path=path)
+    assert matplotlib.get_backend().lower() == "agg"
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert ax.get_yscale() == "log"
+    lines = ax.get_lines()
+    assert [line.get_label() for line in lines] == ["Newton", "gradient"]
+    for line, result in zip(lines, results, strict=True):
+        np.testing.assert_allclose(line.get_ydata(), result.error_history)
+        np.testing.assert_array_equal(line.get_xdata(), np.arange(result.error_history.size))
+    plt.close(ax.figure)
+
+
+def test_convergence_draws_on_given_axes_with_default_labels():
+    _, ax = plt.subplots()
+    result = newton(square, [2.0, 1.0], [1.0, 0.5])
+    assert plot.convergence([result], ax=ax) is ax
+    assert ax.get_lines()[0].get_label() == "newton"
+    plt.close(ax.figure)
+
+
+def test_convergence_rejects_bad_inputs():
+    result = newton(square, [2.0, 1.0], [1.0, 0.5])
+    with pytest.raises(InvalidInput):
+        plot.convergence([])
+    with pytest.raises(InvalidInput):
+        plot.convergence([result], ["a", "b"])
