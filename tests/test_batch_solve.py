@@ -1,0 +1,133 @@
+"""solve_batch on one process: strict success, limits, bad targets, agreement with solve_pose."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import redik
+from redik.batch import BATCH_STATUSES, Chain, forward_kinematics, solve_batch
+from redik.result import STATUSES
+
+from .conftest import ARM_XML
+
+
+@pytest.fixture(scope="module")
+def panda() -> redik.Robot:
+    return redik.load("panda")
+
+
+def _reachable(robot: redik.Robot, size: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    q = robot.random_q(seed, size=size)
+    return q, forward_kinematics(Chain.from_robot(robot), q)
+
+
+def _check_strict(robot: redik.Robot, T: np.ndarray, result, pos_tol=1e-6, rot_tol=1e-5):
+    """Every reported success is verified independently with MuJoCo's FK."""
+    for i in np.flatnonzero(result.success):
+        assert robot.within_limits(result.q[i])
+        pos, rot = redik.lie.pose_errors(robot.fk(result.q[i]), T[i])
+        assert pos <= pos_tol * (1 + 1e-9) and rot <= rot_tol * (1 + 1e-9)
+        assert pos == pytest.approx(result.position_error[i], abs=1e-12)
+        assert rot == pytest.approx(result.rotation_error[i], abs=1e-12)
+
+
+def test_reachable_targets_are_solved_strictly(panda):
+    _, T = _reachable(panda, 400, seed=1)
+    result = solve_batch(panda, T, seed=0, engine="local")
+    assert result.q.shape == (400, panda.dof)
+    assert result.success.mean() >= 0.99
+    _check_strict(panda, T, result)
+    assert np.all(result.status_names[result.success] == "converged")
+    assert np.all(result.iterations[result.success] >= 1)
+
+
+def test_joint_limits_hold_for_every_target(panda):
+    _, T = _reachable(panda, 200, seed=2)
+    T_far = T.copy()
+    T_far[::4, :3, 3] *= 3.0  # some out of reach: their best effort must stay within limits too
+    result = solve_batch(panda, T_far, seed=0, engine="local", restarts=2)
+    assert np.all(result.q >= panda.lower) and np.all(result.q <= panda.upper)
+    assert not result.success[::4].any()
+    assert np.all(np.isin(result.status_names[::4], ("stalled", "max_iterations")))
+
+
+def test_slide_and_unlimited_joints():
+    arm = redik.Robot.from_xml_string(ARM_XML)
+    _, T = _reachable(arm, 100, seed=3)
+    result = solve_batch(arm, T, seed=0, engine="local")
+    assert result.success.mean() >= 0.97
+    _check_strict(arm, T, result)
+
+
+def test_seed_at_the_solution_needs_no_iteration(panda):
+    q, T = _reachable(panda, 20, seed=4)
+    result = solve_batch(panda, T, q0=q, engine="local")
+    assert result.success.all()
+    np.testing.assert_array_equal(result.iterations, 0)
+    np.testing.assert_allclose(result.q, q)
+
+
+def test_agrees_with_single_target_solve_pose(panda):
+    pose_ik = pytest.importorskip("redik.pose_ik")
+    _, T = _reachable(panda, 40, seed=5)
+    batch = solve_batch(panda, T, seed=0, engine="local")
+    single = [pose_ik.solve_pose(panda, T[i], seed=i) for i in range(len(T))]
+    single_success = np.array([r.success for r in single])
+    # Both solve these reachable targets, each to the same strict tolerances.
+    assert batch.success.all() and single_success.all()
+    single_pos = np.array([r.position_error for r in single])
+    single_rot = np.array([r.rotation_error for r in single])
+    assert batch.position_error.max() <= 1e-6 and single_pos.max() <= 1e-6
+    assert batch.rotation_error.max() <= 1e-5 and single_rot.max() <= 1e-5
+
+
+def test_malformed_targets_are_reported_per_target(panda):
+    _, T = _reachable(panda, 12, seed=6)
+    T[1, 0, 0] = np.nan
+    T[3, :3, :3] *= 1.5  # not a rotation
+    T[5, 3] = (0.0, 0.0, 1.0, 1.0)  # bad last row
+    T[7, 0, 3] = np.inf
+    bad = np.zeros(12, dtype=bool)
+    bad[[1, 3, 5, 7]] = True
+    result = solve_batch(panda, T, seed=0, engine="local")
+    assert np.all(result.status_names[bad] == "invalid")
+    assert not result.success[bad].any()
+    assert np.isfinite(result.q).all()
+    assert np.isnan(result.position_error[bad]).all()
+    assert result.success[~bad].all()
+
+
+@pytest.mark.parametrize("shape", [(4, 4), (3, 4, 3), (5, 3, 4), (2, 16)])
+def test_wrong_array_shape_raises(panda, shape):
+    with pytest.raises(redik.InvalidInput, match="T_targets"):
+        solve_batch(panda, np.zeros(shape), engine="local")
+
+
+def test_bad_arguments_raise(panda):
+    _, T = _reachable(panda, 3, seed=7)
+    with pytest.raises(redik.InvalidInput, match="q0"):
+        solve_batch(panda, T, q0=np.zeros((2, panda.dof)), engine="local")
+    with pytest.raises(redik.InvalidInput, match="method"):
+        solve_batch(panda, T, method="newton", engine="local")
+    with pytest.raises(redik.InvalidInput, match="engine"):
+        solve_batch(panda, T, engine="gpu")
+    with pytest.raises(redik.InvalidInput, match="pos_tol"):
+        solve_batch(panda, T, pos_tol=-1.0, engine="local")
+
+
+def test_same_seed_same_result_and_chunking_is_seeded_per_chunk(panda):
+    _, T = _reachable(panda, 300, seed=8)
+    a = solve_batch(panda, T, seed=11, engine="local", chunk_size=64)
+    b = solve_batch(panda, T, seed=11, engine="local", chunk_size=64)
+    np.testing.assert_array_equal(a.q, b.q)
+    np.testing.assert_array_equal(a.iterations, b.iterations)
+
+
+def test_empty_batch(panda):
+    result = solve_batch(panda, np.zeros((0, 4, 4)), engine="local")
+    assert len(result) == 0 and result.q.shape == (0, panda.dof)
+
+
+def test_status_names_follow_redik_statuses():
+    assert set(BATCH_STATUSES) - {"invalid"} <= set(STATUSES)
