@@ -131,9 +131,10 @@ def rotate_z_transpose(theta: np.ndarray, R: np.ndarray) -> np.ndarray:
 
 
 def rotate_y_transpose(theta: np.ndarray, M: np.ndarray) -> np.ndarray:
-    """:math:`R_y(θ)^T M` for θ of shape (...) and M of shape (..., 3, 3)."""
+    """:math:`R_y(θ)^T M` for θ of shape (...) and M broadcastable to (..., 3, 3)."""
     c, s = np.cos(theta)[..., None], np.sin(theta)[..., None]
+    middle = np.broadcast_to(M[..., 1, :], (*theta.shape, 3))
     return np.stack(
-        [c * M[..., 0, :] - s * M[..., 2, :], M[..., 1, :], s * M[..., 0, :] + c * M[..., 2, :]],
+        [c * M[..., 0, :] - s * M[..., 2, :], middle, s * M[..., 0, :] + c * M[..., 2, :]],
         axis=-2,
     )
