@@ -279,7 +279,7 @@ def test_joint_limits_filter_and_shift_by_two_pi():
 )
 def test_batch_equals_single(batch, single, rows, params):
     rng = np.random.default_rng(6)
-    T = np.stack([forward(rows, q) for q in rng.uniform(-np.pi, np.pi, (25, 6))])
+    T = np.stack([forward(rows, q) for q in rng.uniform(-np.pi, np.pi, (40, 6))])
     T[5, :3, 3] = (2.0, 0.0, 0.0)  # unreachable
     result = batch(T, *params)
     assert result.q.shape == (40, 8, 6) and result.valid.shape == (40, 8)
