@@ -64,6 +64,18 @@ class Chain:
         """Number of joints ``n``."""
         return len(self.revolute)
 
+    def reach(self) -> tuple[np.ndarray, float]:
+        """``(centre, radius)``: a ball in the world that holds every end-effector position.
+
+        Hinges do not move the first joint's origin ``centre``; each fixed link adds at most
+        its length and each slide its largest extent, so ``radius = Σ ‖p(F_i)‖ + Σ max|q|``
+        (infinite with an unlimited slide). A sound bound, not a tight one.
+        """
+        slide = ~self.revolute
+        extent = np.maximum(np.abs(self.lower[slide]), np.abs(self.upper[slide])).sum()
+        radius = float(np.linalg.norm(self.links[:, :3, 3], axis=1).sum() + extent)
+        return self.base[:3, 3].copy(), radius
+
     @classmethod
     def from_robot(cls, robot: Robot) -> Chain:
         """Compile ``robot``'s chain from its MuJoCo model (off-chain joints at home)."""
