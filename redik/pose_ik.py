@@ -570,8 +570,10 @@ def _gradient_then_newton(
         stepped = None
         if E < switch_error**2:
             q_new = problem.project(q + np.linalg.pinv(J) @ e)
-            robot.kinematics(q_new, frame, trial[0], trial[1])
-            E_new = float(np.sum(np.square(_error_into(problem, trial))))
+            T_new, J_new, e_new = trial
+            robot.kinematics(q_new, frame, T_new, J_new)
+            problem.world_error(T_new, e_new)
+            E_new = float(e_new @ e_new)
             if E_new < E:
                 stepped = q_new, E_new
         if stepped is None:
@@ -588,11 +590,6 @@ def _gradient_then_newton(
         if problem.within(*errors_now):
             status = "converged"
     return _Attempt(q, status, history, errors, E, T, J, e)
-
-
-def _error_into(problem: _Problem, trial: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
-    problem.world_error(trial[0], trial[2])
-    return trial[2]
 
 
 _ITERATIONS: dict[str, Callable[[dict], Iteration]] = {
