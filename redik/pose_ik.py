@@ -40,12 +40,15 @@ Error
     ``‖e‖`` of the method's own error; ``result.error`` is always ``‖log(T⁻¹ T_d)‖``.
 
 Limits
-    With ``respect_limits=True`` every iterate is projected into the joint limits
-    (``q ← clip(q + Δq)``) and random restarts are drawn inside them, so the returned ``q``
-    is inside the limits. With ``respect_limits=False`` the iterations are the textbook
-    ones and the limits are not part of success (the message says when ``q`` is outside).
-    In both cases a revolute joint outside its range is first shifted by multiples of 2π
-    when that brings it inside (the pose is unchanged).
+    With ``respect_limits=True`` every iterate stays inside the joint limits and random
+    restarts are drawn inside them, so the returned ``q`` is inside the limits. ``"dls"``
+    stops a joint that would leave its range at the limit and re-solves for the others
+    (a clamping loop); a limited revolute joint whose range spans a full turn is wrapped by
+    2π instead; the other methods project (``q ← clip(q + Δq)``). An attempt stuck against
+    a limit ends early and a restart takes over. With ``respect_limits=False`` the
+    iterations are the textbook ones and the limits are not part of success (the message
+    says when ``q`` is outside). In both cases a revolute joint outside its range is
+    finally shifted by a multiple of 2π when that brings it inside (the pose is unchanged).
 
 Success
     Decided from the pose of the returned ``q``: ``‖p_d − p‖ ≤ pos_tol``,
