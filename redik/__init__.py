@@ -3,7 +3,7 @@
 Conventions (frames, twist order, units) are in :mod:`redik.conventions`.
 """
 
-from . import dh, lie, model_builder, scene_library
+from . import analytic, dh, lie, model_builder, scene_library
 from .exceptions import (
     BackendError,
     InfeasibleProblem,
@@ -36,6 +36,7 @@ __all__ = [
     "RedikError",
     "Robot",
     "UnknownFrame",
+    "analytic",
     "dh",
     "dh_to_mjcf",
     "lie",
