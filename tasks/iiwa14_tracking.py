@@ -47,5 +47,5 @@ def run(ctx):
         "rms_position_error": result.rms_position_error,
         "max_rotation_error": result.max_rotation_error,
         "final_position_error": result.final_position_error,
-        "control_rate": rate,
+        "control_hz": rate,
     }
