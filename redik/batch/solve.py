@@ -11,13 +11,17 @@ squares methods*, 2004), all of them advanced together by vectorised numpy calls
 
 with ``J`` the ``"world"`` Jacobian of :mod:`redik.conventions` (``e`` is the world-frame
 pose error, the error twist ``log(T⁻¹ T_d)`` of the conventions rotated to world axes, first
-order). The candidate ``q + Δq`` is clamped into the joint limits and accepted for a target
-only if it lowers that target's ``‖e‖``; then its damping ``λ`` shrinks, otherwise ``λ`` grows
-and ``q`` stays. The ``6 × 6`` systems are solved by a Cholesky factorisation written out
-over the batch. A target whose attempt stalls (``λ`` past its ceiling) or runs out of
-iterations is re-seeded from a random ``q`` within the limits, up to ``restarts`` times;
-converged targets leave the active set at once, so the cost follows the targets still
-being solved.
+order). The ``6 × 6`` systems are solved by a Cholesky factorisation written out over the
+batch. Joints resting on a limit that the step would push outward are held still and the step
+re-solved without them; the candidate is then clamped into the limits and accepted for a
+target only if it lowers that target's ``‖e‖`` — ``λ`` then shrinks, otherwise it grows and
+``q`` stays.
+
+An attempt ends when it converges, stalls (``λ`` past its ceiling, or ``‖e‖²`` not cut by
+``progress`` over a ``window`` of iterations) or spends ``max_iterations``. A failed target is
+re-seeded from random configurations within the limits, nearest pose first
+(:class:`_Codebook`), up to ``restarts`` times. Converged targets leave the active set at
+once, so the cost follows the targets still being solved.
 
 Success is **strict**: position error ``‖p_d − p‖ ≤ pos_tol``, rotation angle of ``Rᵀ R_d`` ``≤
 rot_tol`` and ``q`` within the limits, checked by a fresh batched FK of the returned ``q``.
@@ -77,7 +81,8 @@ class BatchOptions:
     window: int = 8
     progress: float = 0.3
     fanout: int = 4
-    spread: float = 1.0
+    fanout_below: int = 1024
+    codebook: int = 512
 
     def __post_init__(self) -> None:
         for name in ("pos_tol", "rot_tol", "damping", "damping_min", "damping_max"):
@@ -284,6 +289,33 @@ def damped_step(J: np.ndarray, e: np.ndarray, damping: np.ndarray) -> np.ndarray
 # One chunk
 
 
+class _Codebook:
+    """Restart seeds: random configurations ranked by how close their pose is to a target.
+
+    The ``r``-th restart of a target starts from the ``r``-th nearest of ``size`` random
+    configurations, by ``‖p − p_d‖² + (w ‖R − R_d‖_F)²`` with ``w`` = 0.5 m, a reach-sized
+    weight that puts radians on the scale of metres. Near poses converge more often than
+    uniform random seeds, and distinct near configurations are often distinct IK branches.
+    """
+
+    _ROTATION_WEIGHT = 0.5
+
+    def __init__(self, chain: Chain, size: int, rng: np.random.Generator):
+        self.q = rng.uniform(chain.sampling_lower, chain.sampling_upper, (size, chain.dof))
+        R, p, _, _ = chain_poses(chain, np.ascontiguousarray(self.q.T))
+        self.features = self._features(R.transpose(2, 0, 1), p.T)
+        self.squared = np.einsum("ij,ij->i", self.features, self.features)
+
+    def _features(self, R: np.ndarray, p: np.ndarray) -> np.ndarray:
+        return np.concatenate((p, self._ROTATION_WEIGHT * R.reshape(-1, 9)), axis=1)
+
+    def seeds(self, T: np.ndarray, rank: np.ndarray) -> np.ndarray:
+        """``n × k`` seeds: for each target ``T[i]`` its ``rank[i]``-th nearest entry."""
+        distance = self.squared - 2.0 * self._features(T[:, :3, :3], T[:, :3, 3]) @ self.features.T
+        order = np.argsort(distance, axis=1, kind="stable")
+        return np.ascontiguousarray(self.q[order[np.arange(len(T)), rank]].T)
+
+
 @dataclasses.dataclass
 class _Attempts:
     """The attempts in flight, one column each; several may serve the same target."""
@@ -359,12 +391,12 @@ def solve_chunk(
     ``T_targets`` is ``B × 4 × 4`` (invalid targets allowed), ``q0`` ``B × n`` within limits;
     the random re-seeds come from ``seed`` alone, so a chunk's result does not depend on where
     it runs. Each target starts one attempt from its seed; a target whose attempts have all
-    failed gets up to ``fanout`` fresh attempts at once (random ``q``), so the last, hardest
-    targets are retried side by side instead of one after another.
+    failed is re-seeded from :class:`_Codebook`, with up to ``fanout`` attempts side by side
+    once few attempts are left, so the hardest targets are not retried one after another.
     """
     rng = np.random.default_rng(seed)
     T, valid = check_targets(T_targets)
-    size, n = q0.shape
+    size = len(q0)
     q_out = np.array(q0, dtype=float).T.copy()  # n × B, batch last
     iterations = np.zeros(size, dtype=np.int64)
     restarts = np.zeros(size, dtype=np.int64)
@@ -379,9 +411,7 @@ def solve_chunk(
         chain, index, q_out[:, index].copy(), Rd_all[..., index], pd_all[:, index], options
     )
     lower, upper = chain.lower[:, None], chain.upper[:, None]
-    middle = 0.5 * (chain.sampling_lower + chain.sampling_upper)
-    half = 0.5 * options.spread * (chain.sampling_upper - chain.sampling_lower)
-    seed_lower, seed_upper = middle - half, middle + half
+    codebook = _Codebook(chain, max(options.codebook, options.restarts), rng)
 
     while len(attempts):
         a = attempts
@@ -401,15 +431,18 @@ def solve_chunk(
             attempts = a.select(~ended & ~done[a.target])
             failed = np.unique(a.target[ended & ~converged])
             orphans = failed[~done[failed] & ~np.isin(failed, attempts.target)]
-            fanout = np.minimum(options.restarts - restarts[orphans], options.fanout)
-            ids = np.repeat(orphans, np.maximum(fanout, 0))
+            # Side-by-side retries only pay when few attempts are left to vectorise over.
+            width = options.fanout if len(attempts) < options.fanout_below else 1
+            count = np.clip(options.restarts - restarts[orphans], 0, width)
+            ids = np.repeat(orphans, count)
             if ids.size:
-                restarts[orphans] += np.maximum(fanout, 0)
-                fresh = rng.uniform(seed_lower, seed_upper, (ids.size, n))
+                rank = restarts[ids] + (
+                    np.arange(ids.size) - np.repeat(np.cumsum(count) - count, count)
+                )
+                restarts[orphans] += count
+                fresh = codebook.seeds(T[ids], rank)
                 attempts = attempts.extend(
-                    _Attempts.start(
-                        chain, ids, fresh.T.copy(), Rd_all[..., ids], pd_all[:, ids], options
-                    )
+                    _Attempts.start(chain, ids, fresh, Rd_all[..., ids], pd_all[:, ids], options)
                 )
             if not len(attempts):
                 break
