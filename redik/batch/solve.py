@@ -309,11 +309,13 @@ class _Codebook:
     def _features(self, R: np.ndarray, p: np.ndarray) -> np.ndarray:
         return np.concatenate((p, self._ROTATION_WEIGHT * R.reshape(-1, 9)), axis=1)
 
-    def seeds(self, T: np.ndarray, rank: np.ndarray) -> np.ndarray:
-        """``n × k`` seeds: for each target ``T[i]`` its ``rank[i]``-th nearest entry."""
+    def nearest(self, T: np.ndarray, count: int) -> np.ndarray:
+        """``len(T) × count`` codebook indices, nearest pose first, for each target ``T[i]``."""
         distance = self.squared - 2.0 * self._features(T[:, :3, :3], T[:, :3, 3]) @ self.features.T
-        order = np.argsort(distance, axis=1, kind="stable")
-        return np.ascontiguousarray(self.q[order[np.arange(len(T)), rank]].T)
+        count = min(count, distance.shape[1])
+        nearest = np.argpartition(distance, count - 1, axis=1)[:, :count]
+        order = np.argsort(np.take_along_axis(distance, nearest, axis=1), axis=1, kind="stable")
+        return np.take_along_axis(nearest, order, axis=1)
 
 
 @dataclasses.dataclass
@@ -412,6 +414,7 @@ def solve_chunk(
     )
     lower, upper = chain.lower[:, None], chain.upper[:, None]
     codebook = _Codebook(chain, max(options.codebook, options.restarts), rng)
+    ranked = np.zeros((size, options.restarts), dtype=np.int64)
 
     while len(attempts):
         a = attempts
@@ -436,11 +439,13 @@ def solve_chunk(
             count = np.clip(options.restarts - restarts[orphans], 0, width)
             ids = np.repeat(orphans, count)
             if ids.size:
-                rank = restarts[ids] + (
-                    np.arange(ids.size) - np.repeat(np.cumsum(count) - count, count)
-                )
+                first = orphans[restarts[orphans] == 0]  # rank their seeds once
+                if first.size:
+                    ranked[first] = codebook.nearest(T[first], options.restarts)
+                # The k-th new attempt of a target takes its next unused rank.
+                offset = np.arange(ids.size) - np.repeat(np.cumsum(count) - count, count)
+                fresh = np.ascontiguousarray(codebook.q[ranked[ids, restarts[ids] + offset]].T)
                 restarts[orphans] += count
-                fresh = codebook.seeds(T[ids], rank)
                 attempts = attempts.extend(
                     _Attempts.start(chain, ids, fresh, Rd_all[..., ids], pd_all[:, ids], options)
                 )
