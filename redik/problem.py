@@ -30,6 +30,7 @@ from .qp.hierarchy import solve_lexicographic
 from .result import IKResult
 from .robot import Robot
 from .tasks.frame_task import FrameTask
+from .tasks.joint_space_task import JointSpaceTask
 from .tasks.kinematics import KinematicState
 from .tasks.task import ResidualTask, Task
 
@@ -51,6 +52,8 @@ class Problem:
 
     Attributes:
         levels: The priority values, highest first.
+        stats: Counters; ``"skipped_levels"``: lower levels whose back-end failed
+            (:mod:`redik.qp.hierarchy`).
     """
 
     def __init__(
@@ -78,7 +81,7 @@ class Problem:
         self.tasks = tasks
         self.damping = float(damping)
         self.rank_tol = float(rank_tol)
-        self._assembly = Assembly(robot, tasks)
+        self._assembly = Assembly(robot, tasks, self.damping)
         self.levels = [level.priority for level in self._assembly.levels]
         options = backend_options or {}
         self.backends = [make_backend(backend, **options) for _ in self.levels]
@@ -95,14 +98,24 @@ class Problem:
         self._boxes = [limit for limit in self.limits if isinstance(limit, BoxLimit)]
         self._rows = [limit for limit in self.limits if isinstance(limit, InequalityLimit)]
         self._clip = any(isinstance(limit, PositionLimit) for limit in self.limits)
+        self._bounded = bool(self._boxes)
 
+        self.stats: dict[str, int] = {}
+        self._shape = (robot.dof,)
         self._state = KinematicState.for_robot(robot)
         self._configuration = None
         if self._assembly.needs_configuration or any(r.needs_configuration for r in self._rows):
             self._configuration = mink.Configuration(robot.model)
-        self._lb = np.empty(robot.dof)
-        self._ub = np.empty(robot.dof)
-        self._level0 = self._assembly.levels[0].tasks
+        self._lb = np.full(robot.dof, -np.inf)
+        self._ub = np.full(robot.dof, np.inf)
+        # What "converged" waits for: the level-0 tasks with a target. Joint-space
+        # regularisers and gradient tasks have none.
+        self._targets = [
+            task
+            for task in self._assembly.levels[0].tasks
+            if not isinstance(task, JointSpaceTask)
+            and (isinstance(task, ResidualTask) or not isinstance(task, Task))
+        ]
 
     # ----------------------------------------------------------------------------------
     # Online control
@@ -117,7 +130,9 @@ class Problem:
                 by more than its velocity limit allows to recover in ``dt``).
             BackendError: the back-end (every back-end of a chain) failed.
         """
-        q = self.robot.check_q(q)
+        q = np.asarray(q, dtype=float)
+        if q.shape != self._shape or not np.isfinite(q).all():
+            q = self.robot.check_q(q)  # raises with the full message
         if dt is not None and not (np.isfinite(dt) and dt > 0.0):
             raise InvalidInput(f"dt must be a positive number of seconds, got {dt}")
         self._update(q)
@@ -131,14 +146,15 @@ class Problem:
     def _step(self, q: np.ndarray, dt: float | None, max_step: float | None = None):
         objectives = self._assembly.objectives(self._state, self._configuration)
         lb, ub = self._lb, self._ub
-        lb.fill(-np.inf)
-        ub.fill(np.inf)
-        for limit in self._boxes:
-            limit.bounds_into(q, dt, lb, ub)
+        if self._boxes:
+            self._boxes[0].set_bounds(q, dt, lb, ub)
+            for limit in self._boxes[1:]:
+                limit.bounds_into(q, dt, lb, ub)
         if max_step is not None:
             np.maximum(lb, -max_step, out=lb)
             np.minimum(ub, max_step, out=ub)
-        if np.any(lb > ub):
+        # One position box is never empty (bind shrinks it by at most a quarter range).
+        if len(self._boxes) > 1 and (lb > ub).any():
             bad = np.flatnonzero(lb > ub)
             names = [self.robot.joint_names[i] for i in bad]
             raise InfeasibleProblem(
@@ -155,7 +171,7 @@ class Problem:
                 C = np.vstack([G for G, _ in blocks])
                 up = np.concatenate([h for _, h in blocks])
                 low = np.full_like(up, -np.inf)
-        bounded = bool(np.isfinite(lb).any() or np.isfinite(ub).any())
+        bounded = self._bounded or max_step is not None
         dq = solve_lexicographic(
             objectives,
             self.backends,
@@ -166,9 +182,13 @@ class Problem:
             up,
             damping=self.damping,
             rank_tol=self.rank_tol,
+            stats=self.stats,
         )
         if self._clip:
-            np.clip(dq, self.robot.lower - q, self.robot.upper - q, out=dq)
+            # Into the (shrunk) box the solver was given: inside the limits, whatever its
+            # tolerance.
+            np.maximum(dq, lb, out=dq)
+            np.minimum(dq, ub, out=dq)
         return dq
 
     # ----------------------------------------------------------------------------------
@@ -189,8 +209,11 @@ class Problem:
 
         Converged means: every frame task of level 0 within ``pos_tol`` (m) and
         ``rot_tol`` (rad) — position and rotation errors of :mod:`redik.conventions` —
-        and every other level-0 task with ``‖e‖ ≤ pos_tol``. Lower levels shape the
-        solution but are not waited for.
+        and every other level-0 task that has a target (a mink task, say) with
+        ``‖e‖ ≤ pos_tol``. Joint-space regularisers (posture, joint-limit avoidance,
+        damping) and gradient tasks have no target and are not waited for, nor are
+        lower levels: they shape the solution. With no target at level 0, the solve
+        converges when the step vanishes (``‖Δq‖ < q_tol``).
 
         Args:
             q0: Initial chain configuration.
@@ -218,7 +241,7 @@ class Problem:
             self._update(q)
             converged, error, position_error, rotation_error = self._level0_errors(pos_tol, rot_tol)
             errors.append(error)
-            if converged:
+            if converged and self._targets:
                 status = "converged"
                 break
             if iterations >= max_iter:
@@ -253,11 +276,9 @@ class Problem:
         converged = True
         squared = 0.0
         position_error = rotation_error = None
-        for task in self._level0:
+        for task in self._targets:
             if isinstance(task, ResidualTask):
                 e, _ = task.error_and_jacobian(self._state)
-            elif isinstance(task, Task):
-                continue  # a gradient task has no error to converge
             else:
                 e = task.compute_error(self._configuration)
             squared += float(e @ e)

@@ -44,6 +44,14 @@ class BoxLimit(Limit, abc.ABC):
     ) -> None:
         """Intersect this box with ``[lower, upper]`` in place (``lower = max(lower, l)``…)."""
 
+    def set_bounds(
+        self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
+    ) -> None:
+        """Overwrite ``lower``, ``upper`` with this box."""
+        lower.fill(-np.inf)
+        upper.fill(np.inf)
+        self.bounds_into(q, dt, lower, upper)
+
 
 class InequalityLimit(Limit, abc.ABC):
     """A limit of general rows ``G Δq ≤ h`` over the chain joints."""

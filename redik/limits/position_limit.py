@@ -50,3 +50,9 @@ class PositionLimit(BoxLimit):
     ) -> None:
         np.maximum(lower, self.lower - q, out=lower)
         np.minimum(upper, self.upper - q, out=upper)
+
+    def set_bounds(
+        self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
+    ) -> None:
+        np.subtract(self.lower, q, out=lower)
+        np.subtract(self.upper, q, out=upper)

@@ -13,8 +13,9 @@ At the chain configuration :math:`q` redik computes the joint step :math:`Δq` f
 :math:`i` (:mod:`redik.tasks.task`) contributes :math:`\tfrac12 \|W_i (J_i Δq + α_i e_i)\|^2`;
 stacking :math:`\mathcal{A} = [W_i J_i]_i` and :math:`\mathcal{b} = [-α_i W_i e_i]_i`
 gives :math:`H = \mathcal{A}^\top \mathcal{A}` and :math:`c = -\mathcal{A}^\top
-\mathcal{b}` in one product per level; other tasks add their own :math:`(H_i, c_i)`. The
-solver adds a regularisation :math:`εI` (``damping``) to each level. With several levels
+\mathcal{b}` in one product per level; joint-space tasks (posture, joint-limit avoidance,
+damping) add a diagonal, and other tasks their own :math:`(H_i, c_i)`. Each level's
+Hessian is regularised by :math:`εI` (``damping``). With several levels
 the priorities are strict (:mod:`redik.qp.hierarchy`); with one, this is mink's
 ``solve_ik`` objective.
 
@@ -34,6 +35,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..robot import Robot
+from ..tasks.joint_space_task import JointSpaceTask
 from ..tasks.kinematics import KinematicState
 from ..tasks.task import ResidualTask, Task
 
@@ -48,41 +50,86 @@ class LevelAssembly:
 
     Attributes:
         priority: The level's priority value.
-        residual_tasks: ``(task, row slice)`` of the redik residual tasks, stacked in ``A``.
+        residual_tasks: The redik residual tasks, their rows stacked in ``A``, ``b``.
+        joint_tasks: The joint-space tasks, added as a diagonal
+            (:mod:`redik.tasks.joint_space_task`).
         other_tasks: redik tasks with their own objective, and mink tasks.
         A, b: The stacked weighted residual rows.
         H, c: The level's objective, rebuilt by :meth:`build`.
     """
 
-    def __init__(self, priority: int, tasks: Sequence, n: int):
+    def __init__(self, priority: int, tasks: Sequence, n: int, damping: float):
         self.priority = priority
-        self.residual_tasks: list[tuple[ResidualTask, slice]] = []
+        self.damping = damping
+        self.residual_tasks: list[ResidualTask] = []
+        self.joint_tasks: list[JointSpaceTask] = []
         self.other_tasks: list = []
-        rows = 0
+        rows = []
         for task in tasks:
-            if isinstance(task, ResidualTask):
-                self.residual_tasks.append((task, slice(rows, rows + task.k)))
-                rows += task.k
+            if isinstance(task, JointSpaceTask):
+                self.joint_tasks.append(task)
+            elif isinstance(task, ResidualTask):
+                self.residual_tasks.append(task)
+                rows.append(task.k)
             else:
                 self.other_tasks.append(task)
-        self.A = np.zeros((rows, n))
-        self.b = np.zeros(rows)
+        self.A = np.zeros((sum(rows), n))
+        self.b = np.zeros(sum(rows))
+        offsets = np.concatenate([[0], np.cumsum(rows)]).astype(int)
+        self._blocks = [
+            (task, self.A[start:stop], self.b[start:stop])
+            for task, start, stop in zip(
+                self.residual_tasks, offsets[:-1], offsets[1:], strict=True
+            )
+        ]
         self.H = np.zeros((n, n))
         self.c = np.zeros(n)
+        self._diagonal = self.H.reshape(n * n)[:: n + 1]  # a view: H's diagonal
+        self._joint_versions: list = []
+        self._joint_hessian = np.full(n, damping)
+        self._joint_factor = np.zeros(n)
+        self._joint_offset = np.zeros(n)
+        self._joint_buffer = np.zeros(n)
 
     @property
     def tasks(self) -> list:
         """Every task of the level."""
-        return [task for task, _ in self.residual_tasks] + self.other_tasks
+        return self.residual_tasks + self.joint_tasks + self.other_tasks
+
+    def _refresh_joint_terms(self) -> None:
+        """Σ of the joint-space tasks' ``w²d²`` (+ damping), ``α w²d²`` and ``α w²d² r``."""
+        versions = [(id(task), task.version) for task in self.joint_tasks]
+        if versions == self._joint_versions:
+            return
+        self._joint_hessian[:] = self.damping
+        self._joint_factor[:] = 0.0
+        self._joint_offset[:] = 0.0
+        for task in self.joint_tasks:
+            hessian, factor = task.diagonal_terms()
+            self._joint_hessian += hessian
+            self._joint_factor += factor
+            self._joint_offset += factor * task.reference
+        self._joint_versions = versions
 
     def build(self, state: KinematicState, configuration, columns: np.ndarray) -> None:
-        """Fill ``H`` and ``c`` at ``state`` (``configuration`` only for mink tasks)."""
-        A, b, H, c = self.A, self.b, self.H, self.c
-        for task, rows in self.residual_tasks:
-            task.weighted_residual_into(state, A[rows], b[rows])
-        np.dot(A.T, A, out=H)
-        np.dot(A.T, b, out=c)
+        """Fill ``H`` (regularised by ``damping``) and ``c`` at ``state``.
+
+        ``configuration`` is the ``mink.Configuration`` mink tasks read (else None).
+        """
+        H, c = self.H, self.c
+        for task, A, b in self._blocks:
+            task.weighted_residual_into(state, A, b)
+        At = self.A.T
+        np.dot(At, self.A, out=H)
+        np.dot(At, self.b, out=c)
         np.negative(c, out=c)
+        # Joint-space tasks: H += diag(Σ w²d²), c += Σ α w²d² ⊙ (q − r).
+        self._refresh_joint_terms()
+        self._diagonal += self._joint_hessian
+        if self.joint_tasks:
+            np.multiply(self._joint_factor, state.q, out=self._joint_buffer)
+            c += self._joint_buffer
+            c -= self._joint_offset
         for task in self.other_tasks:
             if isinstance(task, Task):
                 task.add_objective(state, H, c)
@@ -112,19 +159,20 @@ class Assembly:
     Args:
         robot: The robot; ``Δq`` has ``robot.dof`` entries.
         tasks: redik tasks (bound here) and mink tasks, in any order.
+        damping: The regularisation ``ε`` added to every level's Hessian diagonal.
 
     Attributes:
         levels: One :class:`LevelAssembly` per distinct priority, highest (0) first.
         needs_configuration: True when a mink task needs a ``mink.Configuration``.
     """
 
-    def __init__(self, robot: Robot, tasks: Sequence):
+    def __init__(self, robot: Robot, tasks: Sequence, damping: float):
         for task in tasks:
             if isinstance(task, Task):
                 task.bind(robot)
         priorities = sorted({task_priority(task) for task in tasks})
         self.levels = [
-            LevelAssembly(p, [t for t in tasks if task_priority(t) == p], robot.dof)
+            LevelAssembly(p, [t for t in tasks if task_priority(t) == p], robot.dof, damping)
             for p in priorities
         ]
         self.needs_configuration = any(not isinstance(task, Task) for task in tasks)
@@ -132,7 +180,7 @@ class Assembly:
     def objectives(
         self, state: KinematicState, configuration=None
     ) -> list[tuple[np.ndarray, np.ndarray]]:
-        """``(H_k, c_k)`` per level at ``state`` (views of the level buffers)."""
+        """``(H_k + εI, c_k)`` per level at ``state`` (the level buffers themselves)."""
         columns = state.robot.dof_indices
         for level in self.levels:
             level.build(state, configuration, columns)

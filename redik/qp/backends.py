@@ -10,7 +10,9 @@ back-end and the problem size. Names accepted by :func:`make_backend`:
     go in as DAQP's simple bounds.
 ``"proxsuite"``
     A persistent proxsuite ``dense.QP`` that keeps its workspace between calls and
-    warm-starts from the previous solution (re-initialised when the sizes change).
+    warm-starts from the previous solution (re-initialised when the sizes change, and
+    retried cold when a warm start fails). ProxQP does not always certify infeasible
+    rows: it may stop at its iteration limit, which is then a :class:`BackendError`.
 ``"cvxpy"``
     The QP written as a cvxpy program (slow; a readable reference).
 any solver in ``qpsolvers.available_solvers`` (``"proxqp"``, ``"clarabel"``, ``"osqp"``,
@@ -41,16 +43,22 @@ _BIG = 1e20  # proxsuite wants finite bounds
 
 QPSOLVERS_SETTINGS: dict[str, dict] = {
     "proxqp": {"eps_abs": 1e-10, "eps_rel": 0.0},
-    "osqp": {"eps_abs": 1e-8, "eps_rel": 1e-8, "polish": True, "max_iter": 20000},
+    "osqp": {
+        "eps_abs": 1e-8,
+        "eps_rel": 1e-8,
+        "polishing": True,
+        "max_iter": 20000,
+        "verbose": False,
+    },
+    "highs": {"qp_regularization_value": 1e-12},  # its default 1e-7 biases x by ~1e-4
     "scs": {"eps_abs": 1e-9, "eps_rel": 1e-9, "max_iters": 100000},
     "clarabel": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
     "piqp": {"eps_abs": 1e-10, "eps_rel": 1e-10},
 }
 """Per-solver defaults for qpsolvers back-ends (tighter than the solvers' own)."""
 
-QPSOLVERS_TOLERANCE = {"osqp": 1e-6, "scs": 1e-6, "highs": 1e-7}
-"""Accuracy of the looser qpsolvers back-ends (first-order osqp and scs, HiGHS' QP
-solver); the others are taken as 1e-9."""
+QPSOLVERS_TOLERANCE = {"osqp": 1e-6, "scs": 1e-6}
+"""Primal accuracy of the first-order qpsolvers back-ends; the others are taken as 1e-9."""
 
 
 _DAQP_EXITFLAGS = {-1: "infeasible", -2: "cycling", -3: "unbounded", -4: "iteration limit"}
@@ -81,13 +89,17 @@ class Backend(abc.ABC):
         )
 
     def _checked(self, x, qp: QP) -> np.ndarray:
-        if x is None or not np.all(np.isfinite(x)):
+        if x is None or not np.isfinite(x).all():
             raise self._error("non-finite solution", qp)
-        return np.array(x, dtype=float)
+        return x
 
 
 class DaqpBackend(Backend):
-    """DAQP (dual active set, Arnström et al. 2022) through ``daqp.solve``."""
+    """DAQP (dual active set, Arnström, Bemporad & Axehill 2022) through ``daqp.Model``.
+
+    The workspace is set up once per problem size and updated in place afterwards, so a
+    step costs one data copy and the solve; bounds are DAQP's simple bounds.
+    """
 
     name = "daqp"
     tolerance = 1e-9
@@ -95,43 +107,60 @@ class DaqpBackend(Backend):
     def __init__(self, **settings):
         import daqp
 
-        self._solve = daqp.solve
+        self._daqp = daqp
         self.settings = {"primal_tol": 1e-9, **settings}
-        self._sense: np.ndarray | None = None
+        self._model = None
+        self._dims: tuple | None = None
 
     def solve(self, qp: QP) -> np.ndarray:
         n = qp.n
-        uppers, lowers, rows = [], [], []
-        if qp.lb is not None:
-            uppers.append(qp.ub)
-            lowers.append(qp.lb)
-        if qp.C is not None:
-            uppers.append(qp.u)
-            lowers.append(qp.l)
-            rows.append(qp.C)
-        if qp.A is not None:
-            uppers.append(qp.b)
-            lowers.append(qp.b)
-            rows.append(qp.A)
-        upper = np.concatenate(uppers) if uppers else np.empty(0)
-        lower = np.concatenate(lowers) if lowers else np.empty(0)
-        A = np.vstack(rows) if len(rows) > 1 else rows[0] if rows else np.empty((0, n))
-        sense = self._sense
-        if sense is None or sense.shape[0] != upper.shape[0] or qp.n_eq:
+        if qp.C is None and qp.A is None:
+            upper, lower = (qp.ub, qp.lb) if qp.lb is not None else (np.empty(0), np.empty(0))
+            A = _empty_rows(n)
+        else:
+            uppers, lowers, rows = [], [], []
+            if qp.lb is not None:
+                uppers.append(qp.ub)
+                lowers.append(qp.lb)
+            for M, lo, up in ((qp.C, qp.l, qp.u), (qp.A, qp.b, qp.b)):
+                if M is not None:
+                    uppers.append(up)
+                    lowers.append(lo)
+                    rows.append(M)
+            upper, lower = np.concatenate(uppers), np.concatenate(lowers)
+            A = np.ascontiguousarray(np.vstack(rows))
+        dims = (n, upper.shape[0], qp.n_eq)
+        if self._model is None or dims != self._dims:
             sense = np.zeros(upper.shape[0], dtype=np.int32)
             if qp.n_eq:
                 sense[-qp.n_eq :] = 5
-            self._sense = sense
+            self._model = self._daqp.Model()
+            self._model.setup(qp.H, qp.c, A, upper, lower, sense)
+            self._model.settings = {**self._model.settings, **self.settings}
+            self._dims = dims
         else:
-            sense[:] = 0
-        x, _, exitflag, _ = self._solve(
-            qp.H, qp.c, np.ascontiguousarray(A), upper, lower, sense, **self.settings
-        )
+            self._model.update(
+                H=qp.H, f=qp.c, A=A if A.shape[0] else None, bupper=upper, blower=lower
+            )
+        x, _, exitflag, _ = self._model.solve()
         if exitflag == -1:
+            self._model = None
             raise self._infeasible(qp)
         if exitflag < 1:
-            raise self._error(f"exit flag {exitflag}: {_DAQP_EXITFLAGS.get(exitflag, '?')}", qp)
+            self._model = None
+            reason = _DAQP_EXITFLAGS.get(exitflag, "?")
+            raise self._error(f"exit flag {exitflag}: {reason}", qp)
         return self._checked(x, qp)
+
+
+_EMPTY_ROWS: dict[int, np.ndarray] = {}
+
+
+def _empty_rows(n: int) -> np.ndarray:
+    rows = _EMPTY_ROWS.get(n)
+    if rows is None:
+        rows = _EMPTY_ROWS[n] = np.zeros((0, n))
+    return rows
 
 
 class ProxsuiteBackend(Backend):
@@ -152,34 +181,44 @@ class ProxsuiteBackend(Backend):
         proxqp = self._proxqp
         box = qp.lb is not None
         dims = (qp.n, qp.n_eq, qp.n_rows, box)
-        A = qp.A if qp.A is not None else np.empty((0, qp.n))
-        b = qp.b if qp.b is not None else np.empty(0)
-        C = qp.C if qp.C is not None else np.empty((0, qp.n))
-        l = np.maximum(qp.l, -_BIG) if qp.C is not None else np.empty(0)
-        u = np.minimum(qp.u, _BIG) if qp.C is not None else np.empty(0)
-        boxes = (np.maximum(qp.lb, -_BIG), np.minimum(qp.ub, _BIG)) if box else ()
-        if self._qp is None or dims != self._dims:
-            self._qp = proxqp.dense.QP(qp.n, qp.n_eq, qp.n_rows, box)
-            for key, value in self.settings.items():
-                setattr(self._qp.settings, key, value)
-            self._qp.settings.initial_guess = proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
-            self._dims = dims
-            setup = self._qp.init
-        else:
-            setup = self._qp.update
+        data = [
+            qp.H,
+            qp.c,
+            qp.A if qp.A is not None else np.empty((0, qp.n)),
+            qp.b if qp.b is not None else np.empty(0),
+            qp.C if qp.C is not None else np.empty((0, qp.n)),
+            np.maximum(qp.l, -_BIG) if qp.C is not None else np.empty(0),
+            np.minimum(qp.u, _BIG) if qp.C is not None else np.empty(0),
+        ]
         if box:
-            setup(qp.H, qp.c, A, b, C, l, u, *boxes)
-        else:
-            setup(qp.H, qp.c, A, b, C, l, u)
-        self._qp.solve()
-        status = self._qp.results.info.status
+            data += [np.maximum(qp.lb, -_BIG), np.minimum(qp.ub, _BIG)]
+        warm = self._qp is not None and dims == self._dims
+        status = self._run(data, dims, warm)
+        if warm and status != proxqp.QPSolverOutput.PROXQP_SOLVED:
+            # A warm start (and the previous preconditioner) can stall on a changed
+            # problem; a cold start decides.
+            status = self._run(data, dims, warm=False)
         if status == proxqp.QPSolverOutput.PROXQP_PRIMAL_INFEASIBLE:
             self._qp = None
             raise self._infeasible(qp)
         if status != proxqp.QPSolverOutput.PROXQP_SOLVED:
             self._qp = None
             raise self._error(f"status {status.name}", qp)
-        return self._checked(self._qp.results.x, qp)
+        return self._checked(self._qp.results.x.copy(), qp)
+
+    def _run(self, data: list, dims: tuple, warm: bool):
+        proxqp = self._proxqp
+        if warm:
+            self._qp.update(*data)
+        else:
+            self._qp = proxqp.dense.QP(*dims)
+            for key, value in self.settings.items():
+                setattr(self._qp.settings, key, value)
+            self._qp.settings.initial_guess = proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
+            self._dims = dims
+            self._qp.init(*data)
+        self._qp.solve()
+        return self._qp.results.info.status
 
 
 class QpsolversBackend(Backend):
@@ -214,7 +253,7 @@ class QpsolversBackend(Backend):
             raise self._error(f"{type(error).__name__}: {error}", qp) from error
         if not solution.found:
             raise self._error("no solution found", qp)
-        return self._checked(solution.x, qp)
+        return self._checked(np.array(solution.x, dtype=float), qp)
 
 
 class CvxpyBackend(Backend):
@@ -255,7 +294,7 @@ class CvxpyBackend(Backend):
             raise self._infeasible(qp)
         if problem.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
             raise self._error(f"status {problem.status}", qp)
-        return self._checked(x.value, qp)
+        return self._checked(np.array(x.value, dtype=float), qp)
 
 
 class FallbackChain(Backend):

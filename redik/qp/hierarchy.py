@@ -23,15 +23,20 @@ the smaller QP in :math:`z`
 
 .. math::
 
-    \min_z \tfrac12 z^\top (N^\top H_{k+1} N + εI) z + (N^\top (H_{k+1} x_k^* + c_{k+1}))^\top z
+    \min_z \tfrac12 z^\top N^\top \tilde H_{k+1} N z
+    + (N^\top (\tilde H_{k+1} x_k^* + c_{k+1}))^\top z
     \quad\text{s.t.}\quad x_k^* + N z \in \mathcal{X},
+    \qquad \tilde H = H + εI,
 
-so a lower level can never change a higher level's objective. Each level's QP is
-regularised by :math:`εI` (``damping``) — it picks the smallest step among equals and keeps
-the Hessian definite for active-set solvers — but the null space is taken from the
-undamped :math:`H_k`. The constraints of level :math:`k+1` are relaxed by the previous
+so a lower level can never change a higher level's objective. Each level's Hessian
+arrives regularised, :math:`\tilde H_k = H_k + εI` (``damping``: it picks the smallest step
+among equals and keeps the Hessian definite for active-set solvers); as :math:`εI` shifts
+every eigenvalue alike, the null space is that of the undamped :math:`H_k` with the
+eigenvalues read as :math:`λ - ε`. The constraints of level :math:`k+1` are relaxed by the previous
 solution's own violation (at most the back-end tolerance) so that :math:`z = 0` stays
-feasible. Levels after the freedom is used up are skipped.
+feasible — so a lower level can always be solved; should its back-end still fail (a
+degenerate face confuses some), the level and those below it are skipped and counted.
+Levels after the freedom is used up are skipped.
 
 This is the priority API other drivers build on: any objective :math:`(H, c)` given as a
 level below the task levels (e.g. a null-space motion) is optimised without disturbing
@@ -44,20 +49,26 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ..exceptions import BackendError, InfeasibleProblem
 from .backends import Backend
 from .problem_data import QP
 
 
-def free_directions(H: np.ndarray, c: np.ndarray, rank_tol: float) -> np.ndarray:
-    """Orthonormal basis (n × r) of ``ker [H; cᵀ]`` for symmetric PSD ``H``, by eigh."""
+def free_directions(H: np.ndarray, c: np.ndarray, rank_tol: float, shift: float = 0.0):
+    """Orthonormal basis (n × r) of ``ker [H − shift·I; cᵀ]`` for symmetric ``H``, by eigh.
+
+    ``shift`` is the regularisation already added to ``H``: eigenvectors are shared, and an
+    eigenvalue ``λ`` counts as zero when ``λ − shift ≤ rank_tol · (λ_max − shift)``.
+    """
     eigenvalues, eigenvectors = np.linalg.eigh(H)
+    eigenvalues = eigenvalues - shift
     scale = max(float(eigenvalues[-1]), 0.0)
     N = eigenvectors[:, eigenvalues <= rank_tol * scale] if scale > 0.0 else eigenvectors
     if N.shape[1] == 0:
         return N
     g = N.T @ c
     norm = float(np.linalg.norm(g))
-    if norm > rank_tol * max(float(np.linalg.norm(c)), 1.0) and norm > 0.0:
+    if norm > rank_tol * max(float(np.linalg.norm(c)), 1.0):
         # Remove the direction along which the linear term still changes the objective.
         _, _, Vt = np.linalg.svd(g[None, :])
         N = N @ Vt[1:].T
@@ -72,34 +83,34 @@ def solve_lexicographic(
     C: np.ndarray | None = None,
     l: np.ndarray | None = None,
     u: np.ndarray | None = None,
-    damping: float = 1e-6,
+    damping: float = 0.0,
     rank_tol: float = 1e-10,
+    stats: dict | None = None,
 ) -> np.ndarray:
     """Solve the levels ``objectives`` (highest first) lexicographically; returns ``x``.
 
     Args:
-        objectives: ``(H_k, c_k)`` per level; not modified.
+        objectives: ``(H_k + εI, c_k)`` per level, already regularised; not modified.
         backends: One back-end per level (they may keep per-level state).
         lb, ub: Bounds on ``x`` (or None).
         C, l, u: Rows ``l ≤ C x ≤ u`` (or None).
-        damping: The ``ε`` added to each level's Hessian.
+        damping: The ``ε`` the Hessians carry (discounted when finding null spaces).
         rank_tol: Relative eigenvalue threshold of the null space.
+        stats: If given, ``stats["skipped_levels"]`` counts lower levels whose back-end
+            failed; their step is then zero (``z = 0`` is always feasible for them).
 
     Raises:
-        InfeasibleProblem, BackendError: from the back-ends.
+        InfeasibleProblem, BackendError: from the back-end of level 0.
     """
     H0, c0 = objectives[0]
-    n = c0.shape[0]
-    H = H0 + damping * np.eye(n)
-    x = backends[0].solve(QP(H, c0, lb, ub, C, l, u))
+    x = backends[0].solve(QP(H0, c0, lb, ub, C, l, u))
     if len(objectives) == 1:
         return x
-    N = free_directions(H0, c0, rank_tol)
+    N = free_directions(H0, c0, rank_tol, damping)
     for (H_k, c_k), backend in zip(objectives[1:], backends[1:], strict=True):
         if N.shape[1] == 0:
             break
-        HN = H_k @ N
-        Hz = N.T @ HN
+        Hz = N.T @ H_k @ N
         cz = N.T @ (H_k @ x + c_k)
         rows, lower, upper = [], [], []
         if lb is not None:
@@ -111,13 +122,20 @@ def solve_lexicographic(
             Cx = C @ x
             lower.append(l - Cx)
             upper.append(u - Cx)
-        qp = QP(Hz + damping * np.eye(N.shape[1]), cz)
+        qp = QP(Hz, cz)
         if rows:
             qp.C = np.vstack(rows)
             # Keep z = 0 feasible despite the previous level's tolerance-sized violation.
             qp.l = np.minimum(np.concatenate(lower), 0.0)
             qp.u = np.maximum(np.concatenate(upper), 0.0)
-        z = backend.solve(qp)
+        try:
+            z = backend.solve(qp)
+        except (BackendError, InfeasibleProblem):
+            # z = 0 is feasible by construction, so a failure here is the back-end's (a
+            # degenerate face confuses some); keep the higher levels' step.
+            if stats is not None:
+                stats["skipped_levels"] = stats.get("skipped_levels", 0) + 1
+            break
         x = x + N @ z
-        N = N @ free_directions(Hz, cz, rank_tol)
+        N = N @ free_directions(Hz, cz, rank_tol, damping)
     return x

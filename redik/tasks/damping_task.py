@@ -3,7 +3,9 @@ r"""Penalise the step itself: :math:`\tfrac12 \|W Δq\|^2` (:math:`e = 0`, :math
 A Levenberg–Marquardt / minimum-norm regulariser on the chain joints: at the lowest
 priority it selects the smallest step among those the higher levels leave equally good;
 at the same priority as a pose task it trades accuracy per step for smoothness near
-singularities (damped least squares, Nakamura & Hanafusa 1986; Wampler 1986).
+singularities (damped least squares, Nakamura & Hanafusa 1986; Wampler 1986). A
+joint-space task (:mod:`redik.tasks.joint_space_task`) with :math:`d = 1` and
+:math:`α = 0`.
 """
 
 from __future__ import annotations
@@ -11,11 +13,11 @@ from __future__ import annotations
 import numpy as np
 
 from ..robot import Robot
+from .joint_space_task import JointSpaceTask
 from .kinematics import KinematicState
-from .task import ResidualTask
 
 
-class DampingTask(ResidualTask):
+class DampingTask(JointSpaceTask):
     """Penalise joint motion with a scalar or per-joint ``weight``.
 
     Args:
@@ -27,10 +29,11 @@ class DampingTask(ResidualTask):
         super().__init__(weight, gain=0.0, priority=priority)
 
     def bind(self, robot: Robot) -> DampingTask:
-        self._set_size(robot.dof)
-        return super().bind(robot)
+        super().bind(robot)
+        self.jacobian_diagonal = np.ones(robot.dof)
+        self.reference = np.zeros(robot.dof)
+        return self
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
-        e[:] = 0.0
-        J[:] = 0.0
-        J[np.arange(self.k), state.chain_columns] = 1.0
+        super().residual_into(state, e, J)
+        e[:] = 0.0  # no reference to chase: the desired step is zero

@@ -26,12 +26,13 @@ import math
 import numpy as np
 
 from ..robot import Robot
-from .kinematics import KinematicState
-from .task import ResidualTask
+from .joint_space_task import JointSpaceTask
 
 
-class JointLimitAvoidanceTask(ResidualTask):
+class JointLimitAvoidanceTask(JointSpaceTask):
     """Descend ``φ(q)`` towards the middle of each limited joint's range.
+
+    A joint-space task (:mod:`redik.tasks.joint_space_task`) with ``d = √2 s``, ``r = q̄``.
 
     Args:
         weight: Scalar or per-joint weight ``w`` (the objective scales with ``w²``).
@@ -42,31 +43,31 @@ class JointLimitAvoidanceTask(ResidualTask):
     def __init__(self, weight=1.0, gain: float = 1.0, priority: int = 1):
         super().__init__(weight, gain, priority)
         self.scale = np.empty(0)
-        self.middle = np.empty(0)
 
     def bind(self, robot: Robot) -> JointLimitAvoidanceTask:
-        self._set_size(robot.dof)
+        super().bind(robot)
         limited = np.isfinite(robot.lower) & np.isfinite(robot.upper)
         span = np.where(limited, robot.upper - robot.lower, 1.0)
         self.scale = np.where(limited & (span > 0.0), 1.0 / span, 0.0)
-        self.middle = np.where(limited, 0.5 * (robot.lower + robot.upper), 0.0)
-        return super().bind(robot)
+        self.reference = 0.5 * (
+            np.where(limited, robot.lower, 0.0) + np.where(limited, robot.upper, 0.0)
+        )
+        self.jacobian_diagonal = math.sqrt(2.0) * self.scale
+        return self
+
+    @property
+    def middle(self) -> np.ndarray:
+        """``q̄``, the middle of each limited joint's range (0 where unlimited)."""
+        return self.reference
 
     def value(self, q: np.ndarray) -> float:
         """The potential ``φ(q)``."""
-        return float(np.sum((self.scale * (q - self.middle)) ** 2))
+        return float(np.sum((self.scale * (q - self.reference)) ** 2))
 
     def gradient(self, q: np.ndarray) -> np.ndarray:
         """``∇φ(q) = 2 s² ⊙ (q − q̄)``."""
-        return 2.0 * self.scale**2 * (q - self.middle)
+        return 2.0 * self.scale**2 * (q - self.reference)
 
     def hessian(self) -> np.ndarray:
         """``∇²φ = 2 diag(s²)`` (constant)."""
         return np.diag(2.0 * self.scale**2)
-
-    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
-        root2_scale = math.sqrt(2.0) * self.scale
-        np.subtract(state.q, self.middle, out=e)
-        e *= root2_scale
-        J[:] = 0.0
-        J[np.arange(self.k), state.chain_columns] = root2_scale

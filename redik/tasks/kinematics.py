@@ -43,6 +43,8 @@ class KinematicState:
         self.q = np.zeros(robot.dof)
         self._jacobians: dict[Frame, np.ndarray] = {}
         self._fresh: set[Frame] = set()
+        # Views into data (its arrays never move), so reading a pose allocates nothing.
+        self._views: dict[Frame, tuple[np.ndarray, np.ndarray]] = {}
         self._jacp = np.zeros((3, model.nv))
         self._jacr = np.zeros((3, model.nv))
 
@@ -72,9 +74,14 @@ class KinematicState:
 
     def pose(self, frame: Frame) -> tuple[np.ndarray, np.ndarray]:
         """Views ``(R, p)`` of the frame's world rotation (3 × 3) and position (3,)."""
-        if frame.kind == "site":
-            return self.data.site_xmat[frame.id].reshape(3, 3), self.data.site_xpos[frame.id]
-        return self.data.xmat[frame.id].reshape(3, 3), self.data.xpos[frame.id]
+        views = self._views.get(frame)
+        if views is None:
+            if frame.kind == "site":
+                xmat, xpos = self.data.site_xmat, self.data.site_xpos
+            else:
+                xmat, xpos = self.data.xmat, self.data.xpos
+            views = self._views[frame] = (xmat[frame.id].reshape(3, 3), xpos[frame.id])
+        return views
 
     def jacobian(self, frame: Frame) -> np.ndarray:
         """The world Jacobian (6 × ``n_columns``) of ``frame``; do not modify it."""

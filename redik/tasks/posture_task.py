@@ -2,6 +2,8 @@ r"""Pull the chain towards a nominal posture: :math:`e = q - q_{nom}`, :math:`J 
 
 Usually a low-priority regulariser: in a redundant arm it picks, among the joint steps
 that serve the higher levels equally well, the one that moves towards :math:`q_{nom}`.
+A joint-space task (:mod:`redik.tasks.joint_space_task`) with :math:`d = 1`,
+:math:`r = q_{nom}`.
 """
 
 from __future__ import annotations
@@ -10,11 +12,10 @@ import numpy as np
 
 from .. import lie
 from ..robot import Robot
-from .kinematics import KinematicState
-from .task import ResidualTask
+from .joint_space_task import JointSpaceTask
 
 
-class PostureTask(ResidualTask):
+class PostureTask(JointSpaceTask):
     """Drive the chain joints towards ``q_nominal``.
 
     Args:
@@ -28,22 +29,23 @@ class PostureTask(ResidualTask):
     def __init__(self, q_nominal=None, weight=1.0, gain: float = 1.0, priority: int = 1):
         super().__init__(weight, gain, priority)
         self._q_nominal_given = q_nominal
-        self.q_nominal: np.ndarray | None = None
 
     def bind(self, robot: Robot) -> PostureTask:
-        self._set_size(robot.dof)
+        super().bind(robot)
+        self.jacobian_diagonal = np.ones(robot.dof)
         if self._q_nominal_given is None:
-            self.q_nominal = robot.home.copy()
+            self.reference = robot.home.copy()
         else:
-            self.q_nominal = lie.as_vector(self._q_nominal_given, robot.dof, "q_nominal").copy()
-        return super().bind(robot)
+            self.reference = lie.as_vector(self._q_nominal_given, robot.dof, "q_nominal").copy()
+        return self
+
+    @property
+    def q_nominal(self) -> np.ndarray:
+        """The nominal posture (once bound)."""
+        return self.reference
 
     def set_target(self, q_nominal) -> None:
         """Replace the nominal posture (validated against the bound robot)."""
         robot = self._require_robot()
-        self.q_nominal = lie.as_vector(q_nominal, robot.dof, "q_nominal").copy()
-
-    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
-        np.subtract(state.q, self.q_nominal, out=e)
-        J[:] = 0.0
-        J[np.arange(self.k), state.chain_columns] = 1.0
+        self.reference = lie.as_vector(q_nominal, robot.dof, "q_nominal").copy()
+        self.version += 1

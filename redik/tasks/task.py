@@ -121,26 +121,41 @@ class ResidualTask(Task, MinkTask):
         cost: The weight :math:`w` (``k``,) — mink's name, so mink reads it too.
         gain: The gain :math:`α`.
         lm_damping: Always 0 (mink reads it); redik regularises the QP as a whole.
+        version: Incremented whenever the weight, gain or target changes.
     """
 
     k: int
 
     def __init__(self, weight, gain: float, priority: int, size: int | None = None):
         Task.__init__(self, priority)
-        self.gain = as_gain(gain)
+        self.version = 0
+        self.gain = gain
         self.lm_damping = 0.0
         self._weight_spec = weight
         self.cost = np.empty(0)
         if size is not None:
             self._set_size(size)
 
+    @property
+    def gain(self) -> float:
+        """The gain ``α ∈ [0, 1]``."""
+        return self._gain
+
+    @gain.setter
+    def gain(self, gain: float) -> None:
+        self._gain = as_gain(gain)
+        self.version += 1
+
     def _set_size(self, size: int) -> None:
         self.k = size
         self.cost = as_weight(self._weight_spec, size, f"{type(self).__name__} weight")
+        self.version += 1
 
     def set_weight(self, weight) -> None:
-        """Replace the weight (scalar or per component)."""
+        """Replace the weight (scalar or per component). Use it rather than editing
+        ``cost`` in place: cached products are refreshed through :attr:`version`."""
         self.cost[:] = as_weight(weight, self.k, f"{type(self).__name__} weight")
+        self.version += 1
 
     @abc.abstractmethod
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:

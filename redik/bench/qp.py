@@ -1,0 +1,218 @@
+"""QP core: per-step time of every back-end beside mink.solve_ik, and convergence on FK targets.
+
+Part 1 times one differential-IK step of the panda stack (PoseTask + JointLimitAvoidanceTask
++ PostureTask at equal priority, joint position box) for each back-end, and mink's
+``solve_ik`` on the equivalent stack (``FrameTask``, ``PostureTask``, and a ``PostureTask``
+towards the mid-range with cost ``√2 w / (q_max − q_min)`` standing in for joint-limit
+avoidance; ``ConfigurationLimit``) with the same solver. Both are timed interleaved, step
+by step at the same ``q``, so machine load hits both alike; the table gives medians and
+their ratio. A step includes forward kinematics in both.
+
+Part 2 solves the FK targets (seeded random configurations, start at ``home``) to
+``pos_tol``/``rot_tol`` with both loops — the same weighted stack (weights small enough not
+to bias the converged pose) — and reports success, median iterations, median time to
+converge and the worst joint-limit overshoot of any iterate. redik's strict-priority
+stack (joint-space tasks at priority 1) is reported beside them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import time
+
+import mink
+import numpy as np
+
+from .. import lie
+from ..limits import PositionLimit
+from ..problem import Problem
+from ..qp.backends import available_backends
+from ..scenes import load
+from ..tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
+
+MINK_SOLVER = {"daqp": "daqp", "proxsuite": "proxqp", "qpsolvers:daqp": "daqp", "cvxpy": None}
+"""The mink (qpsolvers) solver compared with each redik back-end."""
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--robot", default="panda")
+    parser.add_argument("--backends", nargs="+", default=None, help="default: all installed")
+    parser.add_argument("--steps", type=int, default=400, help="timed steps per back-end")
+    parser.add_argument("--targets", type=int, default=500, help="FK targets for part 2")
+    parser.add_argument("--converge-backends", nargs="+", default=["daqp", "proxsuite", "quadprog"])
+    parser.add_argument("--max-iter", type=int, default=200)
+    parser.add_argument("--pos-tol", type=float, default=1e-6)
+    parser.add_argument("--rot-tol", type=float, default=1e-5)
+    parser.add_argument("--weight", type=float, default=1e-2, help="posture/limit weight, part 1")
+    parser.add_argument("--seed", type=int, default=0)
+
+
+class _MinkStack:
+    """mink's equivalent of the redik stack, on a configuration of the full model."""
+
+    def __init__(self, robot, weight: float, solver: str):
+        model = robot.model
+        self.robot = robot
+        self.solver = solver
+        self.configuration = mink.Configuration(model, robot.full_qpos(robot.home))
+        self.frame = mink.FrameTask(robot.ee.name, robot.ee.kind, 1.0, 1.0)
+        posture_cost = np.zeros(model.nv)
+        posture_cost[robot.dof_indices] = weight
+        self.posture = mink.PostureTask(model, cost=posture_cost)
+        self.posture.set_target(robot.full_qpos(robot.home))
+        limits = JointLimitAvoidanceTask(weight).bind(robot)
+        limit_cost = np.zeros(model.nv)
+        limit_cost[robot.dof_indices] = weight * math.sqrt(2.0) * limits.scale
+        self.limit_avoidance = mink.PostureTask(model, cost=limit_cost)
+        self.limit_avoidance.set_target(robot.full_qpos(limits.middle))
+        self.tasks = [self.frame, self.posture, self.limit_avoidance]
+        self.limits = [mink.ConfigurationLimit(model)]
+
+    def set_target(self, T: np.ndarray) -> None:
+        self.frame.set_target(mink.SE3.from_matrix(T))
+
+    def step(self, qpos: np.ndarray) -> np.ndarray:
+        self.configuration.update(qpos)
+        return mink.solve_ik(
+            self.configuration, self.tasks, 1.0, self.solver, damping=1e-6, limits=self.limits
+        )
+
+
+def _redik_problem(robot, weight: float, backend: str, strict: bool) -> Problem:
+    priority = 1 if strict else 0
+    tasks = [
+        PoseTask(robot.fk(robot.home)),
+        JointLimitAvoidanceTask(weight, priority=priority),
+        PostureTask(weight=weight, priority=priority),
+    ]
+    return Problem(robot, tasks, [PositionLimit()], backend=backend, damping=1e-6)
+
+
+def _time_steps(robot, backend: str, solver: str | None, args, targets) -> tuple:
+    problem = _redik_problem(robot, args.weight, backend, strict=False)
+    reference = _MinkStack(robot, args.weight, solver) if solver else None
+    redik_times, mink_times = [], []
+    steps_per_target = 8
+    for i in range(math.ceil(args.steps / steps_per_target)):
+        T = targets[i % len(targets)]
+        problem.tasks[0].set_target(T)
+        if reference:
+            reference.set_target(T)
+        q = robot.home.copy()
+        for _ in range(steps_per_target):
+            if reference:
+                qpos = robot.full_qpos(q)
+                start = time.perf_counter()
+                reference.step(qpos)
+                mink_times.append(time.perf_counter() - start)
+            start = time.perf_counter()
+            dq = problem.step(q)
+            redik_times.append(time.perf_counter() - start)
+            q = q + dq
+    redik_us = statistics.median(redik_times) * 1e6
+    mink_us = statistics.median(mink_times) * 1e6 if mink_times else float("nan")
+    return redik_us, mink_us
+
+
+def _converge_redik(robot, backend, args, targets, strict: bool) -> dict:
+    weight = 1.0 if strict else 1e-4
+    problem = _redik_problem(robot, weight, backend, strict)
+    results = []
+    overshoot = 0.0
+    start_all = time.perf_counter()
+    for T in targets:
+        problem.tasks[0].set_target(T)
+        start = time.perf_counter()
+        result = problem.solve(robot.home, args.pos_tol, args.rot_tol, args.max_iter)
+        elapsed = time.perf_counter() - start
+        results.append((result.success, result.iterations, elapsed))
+        over = np.maximum(robot.lower - result.history, result.history - robot.upper)
+        overshoot = max(overshoot, float(np.max(over)))
+    return _summary(results, overshoot, time.perf_counter() - start_all)
+
+
+def _converge_mink(robot, solver, args, targets) -> dict:
+    stack = _MinkStack(robot, 1e-4, solver)
+    configuration = stack.configuration
+    site = robot.ee
+    results = []
+    overshoot = 0.0
+    start_all = time.perf_counter()
+    for T in targets:
+        stack.set_target(T)
+        configuration.update(robot.full_qpos(robot.home))
+        success, iterations = False, 0
+        start = time.perf_counter()
+        while True:
+            data = configuration.data
+            if site.kind == "site":
+                R, p = data.site_xmat[site.id].reshape(3, 3), data.site_xpos[site.id]
+            else:
+                R, p = data.xmat[site.id].reshape(3, 3), data.xpos[site.id]
+            position_error = float(np.linalg.norm(T[:3, 3] - p))
+            if position_error <= args.pos_tol and lie.rotation_angle(R, T[:3, :3]) <= args.rot_tol:
+                success = True
+                break
+            if iterations >= args.max_iter:
+                break
+            try:
+                velocity = mink.solve_ik(
+                    configuration, stack.tasks, 1.0, solver, damping=1e-6, limits=stack.limits
+                )
+            except mink.exceptions.NoSolutionFound:
+                break
+            configuration.integrate_inplace(velocity, 1.0)
+            iterations += 1
+            q = configuration.data.qpos[robot.qpos_indices]
+            overshoot = max(overshoot, float(np.max(np.maximum(robot.lower - q, q - robot.upper))))
+        results.append((success, iterations, time.perf_counter() - start))
+    return _summary(results, overshoot, time.perf_counter() - start_all)
+
+
+def _summary(results, overshoot: float, total: float) -> dict:
+    successes = [r for r in results if r[0]]
+    return {
+        "success": len(successes) / len(results),
+        "iterations": statistics.median(r[1] for r in successes) if successes else float("nan"),
+        "time_ms": statistics.median(r[2] for r in successes) * 1e3 if successes else float("nan"),
+        "overshoot": max(overshoot, 0.0),
+        "total_s": total,
+    }
+
+
+def run(args: argparse.Namespace) -> int:
+    robot = load(args.robot)
+    rng = np.random.default_rng(args.seed)
+    targets = [robot.fk(q) for q in robot.random_q(rng, size=args.targets)]
+    backends = args.backends or available_backends()
+    print(f"{robot!r}: per-step time, weighted stack (weight {args.weight}), medians")
+    print(f"{'redik back-end':<16}{'mink solver':<13}{'redik µs':>10}{'mink µs':>10}{'ratio':>8}")
+    for backend in backends:
+        solver = MINK_SOLVER.get(backend, backend)
+        redik_us, mink_us = _time_steps(robot, backend, solver, args, targets)
+        ratio = mink_us / redik_us if solver else float("nan")
+        print(f"{backend:<16}{solver or '-':<13}{redik_us:>10.1f}{mink_us:>10.1f}{ratio:>7.2f}x")
+
+    print(
+        f"\n{len(targets)} FK targets from home, pos_tol {args.pos_tol:g} m, rot_tol "
+        f"{args.rot_tol:g} rad, max_iter {args.max_iter}"
+    )
+    header = f"{'loop':<34}{'success':>9}{'iters':>7}{'ms/solve':>10}{'overshoot':>11}"
+    print(header)
+    for backend in args.converge_backends:
+        solver = MINK_SOLVER.get(backend, backend)
+        rows = [
+            (f"redik {backend} (weighted 1e-4)", _converge_redik(robot, backend, args, targets, 0)),
+            (f"redik {backend} (strict)", _converge_redik(robot, backend, args, targets, 1)),
+        ]
+        if solver:
+            mink_row = _converge_mink(robot, solver, args, targets)
+            rows.append((f"mink {solver} (weighted 1e-4)", mink_row))
+        for name, s in rows:
+            print(
+                f"{name:<34}{s['success']:>8.1%}{s['iterations']:>7}{s['time_ms']:>10.2f}"
+                f"{s['overshoot']:>11.1e}"
+            )
+    return 0

@@ -1,0 +1,55 @@
+r"""Tasks on the joint values themselves: a diagonal Jacobian, a reference posture.
+
+.. math::
+
+    e(q) = d ⊙ (q - r), \qquad J = \mathrm{diag}(d)
+
+over the chain joints, with a constant :math:`d` and reference :math:`r`
+(:class:`PostureTask`: :math:`d = 1`, :math:`r = q_{nom}`; :class:`JointLimitAvoidanceTask`:
+:math:`d = \sqrt2 s`, :math:`r = \bar q`; :class:`DampingTask`: :math:`d = 1`, :math:`α = 0`).
+Their objective is diagonal,
+
+.. math::
+
+    H = \mathrm{diag}(w^2 d^2), \qquad c = α\, w^2 d^2 ⊙ (q - r),
+
+so :mod:`redik.qp.assembly` adds all of a level's joint-space tasks with a few vector
+operations instead of stacking ``n × n`` identity blocks.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..robot import Robot
+from .kinematics import KinematicState
+from .task import ResidualTask
+
+
+class JointSpaceTask(ResidualTask):
+    """Base of the tasks with ``e = d ⊙ (q − r)`` and ``J = diag(d)``.
+
+    Subclasses set :attr:`jacobian_diagonal` (``d``) and :attr:`reference` (``r``) in
+    :meth:`bind` (and bump :attr:`version` when they change them later).
+    """
+
+    def __init__(self, weight, gain: float, priority: int):
+        super().__init__(weight, gain, priority)
+        self.jacobian_diagonal = np.empty(0)
+        self.reference = np.empty(0)
+
+    def bind(self, robot: Robot) -> JointSpaceTask:
+        self._set_size(robot.dof)
+        self._rows = np.arange(robot.dof)
+        return super().bind(robot)
+
+    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+        np.subtract(state.q, self.reference, out=e)
+        e *= self.jacobian_diagonal
+        J[:] = 0.0
+        J[self._rows, state.chain_columns] = self.jacobian_diagonal
+
+    def diagonal_terms(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(w² d², α w² d²)``: the Hessian diagonal and the factor of ``q − r`` in ``c``."""
+        hessian = (self.cost * self.jacobian_diagonal) ** 2
+        return hessian, self.gain * hessian
