@@ -80,7 +80,7 @@ METHODS = ("newton", "transpose", "hybrid", "dls", "qp")
 MAX_ITER = {"newton": 100, "transpose": 2000, "hybrid": 200, "dls": 60, "qp": 200}
 """Default iteration budget per attempt, by method."""
 
-RESTARTS = {"newton": 20, "transpose": 5, "hybrid": 20, "dls": 100, "qp": 20}
+RESTARTS = {"newton": 20, "transpose": 5, "hybrid": 20, "dls": 200, "qp": 20}
 """Default number of random restarts after the first attempt, by method."""
 
 _DLS_OPTIONS = {
