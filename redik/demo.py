@@ -33,6 +33,7 @@ from .redundancy import SelfMotion, explore_self_motion
 from .result import IKResult
 from .robot import Robot
 from .scenes import load
+from .sim import write_video
 from .tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
 
 SCENE = "dexter8r"
@@ -195,24 +196,10 @@ def _plot_manifold(motion: SelfMotion, q_qp: np.ndarray, path: Path) -> None:
 
 def _render(robot: Robot, q: np.ndarray, tour: np.ndarray, out: Path) -> list[Path]:
     """A PNG of ``q`` and a GIF along ``tour``, rendered offscreen from the scene's camera."""
-    import imageio.v3 as iio
-    import mujoco
-
-    data = mujoco.MjData(robot.model)
-    camera = 0 if robot.model.ncam else -1
-
-    def frame(renderer: mujoco.Renderer, config: np.ndarray) -> np.ndarray:
-        data.qpos[:] = robot.full_qpos(config)
-        mujoco.mj_forward(robot.model, data)
-        renderer.update_scene(data, camera=camera)
-        return renderer.render().copy()
-
-    with mujoco.Renderer(robot.model, 300, 400) as renderer:
-        picture = frame(renderer, q)
-        frames = [frame(renderer, config) for config in tour]
-    png, gif = out / "solution.png", out / "selfmotion.gif"
-    iio.imwrite(png, picture)
-    iio.imwrite(gif, np.stack(frames), duration=40, loop=0)
+    png = write_video(robot, robot.full_qpos(q), out / "solution.png")
+    gif = write_video(
+        robot, np.array([robot.full_qpos(c) for c in tour]), out / "selfmotion.gif", fps=25.0
+    )
     return [png, gif]
 
 
