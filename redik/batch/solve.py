@@ -50,7 +50,9 @@ CONVERGED, STALLED, MAX_ITERATIONS, INVALID = range(len(BATCH_STATUSES))
 METHODS = ("dls",)
 """Methods of :func:`solve_batch`: damped least squares (Levenberg–Marquardt)."""
 
-DEFAULT_CHUNK_SIZE = 8192
+CHUNK_SIZE_RANGE = (1024, 8192)
+"""Bounds of the automatic chunk size: large enough to vectorise, small enough for the
+cache and to give every worker a share of a 10k batch."""
 
 _POSE_TOLERANCE = 1e-6  # as redik.lie.ROTATION_TOLERANCE, applied per target
 
@@ -78,8 +80,8 @@ class BatchOptions:
     damping_max: float = 1e6
     damping_down: float = 0.3
     damping_up: float = 5.0
-    window: int = 8
-    progress: float = 0.3
+    window: int = 5
+    progress: float = 0.5
     fanout: int = 4
     fanout_below: int = 1024
     codebook: int = 512
@@ -557,7 +559,7 @@ def solve_batch(
     engine: str = "process",
     workers: int | None = None,
     address: str | None = None,
-    chunk_size: int = DEFAULT_CHUNK_SIZE,
+    chunk_size: int | None = None,
     max_iterations: int = 60,
     progress: Callable[[int], None] | None = None,
 ) -> BatchResult:
@@ -578,7 +580,9 @@ def solve_batch(
             process only) or ``"ray"``; see :mod:`redik.batch.engines`.
         workers: Processes or Ray CPUs; default every core.
         address: Ray cluster address (``engine="ray"``); default a local Ray instance.
-        chunk_size: Targets per chunk, the unit of work (and of memory) of every engine.
+        chunk_size: Targets per chunk, the unit of work (and of memory) of every engine;
+            default a quarter of the batch within :data:`CHUNK_SIZE_RANGE`. It depends on
+            the batch only, never on the workers, so results do not either.
         max_iterations: Iterations per attempt.
         progress: Called with the number of targets in each finished chunk.
 
@@ -591,7 +595,7 @@ def solve_batch(
     """
     if method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
-    if chunk_size < 1:
+    if chunk_size is not None and chunk_size < 1:
         raise InvalidInput(f"chunk_size must be a positive integer, got {chunk_size!r}")
     chain = robot if isinstance(robot, Chain) else Chain.from_robot(robot)
     options = BatchOptions(
@@ -602,6 +606,8 @@ def solve_batch(
         raise InvalidInput(f"T_targets must have shape (B, 4, 4), got {T.shape}")
     size = len(T)
     seeds = check_seeds(chain, q0, size)
+    if chunk_size is None:
+        chunk_size = int(np.clip(-(-size // 4), *CHUNK_SIZE_RANGE))
     starts = range(0, max(size, 1), chunk_size)  # an empty batch is one empty chunk
     root = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
     chunk_seeds = root.spawn(len(starts))

@@ -41,7 +41,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--pos-tol", type=float, default=1e-6, help="metres")
     parser.add_argument("--rot-tol", type=float, default=1e-5, help="radians")
     parser.add_argument("--restarts", type=int, default=20)
-    parser.add_argument("--chunk-size", type=int, default=8192)
+    parser.add_argument("--chunk-size", type=int, default=None, help="default: automatic")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
