@@ -7,8 +7,12 @@ expected.
 
 from __future__ import annotations
 
+import math
+from typing import Any
+
 import numpy as np
 
+from redik.analytic._numeric import SCALAR, Numeric, pose_entries
 from redik.exceptions import InvalidInput, InvalidPose, InvalidRotation
 
 #: How far ``RᵀR`` may be from the identity (max abs entry) for ``R`` to count as a rotation.
@@ -49,6 +53,10 @@ def nonzero(value: object, name: str) -> float:
 
 def scalar(value: object, name: str) -> float:
     """A finite real number (a signed DH offset, a coordinate, an angle)."""
+    if isinstance(value, float | int) and not isinstance(value, bool):
+        if not math.isfinite(value):
+            raise InvalidInput(f"{name} must be finite, got {value!r}")
+        return float(value)
     if isinstance(value, bool) or np.ndim(value) != 0:
         raise InvalidInput(f"{name} must be a real number, got {value!r}")
     try:
@@ -63,7 +71,7 @@ def scalar(value: object, name: str) -> float:
 def rotation(value: object, name: str = "R") -> np.ndarray:
     """A 3×3 rotation matrix (orthonormal, det = +1)."""
     R = finite_array(value, name, (3, 3))
-    _check_rotations(R[None], name, InvalidRotation)
+    _check_rotations(R.tolist(), SCALAR, name, InvalidRotation)
     return R
 
 
@@ -76,16 +84,18 @@ def poses(value: object, name: str = "T", *, batch: bool = True) -> np.ndarray:
     """A (B, 4, 4) stack of rigid transforms (or one 4×4 when ``batch`` is False)."""
     shape: tuple[int | None, ...] = (None, 4, 4) if batch else (4, 4)
     T = finite_array(value, name, shape)
-    stack = T if batch else T[None]
-    bottom = np.abs(stack[:, 3, :] - np.array([0.0, 0.0, 0.0, 1.0])).max(axis=1)
-    if np.any(bottom > ORTHONORMAL_TOL):
+    M, num = pose_entries(T)
+    bottom = num.maximum(
+        num.maximum(abs(M[3][0]), abs(M[3][1])), num.maximum(abs(M[3][2]), abs(M[3][3] - 1.0))
+    )
+    if num.any(bottom > ORTHONORMAL_TOL):
         index = int(np.argmax(bottom))
         where = f"{name}[{index}]" if batch else name
         raise InvalidPose(
             f"{where} must be a rigid transform with bottom row [0, 0, 0, 1], "
-            f"got {np.array2string(stack[index, 3])}"
+            f"got {np.array2string((T if batch else T[None])[index, 3])}"
         )
-    _check_rotations(stack[:, :3, :3], name, InvalidPose, batch=batch)
+    _check_rotations(M, num, name, InvalidPose, batch=batch)
     return T
 
 
@@ -113,20 +123,30 @@ def limits(
 
 
 def _check_rotations(
-    R: np.ndarray, name: str, error: type[InvalidInput], *, batch: bool = False
+    M: Any, num: Numeric, name: str, error: type[InvalidInput], *, batch: bool = False
 ) -> None:
-    gram = np.einsum("bji,bjk->bik", R, R) - np.eye(3)
-    deviation = np.abs(gram).max(axis=(1, 2))
-    determinant = np.linalg.det(R)
+    """Check that the 3×3 blocks ``M[i][j]`` (i, j < 3; :mod:`._numeric` entries) are
+    rotations: ``RᵀR = I`` within :data:`ORTHONORMAL_TOL` and ``det R > 0``."""
+    columns = [[M[i][j] for i in range(3)] for j in range(3)]
+    deviation = 0.0
+    for j in range(3):
+        for k in range(j, 3):
+            (a0, a1, a2), (b0, b1, b2) = columns[j], columns[k]
+            dot = a0 * b0 + a1 * b1 + a2 * b2
+            deviation = num.maximum(deviation, abs(dot - (1.0 if j == k else 0.0)))
+    (a0, a1, a2), (b0, b1, b2), c = columns
+    determinant = (
+        (a1 * b2 - a2 * b1) * c[0] + (a2 * b0 - a0 * b2) * c[1] + (a0 * b1 - a1 * b0) * c[2]
+    )
     bad = (deviation > ORTHONORMAL_TOL) | (determinant < 0.0)
-    if np.any(bad):
+    if num.any(bad):
         index = int(np.argmax(bad))
         where = f"{name}[{index}]" if batch else name
         what = "rotation block of " if error is InvalidPose else ""
         raise error(
             f"the {what}{where} must be a rotation (orthonormal, det +1): RᵀR deviates from I "
-            f"by {deviation[index]:.2e} (tolerance {ORTHONORMAL_TOL:g}), "
-            f"det = {determinant[index]:.6g}"
+            f"by {np.ravel(deviation)[index]:.2e} (tolerance {ORTHONORMAL_TOL:g}), "
+            f"det = {np.ravel(determinant)[index]:.6g}"
         )
 
 

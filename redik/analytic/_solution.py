@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import overload
+from typing import NamedTuple, overload
 
 import numpy as np
 
@@ -47,9 +47,9 @@ class JointSolution(np.ndarray):
     Arithmetic on a solution returns a plain array: the label describes only the solution.
     """
 
-    label: str
-    singular: str
-    family: SolutionFamily | None
+    label: str = ""
+    singular: str = ""
+    family: SolutionFamily | None = None
 
     def __new__(
         cls,
@@ -65,9 +65,9 @@ class JointSolution(np.ndarray):
         return solution
 
     def __array_finalize__(self, obj: object) -> None:
-        self.label = getattr(obj, "label", "")
-        self.singular = getattr(obj, "singular", "")
-        self.family = getattr(obj, "family", None)
+        # A view of a plain array keeps the class defaults.
+        if isinstance(obj, JointSolution):
+            self.label, self.singular, self.family = obj.label, obj.singular, obj.family
 
     def __array_wrap__(
         self, array: np.ndarray, context: object = None, return_scalar: bool = False
@@ -231,17 +231,27 @@ def limit_representatives(
     clipped onto the limit.
     """
     two_pi = 2.0 * np.pi
-    below = lower - q
-    above = q - upper
-    shift = np.where(below > 0.0, two_pi * np.ceil(below / two_pi), 0.0)
-    shift = np.where(above > 0.0, -two_pi * np.ceil(above / two_pi), shift)
-    shifted = np.where(revolute, q + np.nan_to_num(shift), q)
+    # ceil((lower − q)/2π) turns up, ceil((q − upper)/2π) down; at most one is positive and an
+    # infinite limit gives −inf, i.e. no shift.
+    up = np.maximum(np.ceil((lower - q) / two_pi), 0.0)
+    down = np.maximum(np.ceil((q - upper) / two_pi), 0.0)
+    shifted = np.where(revolute, q + two_pi * (up - down), q)
     inside = (shifted >= lower - DUPLICATE_TOL) & (shifted <= upper + DUPLICATE_TOL)
-    return np.clip(shifted, lower, upper), inside
+    return np.minimum(np.maximum(shifted, lower), upper), inside
+
+
+class Candidate(NamedTuple):
+    """A solution before :func:`finalize`: its joint values and what the solver knows of it
+    (the fields of a :class:`JointSolution`, without building the array subclass)."""
+
+    q: Sequence[float] | np.ndarray
+    label: str
+    singular: str = ""
+    family: SolutionFamily | None = None
 
 
 def finalize(
-    candidates: Sequence[JointSolution],
+    candidates: Sequence[Candidate | JointSolution],
     n_joints: int,
     revolute: np.ndarray,
     limits: tuple[np.ndarray, np.ndarray] | None,
@@ -251,31 +261,39 @@ def finalize(
     joint limits.
 
     The candidates come from a reachable target; if the limits exclude all of them the result
-    is empty with a reason naming the joints that are out of range.
+    is empty with a reason naming the joints that are out of range. Regular solutions differ
+    by construction (in the sign of a non-zero square root, or by π in an angle), so only when
+    a candidate is singular are the candidates compared for duplicates.
     """
-    q = np.array(candidates, dtype=float).reshape(-1, n_joints)
-    q[:, revolute] = wrap_angle(q[:, revolute])
-    difference = q[:, None, :] - q[None, :, :]
-    difference[..., revolute] = wrap_angle(difference[..., revolute])
-    same = np.all(np.abs(difference) < DUPLICATE_TOL, axis=-1)
-    first = ~np.any(np.tril(same, k=-1), axis=1)
-    inside = np.ones(q.shape, bool)
+    q = np.array([c.q for c in candidates], dtype=float).reshape(-1, n_joints)
+    q = np.where(revolute, wrap_angle(q), q)
+    distinct = np.ones(len(q), bool)
+    if any(c.singular for c in candidates):
+        difference = q[:, None, :] - q[None, :, :]
+        difference[..., revolute] = wrap_angle(difference[..., revolute])
+        same = np.all(np.abs(difference) < DUPLICATE_TOL, axis=-1)
+        distinct = ~np.any(np.tril(same, k=-1), axis=1)
+    keep = distinct
     if limits is not None:
         q, inside = limit_representatives(q, limits[0], limits[1], revolute)
-    within = inside.all(axis=1)
-    kept = tuple(
-        JointSolution(q[i], c.label, c.singular, c.family)
-        for i, c in enumerate(candidates)
-        if first[i] and within[i]
-    )
+        keep = distinct & inside.all(axis=1)
+    # Rows of one view: half the cost of building each solution from its values.
+    block = q.view(JointSolution)
+    kept = []
+    for index, candidate in enumerate(candidates):
+        if keep[index]:
+            solution = block[index]
+            solution.label, solution.singular = candidate.label, candidate.singular
+            solution.family = candidate.family
+            kept.append(solution)
     reason = ""
     if limits is not None and not kept:
         reason = (
-            f"none of the {int(first.sum())} solutions lies within the joint limits "
+            f"none of the {int(distinct.sum())} solutions lies within the joint limits "
             f"(joints out of range in some solution: "
-            f"{np.flatnonzero(~inside[first].all(axis=0)).tolist()})"
+            f"{np.flatnonzero(~inside[distinct].all(axis=0)).tolist()})"
         )
-    return IKSolutions(kept, n_joints, True, reason, preferred)
+    return IKSolutions(tuple(kept), n_joints, True, reason, preferred)
 
 
 def unreachable(n_joints: int, reason: str) -> IKSolutions:

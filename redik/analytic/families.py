@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -227,7 +228,12 @@ class AnalyticSolver:
         if isinstance(chosen, str):
             raise InvalidInput(f"limits must be 'robot', None or (lower, upper), got {chosen!r}")
         family = FAMILIES[self.family]
-        return family.solve(np.linalg.solve(self.base, T), self.params, chosen, tol)
+        return family.solve(self._base_inverse @ T, self.params, chosen, tol)
+
+    @cached_property
+    def _base_inverse(self) -> np.ndarray:
+        """``T_bw``, computed once: a solve per call would cost as much as the closed form."""
+        return np.linalg.inv(self.base)
 
 
 def solver_for(robot: Robot, family: str | None = None) -> AnalyticSolver:

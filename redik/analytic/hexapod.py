@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from redik.analytic import _checks
+from redik.analytic._numeric import SCALAR
 from redik.analytic._solution import (
     DEFAULT_TOL,
     IKSolutions,
@@ -85,7 +86,7 @@ def hexapod_leg(
     candidates: list[JointSolution] = []
     reasons: list[str] = []
     for theta1, u, prefix in branches:
-        plane = two_link(np.asarray(u), np.asarray(z), femur, tibia, tol)
+        plane = two_link(u, z, femur, tibia, tol, SCALAR)
         if not plane.reachable:
             what = f"the foot ({u:.6g}, {z:.6g}) in the {prefix or 'forward '}leg plane"
             reasons.append(two_link_reason(float(plane.radius), femur, tibia, what))

@@ -29,16 +29,18 @@ the shoulder, so the reachable φ form at most two intervals (:func:`planar_3r_f
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from redik.analytic import _checks
+from redik.analytic._numeric import ARRAY, SCALAR, Numeric, Value
 from redik.analytic._solution import (
     DEFAULT_TOL,
     BatchSolutions,
+    Candidate,
     IKSolutions,
-    JointSolution,
     SolutionFamily,
     finalize,
     limit_representatives,
@@ -52,37 +54,39 @@ ELBOW_LABELS = ("elbow-down", "elbow-up")
 
 @dataclass(frozen=True)
 class TwoLink:
-    """Both branches of a 2R sub-problem for a batch of targets (shape (...) per target).
+    """Both branches of a 2R sub-problem, for one target (floats) or a batch ((B,) arrays).
 
-    ``theta1``, ``theta2`` have shape (..., 2): slot 0 with θ2 ∈ [0, π], slot 1 with
-    θ2 ∈ [−π, 0]. ``reachable`` and ``boundary`` have shape (...); on the boundary both slots
-    hold the single solution. Unreachable entries hold finite but meaningless angles.
+    ``theta1``, ``theta2`` are pairs (slot 0 with θ2 ∈ [0, π], slot 1 with θ2 ∈ [−π, 0]) of
+    values shaped like the target's; θ1 is not wrapped (:func:`.finalize` and
+    :func:`batch_result` wrap once). On the boundary both slots hold the single solution.
+    Unreachable entries hold finite but meaningless angles.
     """
 
-    theta1: np.ndarray
-    theta2: np.ndarray
-    radius: np.ndarray
-    reachable: np.ndarray
-    boundary: np.ndarray
+    theta1: tuple[Value, Value]
+    theta2: tuple[Value, Value]
+    radius: Value
+    reachable: Value
+    boundary: Value
 
 
-def two_link(x: np.ndarray, y: np.ndarray, l1: float, l2: float, tol: float) -> TwoLink:
+def two_link(x: Value, y: Value, l1: float, l2: float, tol: float, num: Numeric = ARRAY) -> TwoLink:
     """Solve :math:`(x, y) = l_1 (c_1, s_1) + l_2 (c_{12}, s_{12})` for ``l1, l2 > 0``
-    (law of cosines, module docstring); vectorised over the shape of ``x`` and ``y``."""
-    radius = np.hypot(x, y)
+    (law of cosines, module docstring), elementwise in :mod:`._numeric`'s sense."""
+    radius = num.hypot(x, y)
     outer, inner = l1 + l2, abs(l1 - l2)
     reachable = (radius <= outer + tol) & (radius >= inner - tol)
-    at_outer = np.abs(radius - outer) <= tol
-    boundary = at_outer | (np.abs(radius - inner) <= tol)
+    at_outer = abs(radius - outer) <= tol
+    boundary = at_outer | (abs(radius - inner) <= tol)
     product = (outer - radius) * (outer + radius) * (radius - inner) * (radius + inner)
-    s2 = np.where(boundary, 0.0, np.sqrt(np.maximum(product, 0.0)) / (2.0 * l1 * l2))
-    c2 = np.clip((radius * radius - l1 * l1 - l2 * l2) / (2.0 * l1 * l2), -1.0, 1.0)
-    c2 = np.where(boundary, np.where(at_outer, 1.0, -1.0), c2)
-    s2 = np.stack([s2, -s2], axis=-1)
-    c2 = np.stack([c2, c2], axis=-1)
-    theta2 = wrap_angle(np.arctan2(s2, c2))
-    theta1 = np.arctan2(y, x)[..., None] - np.arctan2(l2 * s2, l1 + l2 * c2)
-    return TwoLink(wrap_angle(theta1), theta2, radius, reachable, boundary)
+    s2 = num.where(boundary, 0.0, num.sqrt(num.maximum(product, 0.0)) / (2.0 * l1 * l2))
+    c2 = num.clip((radius * radius - l1 * l1 - l2 * l2) / (2.0 * l1 * l2), -1.0, 1.0)
+    c2 = num.where(boundary, num.where(at_outer, 1.0, -1.0), c2)
+    heading = num.atan2(y, x)
+    theta1, theta2 = [], []
+    for sine in (s2, -s2):
+        theta2.append(num.atan2(sine, c2))
+        theta1.append(heading - num.atan2(l2 * sine, l1 + l2 * c2))
+    return TwoLink(tuple(theta1), tuple(theta2), radius, reachable, boundary)
 
 
 def two_link_reason(radius: float, l1: float, l2: float, what: str = "target") -> str:
@@ -105,7 +109,7 @@ def two_link_candidates(
 
     ``free`` is True when θ1 is arbitrary (l1 = l2 and the target at the shoulder).
     """
-    theta = np.stack([solution.theta1, solution.theta2], axis=-1)
+    theta = list(zip(solution.theta1, solution.theta2, strict=True))
     if not solution.boundary:
         return [(theta[0], labels[0], "", False), (theta[1], labels[1], "", False)]
     radius = float(solution.radius)
@@ -144,7 +148,7 @@ def planar_2r(
     x, y = _checks.scalar(x, "x"), _checks.scalar(y, "y")
     l1, l2 = _checks.length(l1, "l1"), _checks.length(l2, "l2")
     checked_limits = _checks.limits(limits, 2)
-    solution = two_link(np.asarray(x), np.asarray(y), l1, l2, tol)
+    solution = two_link(x, y, l1, l2, tol, SCALAR)
     if not solution.reachable:
         return unreachable(2, two_link_reason(float(solution.radius), l1, l2))
     candidates = []
@@ -152,7 +156,7 @@ def planar_2r(
         family = None
         if free:
             family = SolutionFamily((0,), singular, lambda t: wrap_angle(np.array([t, np.pi])))
-        candidates.append(JointSolution(q, label, singular, family))
+        candidates.append(Candidate(q, label, singular, family))
     return finalize(candidates, 2, np.ones(2, bool), checked_limits)
 
 
@@ -173,7 +177,7 @@ def planar_2r_batch(
     l1, l2 = _checks.length(l1, "l1"), _checks.length(l2, "l2")
     checked_limits = _checks.limits(limits, 2)
     solution = two_link(xy[:, 0], xy[:, 1], l1, l2, tol)
-    q = np.stack([solution.theta1, solution.theta2], axis=-1)
+    q = np.stack([np.stack(solution.theta1, axis=-1), np.stack(solution.theta2, axis=-1)], axis=-1)
     valid = np.repeat(solution.reachable[:, None], 2, axis=1)
     singular = np.repeat(solution.boundary[:, None], 2, axis=1)
     return batch_result(q, valid, singular, ELBOW_LABELS, np.ones(2, bool), checked_limits)
@@ -187,7 +191,9 @@ def batch_result(
     revolute: np.ndarray,
     limits: tuple[np.ndarray, np.ndarray] | None,
 ) -> BatchSolutions:
-    """Apply the joint limits to a batch and blank the invalid slots with NaN."""
+    """Wrap the angles of a batch to (−π, π], apply the joint limits and blank the invalid
+    slots with NaN."""
+    q = np.where(revolute, wrap_angle(q), q)
     if limits is not None:
         q, inside = limit_representatives(q, limits[0], limits[1], revolute)
         valid = valid & inside.all(axis=-1)
@@ -214,8 +220,8 @@ def planar_3r(
     x, y, phi = _checks.scalar(x, "x"), _checks.scalar(y, "y"), _checks.scalar(phi, "phi")
     l1, l2, l3 = (_checks.length(v, n) for v, n in ((l1, "l1"), (l2, "l2"), (l3, "l3")))
     checked_limits = _checks.limits(limits, 3)
-    wrist_x, wrist_y = x - l3 * np.cos(phi), y - l3 * np.sin(phi)
-    solution = two_link(np.asarray(wrist_x), np.asarray(wrist_y), l1, l2, tol)
+    wrist_x, wrist_y = x - l3 * math.cos(phi), y - l3 * math.sin(phi)
+    solution = two_link(wrist_x, wrist_y, l1, l2, tol, SCALAR)
     if not solution.reachable:
         what = f"the wrist point ({wrist_x:.6g}, {wrist_y:.6g}) for φ = {phi:.6g} rad"
         return unreachable(3, two_link_reason(float(solution.radius), l1, l2, what))
@@ -228,7 +234,7 @@ def planar_3r(
         family = None
         if free:
             family = SolutionFamily((0,), singular, lambda t: with_theta3(np.array([t, np.pi])))
-        candidates.append(JointSolution(with_theta3(q), label, singular, family))
+        candidates.append(Candidate(with_theta3(q), label, singular, family))
     return finalize(candidates, 3, np.ones(3, bool), checked_limits)
 
 

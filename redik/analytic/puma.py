@@ -40,28 +40,32 @@ shoulder–wrist-centre line; *noflip* when θ5 ∈ [0, π].
 
 from __future__ import annotations
 
+import math
+from typing import Any
+
 import numpy as np
 
 from redik.analytic import _checks
 from redik.analytic._arm import (
     ARM_LABELS,
-    ArmBranches,
+    ArmSlots,
+    Slot,
     arm_solutions,
-    broadcast_flags,
     free_joint,
-    rotate_y_transpose,
-    rotate_z_transpose,
+    shoulder,
+    wrapped,
+    wrist_columns,
 )
+from redik.analytic._numeric import Numeric, pose_entries
 from redik.analytic._solution import (
     DEFAULT_TOL,
     BatchSolutions,
     IKSolutions,
     SolutionFamily,
     unreachable,
-    wrap_angle,
 )
 from redik.analytic.planar import batch_result, two_link, two_link_reason
-from redik.analytic.wrist import wrist_singularity, zyz_angles
+from redik.analytic.wrist import wrist_singularity, zyz_pair
 from redik.dh import DHRow
 
 REVOLUTE = np.ones(6, bool)
@@ -80,8 +84,9 @@ def dh_rows(a2: float, a3: float, d3: float, d4: float, d6: float = 0.0) -> tupl
     )
 
 
-def puma_branches(
-    T: np.ndarray,
+def puma_slots(
+    M: Any,
+    num: Numeric,
     a2: float,
     a3: float,
     d3: float,
@@ -90,60 +95,51 @@ def puma_branches(
     tol: float = DEFAULT_TOL,
     theta1: float | None = None,
     theta2: float | None = None,
-) -> ArmBranches:
-    """The eight slots for a (B, 4, 4) stack of validated poses (the vectorised kernel).
+) -> ArmSlots:
+    """The eight slots of the pose entries ``M[i][j]`` (:func:`._numeric.pose_entries`: one
+    target or a batch) — the kernel, the module docstring's steps.
 
     ``theta1`` / ``theta2`` fix that joint instead of solving for it: how the members of a
     family are generated at the base-axis and shoulder-point singularities.
     """
-    R, p = T[:, :3, :3], T[:, :3, 3] - d6 * T[:, :3, 2]
-    px, py, pz = p[:, 0], p[:, 1], p[:, 2]
+    px, py, pz = (M[i][3] - d6 * M[i][2] for i in range(3))
     # 1. Shoulder: slot 0 ("left") has X·d3 > 0.
-    rho = np.hypot(px, py)
+    rho, shoulder_ok, shoulder_boundary, reach = shoulder(px, py, d3, tol, num)
     side = 1.0 if d3 >= 0.0 else -1.0
-    shoulder_ok = rho >= abs(d3) - tol
-    shoulder_boundary = np.abs(rho - abs(d3)) <= tol
-    reach = np.where(
-        shoulder_boundary, 0.0, np.sqrt(np.maximum((rho - abs(d3)) * (rho + abs(d3)), 0.0))
-    )
-    X = np.stack([side * reach, -side * reach], axis=-1)
-    th1 = wrap_angle(np.arctan2(py, px)[:, None] - np.arctan2(d3, X))
-    if theta1 is not None:
-        th1 = np.full_like(X, theta1)
-        X = np.cos(th1) * px[:, None] + np.sin(th1) * py[:, None]
-    # 2. Elbow: a 2R arm (|a2|, ρ3) in the plane of joints 2 and 3; slot "up" first.
-    rho3, gamma = float(np.hypot(a3, d4)), float(np.arctan2(d4, a3))
-    Z = np.broadcast_to(-pz[:, None], X.shape)
-    plane = two_link(X, Z, abs(a2), rho3, tol)
-    flipped = np.pi if a2 < 0.0 else 0.0
-    up_first = np.array([[0, 1], [1, 0]] if side > 0 else [[1, 0], [0, 1]])[None]
-    phi2 = np.take_along_axis(plane.theta1, up_first, axis=2)
-    phi3 = np.take_along_axis(plane.theta2, up_first, axis=2)
-    th2 = wrap_angle(phi2 - flipped) if theta2 is None else np.full_like(phi2, theta2)
-    th3 = wrap_angle(phi3 + gamma + flipped)
-    # 3. Wrist: R36 = Ry(θ2 + θ3)ᵀ Rz(θ1)ᵀ R, ZYZ Euler angles.
-    th1_e = np.broadcast_to(th1[:, :, None], th2.shape)
-    R36 = rotate_y_transpose(th2 + th3, rotate_z_transpose(th1, R[:, None])[:, :, None])
-    wrist = zyz_angles(R36)  # (B, 2, 2, 2, 3)
-    arm = np.stack([th1_e, th2, th3], axis=-1)[:, :, :, None, :]
-    q = np.concatenate([np.broadcast_to(arm, (*wrist.shape[:-1], 3)), wrist], axis=-1)
-    B = T.shape[0]
-    per_shoulder = (B, 2, 2, 2)
-    valid = shoulder_ok[:, None, None, None] & plane.reachable[:, :, None, None]
-    flags = {
-        "base_axis": (rho <= tol) & (abs(d3) <= tol),
-        "shoulder_boundary": shoulder_boundary,
-        "elbow_free": plane.boundary & (plane.radius <= tol),
-        "elbow_boundary": plane.boundary,
-        "wrist": np.abs(np.sin(wrist[..., 1])) <= tol,
-    }
-    return ArmBranches(
-        q.reshape(B, 8, 6),
-        np.broadcast_to(valid, per_shoulder).reshape(B, 8),
-        broadcast_flags(flags, per_shoulder),
-        shoulder_ok,
-        plane.radius[:, 0],
-    )
+    heading = num.atan2(py, px)
+    base_axis = (rho <= tol) & (abs(d3) <= tol)
+    # 2. Elbow: a 2R arm (|a2|, ρ3) in the plane of joints 2 and 3.
+    rho3, gamma = math.hypot(a3, d4), math.atan2(d4, a3)
+    flipped = math.pi if a2 < 0.0 else 0.0
+    slots, plane_radius = [], None
+    for left_right, X in enumerate((side * reach, -side * reach)):
+        if theta1 is None:
+            th1 = heading - num.atan2(d3, X)
+        else:
+            th1 = theta1
+            X = math.cos(theta1) * px + math.sin(theta1) * py
+        c1, s1 = num.cos(th1), num.sin(th1)
+        plane = two_link(X, -pz, abs(a2), rho3, tol, num)
+        plane_radius = plane.radius if plane_radius is None else plane_radius
+        valid = shoulder_ok & plane.reachable
+        for up_down in (0, 1):
+            # The 2R slot with the elbow up depends on which side the shoulder is on.
+            branch = up_down ^ left_right ^ (side < 0.0)
+            th2 = plane.theta1[branch] - flipped if theta2 is None else theta2
+            th3 = plane.theta2[branch] + gamma + flipped
+            # 3. Wrist: R36 = Ry(θ2 + θ3)ᵀ Rz(θ1)ᵀ R, ZYZ Euler angles.
+            th23 = th2 + th3
+            columns = wrist_columns(M, c1, s1, num.cos(th23), num.sin(th23))
+            for wrist in zyz_pair(*columns, num):
+                flags = {
+                    "base_axis": base_axis,
+                    "shoulder_boundary": shoulder_boundary,
+                    "elbow_free": plane.boundary & (plane.radius <= tol),
+                    "elbow_boundary": plane.boundary,
+                    "wrist": abs(num.sin(wrist[1])) <= tol,
+                }
+                slots.append(Slot((th1, th2, th3, *wrist), valid, flags))
+    return ArmSlots(slots, shoulder_ok, plane_radius)
 
 
 def puma(
@@ -176,12 +172,13 @@ def puma(
     T = _checks.pose(T)
     params = _puma_parameters(a2, a3, d3, d4, d6)
     checked_limits = _checks.limits(limits, 6)
-    branches = puma_branches(T[None], *params, tol=tol)
-    if not branches.valid.any():
-        return unreachable(6, _reason(T, branches, *params))
+    M, num = pose_entries(T)
+    arm = puma_slots(M, num, *params, tol=tol)
+    if not any(slot.valid for slot in arm.slots):
+        return unreachable(6, _reason(T, arm, *params))
 
     def resolve(slot: int, **fixed: float) -> np.ndarray:
-        return puma_branches(T[None], *params, tol=tol, **fixed).q[0, slot]
+        return wrapped(puma_slots(M, num, *params, tol=tol, **fixed).slots[slot].q, REVOLUTE)
 
     describers = {
         "base_axis": lambda q, slot: free_joint(
@@ -201,7 +198,7 @@ def puma(
         ),
         "wrist": _wrist_describer,
     }
-    return arm_solutions(branches, ARM_LABELS, describers, REVOLUTE, checked_limits)
+    return arm_solutions(arm, ARM_LABELS, describers, REVOLUTE, checked_limits)
 
 
 def puma_batch(
@@ -223,10 +220,9 @@ def puma_batch(
     T = _checks.poses(T)
     params = _puma_parameters(a2, a3, d3, d4, d6)
     checked_limits = _checks.limits(limits, 6)
-    branches = puma_branches(T, *params, tol=tol)
-    return batch_result(
-        branches.q, branches.valid, branches.singular, ARM_LABELS, REVOLUTE, checked_limits
-    )
+    M, num = pose_entries(T)
+    q, valid, singular = puma_slots(M, num, *params, tol=tol).arrays(T.shape[0])
+    return batch_result(q, valid, singular, ARM_LABELS, REVOLUTE, checked_limits)
 
 
 def _puma_parameters(
@@ -242,17 +238,15 @@ def _puma_parameters(
 
 
 def _reason(
-    T: np.ndarray, branches: ArmBranches, a2: float, a3: float, d3: float, d4: float, d6: float
+    T: np.ndarray, arm: ArmSlots, a2: float, a3: float, d3: float, d4: float, d6: float
 ) -> str:
-    if not branches.shoulder_ok[0]:
+    if not arm.shoulder_ok:
         centre = T[:3, 3] - d6 * T[:3, 2]
         return (
             f"wrist centre is {np.hypot(centre[0], centre[1]):.6g} m from the base axis, "
             f"closer than the shoulder offset |d3| = {abs(d3):.6g} m"
         )
-    return two_link_reason(
-        float(branches.plane_radius[0]), abs(a2), float(np.hypot(a3, d4)), "the wrist centre"
-    )
+    return two_link_reason(float(arm.plane_radius), abs(a2), math.hypot(a3, d4), "the wrist centre")
 
 
 def _wrist_describer(q: np.ndarray, slot: int) -> tuple[str, SolutionFamily]:

@@ -33,26 +33,30 @@ Singular: the wrist centre on the shoulder cylinder (left = right), at the shoul
 
 from __future__ import annotations
 
+import math
+from typing import Any
+
 import numpy as np
 
 from redik.analytic import _checks
 from redik.analytic._arm import (
     SHOULDER_WRIST_LABELS,
-    ArmBranches,
+    ArmSlots,
+    Slot,
     arm_solutions,
-    broadcast_flags,
     free_joint,
-    rotate_y_transpose,
-    rotate_z_transpose,
+    shoulder,
+    wrapped,
+    wrist_columns,
 )
+from redik.analytic._numeric import Numeric, pose_entries
 from redik.analytic._solution import (
     DEFAULT_TOL,
     IKSolutions,
     SolutionFamily,
     unreachable,
-    wrap_angle,
 )
-from redik.analytic.wrist import wrist_singularity, zyz_angles
+from redik.analytic.wrist import wrist_singularity, zyz_pair
 from redik.dh import DHRow
 
 #: Which joints are angles (q3 = d3 is a length).
@@ -73,51 +77,48 @@ def dh_rows(d2: float, d6: float, d1: float = 0.0) -> tuple[DHRow, ...]:
     )
 
 
-def stanford_branches(
-    T: np.ndarray,
+def stanford_slots(
+    M: Any,
+    num: Numeric,
     d2: float,
     d6: float,
     d1: float = 0.0,
     tol: float = DEFAULT_TOL,
     theta1: float | None = None,
     theta2: float | None = None,
-) -> ArmBranches:
-    """The four slots (shoulder × wrist) for a (B, 4, 4) stack of validated poses.
+) -> ArmSlots:
+    """The four slots (shoulder × wrist) of the pose entries ``M[i][j]``
+    (:func:`._numeric.pose_entries`) — the kernel, the module docstring's steps.
 
     ``theta1`` / ``theta2`` fix that joint instead of solving for it (family members).
     """
-    B = T.shape[0]
-    R, p = T[:, :3, :3], T[:, :3, 3] - d6 * T[:, :3, 2]
-    rho = np.hypot(p[:, 0], p[:, 1])
+    px, py, pz = (M[i][3] - d6 * M[i][2] for i in range(3))
+    rho, shoulder_ok, shoulder_boundary, reach = shoulder(px, py, d2, tol, num)
     side = 1.0 if d2 >= 0.0 else -1.0
-    shoulder_ok = rho >= abs(d2) - tol
-    shoulder_boundary = np.abs(rho - abs(d2)) <= tol
-    reach = np.where(
-        shoulder_boundary, 0.0, np.sqrt(np.maximum((rho - abs(d2)) * (rho + abs(d2)), 0.0))
-    )
-    X = np.stack([side * reach, -side * reach], axis=-1)  # (B, 2)
-    th1 = wrap_angle(np.arctan2(p[:, 1], p[:, 0])[:, None] - np.arctan2(d2, X))
-    if theta1 is not None:
-        th1 = np.full_like(X, theta1)
-        X = np.cos(th1) * p[:, None, 0] + np.sin(th1) * p[:, None, 1]
-    Z = np.broadcast_to((p[:, 2] - d1)[:, None], X.shape)
-    d3 = np.hypot(X, Z)
-    th2 = np.arctan2(X, Z) if theta2 is None else np.full_like(X, theta2)
-    R36 = rotate_y_transpose(th2, rotate_z_transpose(th1, R[:, None]))
-    wrist = zyz_angles(R36)  # (B, 2, 2, 3)
-    shape = (B, 2, 2)
-    arm = np.stack([th1, th2, d3], axis=-1)[:, :, None, :]
-    q = np.concatenate([np.broadcast_to(arm, (*shape, 3)), wrist], axis=-1)
-    flags = {
-        "base_axis": (rho <= tol) & (abs(d2) <= tol),
-        "shoulder_boundary": shoulder_boundary,
-        "elbow_free": d3 <= tol,
-        "wrist": np.abs(np.sin(wrist[..., 1])) <= tol,
-    }
-    valid = np.broadcast_to(shoulder_ok[:, None, None], shape).reshape(B, 4)
-    return ArmBranches(
-        q.reshape(B, 4, 6), valid, broadcast_flags(flags, shape), shoulder_ok, d3[:, 0]
-    )
+    heading = num.atan2(py, px)
+    base_axis = (rho <= tol) & (abs(d2) <= tol)
+    slots, extension = [], None
+    for X in (side * reach, -side * reach):
+        if theta1 is None:
+            th1 = heading - num.atan2(d2, X)
+        else:
+            th1 = theta1
+            X = math.cos(theta1) * px + math.sin(theta1) * py
+        Z = pz - d1
+        d3 = num.hypot(X, Z)
+        extension = d3 if extension is None else extension
+        th2 = num.atan2(X, Z) if theta2 is None else theta2
+        # R36 = Ry(θ2)ᵀ Rz(θ1)ᵀ R, ZYZ Euler angles.
+        columns = wrist_columns(M, num.cos(th1), num.sin(th1), num.cos(th2), num.sin(th2))
+        for wrist in zyz_pair(*columns, num):
+            flags = {
+                "base_axis": base_axis,
+                "shoulder_boundary": shoulder_boundary,
+                "elbow_free": d3 <= tol,
+                "wrist": abs(num.sin(wrist[1])) <= tol,
+            }
+            slots.append(Slot((th1, th2, d3, *wrist), shoulder_ok, flags))
+    return ArmSlots(slots, shoulder_ok, extension)
 
 
 def stanford(
@@ -145,8 +146,9 @@ def stanford(
     T = _checks.pose(T)
     d2, d6, d1 = (_checks.scalar(v, n) for v, n in ((d2, "d2"), (d6, "d6"), (d1, "d1")))
     checked_limits = _checks.limits(limits, 6)
-    branches = stanford_branches(T[None], d2, d6, d1, tol)
-    if not branches.valid.any():
+    M, num = pose_entries(T)
+    arm = stanford_slots(M, num, d2, d6, d1, tol)
+    if not arm.shoulder_ok:
         centre = T[:3, 3] - d6 * T[:3, 2]
         return unreachable(
             6,
@@ -155,7 +157,7 @@ def stanford(
         )
 
     def resolve(slot: int, **fixed: float) -> np.ndarray:
-        return stanford_branches(T[None], d2, d6, d1, tol, **fixed).q[0, slot]
+        return wrapped(stanford_slots(M, num, d2, d6, d1, tol, **fixed).slots[slot].q, REVOLUTE)
 
     describers = {
         "base_axis": lambda q, slot: free_joint(
@@ -175,7 +177,7 @@ def stanford(
         ),
         "wrist": _wrist_describer,
     }
-    return arm_solutions(branches, SHOULDER_WRIST_LABELS, describers, REVOLUTE, checked_limits)
+    return arm_solutions(arm, SHOULDER_WRIST_LABELS, describers, REVOLUTE, checked_limits)
 
 
 def _wrist_describer(q: np.ndarray, slot: int) -> tuple[str, SolutionFamily]:

@@ -42,22 +42,27 @@ the left of the vertical plane through the base axis and :math:`p_5`, seen from 
 
 from __future__ import annotations
 
+import math
+from typing import Any
+
 import numpy as np
 
 from redik.analytic import _checks
 from redik.analytic._arm import (
     ARM_LABELS,
-    ArmBranches,
+    ArmSlots,
+    Slot,
     arm_solutions,
-    broadcast_flags,
     free_joint,
+    shoulder,
+    wrapped,
 )
+from redik.analytic._numeric import Numeric, pose_entries
 from redik.analytic._solution import (
     DEFAULT_TOL,
     BatchSolutions,
     IKSolutions,
     unreachable,
-    wrap_angle,
 )
 from redik.analytic.planar import batch_result, two_link, two_link_reason
 from redik.dh import DHRow
@@ -81,8 +86,9 @@ def dh_rows(d1: float, a2: float, a3: float, d4: float, d5: float, d6: float) ->
     )
 
 
-def ur_branches(
-    T: np.ndarray,
+def ur_slots(
+    M: Any,
+    num: Numeric,
     d1: float,
     a2: float,
     a3: float,
@@ -93,88 +99,62 @@ def ur_branches(
     theta1: float | None = None,
     theta2: float | None = None,
     theta6: float | None = None,
-) -> ArmBranches:
-    """The eight slots for a (B, 4, 4) stack of validated poses (the vectorised kernel).
+) -> ArmSlots:
+    """The eight slots of the pose entries ``M[i][j]`` (:func:`._numeric.pose_entries`: one
+    target or a batch) — the kernel, the module docstring's steps.
 
     ``theta1`` / ``theta2`` / ``theta6`` fix that joint instead of solving for it: how the
     members of a family are generated at a singularity.
     """
-    B = T.shape[0]
-    x6, y6, z6, p = T[:, :3, 0], T[:, :3, 1], T[:, :3, 2], T[:, :3, 3]
-    p5 = p - d6 * z6
+    x6, y6, z6, p = ([M[i][j] for i in range(3)] for j in range(4))
     # 1. Shoulder: slot 0 ("left") has X·d4 < 0.
-    rho = np.hypot(p5[:, 0], p5[:, 1])
+    p5x, p5y = p[0] - d6 * z6[0], p[1] - d6 * z6[1]
+    rho, shoulder_ok, shoulder_boundary, reach = shoulder(p5x, p5y, d4, tol, num)
     side = -1.0 if d4 > 0.0 else 1.0
-    shoulder_ok = rho >= abs(d4) - tol
-    shoulder_boundary = np.abs(rho - abs(d4)) <= tol
-    reach = np.where(
-        shoulder_boundary, 0.0, np.sqrt(np.maximum((rho - abs(d4)) * (rho + abs(d4)), 0.0))
-    )
-    X = np.stack([side * reach, -side * reach], axis=-1)
-    th1 = wrap_angle(np.arctan2(p5[:, 1], p5[:, 0])[:, None] + np.arctan2(d4, X))
-    if theta1 is not None:
-        th1 = np.full_like(X, theta1)
-    c1, s1 = np.cos(th1)[..., None], np.sin(th1)[..., None]  # (B, 2, 1)
-
-    # 2. Wrist: ẑ1 = (s1, −c1, 0) seen from frame 6 is (s5 c6, −s5 s6, c5).
-    def along_z1(axis: np.ndarray) -> np.ndarray:
-        return s1[..., 0] * axis[:, None, 0] - c1[..., 0] * axis[:, None, 1]
-
-    u6, v6, c5 = along_z1(x6), along_z1(y6), along_z1(z6)  # (B, 2)
-    sin5 = np.hypot(u6, v6)  # ≥ 0, accurate near the singularity
-    sign = np.array([1.0, -1.0])  # noflip, flip
-    th5 = sign * np.arctan2(sin5, c5)[..., None]  # (B, 2, 2)
-    if theta6 is None:
-        th6 = np.arctan2(-sign * v6[..., None], sign * u6[..., None])
-    else:
-        th6 = np.full_like(th5, theta6)
-    # 3. Frame 4: o4 = p + d5 (s6 x̂6 + c6 ŷ6) − d6 ẑ6 and x̂4 = c5 c6 x̂6 − c5 s6 ŷ6 − s5 ẑ6.
-    c5, s5 = np.cos(th5)[..., None], np.sin(th5)[..., None]
-    c6, s6 = np.cos(th6)[..., None], np.sin(th6)[..., None]
-    x6, y6, z6, p = x6[:, None, None], y6[:, None, None], z6[:, None, None], p[:, None, None]
-    o4 = p + d5 * (s6 * x6 + c6 * y6) - d6 * z6  # (B, 2, 2, 3)
-    x4 = c5 * c6 * x6 - c5 * s6 * y6 - s5 * z6
-    plane_x = c1 * o4[..., 0] + s1 * o4[..., 1]
-    plane_y = o4[..., 2] - d1
-    th234 = np.arctan2(x4[..., 2], c1 * x4[..., 0] + s1 * x4[..., 1])
-    plane = two_link(plane_x, plane_y, abs(a2), abs(a3), tol)  # (B, 2, 2, 2): s, w, kernel
-    up_first = np.array([[1, 0], [0, 1]] if side > 0 else [[0, 1], [1, 0]])[None, :, None]
-    phi2 = np.take_along_axis(plane.theta1, up_first, axis=3)
-    phi3 = np.take_along_axis(plane.theta2, up_first, axis=3)
-    shift2 = np.pi if a2 < 0.0 else 0.0
-    shift3 = (np.pi if a3 < 0.0 else 0.0) - shift2
-    th2 = phi2 - shift2 if theta2 is None else np.full_like(phi2, theta2)
-    th3 = phi3 - shift3
-    th4 = th234[..., None] - th2 - th3
-    shape = (B, 2, 2, 2)  # shoulder, wrist, elbow
-    q = np.stack(
-        [
-            np.broadcast_to(th1[:, :, None, None], shape),
-            th2,
-            th3,
-            th4,
-            np.broadcast_to(th5[..., None], shape),
-            np.broadcast_to(th6[..., None], shape),
-        ],
-        axis=-1,
-    )
-    q = wrap_angle(q.transpose(0, 1, 3, 2, 4))  # slots: shoulder, elbow, wrist
-    valid = shoulder_ok[:, None, None] & plane.reachable
-    flags = {
-        "base_axis": (rho <= tol) & (abs(d4) <= tol),
-        "shoulder_boundary": shoulder_boundary,
-        # The elbow sub-problem is solved per (shoulder, wrist): give it an elbow axis.
-        "elbow_free": (plane.boundary & (plane.radius <= tol))[:, :, None, :],
-        "elbow_boundary": plane.boundary[:, :, None, :],
-        "wrist": sin5 <= tol,
-    }
-    return ArmBranches(
-        q.reshape(B, 8, 6),
-        np.broadcast_to(valid[:, :, None, :], shape).reshape(B, 8),
-        broadcast_flags(flags, shape),
-        shoulder_ok,
-        plane.radius[:, 0, 0],
-    )
+    heading = num.atan2(p5y, p5x)
+    base_axis = (rho <= tol) & (abs(d4) <= tol)
+    shift2 = math.pi if a2 < 0.0 else 0.0
+    shift3 = (math.pi if a3 < 0.0 else 0.0) - shift2
+    planes, rows = [], []  # per (shoulder, wrist): the 2R sub-problem; per slot: q and flags
+    for X in (side * reach, -side * reach):
+        th1 = heading + num.atan2(d4, X) if theta1 is None else theta1
+        c1, s1 = num.cos(th1), num.sin(th1)
+        # 2. Wrist: ẑ1 = (s1, −c1, 0) seen from frame 6 is (s5 c6, −s5 s6, c5).
+        u6, v6, cos5 = (s1 * axis[0] - c1 * axis[1] for axis in (x6, y6, z6))
+        sin5 = num.hypot(u6, v6)  # ≥ 0, accurate near the singularity
+        theta5 = num.atan2(sin5, cos5)
+        for sign in (1.0, -1.0):  # noflip, flip
+            th5 = sign * theta5
+            th6 = num.atan2(-sign * v6, sign * u6) if theta6 is None else theta6
+            # 3. Frame 4: o4 = p + d5 (s6 x̂6 + c6 ŷ6) − d6 ẑ6, x̂4 = c5 c6 x̂6 − c5 s6 ŷ6 − s5 ẑ6.
+            c5, s5, c6, s6 = num.cos(th5), num.sin(th5), num.cos(th6), num.sin(th6)
+            o4 = [p[i] + d5 * (s6 * x6[i] + c6 * y6[i]) - d6 * z6[i] for i in range(3)]
+            x4 = [c5 * c6 * x6[i] - c5 * s6 * y6[i] - s5 * z6[i] for i in range(3)]
+            th234 = num.atan2(x4[2], c1 * x4[0] + s1 * x4[1])
+            plane = two_link(c1 * o4[0] + s1 * o4[1], o4[2] - d1, abs(a2), abs(a3), tol, num)
+            planes.append(plane)
+            rows.append((th1, th5, th6, th234, plane, sin5 <= tol))
+    slots = []
+    for left_right in (0, 1):
+        for up_down in (0, 1):
+            # The 2R slot with the elbow up depends on which side the shoulder is on.
+            branch = up_down ^ left_right ^ (side > 0.0)
+            for wrist in (0, 1):
+                th1, th5, th6, th234, plane, wrist_singular = rows[2 * left_right + wrist]
+                th2 = plane.theta1[branch] - shift2 if theta2 is None else theta2
+                th3 = plane.theta2[branch] - shift3
+                q = (th1, th2, th3, th234 - th2 - th3, th5, th6)
+                flags = {
+                    "base_axis": base_axis,
+                    "shoulder_boundary": shoulder_boundary,
+                    # The elbow sub-problem is solved per (shoulder, wrist).
+                    "elbow_free": plane.boundary & (plane.radius <= tol),
+                    "elbow_boundary": plane.boundary,
+                    "wrist": wrist_singular,
+                }
+                valid = shoulder_ok & plane.reachable
+                slots.append(Slot(q, valid, flags))
+    return ArmSlots(slots, shoulder_ok, planes[0].radius)
 
 
 def ur(
@@ -208,12 +188,13 @@ def ur(
     T = _checks.pose(T)
     params = _ur_parameters(d1, a2, a3, d4, d5, d6)
     checked_limits = _checks.limits(limits, 6)
-    branches = ur_branches(T[None], *params, tol=tol)
-    if not branches.valid.any():
-        return unreachable(6, _reason(T, branches, *params))
+    M, num = pose_entries(T)
+    arm = ur_slots(M, num, *params, tol=tol)
+    if not any(slot.valid for slot in arm.slots):
+        return unreachable(6, _reason(T, arm, *params))
 
     def resolve(slot: int, **fixed: float) -> np.ndarray:
-        return ur_branches(T[None], *params, tol=tol, **fixed).q[0, slot]
+        return wrapped(ur_slots(M, num, *params, tol=tol, **fixed).slots[slot].q, REVOLUTE)
 
     describers = {
         "base_axis": lambda q, slot: free_joint(
@@ -242,7 +223,7 @@ def ur(
             lambda t: resolve(slot, theta1=q[0], theta6=t),
         ),
     }
-    return arm_solutions(branches, ARM_LABELS, describers, REVOLUTE, checked_limits)
+    return arm_solutions(arm, ARM_LABELS, describers, REVOLUTE, checked_limits)
 
 
 def ur_batch(
@@ -265,10 +246,9 @@ def ur_batch(
     T = _checks.poses(T)
     params = _ur_parameters(d1, a2, a3, d4, d5, d6)
     checked_limits = _checks.limits(limits, 6)
-    branches = ur_branches(T, *params, tol=tol)
-    return batch_result(
-        branches.q, branches.valid, branches.singular, ARM_LABELS, REVOLUTE, checked_limits
-    )
+    M, num = pose_entries(T)
+    q, valid, singular = ur_slots(M, num, *params, tol=tol).arrays(T.shape[0])
+    return batch_result(q, valid, singular, ARM_LABELS, REVOLUTE, checked_limits)
 
 
 def _ur_parameters(
@@ -281,7 +261,7 @@ def _ur_parameters(
 
 def _reason(
     T: np.ndarray,
-    branches: ArmBranches,
+    arm: ArmSlots,
     d1: float,
     a2: float,
     a3: float,
@@ -289,12 +269,12 @@ def _reason(
     d5: float,
     d6: float,
 ) -> str:
-    if not branches.shoulder_ok[0]:
+    if not arm.shoulder_ok:
         p5 = T[:3, 3] - d6 * T[:3, 2]
         return (
             f"wrist point p − d6·ẑ is {np.hypot(p5[0], p5[1]):.6g} m from the base axis, "
             f"closer than the lateral offset |d4| = {abs(d4):.6g} m"
         )
     return two_link_reason(
-        float(branches.plane_radius[0]), abs(a2), abs(a3), "the frame-4 origin (every branch)"
+        float(arm.plane_radius), abs(a2), abs(a3), "the frame-4 origin (every branch)"
     )

@@ -31,6 +31,7 @@ from typing import Literal
 import numpy as np
 
 from redik.analytic import _checks
+from redik.analytic._numeric import ARRAY, Numeric, Value
 from redik.analytic._solution import (
     DEFAULT_TOL,
     IKSolutions,
@@ -49,19 +50,26 @@ WRIST_LABELS = ("noflip", "flip")
 def zyz_angles(R: np.ndarray) -> np.ndarray:
     """Both ZYZ solutions of rotations ``R`` (..., 3, 3) as (..., 2, 3): [noflip, flip],
     with ``sin θ5 ≥ 0`` for noflip. At ``sin θ5 = 0`` noflip has θ4 = 0."""
-    s5 = np.hypot(R[..., 0, 2], R[..., 1, 2])
-    theta5 = np.arctan2(s5, R[..., 2, 2])
-    theta4 = np.arctan2(R[..., 1, 2], R[..., 0, 2])
-    c4, s4 = np.cos(theta4), np.sin(theta4)
-    c5, s5 = np.cos(theta5), np.sin(theta5)
+    columns = (R[..., 0, 0], R[..., 1, 0], R[..., 2, 0], R[..., 0, 2], R[..., 1, 2], R[..., 2, 2])
+    noflip, flip = zyz_pair(*columns, ARRAY)
+    return wrap_angle(np.stack([np.stack(noflip, axis=-1), np.stack(flip, axis=-1)], axis=-2))
+
+
+Angles = tuple[Value, Value, Value]
+
+
+def zyz_pair(
+    r00: Value, r10: Value, r20: Value, r02: Value, r12: Value, r22: Value, num: Numeric
+) -> tuple[Angles, Angles]:
+    """:func:`zyz_angles` from the first and last columns of ``R``, elementwise in
+    :mod:`._numeric`'s sense: ``((θ4, θ5, θ6) noflip, (θ4, θ5, θ6) flip)``, not wrapped."""
+    theta5 = num.atan2(num.hypot(r02, r12), r22)
+    theta4 = num.atan2(r12, r02)
+    c4, s4 = num.cos(theta4), num.sin(theta4)
+    c5, s5 = num.cos(theta5), num.sin(theta5)
     # Rz(θ6) = Ry(θ5)ᵀ Rz(θ4)ᵀ R, read from its first column.
-    theta6 = np.arctan2(
-        c4 * R[..., 1, 0] - s4 * R[..., 0, 0],
-        c5 * (c4 * R[..., 0, 0] + s4 * R[..., 1, 0]) - s5 * R[..., 2, 0],
-    )
-    noflip = np.stack([theta4, theta5, theta6], axis=-1)
-    flip = np.stack([theta4 + np.pi, -theta5, theta6 + np.pi], axis=-1)
-    return wrap_angle(np.stack([noflip, flip], axis=-2))
+    theta6 = num.atan2(c4 * r10 - s4 * r00, c5 * (c4 * r00 + s4 * r10) - s5 * r20)
+    return (theta4, theta5, theta6), (theta4 + np.pi, -theta5, theta6 + np.pi)
 
 
 def zyx_angles(R: np.ndarray) -> np.ndarray:
