@@ -42,6 +42,15 @@ def test_reachable_targets_are_solved_strictly(panda):
     assert np.all(result.iterations[result.success] >= 1)
 
 
+@pytest.mark.parametrize("name", redik.list_scenes())
+def test_every_scene_solves_its_reachable_poses(name):
+    robot = redik.load(name)
+    _, T = _reachable(robot, 60, seed=9)
+    result = solve_batch(robot, T, seed=0, engine="local")
+    assert result.success.mean() >= 0.95
+    _check_strict(robot, T, result)
+
+
 def test_joint_limits_hold_for_every_target(panda):
     _, T = _reachable(panda, 200, seed=2)
     T_far = T.copy()

@@ -35,7 +35,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ..exceptions import InvalidInput
-from ..result import STATUSES
+from ..lie import ROTATION_TOLERANCE
 from ..robot import Robot
 from .chain import Chain
 from .engines import map_chunks
@@ -54,8 +54,6 @@ CHUNK_SIZE_RANGE = (1024, 8192)
 """Bounds of the automatic chunk size: large enough to vectorise, small enough for the
 cache and to give every worker a share of a 10k batch."""
 
-_POSE_TOLERANCE = 1e-6  # as redik.lie.ROTATION_TOLERANCE, applied per target
-
 
 @dataclasses.dataclass(frozen=True)
 class BatchOptions:
@@ -69,6 +67,11 @@ class BatchOptions:
         damping: Initial ``λ`` of each attempt.
         damping_min, damping_max: ``λ`` bounds; past ``damping_max`` an attempt has stalled.
         damping_down, damping_up: Factors applied to ``λ`` on an accepted / rejected step.
+        window, progress: Every ``window`` iterations an attempt must have cut ``‖e‖²`` to
+            ``progress`` times its value at the previous check, or it has stalled.
+        fanout: Attempts started side by side for a failed target once fewer than
+            ``fanout_below`` attempts are in flight (one at a time before).
+        codebook: Random configurations ranked by pose distance for the re-seeds.
     """
 
     pos_tol: float = 1e-6
@@ -157,9 +160,6 @@ class BatchResult:
         return cls(**{name: np.concatenate([getattr(p, name) for p in parts]) for name in fields})
 
 
-assert set(BATCH_STATUSES[:3]) <= set(STATUSES)
-
-
 # --------------------------------------------------------------------------------------
 # Boundary checks
 
@@ -168,7 +168,8 @@ def check_targets(T_targets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(T, valid)``: the targets as a float ``B × 4 × 4`` array and a per-target mask.
 
     A target is valid when it is finite, ends with ``[0, 0, 0, 1]`` and has a rotation block
-    (orthonormal, det +1) within ``1e-6``. Malformed targets are reported, not raised.
+    (orthonormal, det +1) within :data:`redik.lie.ROTATION_TOLERANCE`, as :func:`redik.lie.as_pose`
+    checks one pose. Malformed targets are reported, not raised.
 
     Raises:
         InvalidInput: the array is not ``B × 4 × 4``.
@@ -182,9 +183,9 @@ def check_targets(T_targets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         gram = np.einsum("bki,bkj->bij", R, R) - np.eye(3)
         valid = (
             finite
-            & (np.abs(T[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1) <= _POSE_TOLERANCE)
-            & (np.abs(gram).max(axis=(1, 2)) <= _POSE_TOLERANCE)
-            & (np.abs(np.linalg.det(R) - 1.0) <= _POSE_TOLERANCE)
+            & (np.abs(T[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1) <= ROTATION_TOLERANCE)
+            & (np.abs(gram).max(axis=(1, 2)) <= ROTATION_TOLERANCE)
+            & (np.abs(np.linalg.det(R) - 1.0) <= ROTATION_TOLERANCE)
         )
     return T, valid
 
