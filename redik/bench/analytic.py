@@ -1,0 +1,150 @@
+"""Closed-form IK (PUMA 560, UR5e, planar 2R): µs per pose, single and batched, vs iterative DLS.
+
+Protocol: for each scene, ``--batch`` targets are the FK of configurations drawn uniformly
+within the joint limits (world frame, as ``robot.fk`` returns them); the first ``--n`` of them
+are solved one at a time. In the same run:
+
+- *single*: the scene's :func:`redik.analytic.solver_for` solver, one pose per call (robot
+  limits applied, every solution returned);
+- *batched*: the vectorised solver (``puma_batch``, ``ur_batch``, ``planar_2r_batch``) on all
+  ``--batch`` targets at once, including the world-to-base transform and the robot limits;
+- *dls*: :func:`redik.solve_pose` with ``method="dls"`` on the first ``--n`` targets from the
+  home keyframe (default restarts), which returns one solution.
+
+Single and dls times are the median over every call of every repeat; batched is the median
+over repeats of the batch time divided by ``--batch``. Speed-ups are ratios of those medians.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+from ..analytic import (
+    AnalyticSolver,
+    BatchSolutions,
+    planar_2r_batch,
+    puma_batch,
+    solver_for,
+    ur_batch,
+)
+from ..pose_ik import solve_pose
+from ..robot import Robot
+from ..scenes import load
+
+ROBOTS = ("puma560", "ur5e", "planar_2r")
+
+#: ``batch(T_base, params, limits)`` for a (B, 4, 4) stack of targets in the arm's base frame.
+Batch = Callable[[np.ndarray, dict, tuple[np.ndarray, np.ndarray]], BatchSolutions]
+
+BATCH: dict[str, Batch] = {
+    "puma": lambda T, p, limits: puma_batch(T, p["a2"], p["a3"], p["d3"], p["d4"], limits=limits),
+    "ur": lambda T, p, limits: ur_batch(
+        T, p["d1"], p["a2"], p["a3"], p["d4"], p["d5"], p["d6"], limits=limits
+    ),
+    "planar_2r": lambda T, p, limits: planar_2r_batch(T[:, :2, 3], p["l1"], p["l2"], limits=limits),
+}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--n", type=int, default=300, help="targets solved one by one (default 300)"
+    )
+    parser.add_argument(
+        "--batch", type=int, default=2000, help="targets in the batched call (default 2000)"
+    )
+    parser.add_argument("--repeats", type=int, default=5, help="repeats (default 5)")
+    parser.add_argument("--robots", nargs="+", default=list(ROBOTS), help="scenes to use")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the targets")
+    parser.add_argument(
+        "--no-dls", action="store_true", help="skip the iterative reference (closed form only)"
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    print(
+        f"redik bench analytic: targets = FK of q uniform in the limits; {args.n} solved one "
+        f"by one (single, dls = solve_pose from home), {max(args.batch, args.n)} batched; "
+        f"median µs per pose over {args.repeats} repeats"
+    )
+    header = (
+        f"{'robot':<10}{'single':>9}{'batched':>9}{'dls':>10}{'dls ok':>8}"
+        f"{'dls/single':>12}{'dls/batched':>13}{'solutions':>11}"
+    )
+    print(header)
+    for name in args.robots:
+        row = measure(load(name), args.n, args.batch, args.repeats, args.seed, dls=not args.no_dls)
+        dls = row["dls_us"]
+        reference = (
+            f"{dls:>10.1f}{row['dls_success']:>8.0%}"
+            f"{dls / row['single_us']:>11.0f}×{dls / row['batch_us']:>12.0f}×"
+            if not args.no_dls
+            else f"{'-':>10}{'-':>8}{'-':>12}{'-':>13}"
+        )
+        print(
+            f"{name:<10}{row['single_us']:>9.1f}{row['batch_us']:>9.2f}{reference}"
+            f"{row['solutions']:>11.2f}"
+        )
+    return 0
+
+
+def measure(
+    robot: Robot, n: int, n_batch: int, repeats: int, seed: int, *, dls: bool = True
+) -> dict:
+    """Time one scene (module docstring); µs per pose, ``nan`` for dls when skipped."""
+    solver = solver_for(robot)
+    rng = np.random.default_rng(seed)
+    every = np.stack([robot.fk(q) for q in robot.random_q(rng, size=max(n, n_batch))])
+    targets = every[:n]
+    batch = _batch(solver)
+    single_us = _median_per_call(lambda T: solver(T), targets, repeats)
+    batch_us = _median_per_batch(lambda: batch(every), len(every), repeats)
+    solutions = float(batch(every).valid.sum() / len(every))
+    dls_us, dls_success = float("nan"), float("nan")
+    if dls:
+        home = np.asarray(robot.home, dtype=float)
+        results = []
+
+        def solve(T: np.ndarray) -> None:
+            results.append(solve_pose(robot, T, home, method="dls", seed=0).success)
+
+        dls_us = _median_per_call(solve, targets, repeats)
+        dls_success = float(np.mean(results))
+    return {
+        "single_us": single_us,
+        "batch_us": batch_us,
+        "dls_us": dls_us,
+        "dls_success": dls_success,
+        "solutions": solutions,
+    }
+
+
+def _batch(solver: AnalyticSolver) -> Callable[[np.ndarray], BatchSolutions]:
+    """The vectorised solver of ``solver``'s family on world-frame targets."""
+    base_inverse = np.linalg.inv(solver.base)
+    limits = (solver.lower, solver.upper)
+    family = BATCH[solver.family]
+    return lambda targets: family(base_inverse @ targets, dict(solver.params), limits)
+
+
+def _median_per_call(call: Callable[[np.ndarray], object], targets: np.ndarray, repeats: int):
+    samples = []
+    for _ in range(repeats):
+        for T in targets:
+            start = time.perf_counter()
+            call(T)
+            samples.append(time.perf_counter() - start)
+    return 1e6 * statistics.median(samples)
+
+
+def _median_per_batch(call: Callable[[], object], n: int, repeats: int) -> float:
+    samples = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        call()
+        samples.append(time.perf_counter() - start)
+    return 1e6 * statistics.median(samples) / n
