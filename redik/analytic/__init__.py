@@ -15,6 +15,9 @@ transform, a negative length) raises :mod:`redik.exceptions` errors.
 
 ``planar_2r_batch``, ``puma_batch`` and ``ur_batch`` solve arrays of targets at once into a
 :class:`BatchSolutions` (``q`` of shape (B, S, n), a ``valid`` mask, fixed slot ``labels``).
+Each kernel is written once (:mod:`._numeric`): on Python floats for one target, so a single
+pose allocates no arrays, and on (B,) arrays for a batch. ``redik bench analytic`` times both
+against iterative DLS.
 :func:`solver_for` binds a solver to a bundled scene's :class:`redik.Robot`.
 """
 

@@ -107,16 +107,21 @@ def limits(
         return None
     if len(value) != 2:  # type: ignore[arg-type]
         raise InvalidInput(f"limits must be a pair (lower, upper), got {value!r}")
-    bounds = []
-    for name, bound in zip(("lower", "upper"), value, strict=True):
-        array = np.asarray(bound, dtype=float)
-        if array.shape != (n_joints,) or np.any(np.isnan(array)):
-            raise InvalidInput(
-                f"limits {name} must be {n_joints} numbers (±inf allowed, no NaN), got {bound!r}"
-            )
-        bounds.append(array)
+    try:
+        bounds = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        bounds = None
+    # One array and one check for well-formed limits; the per-bound loop names what is wrong.
+    if bounds is None or bounds.shape != (2, n_joints) or np.isnan(bounds).any():
+        for name, bound in zip(("lower", "upper"), value, strict=True):
+            array = np.asarray(bound, dtype=float)
+            if array.shape != (n_joints,) or np.any(np.isnan(array)):
+                raise InvalidInput(
+                    f"limits {name} must be {n_joints} numbers (±inf allowed, no NaN), "
+                    f"got {bound!r}"
+                )
     lower, upper = bounds
-    if np.any(lower > upper):
+    if (lower > upper).any():
         joints = np.flatnonzero(lower > upper).tolist()
         raise InvalidInput(f"limits lower > upper for joints {joints}: {lower} > {upper}")
     return lower, upper
