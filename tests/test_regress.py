@@ -139,7 +139,7 @@ def test_comparison_rules():
         "pos_error": 1e-6,
         "mean_iterations": 7.0,
         "n_solutions": 7,
-        "time_ratio": 31.0,
+        "time_ratio": 33.0,
         "note": 0.0,
     }
     statuses = {c.metric: c.status for c in compare(worse, base)}
