@@ -1,0 +1,109 @@
+"""Limits: the boxes, mink limits on a model with off-chain joints, limits never left."""
+
+from __future__ import annotations
+
+import mink
+import numpy as np
+import pytest
+
+import redik
+from redik.exceptions import InfeasibleProblem, InvalidInput
+from redik.limits import InequalityLimit, MinkLimit, PositionLimit, VelocityLimit
+from redik.problem import Problem
+from redik.tasks import PoseTask, PositionTask
+
+
+def test_position_box_is_shrunk_by_margin_and_tolerance_and_pulls_back_inside(arm):
+    limit = PositionLimit(margin=0.01).bind(arm, tolerance=1e-6)
+    lower, upper = np.empty(7), np.empty(7)
+    q = arm.home.copy()
+    limit.set_bounds(q, None, lower, upper)
+    limited = np.isfinite(arm.lower)
+    np.testing.assert_allclose((q + lower)[limited], arm.lower[limited] + 0.010001)
+    np.testing.assert_allclose((q + upper)[limited], arm.upper[limited] - 0.010001)
+    assert lower[3] == -np.inf and upper[3] == np.inf  # j4 has no range
+    q[0] = arm.upper[0] + 0.5  # outside: the box forces the step back in
+    limit.set_bounds(q, None, lower, upper)
+    assert upper[0] < -0.5 and lower[0] < upper[0]
+
+
+def test_position_box_never_shrinks_past_a_quarter_range(arm):
+    limit = PositionLimit(margin=10.0).bind(arm)
+    lower, upper = np.empty(7), np.empty(7)
+    limit.set_bounds(arm.home, None, lower, upper)
+    assert np.all(lower <= upper)
+
+
+def test_velocity_limit_forms_and_errors(arm):
+    lower, upper = np.full(7, -np.inf), np.full(7, np.inf)
+    VelocityLimit(2.0).bind(arm).bounds_into(arm.home, 0.1, lower, upper)
+    np.testing.assert_allclose(upper, 0.2)
+    lower, upper = np.full(7, -np.inf), np.full(7, np.inf)
+    VelocityLimit({"j2": 1.0}).bind(arm).bounds_into(arm.home, 0.5, lower, upper)
+    assert upper[1] == 0.5 and np.isinf(upper[[0, 2, 3, 4, 5, 6]]).all()
+    with pytest.raises(InvalidInput, match="grip"):
+        VelocityLimit({"grip": 1.0}).bind(arm)  # off the chain
+    with pytest.raises(InvalidInput, match="> 0"):
+        VelocityLimit(-1.0).bind(arm)
+    with pytest.raises(InvalidInput, match="shape"):
+        VelocityLimit([1.0, 2.0]).bind(arm)
+    with pytest.raises(InvalidInput, match="dt"):
+        VelocityLimit(1.0).bind(arm).bounds_into(arm.home, None, lower, upper)
+
+
+def test_mink_limit_keeps_the_chain_columns_of_an_off_chain_model(arm):
+    # The arm has a gripper slide and a free body off the chain (nv = 14, dof = 7).
+    assert arm.model.nv > arm.dof
+    configuration = mink.Configuration(arm.model, arm.full_qpos(arm.home))
+    limit = MinkLimit(mink.ConfigurationLimit(arm.model)).bind(arm)
+    G, h = limit.inequalities(configuration, None)
+    assert G.shape[1] == arm.dof and h.shape == (G.shape[0],)
+    # Six limited chain joints, two rows each; the gripper's rows vanish and are dropped.
+    assert G.shape[0] == 12 and np.all(np.any(G != 0.0, axis=1))
+
+
+@pytest.mark.parametrize("backend", ["daqp", "proxsuite", "osqp", "clarabel"])
+def test_returned_q_never_leaves_the_limits(backend, rng):
+    robot = redik.load("panda")
+    lower, upper = np.array(robot.lower), np.array(robot.upper)
+    # Targets far out of reach drive joints into their limits.
+    problem = Problem(robot, [PositionTask([2.0, 0.0, 0.5])], backend=backend)
+    for _ in range(2):
+        problem.tasks[0].set_target(rng.normal(size=3) * 2.0)
+        result = problem.solve(robot.random_q(rng), max_iter=15)
+        assert np.all(result.history >= lower) and np.all(result.history <= upper)
+        q = robot.random_q(rng)
+        for _ in range(5):
+            q = q + problem.step(q)
+            assert np.all(q >= lower) and np.all(q <= upper)
+
+
+def test_a_joint_too_far_outside_for_its_velocity_limit_is_infeasible():
+    robot = redik.load("panda")
+    problem = Problem(
+        robot,
+        [PoseTask(robot.fk(robot.home))],
+        [PositionLimit(), VelocityLimit(1.0)],
+    )
+    q = robot.home.copy()
+    q[1] = robot.upper[1] + 0.5  # needs 0.5 rad back, 0.1 rad allowed in dt = 0.1
+    with pytest.raises(InfeasibleProblem, match=r"joints \['joint2'\]"):
+        problem.step(q, dt=0.1)
+    assert np.isfinite(problem.step(q, dt=1.0)).all()  # 1 rad allowed: feasible
+
+
+class EmptySet(InequalityLimit):
+    """x₀ ≤ −1 and −x₀ ≤ −1: contradictory rows."""
+
+    def inequalities(self, state, dt):
+        G = np.zeros((2, self.robot.dof))
+        G[0, 0], G[1, 0] = 1.0, -1.0
+        return G, np.array([-1.0, -1.0])
+
+
+@pytest.mark.parametrize("backend", ["daqp", ["daqp", "cvxpy"]])
+def test_contradictory_rows_are_reported_infeasible(backend):
+    robot = redik.load("panda")
+    problem = Problem(robot, [PoseTask(robot.fk(robot.home))], [EmptySet()], backend=backend)
+    with pytest.raises(InfeasibleProblem, match="infeasible"):
+        problem.step(robot.home)

@@ -1,0 +1,103 @@
+"""mink interoperability: equal steps for equivalent stacks, tasks crossing both ways."""
+
+from __future__ import annotations
+
+import mink
+import numpy as np
+import pytest
+
+import redik
+from redik.exceptions import InvalidInput
+from redik.limits import MinkLimit, PositionLimit
+from redik.problem import Problem
+from redik.qp.backends import QPSOLVERS_SETTINGS
+from redik.tasks import JointLimitAvoidanceTask, PoseTask, PositionTask, PostureTask
+
+DAMPING = 1e-6
+
+
+def mink_step(robot, q, tasks, limits, solver="daqp"):
+    configuration = mink.Configuration(robot.model, robot.full_qpos(q))
+    # qpsolvers' ProxQP defaults stop at ~1e-5; ask for what redik asks of it.
+    settings = QPSOLVERS_SETTINGS.get(solver, {})
+    return mink.solve_ik(
+        configuration, tasks, 1.0, solver, damping=DAMPING, limits=limits, **settings
+    )
+
+
+def targets(robot, rng, count):
+    """Targets with rotation errors > 0.05 rad: mink's se3_jlog loses accuracy near 0."""
+    out = []
+    for _ in range(count):
+        q = np.clip(robot.random_q(rng), robot.lower + 0.3, robot.upper - 0.3)
+        out.append((q, robot.fk(np.clip(q + rng.uniform(-0.5, 0.5, robot.dof), robot.lower,
+                                         robot.upper))))  # fmt: skip
+    return out
+
+
+@pytest.mark.parametrize("backend", ["daqp", "proxsuite", "quadprog"])
+def test_weighted_stack_equals_mink_solve_ik(backend, rng):
+    robot = redik.load("panda")
+    solver = {"proxsuite": "proxqp"}.get(backend, backend)
+    for q, T in targets(robot, rng, 5):
+        q_nominal = robot.random_q(rng)
+        redik_tasks = [
+            PoseTask(T, position_weight=[1, 2, 3], orientation_weight=0.5),
+            PostureTask(q_nominal, weight=0.1, priority=0),
+            JointLimitAvoidanceTask(weight=0.3, priority=0),
+        ]
+        problem = Problem(robot, redik_tasks, limits=[], backend=backend, damping=DAMPING)
+        frame = mink.FrameTask("ee", "site", [1, 2, 3], 0.5)
+        frame.set_target(mink.SE3.from_matrix(T))
+        posture = mink.PostureTask(robot.model, cost=0.1)
+        posture.set_target(robot.full_qpos(q_nominal))
+        limit_avoidance = JointLimitAvoidanceTask(weight=0.3).bind(robot)  # a redik task in mink
+        v = mink_step(robot, q, [frame, posture, limit_avoidance], limits=[], solver=solver)
+        np.testing.assert_allclose(problem.step(q), v[robot.dof_indices], atol=1e-8)
+
+
+def test_position_box_equals_minks_full_gain_configuration_limit(rng):
+    robot = redik.load("panda")
+    for q, T in targets(robot, rng, 5):
+        problem = Problem(robot, [PoseTask(T)], backend="daqp", damping=DAMPING)
+        v = mink_step(robot, q, [_frame(T)], [mink.ConfigurationLimit(robot.model, gain=1.0)])
+        # redik shrinks the box by daqp's 1e-9 tolerance; otherwise the QPs are the same.
+        np.testing.assert_allclose(problem.step(q), v, atol=1e-8)
+
+
+def _frame(T, name="ee", kind="site"):
+    task = mink.FrameTask(name, kind, 1.0, 1.0)
+    task.set_target(mink.SE3.from_matrix(T))
+    return task
+
+
+def test_mink_tasks_and_limits_inside_a_redik_problem_on_an_off_chain_model(arm, rng):
+    # arm: nv = 14 with a free body and a gripper off the chain; mink tasks see all nv.
+    for q, T in targets(arm, rng, 3):
+        native = Problem(arm, [PoseTask(T)], limits=[])
+        with_mink = Problem(arm, [_frame(T)], limits=[])
+        np.testing.assert_allclose(with_mink.step(q), native.step(q), atol=1e-10)
+        mixed = Problem(arm, [_frame(T), PostureTask()], [PositionLimit(),
+                        MinkLimit(mink.ConfigurationLimit(arm.model))])  # fmt: skip
+        assert mixed.step(q).shape == (arm.dof,)
+    com = mink.ComTask(cost=1.0)
+    com.set_target(np.array([0.3, -0.1, 0.4]))
+    result = Problem(arm, [com, PostureTask()]).solve(arm.home, pos_tol=1e-3, max_iter=50)
+    assert result.q.shape == (arm.dof,)
+
+
+def test_redik_tasks_inside_mink_solve_ik_on_an_off_chain_model(arm, rng):
+    q, T = targets(arm, rng, 1)[0]
+    tasks = [PoseTask(T, frame="ee").bind(arm), PositionTask(T[:3, 3], frame="l5").bind(arm)]
+    v = mink_step(arm, q, tasks, limits=[])
+    problem = Problem(arm, [PoseTask(T, frame="ee"), PositionTask(T[:3, 3], frame="l5")],
+                      limits=[], damping=DAMPING)  # fmt: skip
+    np.testing.assert_allclose(v[arm.dof_indices], problem.step(q), atol=1e-8)
+    off_chain = np.setdiff1d(np.arange(arm.model.nv), arm.dof_indices)
+    np.testing.assert_allclose(v[off_chain], 0.0, atol=1e-12)
+
+
+def test_an_unbound_redik_task_in_mink_says_what_to_do(arm):
+    configuration = mink.Configuration(arm.model)
+    with pytest.raises(InvalidInput, match=r"task.bind\(robot\)"):
+        PoseTask(np.eye(4)).compute_error(configuration)

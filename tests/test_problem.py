@@ -1,0 +1,125 @@
+"""Problem: step and solve, results, validation, solve_pose_qp."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import redik
+from redik import lie
+from redik.exceptions import InvalidConfiguration, InvalidInput
+from redik.limits import PositionLimit, VelocityLimit
+from redik.problem import Problem
+from redik.qp import solve_pose_qp
+from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
+
+
+@pytest.fixture(scope="module")
+def panda() -> redik.Robot:
+    return redik.load("panda")
+
+
+def nearby_targets(robot, rng, count: int, spread: float = 0.4):
+    """(q0, T) with T the FK of a configuration within ``spread`` rad of q0."""
+    pairs = []
+    for _ in range(count):
+        q0 = np.clip(robot.random_q(rng), robot.lower + 0.2, robot.upper - 0.2)
+        q_target = np.clip(q0 + rng.uniform(-spread, spread, robot.dof), robot.lower, robot.upper)
+        pairs.append((q0, robot.fk(q_target)))
+    return pairs
+
+
+def test_solve_converges_with_strict_priorities_and_reports_a_result(panda, rng):
+    tasks = [PoseTask(np.eye(4)), JointLimitAvoidanceTask(gain=0.2), PostureTask(gain=0.2)]
+    problem = Problem(panda, tasks)
+    assert problem.levels == [0, 1]
+    for q0, T in nearby_targets(panda, rng, 8):
+        tasks[0].set_target(T)
+        # Null-space motion far from q_nominal bends the pose at second order; a nominal
+        # posture near the start keeps the lower level's steps small.
+        tasks[2].set_target(q0)
+        result = problem.solve(q0)
+        assert result.success and result.status == "converged" and result.method == "qp"
+        position_error, rotation_error = lie.pose_errors(panda.fk(result.q), T)
+        assert position_error <= 1e-6 and rotation_error <= 1e-5
+        assert result.position_error == pytest.approx(position_error, abs=1e-15)
+        assert result.history.shape == (result.iterations + 1, 7)
+        assert np.array_equal(result.history[-1], result.q)
+        assert result.error_history.shape == (result.iterations + 1,)
+        assert panda.within_limits(result.q)
+
+
+def test_solve_reports_the_budget_and_stalls_as_failures(panda):
+    far = np.eye(4)
+    far[:3, 3] = (3.0, 0.0, 0.0)  # out of reach
+    problem = Problem(panda, [PoseTask(far)])
+    result = problem.solve(panda.home, max_iter=5)
+    assert not result.success and result.status == "max_iterations" and result.iterations == 5
+    assert "position error" in result.message
+    result = problem.solve(panda.home, max_iter=500, q_tol=1e-6)
+    assert result.status == "stalled" and not result.success
+
+
+def test_a_level0_without_targets_converges_when_the_step_vanishes(panda):
+    problem = Problem(panda, [PostureTask(panda.home, priority=0)])
+    result = problem.solve(np.clip(panda.home + 0.3, panda.lower, panda.upper))
+    assert result.success and np.allclose(result.q, panda.home, atol=1e-6)
+
+
+def test_step_returns_a_joint_step_and_validates_its_input(panda):
+    problem = Problem(
+        panda, [PoseTask(panda.fk(panda.home))], [PositionLimit(), VelocityLimit(1.0)]
+    )
+    dq = problem.step(panda.home + 0.1, dt=0.01)
+    assert dq.shape == (7,) and np.all(np.abs(dq) <= 0.01 + 1e-12)
+    with pytest.raises(InvalidConfiguration):
+        problem.step(np.zeros(3), dt=0.01)
+    with pytest.raises(InvalidConfiguration):
+        problem.step(np.full(7, np.nan), dt=0.01)
+    with pytest.raises(InvalidInput, match="dt"):
+        problem.step(panda.home, dt=-1.0)
+    with pytest.raises(InvalidInput, match="VelocityLimit needs"):
+        problem.step(panda.home)
+
+
+def test_constructor_rejects_misuse(panda):
+    with pytest.raises(InvalidInput, match="at least one task"):
+        Problem(panda, [])
+    with pytest.raises(InvalidInput, match="not a task"):
+        Problem(panda, [object()])
+    with pytest.raises(InvalidInput, match="not a limit"):
+        Problem(panda, [PoseTask(np.eye(4))], [object()])
+    with pytest.raises(InvalidInput, match=r"redik\.Robot"):
+        Problem(panda.model, [PoseTask(np.eye(4))])
+    with pytest.raises(redik.BackendError, match="unknown"):
+        Problem(panda, [PoseTask(np.eye(4))], backend="nope")
+
+
+def test_problem_on_a_model_with_off_chain_joints(arm, rng):
+    # nv = 14 (free body, gripper), dof = 7: Δq is over the chain only.
+    problem = Problem(arm, [PoseTask(np.eye(4)), PostureTask()])
+    for q0, T in nearby_targets(arm, rng, 4, spread=0.2):
+        problem.tasks[0].set_target(T)
+        result = problem.solve(q0, max_iter=100)
+        assert result.success, result.summary()
+
+
+def test_solve_pose_qp_is_the_solve_pose_entry_point(panda, rng):
+    q0, T = nearby_targets(panda, rng, 1)[0]
+    options = {"pos_tol": 1e-7, "rot_tol": 1e-7, "max_iter": 50, "respect_limits": True}
+    result = solve_pose_qp(panda, T, q0, frame=None, backend=["daqp", "proxsuite"], **options)
+    assert result.success and result.position_error <= 1e-7
+    extra = [PostureTask(priority=1)]
+    result = solve_pose_qp(panda, T, q0, frame=panda.ee, tasks=extra, respect_limits=False)
+    assert result.success
+    with pytest.raises(InvalidInput, match="unknown options"):
+        solve_pose_qp(panda, T, q0, step_size=0.1)
+
+
+def test_backends_give_the_same_iterates(panda, rng):
+    q0, T = nearby_targets(panda, rng, 1)[0]
+    reference = Problem(panda, [PoseTask(T), PostureTask()], backend="quadprog").solve(q0)
+    for backend in ("daqp", "proxsuite", "clarabel"):
+        result = Problem(panda, [PoseTask(T), PostureTask()], backend=backend).solve(q0)
+        assert result.iterations == reference.iterations
+        np.testing.assert_allclose(result.q, reference.q, atol=1e-6)

@@ -1,0 +1,131 @@
+"""Strict priorities: higher levels are never degraded; lower levels optimal in what is left."""
+
+from __future__ import annotations
+
+import cvxpy as cp
+import numpy as np
+
+import redik
+from redik.limits import PositionLimit
+from redik.problem import Problem
+from redik.qp import make_backend, solve_lexicographic
+from redik.qp.hierarchy import free_directions
+from redik.tasks import (
+    DampingTask,
+    KinematicState,
+    ManipulabilityTask,
+    PoseTask,
+    PositionTask,
+    PostureTask,
+)
+
+
+def level_residual(problem: Problem, level: int, q: np.ndarray, dq: np.ndarray) -> float:
+    """½‖A Δq − b‖² + joint terms of a level, evaluated without damping."""
+    state = KinematicState.for_robot(problem.robot)
+    state.update(q)
+    H, c = problem._assembly.objectives(state)[level]
+    H = H - problem.damping * np.eye(len(dq))
+    return float(0.5 * dq @ H @ dq + c @ dq)
+
+
+def test_level0_is_identical_with_and_without_conflicting_lower_levels(rng):
+    robot = redik.load("panda")
+    for _ in range(5):
+        q = robot.random_q(rng)
+        q = np.clip(q, robot.lower + 0.3, robot.upper - 0.3)
+        T = robot.fk(robot.random_q(rng))
+        alone = Problem(robot, [PositionTask(T[:3, 3])], limits=[])
+        stacked = Problem(
+            robot,
+            [
+                PositionTask(T[:3, 3]),
+                PostureTask(robot.random_q(rng), weight=5.0, priority=1),  # pulls elsewhere
+                ManipulabilityTask(weight=1.0, gain=3.0, priority=2),
+            ],
+            limits=[],
+        )
+        dq_alone, dq_stacked = alone.step(q), stacked.step(q)
+        J = robot.jacobian(q, reference="world")[:3]
+        # The task-space step is the same; the joint step is not (the null space is used).
+        np.testing.assert_allclose(J @ dq_stacked, J @ dq_alone, atol=1e-9)
+        assert np.linalg.norm(dq_stacked - dq_alone) > 1e-3
+        assert (
+            level_residual(stacked, 0, q, dq_stacked)
+            <= level_residual(alone, 0, q, dq_alone) + 1e-10
+        )
+
+
+def test_lower_level_is_optimal_within_the_higher_optimal_set(rng):
+    """Compare with the textbook two-stage program: min f1 s.t. J0 Δq = J0 Δq0*, box."""
+    robot = redik.load("panda")
+    for _ in range(4):
+        q = robot.random_q(rng)
+        T = robot.fk(robot.random_q(rng))
+        q_nominal = robot.random_q(rng)
+        problem = Problem(
+            robot, [PoseTask(T), PostureTask(q_nominal, priority=1)], [PositionLimit()]
+        )
+        dq = problem.step(q)
+        # Stage 1 then stage 2 in cvxpy, the box as given to the solver.
+        lb, ub = problem._lb, problem._ub
+        state = KinematicState.for_robot(robot)
+        state.update(q)
+        (H0, c0), (H1, c1) = problem._assembly.objectives(state)
+        x = cp.Variable(7)
+        box = [x >= lb, x <= ub]
+        cp.Problem(cp.Minimize(0.5 * cp.quad_form(x, cp.psd_wrap(H0)) + c0 @ x), box).solve()
+        A0 = problem._assembly.levels[0].A
+        stage2 = cp.Problem(
+            cp.Minimize(0.5 * cp.quad_form(x, cp.psd_wrap(H1)) + c1 @ x),
+            [*box, A0 @ x == A0 @ dq],
+        )
+        stage2.solve()
+        value = 0.5 * dq @ H1 @ dq + c1 @ dq
+        assert value <= stage2.value + 1e-7
+        # and dq lies in level 0's optimal set: its level-0 objective is the optimum.
+        f0 = 0.5 * dq @ H0 @ dq + c0 @ dq
+        f0_star = 0.5 * x.value @ H0 @ x.value + c0 @ x.value  # any stage-2 point is optimal
+        assert abs(f0 - f0_star) < 1e-7
+
+
+def test_solve_lexicographic_on_a_synthetic_hierarchy():
+    # Level 0 fixes x0 + x1 = 1; level 1 wants x = (3, 0, 0); level 2 wants x2 = −1.
+    A0 = np.array([[1.0, 1.0, 0.0]])
+    H0, c0 = A0.T @ A0, -A0.T @ np.array([1.0])
+    H1, c1 = np.diag([1.0, 1.0, 0.0]), -np.array([3.0, 0.0, 0.0])
+    H2, c2 = np.diag([0.0, 0.0, 1.0]), np.array([0.0, 0.0, 1.0])
+    eps = 1e-9
+    objectives = [(H + eps * np.eye(3), c) for H, c in ((H0, c0), (H1, c1), (H2, c2))]
+    backends = [make_backend("daqp") for _ in objectives]
+    x = solve_lexicographic(objectives, backends, damping=eps)
+    np.testing.assert_allclose(x, [2.0, -1.0, -1.0], atol=1e-6)
+    # With a box x2 ≥ −0.5, the last level stops at the bound; the others are unchanged.
+    lb, ub = np.array([-10.0, -10.0, -0.5]), np.full(3, 10.0)
+    x = solve_lexicographic(objectives, backends, lb, ub, damping=eps)
+    np.testing.assert_allclose(x, [2.0, -1.0, -0.5], atol=1e-6)
+
+
+def test_free_directions_drop_the_linear_term_direction():
+    H = np.diag([1.0, 0.0, 0.0])
+    N = free_directions(H, np.zeros(3), 1e-10)
+    assert N.shape == (3, 2) and np.allclose(N[0], 0.0)
+    # A linear term along x1 also fixes x1: one direction left, along x2.
+    N = free_directions(H, np.array([0.0, 1.0, 0.0]), 1e-10)
+    assert N.shape == (3, 1) and abs(abs(N[2, 0]) - 1.0) < 1e-12
+    # The shift (regularisation) is discounted.
+    assert free_directions(H + 1e-6 * np.eye(3), np.zeros(3), 1e-10, 1e-6).shape == (3, 2)
+
+
+def test_damping_task_at_the_lowest_level_gives_the_damped_minimum_norm_step(rng):
+    robot = redik.load("panda")
+    q = np.clip(robot.random_q(rng), robot.lower + 0.3, robot.upper - 0.3)
+    target = robot.fk(robot.random_q(rng))[:3, 3]
+    problem = Problem(robot, [PositionTask(target), DampingTask(priority=1)], limits=[])
+    dq = problem.step(q)
+    J = robot.jacobian(q, reference="world")[:3]
+    e = robot.fk(q)[:3, 3] - target
+    # Level 0 alone leaves the null space of J free (its damping only shrinks the range
+    # part); the damping level then removes any null-space motion: Jᵀ(JJᵀ + εI)⁻¹.
+    reference = -J.T @ np.linalg.solve(J @ J.T + problem.damping * np.eye(3), e)
+    np.testing.assert_allclose(dq, reference, atol=1e-9)
