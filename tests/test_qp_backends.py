@@ -104,3 +104,22 @@ def test_persistent_proxsuite_follows_changing_problems(rng):
         np.testing.assert_allclose(
             backend.solve(qp), make_backend("quadprog").solve(qp), atol=TIGHT
         )
+
+
+def test_daqp_solves_every_step_of_ik_runs_with_the_default_regularisation(rng):
+    """mink's 1e-12 damping lets DAQP call valid IK QPs infeasible; redik's 1e-6 must not."""
+    from redik.problem import Problem
+    from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
+
+    robot = redik.load("panda")
+    tasks = [PoseTask(np.eye(4)), JointLimitAvoidanceTask(), PostureTask()]
+    problem = Problem(robot, tasks, backend="daqp")
+    reference = Problem(robot, tasks, backend="quadprog")
+    for q_target in robot.random_q(rng, size=10):
+        tasks[0].set_target(robot.fk(q_target))
+        q = robot.random_q(rng)
+        for _ in range(15):  # raises InfeasibleProblem/BackendError on a spurious failure
+            dq = problem.step(q)
+            np.testing.assert_allclose(dq, reference.step(q), atol=1e-6)
+            q = q + dq
+    assert problem.stats.get("skipped_levels", 0) == 0

@@ -1,0 +1,30 @@
+"""redik and mink tasks in one problem, and a redik task inside mink.solve_ik.
+
+Run: python examples/qp_mink_interop.py
+"""
+
+import mink
+import numpy as np
+
+import redik
+from redik.problem import Problem
+from redik.tasks import JointLimitAvoidanceTask, PoseTask
+
+robot = redik.load("panda")
+T_target = robot.fk(robot.random_q(np.random.default_rng(4)))
+
+# A mink FrameTask at priority 0 (mink tasks have none) and a redik task below it.
+frame = mink.FrameTask("ee", "site", position_cost=1.0, orientation_cost=1.0)
+frame.set_target(mink.SE3.from_matrix(T_target))
+problem = Problem(robot, [frame, JointLimitAvoidanceTask(priority=1)])
+print("redik Problem with a mink task:", problem.solve(robot.home, max_iter=200).summary())
+
+# The other way round: a redik task, bound to the robot, inside mink.solve_ik.
+configuration = mink.Configuration(robot.model, robot.full_qpos(robot.home))
+tasks = [PoseTask(T_target).bind(robot), JointLimitAvoidanceTask(weight=1e-3).bind(robot)]
+limits = [mink.ConfigurationLimit(robot.model)]
+for _ in range(200):
+    velocity = mink.solve_ik(configuration, tasks, 1.0, "daqp", damping=1e-6, limits=limits)
+    configuration.integrate_inplace(velocity, 1.0)
+q = configuration.q[robot.qpos_indices]
+print("mink.solve_ik with redik tasks:", redik.lie.pose_errors(robot.fk(q), T_target))
