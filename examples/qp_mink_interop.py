@@ -21,6 +21,7 @@ print("redik Problem with a mink task:", problem.solve(robot.home, max_iter=200)
 
 # The other way round: a redik task, bound to the robot, inside mink.solve_ik.
 configuration = mink.Configuration(robot.model, robot.full_qpos(robot.home))
+# Weighted, as mink sums everything: the small limit term biases the pose by ~1e-6.
 tasks = [PoseTask(T_target).bind(robot), JointLimitAvoidanceTask(weight=1e-3).bind(robot)]
 limits = [mink.ConfigurationLimit(robot.model)]
 for _ in range(200):
