@@ -27,7 +27,9 @@ lint: $(STAMP)
 	$(BIN)/ruff check redik tests examples tasks
 	$(BIN)/ruff format --check redik tests examples tasks
 
+# The regression scenes run first so that pytest's summary is the last line CI reads.
 test: lint
+	$(BIN)/redik regress --fast
 	$(BIN)/python -m pytest -n 2 -q
 
 bench: $(STAMP)
