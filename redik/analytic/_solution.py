@@ -231,13 +231,15 @@ def limit_representatives(
     clipped onto the limit.
     """
     two_pi = 2.0 * np.pi
-    # ceil((lower − q)/2π) turns up, ceil((q − upper)/2π) down; at most one is positive and an
-    # infinite limit gives −inf, i.e. no shift.
-    up = np.maximum(np.ceil((lower - q) / two_pi), 0.0)
-    down = np.maximum(np.ceil((q - upper) / two_pi), 0.0)
-    shifted = np.where(revolute, q + two_pi * (up - down), q)
-    inside = (shifted >= lower - DUPLICATE_TOL) & (shifted <= upper + DUPLICATE_TOL)
-    return np.minimum(np.maximum(shifted, lower), upper), inside
+    # The turns k with lower ≤ q + 2πk ≤ upper run from ceil((lower − q)/2π) to
+    # floor((upper − q)/2π); the one nearest 0 is the smallest shift (0 when q is in range, as
+    # an infinite limit gives ∓inf). When the range is empty no shift puts q inside.
+    turns = np.minimum(
+        np.maximum(np.ceil((lower - q) / two_pi), 0.0), np.floor((upper - q) / two_pi)
+    )
+    shifted = q + np.where(revolute, two_pi * turns, 0.0)
+    clipped = np.minimum(np.maximum(shifted, lower), upper)
+    return clipped, np.abs(clipped - shifted) <= DUPLICATE_TOL
 
 
 class Candidate(NamedTuple):
