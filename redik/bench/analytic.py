@@ -13,6 +13,8 @@ are solved one at a time. In the same run:
 
 Single and dls times are the median over every call of every repeat; batched is the median
 over repeats of the batch time divided by ``--batch``. Speed-ups are ratios of those medians.
+``--clock cpu`` times with the process CPU clock instead of the wall clock: on a shared,
+loaded machine it leaves out the time spent waiting for a core.
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ from ..robot import Robot
 from ..scenes import load
 
 ROBOTS = ("puma560", "ur5e", "planar_2r")
+CLOCKS: dict[str, Callable[[], float]] = {"wall": time.perf_counter, "cpu": time.process_time}
 
 #: ``batch(T_base, params, limits)`` for a (B, 4, 4) stack of targets in the arm's base frame.
 Batch = Callable[[np.ndarray, dict, tuple[np.ndarray, np.ndarray]], BatchSolutions]
@@ -61,6 +64,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--robots", nargs="+", default=list(ROBOTS), help="scenes to use")
     parser.add_argument("--seed", type=int, default=0, help="seed of the targets")
     parser.add_argument(
+        "--clock", choices=sorted(CLOCKS), default="wall", help="wall (default) or cpu time"
+    )
+    parser.add_argument(
         "--no-dls", action="store_true", help="skip the iterative reference (closed form only)"
     )
 
@@ -69,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
     print(
         f"redik bench analytic: targets = FK of q uniform in the limits; {args.n} solved one "
         f"by one (single, dls = solve_pose from home), {max(args.batch, args.n)} batched; "
-        f"median µs per pose over {args.repeats} repeats"
+        f"median µs per pose ({args.clock} clock) over {args.repeats} repeats"
     )
     header = (
         f"{'robot':<10}{'single':>9}{'batched':>9}{'dls':>10}{'dls ok':>8}"
@@ -77,7 +83,15 @@ def run(args: argparse.Namespace) -> int:
     )
     print(header)
     for name in args.robots:
-        row = measure(load(name), args.n, args.batch, args.repeats, args.seed, dls=not args.no_dls)
+        row = measure(
+            load(name),
+            args.n,
+            args.batch,
+            args.repeats,
+            args.seed,
+            dls=not args.no_dls,
+            clock=CLOCKS[args.clock],
+        )
         dls = row["dls_us"]
         reference = (
             f"{dls:>10.1f}{row['dls_success']:>8.0%}"
@@ -93,7 +107,14 @@ def run(args: argparse.Namespace) -> int:
 
 
 def measure(
-    robot: Robot, n: int, n_batch: int, repeats: int, seed: int, *, dls: bool = True
+    robot: Robot,
+    n: int,
+    n_batch: int,
+    repeats: int,
+    seed: int,
+    *,
+    dls: bool = True,
+    clock: Callable[[], float] = time.perf_counter,
 ) -> dict:
     """Time one scene (module docstring); µs per pose, ``nan`` for dls when skipped."""
     solver = solver_for(robot)
@@ -101,8 +122,8 @@ def measure(
     every = np.stack([robot.fk(q) for q in robot.random_q(rng, size=max(n, n_batch))])
     targets = every[:n]
     batch = _batch(solver)
-    single_us = _median_per_call(lambda T: solver(T), targets, repeats)
-    batch_us = _median_per_batch(lambda: batch(every), len(every), repeats)
+    single_us = _median_per_call(lambda T: solver(T), targets, repeats, clock)
+    batch_us = _median_per_batch(lambda: batch(every), len(every), repeats, clock)
     solutions = float(batch(every).valid.sum() / len(every))
     dls_us, dls_success = float("nan"), float("nan")
     if dls:
@@ -112,7 +133,7 @@ def measure(
         def solve(T: np.ndarray) -> None:
             results.append(solve_pose(robot, T, home, method="dls", seed=0).success)
 
-        dls_us = _median_per_call(solve, targets, repeats)
+        dls_us = _median_per_call(solve, targets, repeats, clock)
         dls_success = float(np.mean(results))
     return {
         "single_us": single_us,
@@ -131,20 +152,27 @@ def _batch(solver: AnalyticSolver) -> Callable[[np.ndarray], BatchSolutions]:
     return lambda targets: family(base_inverse @ targets, dict(solver.params), limits)
 
 
-def _median_per_call(call: Callable[[np.ndarray], object], targets: np.ndarray, repeats: int):
+def _median_per_call(
+    call: Callable[[np.ndarray], object],
+    targets: np.ndarray,
+    repeats: int,
+    clock: Callable[[], float],
+) -> float:
     samples = []
     for _ in range(repeats):
         for T in targets:
-            start = time.perf_counter()
+            start = clock()
             call(T)
-            samples.append(time.perf_counter() - start)
+            samples.append(clock() - start)
     return 1e6 * statistics.median(samples)
 
 
-def _median_per_batch(call: Callable[[], object], n: int, repeats: int) -> float:
+def _median_per_batch(
+    call: Callable[[], object], n: int, repeats: int, clock: Callable[[], float]
+) -> float:
     samples = []
     for _ in range(repeats):
-        start = time.perf_counter()
+        start = clock()
         call()
-        samples.append(time.perf_counter() - start)
+        samples.append(clock() - start)
     return 1e6 * statistics.median(samples) / n
