@@ -6,7 +6,8 @@ Part 1 times one differential-IK step of the panda stack (PoseTask + JointLimitA
 towards the mid-range with cost ``√2 w / (q_max − q_min)`` standing in for joint-limit
 avoidance; ``ConfigurationLimit``) with the same solver. Both are timed interleaved, step
 by step at the same ``q``, so machine load hits both alike; the table gives medians and
-their ratio. A step includes forward kinematics in both.
+their ratio. A step includes forward kinematics in both; both use the same solver
+tolerances (:data:`redik.qp.backends.QPSOLVERS_SETTINGS`).
 
 Part 2 solves the FK targets (seeded random configurations, start at ``home``) to
 ``pos_tol``/``rot_tol`` with both loops — the same weighted stack (weights small enough not
@@ -21,6 +22,7 @@ import argparse
 import math
 import statistics
 import time
+import warnings
 
 import mink
 import numpy as np
@@ -28,7 +30,7 @@ import numpy as np
 from .. import lie
 from ..limits import PositionLimit
 from ..problem import Problem
-from ..qp.backends import available_backends
+from ..qp.backends import QPSOLVERS_SETTINGS, available_backends
 from ..scenes import load
 from ..tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
 
@@ -56,6 +58,8 @@ class _MinkStack:
         model = robot.model
         self.robot = robot
         self.solver = solver
+        # The tolerances redik's back-end of the same name uses, for a like-for-like QP.
+        self.settings = QPSOLVERS_SETTINGS.get(solver, {})
         self.configuration = mink.Configuration(model, robot.full_qpos(robot.home))
         self.frame = mink.FrameTask(robot.ee.name, robot.ee.kind, 1.0, 1.0)
         posture_cost = np.zeros(model.nv)
@@ -75,8 +79,17 @@ class _MinkStack:
 
     def step(self, qpos: np.ndarray) -> np.ndarray:
         self.configuration.update(qpos)
+        return self.solve()
+
+    def solve(self) -> np.ndarray:
         return mink.solve_ik(
-            self.configuration, self.tasks, 1.0, self.solver, damping=1e-6, limits=self.limits
+            self.configuration,
+            self.tasks,
+            1.0,
+            self.solver,
+            damping=1e-6,
+            limits=self.limits,
+            **self.settings,
         )
 
 
@@ -158,9 +171,7 @@ def _converge_mink(robot, solver, args, targets) -> dict:
             if iterations >= args.max_iter:
                 break
             try:
-                velocity = mink.solve_ik(
-                    configuration, stack.tasks, 1.0, solver, damping=1e-6, limits=stack.limits
-                )
+                velocity = stack.solve()
             except mink.exceptions.NoSolutionFound:
                 break
             configuration.integrate_inplace(velocity, 1.0)
@@ -183,6 +194,13 @@ def _summary(results, overshoot: float, total: float) -> dict:
 
 
 def run(args: argparse.Namespace) -> int:
+    with warnings.catch_warnings():
+        # qpsolvers warns on every dense-to-sparse conversion mink's calls make.
+        warnings.simplefilter("ignore")
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     robot = load(args.robot)
     rng = np.random.default_rng(args.seed)
     targets = [robot.fk(q) for q in robot.random_q(rng, size=args.targets)]
@@ -192,8 +210,11 @@ def run(args: argparse.Namespace) -> int:
     for backend in backends:
         solver = MINK_SOLVER.get(backend, backend)
         redik_us, mink_us = _time_steps(robot, backend, solver, args, targets)
-        ratio = mink_us / redik_us if solver else float("nan")
-        print(f"{backend:<16}{solver or '-':<13}{redik_us:>10.1f}{mink_us:>10.1f}{ratio:>7.2f}x")
+        if solver:
+            ratio = f"{mink_us / redik_us:>7.2f}x"
+            print(f"{backend:<16}{solver:<13}{redik_us:>10.1f}{mink_us:>10.1f}{ratio}")
+        else:
+            print(f"{backend:<16}{'-':<13}{redik_us:>10.1f}{'-':>10}{'-':>8}")
 
     print(
         f"\n{len(targets)} FK targets from home, pos_tol {args.pos_tol:g} m, rot_tol "

@@ -257,7 +257,8 @@ class QpsolversBackend(Backend):
 
 
 class CvxpyBackend(Backend):
-    """The QP as a cvxpy program (Diamond & Boyd 2016), solved by cvxpy's default solver."""
+    """The QP as a cvxpy program (Diamond & Boyd 2016), solved by Clarabel unless
+    ``solver=`` names another."""
 
     name = "cvxpy"
     tolerance = 1e-7
@@ -266,7 +267,7 @@ class CvxpyBackend(Backend):
         import cvxpy
 
         self._cp = cvxpy
-        self.settings = settings
+        self.settings = {"solver": "CLARABEL", **settings}
 
     def solve(self, qp: QP) -> np.ndarray:
         cp = self._cp
