@@ -23,11 +23,11 @@ from redik.analytic.hexapod import hexapod_leg
 from redik.analytic.planar import planar_2r, planar_3r
 from redik.analytic.polar import rrp_polar
 from redik.analytic.puma import dh_rows as puma_rows
-from redik.analytic.puma import puma
+from redik.analytic.puma import puma_parameters, puma_solutions
 from redik.analytic.stanford import dh_rows as stanford_rows
 from redik.analytic.stanford import stanford
 from redik.analytic.ur import dh_rows as ur_rows
-from redik.analytic.ur import ur
+from redik.analytic.ur import ur_parameters, ur_solutions
 from redik.dh import DHRow, forward
 from redik.exceptions import InvalidInput, ModelError
 
@@ -37,7 +37,10 @@ if TYPE_CHECKING:
     from redik.robot import Robot
 
 Limits = tuple[np.ndarray, np.ndarray] | None
-#: ``solve(T_base, params, limits, tol)``, ``T_base`` the target pose in the arm's base frame.
+#: ``solve(T_base, params, limits, tol)``, ``T_base`` the target pose in the arm's base frame,
+#: a validated rigid transform, and ``limits`` validated (the PUMA and UR solvers skip the
+#: checks of their public functions, which would repeat the solver's at half the cost of a
+#: solve).
 Solve = Callable[[np.ndarray, Mapping[str, float], Limits, float], IKSolutions]
 
 HALF_PI = np.pi / 2.0
@@ -125,8 +128,8 @@ FAMILIES: dict[str, Family] = {
             "puma",
             ("a2", "a3", "d3", "d4"),
             lambda p: puma_rows(p["a2"], p["a3"], p["d3"], p["d4"]),
-            lambda T, p, limits, tol: puma(
-                T, p["a2"], p["a3"], p["d3"], p["d4"], limits=limits, tol=tol
+            lambda T, p, limits, tol: puma_solutions(
+                T, puma_parameters(p["a2"], p["a3"], p["d3"], p["d4"], 0.0), limits, tol
             ),
             6,
         ),
@@ -141,8 +144,11 @@ FAMILIES: dict[str, Family] = {
             "ur",
             ("d1", "a2", "a3", "d4", "d5", "d6"),
             lambda p: ur_rows(p["d1"], p["a2"], p["a3"], p["d4"], p["d5"], p["d6"]),
-            lambda T, p, limits, tol: ur(
-                T, p["d1"], p["a2"], p["a3"], p["d4"], p["d5"], p["d6"], limits=limits, tol=tol
+            lambda T, p, limits, tol: ur_solutions(
+                T,
+                ur_parameters(*(p[k] for k in ("d1", "a2", "a3", "d4", "d5", "d6"))),
+                limits,
+                tol,
             ),
             6,
         ),
@@ -227,6 +233,8 @@ class AnalyticSolver:
         )
         if isinstance(chosen, str):
             raise InvalidInput(f"limits must be 'robot', None or (lower, upper), got {chosen!r}")
+        if chosen is not None and limits != "robot":
+            chosen = _checks.limits(chosen, len(self.lower))
         family = FAMILIES[self.family]
         return family.solve(self._base_inverse @ T, self.params, chosen, tol)
 

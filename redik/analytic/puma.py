@@ -169,9 +169,18 @@ def puma(
         solutions form a continuum); none, with a ``reason``, when the wrist centre is out of
         reach.
     """
-    T = _checks.pose(T)
-    params = _puma_parameters(a2, a3, d3, d4, d6)
-    checked_limits = _checks.limits(limits, 6)
+    params = puma_parameters(a2, a3, d3, d4, d6)
+    return puma_solutions(_checks.pose(T), params, _checks.limits(limits, 6), tol)
+
+
+def puma_solutions(
+    T: np.ndarray,
+    params: tuple[float, float, float, float, float],
+    limits: tuple[np.ndarray, np.ndarray] | None,
+    tol: float = DEFAULT_TOL,
+) -> IKSolutions:
+    """:func:`puma` on validated inputs, ``params = (a2, a3, d3, d4, d6)``: for a caller that
+    validates at its own boundary (:class:`redik.analytic.AnalyticSolver`)."""
     M, num = pose_entries(T)
     arm = puma_slots(M, num, *params, tol=tol)
     if not any(slot.valid for slot in arm.slots):
@@ -198,7 +207,7 @@ def puma(
         ),
         "wrist": _wrist_describer,
     }
-    return arm_solutions(arm, ARM_LABELS, describers, REVOLUTE, checked_limits)
+    return arm_solutions(arm, ARM_LABELS, describers, REVOLUTE, limits)
 
 
 def puma_batch(
@@ -218,16 +227,17 @@ def puma_batch(
     mask; at a singularity several valid slots may hold the same (or an equivalent) solution.
     """
     T = _checks.poses(T)
-    params = _puma_parameters(a2, a3, d3, d4, d6)
+    params = puma_parameters(a2, a3, d3, d4, d6)
     checked_limits = _checks.limits(limits, 6)
     M, num = pose_entries(T)
     q, valid, singular = puma_slots(M, num, *params, tol=tol).arrays(T.shape[0])
     return batch_result(q, valid, singular, ARM_LABELS, REVOLUTE, checked_limits)
 
 
-def _puma_parameters(
+def puma_parameters(
     a2: float, a3: float, d3: float, d4: float, d6: float
 ) -> tuple[float, float, float, float, float]:
+    """The DH parameters checked (finite, a2 ≠ 0, a forearm), as :func:`puma_solutions` takes."""
     a2 = _checks.nonzero(a2, "a2")
     a3, d3, d4, d6 = (
         _checks.scalar(v, n) for v, n in ((a3, "a3"), (d3, "d3"), (d4, "d4"), (d6, "d6"))

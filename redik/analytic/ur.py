@@ -185,9 +185,18 @@ def ur(
         representative per arm branch with θ6 free (``family``); none, with a ``reason``,
         when the pose is out of reach.
     """
-    T = _checks.pose(T)
-    params = _ur_parameters(d1, a2, a3, d4, d5, d6)
-    checked_limits = _checks.limits(limits, 6)
+    params = ur_parameters(d1, a2, a3, d4, d5, d6)
+    return ur_solutions(_checks.pose(T), params, _checks.limits(limits, 6), tol)
+
+
+def ur_solutions(
+    T: np.ndarray,
+    params: tuple[float, ...],
+    limits: tuple[np.ndarray, np.ndarray] | None,
+    tol: float = DEFAULT_TOL,
+) -> IKSolutions:
+    """:func:`ur` on validated inputs, ``params = (d1, a2, a3, d4, d5, d6)``: for a caller that
+    validates at its own boundary (:class:`redik.analytic.AnalyticSolver`)."""
     M, num = pose_entries(T)
     arm = ur_slots(M, num, *params, tol=tol)
     if not any(slot.valid for slot in arm.slots):
@@ -223,7 +232,7 @@ def ur(
             lambda t: resolve(slot, theta1=q[0], theta6=t),
         ),
     }
-    return arm_solutions(arm, ARM_LABELS, describers, REVOLUTE, checked_limits)
+    return arm_solutions(arm, ARM_LABELS, describers, REVOLUTE, limits)
 
 
 def ur_batch(
@@ -244,16 +253,17 @@ def ur_batch(
     mask; at a singularity several valid slots may hold equivalent solutions.
     """
     T = _checks.poses(T)
-    params = _ur_parameters(d1, a2, a3, d4, d5, d6)
+    params = ur_parameters(d1, a2, a3, d4, d5, d6)
     checked_limits = _checks.limits(limits, 6)
     M, num = pose_entries(T)
     q, valid, singular = ur_slots(M, num, *params, tol=tol).arrays(T.shape[0])
     return batch_result(q, valid, singular, ARM_LABELS, REVOLUTE, checked_limits)
 
 
-def _ur_parameters(
+def ur_parameters(
     d1: float, a2: float, a3: float, d4: float, d5: float, d6: float
 ) -> tuple[float, ...]:
+    """The DH parameters checked (finite; a2, a3, d6 ≠ 0), as :func:`ur_solutions` takes."""
     d1, d4, d5 = (_checks.scalar(v, n) for v, n in ((d1, "d1"), (d4, "d4"), (d5, "d5")))
     a2, a3, d6 = (_checks.nonzero(v, n) for v, n in ((a2, "a2"), (a3, "a3"), (d6, "d6")))
     return d1, a2, a3, d4, d5, d6
