@@ -1,0 +1,101 @@
+"""``redik explore SCENE``: sample the self-motion manifold of a pose and draw it.
+
+The pose is ``--pose x y z qw qx qy qz`` (metres, scalar-first unit quaternion, world
+frame), or the FK of ``--q-ref q1 … qn``, or by default the FK of the scene's ``home``
+keyframe. Writes to ``--out DIR``: ``samples.npz`` (:meth:`SelfMotion.save`),
+``summary.json``, ``manifold_component.png`` and one ``manifold_<criterion>.png`` per
+criterion (joint pairs), and renders of the arm moving along its self-motion with the
+end-effector held still (``frames/*.png``, ``selfmotion.gif``, ``selfmotion.mp4``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+
+from ..exceptions import InvalidInput
+from ..lie import as_quaternion, make_pose, matrix_from_quat
+from ..scenes import load
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser(
+        "explore", help="sample the self-motion manifold of a pose: NPZ, JSON and pictures"
+    )
+    parser.add_argument("scene", help="bundled scene name or MJCF/URDF path")
+    pose = parser.add_mutually_exclusive_group()
+    pose.add_argument(
+        "--pose", nargs=7, type=float, metavar=("X", "Y", "Z", "QW", "QX", "QY", "QZ"),
+        help="target position (m) and unit quaternion (w, x, y, z) in the world frame",
+    )  # fmt: skip
+    pose.add_argument("--q-ref", nargs="+", type=float, help="target = FK of these joint values")
+    parser.add_argument("--out", default="explore_out", help="output directory")
+    parser.add_argument("--ee", default=None, help="end-effector site or body (default 'ee')")
+    parser.add_argument("--spacing", type=float, default=None, help="sample spacing (rad)")
+    parser.add_argument("--starts", type=int, default=64, help="random IK starts for seeding")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--frames", type=int, default=60, help="rendered frames (0: none)")
+    parser.add_argument("--size", nargs=2, type=int, default=(480, 360), metavar=("W", "H"))
+    parser.add_argument("--no-mp4", action="store_true", help="skip the MP4 (GIF only)")
+    parser.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..redundancy import explore_self_motion
+    from ..redundancy.plot import plot_joint_pairs
+
+    robot = load(args.scene, ee=args.ee)
+    initial = None
+    if args.pose is not None:
+        quat = as_quaternion(np.array(args.pose[3:]), "--pose quaternion")
+        T = make_pose(matrix_from_quat(quat), np.array(args.pose[:3]))
+    else:
+        q_ref = robot.home if args.q_ref is None else robot.check_q(np.array(args.q_ref), "--q-ref")
+        T = robot.fk(q_ref)
+        initial = q_ref
+    motion = explore_self_motion(
+        robot, T, spacing=args.spacing, seed=args.seed, n_starts=args.starts, initial=initial
+    )
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    motion.save(out / "samples.npz")
+    summary = motion.summary()
+    (out / "summary.json").write_text(json.dumps(summary, indent=2))
+    print(
+        f"{robot.name}: {len(motion)} samples, dimension {motion.dimension}, "
+        f"{motion.n_components} component(s), max errors {summary['max_position_error']:.1e} m / "
+        f"{summary['max_rotation_error']:.1e} rad, {motion.elapsed:.2f} s"
+    )
+    if len(motion) == 0:
+        print("no configuration reaches this pose (inside the limits); nothing to draw")
+        return 1
+    import matplotlib.pyplot as plt
+
+    for color_by in ["component", *motion.criteria]:
+        figure = plot_joint_pairs(
+            motion, color_by, lower=robot.lower, upper=robot.upper,
+            path=out / f"manifold_{color_by}.png",
+        )  # fmt: skip
+        plt.close(figure)
+    if args.frames > 0:
+        _render(robot, motion, out, args)
+    print(f"wrote {out}/")
+    return 0
+
+
+def _render(robot, motion, out: Path, args: argparse.Namespace) -> None:
+    from ..render import render_frames, save_gif, save_mp4, save_pngs
+
+    largest = int(np.argmax(np.bincount(motion.component)))
+    path = motion.walk(largest)
+    picks = path[np.unique(np.linspace(0, len(path) - 1, args.frames).round().astype(int))]
+    if len(picks) == 0:
+        raise InvalidInput("nothing to render")
+    frames = render_frames(robot, motion.samples[picks], *args.size, target=motion.T_target)
+    save_pngs(out / "frames", frames)
+    save_gif(out / "selfmotion.gif", frames)
+    if not args.no_mp4:
+        save_mp4(out / "selfmotion.mp4", frames)

@@ -1,0 +1,136 @@
+r"""Secondary criteria: what makes one point of a self-motion manifold better than another.
+
+A criterion has a ``value`` at a configuration, a sense (``maximize``), and an ``ascent``
+direction ``q̇₀`` that improves it locally — the velocity fed to the null space in
+:func:`redik.redundancy.nullspace_velocity` and :func:`redik.redundancy.gradient_projection_ik`.
+:func:`evaluate_criteria` scores every sample of a :class:`redik.redundancy.SelfMotion`.
+
+Each method receives the ``"world"`` Jacobian ``J`` at ``q`` (see :mod:`redik.conventions`)
+because the caller has just computed it.
+"""
+
+from __future__ import annotations
+
+import abc
+import dataclasses
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..exceptions import InvalidInput
+from .nullspace import (
+    joint_limit_margin,
+    joint_limit_margin_gradient,
+    manipulability,
+    manipulability_gradient,
+    posture_difference,
+    posture_gradient,
+)
+
+if TYPE_CHECKING:
+    from ..robot import Frame, Robot
+
+
+def periodic_joints(robot: Robot) -> np.ndarray:
+    """Mask of the hinges without limits: their angles are compared modulo 2π."""
+    return robot.revolute & ~np.isfinite(robot.lower) & ~np.isfinite(robot.upper)
+
+
+class Criterion(abc.ABC):
+    """A scalar score of a configuration, with a direction that improves it.
+
+    Attributes:
+        name: The key under which samples are scored (``SelfMotion.criteria[name]``).
+        maximize: True when larger values are better.
+    """
+
+    name: str
+    maximize: bool
+
+    @abc.abstractmethod
+    def value(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> float:
+        """The criterion at ``q`` (``J``: world Jacobian at ``q``)."""
+
+    @abc.abstractmethod
+    def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        """A joint velocity ``q̇₀`` along which the criterion improves (to first order)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class JointLimitMargin(Criterion):
+    """Distance to the nearest joint limit (rad or m), to maximise.
+
+    The ascent is the gradient of a soft minimum of the limit distances
+    (:func:`redik.redundancy.nullspace.joint_limit_margin_gradient`).
+    """
+
+    name: str = "joint_limit_margin"
+    maximize: bool = True
+    temperature: float = 0.05
+
+    def value(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> float:
+        return joint_limit_margin(q, robot.lower, robot.upper)
+
+    def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        return joint_limit_margin_gradient(q, robot.lower, robot.upper, self.temperature)
+
+
+@dataclasses.dataclass(frozen=True)
+class Manipulability(Criterion):
+    """Yoshikawa's ``√det(JJᵀ)``, to maximise; the ascent is its analytic gradient."""
+
+    name: str = "manipulability"
+    maximize: bool = True
+
+    def value(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> float:
+        return manipulability(J)
+
+    def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        return manipulability_gradient(J)
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class PostureDistance(Criterion):
+    """``‖q − q_nominal‖`` (unlimited hinges modulo 2π), to minimise; ascent ``−(q − q_nom)``."""
+
+    nominal: np.ndarray
+    name: str = "posture_distance"
+    maximize: bool = False
+
+    def value(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> float:
+        return float(np.linalg.norm(posture_difference(q, self.nominal, periodic_joints(robot))))
+
+    def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        return posture_gradient(q, self.nominal, periodic_joints(robot))
+
+
+def default_criteria(robot: Robot, nominal: np.ndarray | None = None) -> tuple[Criterion, ...]:
+    """Joint-limit margin, manipulability and distance to ``nominal`` (default ``robot.home``)."""
+    nominal = robot.home if nominal is None else robot.check_q(nominal, "nominal")
+    return (JointLimitMargin(), Manipulability(), PostureDistance(np.array(nominal)))
+
+
+def criterion_by_name(robot: Robot, name: str, nominal: np.ndarray | None = None) -> Criterion:
+    """One of :func:`default_criteria` by its name."""
+    for criterion in default_criteria(robot, nominal):
+        if criterion.name == name:
+            return criterion
+    names = [c.name for c in default_criteria(robot, nominal)]
+    raise InvalidInput(f"unknown criterion {name!r}; expected one of {names}")
+
+
+def evaluate_criteria(
+    robot: Robot,
+    samples: np.ndarray,
+    criteria: tuple[Criterion, ...],
+    frame: Frame,
+) -> dict[str, np.ndarray]:
+    """Every criterion at every row of ``samples`` (N × n): a dict of length-N arrays."""
+    values = {c.name: np.empty(len(samples)) for c in criteria}
+    T = np.eye(4)
+    J = np.empty((6, robot.dof))
+    for k, q in enumerate(samples):
+        robot.kinematics(q, frame, T, J)
+        for criterion in criteria:
+            values[criterion.name][k] = criterion.value(robot, q, J)
+    return values

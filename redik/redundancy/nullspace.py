@@ -1,0 +1,330 @@
+r"""Inverse velocity kinematics with null-space projection, and the gradients fed to it.
+
+A redundant arm (``n`` joints, a task of dimension ``m < n``) reaches a task velocity ``ẋ``
+with infinitely many joint velocities. The classic resolution (Liégeois 1977; Siciliano,
+Sciavicco, Villani & Oriolo, *Robotics: Modelling, Planning and Control*, §3.5.1, eq. 3.54)
+takes the minimum-norm solution and adds any velocity that leaves the task unchanged:
+
+.. math::
+
+    \dot q = J^+ \dot x + (I - J^+ J)\, \dot q_0 .
+
+``J⁺`` is the Moore–Penrose pseudo-inverse (or a damped one, ``Jᵀ(JJᵀ + λ²I)⁻¹``, near
+singularities), ``P = I − J⁺J`` the orthogonal projector onto ``ker J``, and ``q̇₀`` usually
+the gradient ``k ∇w(q)`` of a secondary criterion ``w`` to increase (eq. 3.55): distance
+from the joint limits (eq. 3.58), manipulability ``√det(JJᵀ)`` (eq. 3.56), closeness to a
+nominal posture. The functions here compute those pieces; :func:`gradient_projection_ik`
+iterates them into a solver that reaches a pose while climbing the criterion.
+
+Twists and Jacobians follow :mod:`redik.conventions`: ``(v, ω)`` order; the manipulability
+gradient takes the ``"world"`` Jacobian (origin velocity and angular velocity in world axes),
+for which ``det(JJᵀ)`` equals that of the body Jacobian.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..exceptions import InvalidInput
+from ..lie import as_pose, inverse, pose_errors, se3_log, wrap_angle
+from ..result import IKResult
+
+if TYPE_CHECKING:
+    from ..robot import Frame, Robot
+    from .criteria import Criterion
+
+RANK_TOLERANCE = 1e-10
+"""Singular values below ``RANK_TOLERANCE · σ_max`` count as zero in :func:`pseudo_inverse`."""
+
+
+# --------------------------------------------------------------------------------------
+# Pseudo-inverse, projector, basis
+
+
+def pseudo_inverse(J: np.ndarray, damping: float = 0.0) -> np.ndarray:
+    r"""``J⁺`` (n × m): Moore–Penrose by SVD, or ``Jᵀ(JJᵀ + λ²I)⁻¹`` for ``damping = λ > 0``.
+
+    The undamped inverse drops singular values below ``RANK_TOLERANCE · σ_max``; the damped
+    one (Nakamura & Hanafusa 1986; Wampler 1986) trades exactness for bounded ``‖q̇‖`` near
+    singularities.
+    """
+    J = np.asarray(J, dtype=float)
+    if damping > 0.0:
+        m = J.shape[0]
+        return J.T @ np.linalg.solve(J @ J.T + damping**2 * np.eye(m), np.eye(m))
+    return np.linalg.pinv(J, rcond=RANK_TOLERANCE)
+
+
+def nullspace_projector(J: np.ndarray, J_pinv: np.ndarray | None = None) -> np.ndarray:
+    """``P = I − J⁺J`` (n × n): the orthogonal projector onto ``ker J`` (``JP = 0``, ``P² = P``)."""
+    J = np.asarray(J, dtype=float)
+    if J_pinv is None:
+        J_pinv = pseudo_inverse(J)
+    return np.eye(J.shape[1]) - J_pinv @ J
+
+
+def nullspace_basis(J: np.ndarray, dimension: int | None = None) -> np.ndarray:
+    """An orthonormal basis of ``ker J`` as the columns of an n × k matrix.
+
+    ``k`` is ``n − rank J`` by default, or ``dimension`` when given (the right-singular vectors
+    of the ``dimension`` smallest singular values: the directions that move the task least,
+    which is ``ker J`` itself at full rank).
+    """
+    J = np.asarray(J, dtype=float)
+    _, s, Vt = np.linalg.svd(J, full_matrices=True)
+    if dimension is None:
+        rank = int(np.sum(s > RANK_TOLERANCE * (s[0] if s.size else 0.0)))
+        dimension = J.shape[1] - rank
+    return Vt[J.shape[1] - dimension :].T.copy()
+
+
+def nullspace_velocity(
+    J: np.ndarray,
+    twist: np.ndarray,
+    dq0: np.ndarray | None = None,
+    damping: float = 0.0,
+) -> np.ndarray:
+    r"""``q̇ = J⁺ẋ + (I − J⁺J) q̇₀`` (Siciliano et al. eq. 3.54).
+
+    Args:
+        J: The m × n task Jacobian.
+        twist: The task velocity ``ẋ`` (m), in the same reference as ``J``.
+        dq0: The secondary joint velocity ``q̇₀`` (n), e.g. ``k ∇w``; None for zero.
+        damping: ``λ`` of the damped pseudo-inverse, 0 for Moore–Penrose.
+
+    Returns:
+        ``q̇`` (n). With ``damping = 0`` and ``J`` of full row rank, ``J q̇ = ẋ`` exactly and the
+        second term changes nothing in the task.
+    """
+    J = np.asarray(J, dtype=float)
+    if J.ndim != 2:
+        raise InvalidInput(f"J must be a 2-D (m × n) matrix, got shape {J.shape}")
+    m, n = J.shape
+    twist = np.asarray(twist, dtype=float)
+    if twist.shape != (m,):
+        raise InvalidInput(f"twist must have shape ({m},) to match J {J.shape}, got {twist.shape}")
+    J_pinv = pseudo_inverse(J, damping)
+    dq = J_pinv @ twist
+    if dq0 is not None:
+        dq0 = np.asarray(dq0, dtype=float)
+        if dq0.shape != (n,):
+            raise InvalidInput(f"dq0 must have shape ({n},) to match J {J.shape}, got {dq0.shape}")
+        dq += dq0 - J_pinv @ (J @ dq0)
+    return dq
+
+
+# --------------------------------------------------------------------------------------
+# Secondary criteria and their gradients
+
+
+def joint_limit_distance(q: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> float:
+    r"""Liégeois' distance from the joint limits (Siciliano et al. eq. 3.58), to maximise:
+
+    .. math:: w(q) = -\frac{1}{2n} \sum_i \left(\frac{q_i - \bar q_i}{u_i - l_i}\right)^2,
+
+    ``q̄`` the middle of each range; the sum runs over the ``n`` joints with finite limits
+    (0 when there are none).
+    """
+    limited = np.isfinite(lower) & np.isfinite(upper)
+    if not np.any(limited):
+        return 0.0
+    scaled = (q[limited] - 0.5 * (lower[limited] + upper[limited])) / (
+        upper[limited] - lower[limited]
+    )
+    return float(-0.5 * np.mean(scaled**2))
+
+
+def joint_limit_distance_gradient(
+    q: np.ndarray, lower: np.ndarray, upper: np.ndarray
+) -> np.ndarray:
+    r"""``∇w`` of :func:`joint_limit_distance`: ``−(q_i − q̄_i) / (n (u_i − l_i)²)``."""
+    limited = np.isfinite(lower) & np.isfinite(upper)
+    gradient = np.zeros_like(q, dtype=float)
+    count = int(np.sum(limited))
+    if count:
+        middle = 0.5 * (lower[limited] + upper[limited])
+        width = upper[limited] - lower[limited]
+        gradient[limited] = -(q[limited] - middle) / (count * width**2)
+    return gradient
+
+
+def joint_limit_margin(q: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> float:
+    """Distance of ``q`` to its nearest joint limit, ``min_i min(q_i − l_i, u_i − q_i)``.
+
+    In joint units (rad or m); negative outside the limits, ``inf`` without limits.
+    """
+    margins = np.minimum(q - lower, upper - q)
+    return float(np.min(margins)) if margins.size else float("inf")
+
+
+def joint_limit_margin_gradient(
+    q: np.ndarray, lower: np.ndarray, upper: np.ndarray, temperature: float = 0.05
+) -> np.ndarray:
+    r"""Gradient of the soft minimum of the ``2n`` limit distances, to ascend.
+
+    :func:`joint_limit_margin` is a minimum, not differentiable where two distances tie; its
+    smooth stand-in ``−τ log Σ_j exp(−m_j / τ)`` over ``m = (q − l, u − q)`` differs from it by
+    at most ``τ log 2n`` and has the softmax-weighted gradient returned here.
+    """
+    margins = np.concatenate([q - lower, upper - q])
+    finite = np.isfinite(margins)
+    gradient = np.zeros_like(q, dtype=float)
+    if not np.any(finite):
+        return gradient
+    weights = np.zeros_like(margins)
+    shifted = -(margins[finite] - np.min(margins[finite])) / temperature
+    weights[finite] = np.exp(shifted) / np.sum(np.exp(shifted))
+    n = q.shape[0]
+    return weights[:n] - weights[n:]
+
+
+def manipulability(J: np.ndarray) -> float:
+    r"""Yoshikawa's manipulability ``w = √det(JJᵀ)`` (Siciliano et al. eq. 3.56)."""
+    return float(np.sqrt(max(np.linalg.det(J @ J.T), 0.0)))
+
+
+def jacobian_derivatives(J_world: np.ndarray) -> np.ndarray:
+    r"""``∂J/∂q_k`` of the ``"world"`` Jacobian of a serial chain, as an n × 6 × n array.
+
+    Each column ``J_i = (v_i, ω_i)`` (``ω_i`` the joint axis for a hinge, 0 for a slide)
+    moves with the joints upstream of it and with the end point (Haviland & Corke,
+    *Manipulator Differential Kinematics, Part I*, 2023, eq. 42 in (v, ω) order):
+
+    .. math::
+
+        \frac{∂J_i}{∂q_k} = \begin{cases}
+            (ω_k × v_i,\; ω_k × ω_i) & k ≤ i \\
+            (ω_i × v_k,\; 0) & k > i
+        \end{cases}
+    """
+    v, w = J_world[:3].T, J_world[3:].T  # n × 3 each
+    n = v.shape[0]
+    w_cross_v = np.cross(w[:, None, :], v[None, :, :])  # [k, i] = ω_k × v_i
+    w_cross_w = np.cross(w[:, None, :], w[None, :, :])  # [k, i] = ω_k × ω_i
+    upstream = np.triu(np.ones((n, n), dtype=bool))  # [k, i]: k ≤ i
+    H = np.zeros((n, 6, n))
+    dv = np.where(upstream[:, :, None], w_cross_v, np.swapaxes(w_cross_v, 0, 1))
+    dw = np.where(upstream[:, :, None], w_cross_w, 0.0)
+    H[:, :3, :] = np.swapaxes(dv, 1, 2)
+    H[:, 3:, :] = np.swapaxes(dw, 1, 2)
+    return H
+
+
+def manipulability_gradient(J_world: np.ndarray) -> np.ndarray:
+    r"""``∇w`` of ``w = √det(JJᵀ)``: ``∂w/∂q_k = w · tr(J⁺ ∂J/∂q_k)`` (Haviland & Corke eq. 57).
+
+    From ``∂ det A = det A · tr(A⁻¹ ∂A)`` with ``A = JJᵀ`` symmetric; ``∂J/∂q_k`` from
+    :func:`jacobian_derivatives`. Zero at a singularity, where ``w`` is not differentiable.
+    """
+    w = manipulability(J_world)
+    if w == 0.0:
+        return np.zeros(J_world.shape[1])
+    J_pinv = np.linalg.pinv(J_world)
+    H = jacobian_derivatives(J_world)
+    return w * np.einsum("ij,kji->k", J_pinv, H)
+
+
+def posture_difference(
+    q: np.ndarray, nominal: np.ndarray, periodic: np.ndarray | None = None
+) -> np.ndarray:
+    """``q − q_nominal``, wrapped to (−π, π] on the ``periodic`` joints (unlimited hinges)."""
+    delta = np.asarray(q, dtype=float) - nominal
+    if periodic is not None and np.any(periodic):
+        delta = delta.copy()
+        delta[..., periodic] = wrap_angle(delta[..., periodic])
+    return delta
+
+
+def posture_gradient(
+    q: np.ndarray, nominal: np.ndarray, periodic: np.ndarray | None = None
+) -> np.ndarray:
+    """``∇w = −(q − q_nominal)`` of ``w = −½‖q − q_nominal‖²``: ascending it nears the posture."""
+    return -posture_difference(q, nominal, periodic)
+
+
+# --------------------------------------------------------------------------------------
+# A solver: pose by Gauss–Newton, criterion by gradient projection
+
+
+def gradient_projection_ik(
+    robot: Robot,
+    T_target: np.ndarray,
+    q0: np.ndarray,
+    criterion: Criterion,
+    frame: str | Frame | None = None,
+    *,
+    gain: float = 0.5,
+    max_step: float = 0.2,
+    position_tolerance: float = 1e-9,
+    rotation_tolerance: float = 1e-8,
+    step_tolerance: float = 1e-7,
+    max_iterations: int = 2000,
+) -> IKResult:
+    r"""Reach ``T_target`` and climb ``criterion`` inside the self-motion: the gradient
+    projection method (Siciliano et al. §3.5.1 with the pose error of §3.7.1).
+
+    Each iteration, with the body error twist ``ξ_b = log(T(q)⁻¹ T_d)`` and body Jacobian
+    ``J_b`` (:mod:`redik.conventions`):
+
+    .. math:: Δq = J_b^+ ξ_b + (I - J_b^+ J_b)\, k\, \dot q_0(q),
+
+    ``q̇₀`` the criterion's ascent direction, the step clipped to ``‖Δq‖ ≤ max_step`` and
+    ``q`` to the joint limits. It stops when the pose is within tolerance and the projected
+    criterion step is below ``step_tolerance``: a local optimum of the criterion on the
+    self-motion manifold, reached from ``q0`` — compare
+    :meth:`redik.redundancy.SelfMotion.best`, the best sample over the whole manifold.
+    """
+    T_target = as_pose(T_target, "T_target")
+    q = robot.check_q(q0, "q0").copy()
+    resolved = robot.frame(frame)
+    T = np.eye(4)
+    J = np.empty((6, robot.dof))
+    J_body = np.empty((6, robot.dof))
+    history = [q.copy()]
+    errors: list[float] = []
+    status = "max_iterations"
+    for _ in range(max_iterations):
+        robot.kinematics(q, resolved, T, J)
+        R = T[:3, :3]
+        J_body[:3] = R.T @ J[:3]
+        J_body[3:] = R.T @ J[3:]
+        xi = se3_log(inverse(T) @ T_target)
+        errors.append(float(np.linalg.norm(xi)))
+        J_pinv = pseudo_inverse(J_body)
+        dq0 = gain * criterion.ascent(robot, q, J)
+        secondary = dq0 - J_pinv @ (J_body @ dq0)
+        step = J_pinv @ xi + secondary
+        position_error, rotation_error = pose_errors(T, T_target)
+        if (
+            position_error <= position_tolerance
+            and rotation_error <= rotation_tolerance
+            and np.linalg.norm(secondary) <= step_tolerance
+        ):
+            status = "converged"
+            break
+        norm = float(np.linalg.norm(step))
+        if norm > max_step:
+            step *= max_step / norm
+        q = robot.clip(q + step)
+        history.append(q.copy())
+    robot.kinematics(q, resolved, T)
+    position_error, rotation_error = pose_errors(T, T_target)
+    if status != "converged" and (
+        position_error <= position_tolerance and rotation_error <= rotation_tolerance
+    ):
+        status = "converged"  # the pose is met; the criterion was still creeping
+    errors.append(float(np.linalg.norm(se3_log(inverse(T) @ T_target))))
+    return IKResult(
+        q=q,
+        success=status == "converged",
+        status=status,
+        iterations=len(history) - 1,
+        error=errors[-1],
+        position_error=position_error,
+        rotation_error=rotation_error,
+        history=np.array(history),
+        error_history=np.array(errors[: len(history)]),
+        method=f"gradient_projection[{criterion.name}]",
+    )

@@ -1,0 +1,847 @@
+r"""The self-motion manifold of a pose: every joint configuration that reaches it.
+
+An arm with ``n`` joints reaches a pose (6 constraints) at generic points with a manifold
+of dimension ``d = n − 6`` of configurations (∞^(n−6)): a set of closed curves for a 7R
+arm (Burdick 1989, *On the inverse kinematics of redundant manipulators*), a surface for
+an 8R arm, isolated points for a 6R arm. Joint limits cut curves into arcs and surfaces
+into patches. :func:`explore_self_motion` samples that set:
+
+1. **Seeds.** Inverse kinematics from many random starts (:func:`redik.solve_pose`) gives
+   points on every component whose basin of attraction one start falls into; each is
+   projected onto the pose to full precision by the corrector below.
+2. **Corrector.** Gauss–Newton on the body error twist (Modern Robotics §6.2.2,
+   *IKinBody*): ``ξ_b = log(T(q)⁻¹ T_d)``, ``q ← q + J_b⁺ ξ_b`` until ``‖p_d − p‖`` and
+   ``angle(Rᵀ R_d)`` are far below the tolerances. The minimum-norm step is orthogonal
+   to ``ker J_b``, so a corrected prediction does not slide along the manifold.
+3. **Tracing, d = 1** (pseudo-arclength continuation; Allgower & Georg, *Introduction to
+   Numerical Continuation Methods*, ch. 2): predictor ``q + h t`` along the unit null
+   vector ``t`` of ``J_b`` (its sign kept continuous, ``t_k · t_{k−1} > 0``), corrector back
+   onto the pose, step ``h`` adapted so consecutive samples are at most ``spacing`` apart
+   and the tangent turns by less than 45°. A branch ends when it returns within ``spacing``
+   of its seed heading the same way (a closed loop), or at a joint limit: the last sample
+   is then placed *on* the limit by correcting with the offending joint frozen there, and
+   the other direction is traced from the seed.
+4. **Covering, d = 2**: breadth-first continuation over the tangent plane (in the spirit of
+   Henderson's multiple-parameter continuation, 2002): from each sample, predictions at
+   distance ``h = 0.8 · spacing`` in six directions 60° apart of ``ker J_b``, corrected, kept
+   unless a sample lies within ``0.45 h``; a KD-tree of the samples (periodic in unlimited
+   hinges) stops re-covering. This leaves every point of the patch within about
+   ``0.8 · spacing`` of a sample, with neighbours at most ``spacing`` apart.
+5. **Components.** A seed farther than ``spacing`` from every sample so far starts a new
+   component; one closer is already covered.
+
+Distances are Euclidean in joint space (rad and m), angles of unlimited hinges compared
+modulo 2π. Frames and twists follow :mod:`redik.conventions`.
+"""
+
+from __future__ import annotations
+
+import collections
+import dataclasses
+import json
+import math
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import dijkstra
+from scipy.spatial import cKDTree
+
+from ..exceptions import InvalidInput
+from ..lie import as_pose, inverse, pose_errors, se3_log, wrap_angle
+from .criteria import Criterion, default_criteria, evaluate_criteria, periodic_joints
+
+if TYPE_CHECKING:
+    from ..robot import Frame, Robot
+
+POSITION_TOLERANCE = 1e-9
+"""Largest ``‖p_d − p‖`` (m) of a sample after correction."""
+
+ROTATION_TOLERANCE = 1e-8
+"""Largest ``angle(Rᵀ R_d)`` (rad) of a sample after correction."""
+
+DEFAULT_SPACING = {0: 0.05, 1: 0.05, 2: 0.3}
+"""Default ``spacing`` (joint-space distance between neighbouring samples) by dimension."""
+
+MAX_DIMENSION = 2
+
+_COVER_STEP = 0.7  # prediction distance of the surface covering, × spacing
+_COVER_EXCLUSION = 0.75  # a prediction this close (× step) to a sample is already covered
+_MIN_TANGENT_COSINE = math.cos(math.radians(45.0))
+_MAX_STRIDE = 0.25  # rad: longest tracing step far outside the joint limits
+_DISTINCT_SOLUTIONS = 1e-4  # isolated solutions closer than this (rad) are the same one
+
+
+# --------------------------------------------------------------------------------------
+# The result
+
+
+@dataclasses.dataclass
+class SelfMotion:
+    """Samples of the self-motion manifold of one pose, as returned by :func:`explore_self_motion`.
+
+    Attributes:
+        T_target: The pose (4 × 4) every sample reaches.
+        frame: Name of the frame placed at ``T_target``.
+        joint_names: The robot's chain joints (columns of ``samples``).
+        dimension: 0 (isolated solutions), 1 (curves) or 2 (surfaces): ``max(n − 6, 0)``.
+        spacing: Largest joint-space distance between neighbouring samples.
+        samples: N × n configurations. A 1-D component's rows are in order along the curve.
+        component: Component label (0, 1, …) of each sample.
+        position_error: ``‖p_d − p‖`` (m) of each sample.
+        rotation_error: ``angle(Rᵀ R_d)`` (rad) of each sample.
+        criteria: Per-sample values of each criterion, by name (see
+            :mod:`redik.redundancy.criteria`).
+        maximize: For each criterion, True when larger is better.
+        closed: Per component: True for a closed loop (1-D only).
+        ends: Per component, why tracing stopped at each end: ``"closed"``,
+            ``"joint_limit"``, ``"max_samples"`` or ``"stalled"`` (empty for 0-D and 2-D).
+        seeds: The IK solutions the exploration started from.
+        periodic: Mask of the joints whose angles are compared modulo 2π.
+        elapsed: Wall time of the exploration (s).
+        starts: Random starts used for seeding.
+    """
+
+    T_target: np.ndarray
+    frame: str
+    joint_names: tuple[str, ...]
+    dimension: int
+    spacing: float
+    samples: np.ndarray
+    component: np.ndarray
+    position_error: np.ndarray
+    rotation_error: np.ndarray
+    criteria: dict[str, np.ndarray]
+    maximize: dict[str, bool]
+    closed: np.ndarray
+    ends: list[tuple[str, ...]]
+    seeds: np.ndarray
+    periodic: np.ndarray
+    elapsed: float
+    starts: int
+
+    @property
+    def n_components(self) -> int:
+        """Number of connected components found."""
+        return len(self.closed)
+
+    def __len__(self) -> int:
+        return len(self.samples)
+
+    def component_samples(self, index: int) -> np.ndarray:
+        """The samples of one component (in curve order for 1-D)."""
+        return self.samples[self.component == index]
+
+    def best_index(self, criterion: str) -> int:
+        """Index of the best sample by ``criterion`` (e.g. ``"manipulability"``)."""
+        if criterion not in self.criteria:
+            raise InvalidInput(
+                f"unknown criterion {criterion!r}; this exploration scored {list(self.criteria)}"
+            )
+        if len(self.samples) == 0:
+            raise InvalidInput("the exploration found no sample")
+        values = self.criteria[criterion]
+        return int(np.argmax(values) if self.maximize[criterion] else np.argmin(values))
+
+    def best(self, criterion: str) -> np.ndarray:
+        """The best sample by ``criterion``: the (sampled) optimum over the whole manifold."""
+        return self.samples[self.best_index(criterion)].copy()
+
+    def distance_to(self, q: np.ndarray) -> np.ndarray:
+        """Joint-space distance from each row of ``q`` (… × n) to the nearest sample."""
+        q = np.atleast_2d(np.asarray(q, dtype=float))
+        index = _SampleIndex(self.periodic, self.samples.shape[1])
+        index.extend(self.samples)
+        return np.array([index.nearest(x) for x in q])
+
+    def walk(self, component: int = 0) -> np.ndarray:
+        """Indices of a path through one component, consecutive samples ≤ ``spacing`` apart.
+
+        A 1-D component is walked in curve order (once around a loop). A 2-D patch is crossed
+        along the shortest path in the neighbour graph between two samples far apart (a
+        double sweep of Dijkstra's algorithm); 0-D components are single points.
+        """
+        members = np.flatnonzero(self.component == component)
+        if self.dimension < 2 or len(members) < 3:
+            return members
+        points = self.samples[members]
+        index = _SampleIndex(self.periodic, points.shape[1])
+        index.extend(points)
+        pairs = index.pairs(1.01 * self.spacing)
+        lengths = np.array([_distance(points[i], points[j], self.periodic) for i, j in pairs])
+        graph = coo_matrix(
+            (lengths, (pairs[:, 0], pairs[:, 1])), shape=(len(points), len(points))
+        ).tocsr()
+        start = 0
+        for _ in range(2):
+            far, predecessors = dijkstra(
+                graph, directed=False, indices=start, return_predecessors=True
+            )
+            reachable = np.isfinite(far)
+            end = int(np.argmax(np.where(reachable, far, -1.0)))
+            start, end = end, start
+        far, predecessors = dijkstra(graph, directed=False, indices=start, return_predecessors=True)
+        path = [end]
+        while path[-1] != start and predecessors[path[-1]] >= 0:
+            path.append(int(predecessors[path[-1]]))
+        return members[np.array(path[::-1])]
+
+    def summary(self) -> dict:
+        """A JSON-serialisable summary: sizes, errors, components and the best samples."""
+        best = {}
+        for name, values in self.criteria.items():
+            if len(values):
+                k = self.best_index(name)
+                best[name] = {"value": float(values[k]), "q": self.samples[k].tolist()}
+        return {
+            "frame": self.frame,
+            "joint_names": list(self.joint_names),
+            "T_target": self.T_target.tolist(),
+            "dimension": self.dimension,
+            "spacing": self.spacing,
+            "samples": len(self.samples),
+            "components": [
+                {
+                    "samples": int(np.sum(self.component == k)),
+                    "closed": bool(self.closed[k]),
+                    "ends": list(self.ends[k]),
+                }
+                for k in range(self.n_components)
+            ],
+            "max_position_error": float(np.max(self.position_error, initial=0.0)),
+            "max_rotation_error": float(np.max(self.rotation_error, initial=0.0)),
+            "best": best,
+            "seeds": len(self.seeds),
+            "starts": self.starts,
+            "elapsed_s": self.elapsed,
+        }
+
+    def save(self, path: str | Path) -> None:
+        """Write the samples, labels, errors and criteria to an ``.npz`` file."""
+        arrays = {f"criterion_{name}": values for name, values in self.criteria.items()}
+        np.savez_compressed(
+            path,
+            samples=self.samples,
+            component=self.component,
+            position_error=self.position_error,
+            rotation_error=self.rotation_error,
+            T_target=self.T_target,
+            closed=self.closed,
+            seeds=self.seeds,
+            joint_names=np.array(self.joint_names),
+            summary=np.array(json.dumps(self.summary())),
+            **arrays,
+        )
+
+
+# --------------------------------------------------------------------------------------
+# Exploration
+
+
+def explore_self_motion(
+    robot: Robot,
+    T_target: np.ndarray,
+    frame: str | Frame | None = None,
+    spacing: float | None = None,
+    seed: int | np.random.Generator | None = None,
+    *,
+    n_starts: int = 64,
+    initial: np.ndarray | None = None,
+    max_samples: int = 50_000,
+    nominal: np.ndarray | None = None,
+    criteria: tuple[Criterion, ...] | None = None,
+) -> SelfMotion:
+    """Sample every configuration of ``robot`` that places ``frame`` at ``T_target``.
+
+    See the module docstring for the method.
+
+    Args:
+        robot: The arm; its joint limits bound the manifold.
+        T_target: The pose (4 × 4, world frame).
+        frame: Site or body to place; default the end-effector.
+        spacing: Largest joint-space distance between neighbouring samples; default
+            :data:`DEFAULT_SPACING` for the dimension.
+        seed: Seed (or generator) of the random starts.
+        n_starts: Random starts of the multi-start IK that seeds the components.
+        initial: Extra seed configurations (k × n), e.g. the one ``T_target`` came from.
+        max_samples: Budget of samples over all components.
+        nominal: Posture of the ``posture_distance`` criterion; default ``robot.home``.
+        criteria: Criteria to score samples by; default
+            :func:`redik.redundancy.criteria.default_criteria`.
+
+    Returns:
+        A :class:`SelfMotion` (possibly empty when no start reached the pose).
+
+    Raises:
+        InvalidPose: ``T_target`` is not a rigid transform.
+        InvalidInput: the manifold would have more than two dimensions, or a bad argument.
+    """
+    started = time.perf_counter()
+    T_target = as_pose(T_target, "T_target")
+    resolved = robot.frame(frame)
+    dimension = max(robot.dof - 6, 0)
+    if dimension > MAX_DIMENSION:
+        raise InvalidInput(
+            f"{robot.name} has {robot.dof} joints: its self-motion manifolds have dimension "
+            f"{dimension}; explore_self_motion samples dimensions up to {MAX_DIMENSION}"
+        )
+    spacing = DEFAULT_SPACING[dimension] if spacing is None else float(spacing)
+    if not (math.isfinite(spacing) and spacing > 0):
+        raise InvalidInput(f"spacing must be a positive number, got {spacing!r}")
+    if not (isinstance(n_starts, int) and n_starts >= 0):
+        raise InvalidInput(f"n_starts must be a non-negative integer, got {n_starts!r}")
+    extra = np.empty((0, robot.dof))
+    if initial is not None:
+        extra = np.atleast_2d(np.asarray(initial, dtype=float))
+        if extra.shape[1:] != (robot.dof,) or not np.all(np.isfinite(extra)):
+            raise InvalidInput(f"initial must be finite k × {robot.dof} configurations")
+    criteria = default_criteria(robot, nominal) if criteria is None else tuple(criteria)
+
+    corrector = Corrector(robot, T_target, resolved)
+    rng = np.random.default_rng(seed)
+    seeds = _seed_solutions(corrector, extra, n_starts, rng)
+
+    explorer = _Explorer(corrector, dimension, spacing, max_samples)
+    for q in seeds:
+        explorer.add_component(q)
+
+    samples = (
+        np.array([q for part in explorer.parts for q in part])
+        if explorer.parts
+        else np.empty((0, robot.dof))
+    )
+    labels = np.concatenate(
+        [np.full(len(part), k, dtype=int) for k, part in enumerate(explorer.parts)]
+        or [np.empty(0, dtype=int)]
+    )
+    errors = np.array([corrector.pose_errors(q) for q in samples]).reshape(-1, 2)
+    return SelfMotion(
+        T_target=T_target.copy(),
+        frame=resolved.name,
+        joint_names=tuple(robot.joint_names),
+        dimension=dimension,
+        spacing=spacing,
+        samples=samples,
+        component=labels,
+        position_error=errors[:, 0],
+        rotation_error=errors[:, 1],
+        criteria=evaluate_criteria(robot, samples, criteria, resolved),
+        maximize={c.name: c.maximize for c in criteria},
+        closed=np.array(explorer.closed, dtype=bool),
+        ends=explorer.ends,
+        seeds=np.array(seeds).reshape(-1, robot.dof),
+        periodic=corrector.periodic.copy(),
+        elapsed=time.perf_counter() - started,
+        starts=n_starts,
+    )
+
+
+# --------------------------------------------------------------------------------------
+# Corrector: Gauss–Newton onto the pose
+
+
+class Corrector:
+    """Projects configurations onto a pose: Gauss–Newton with ``J_b⁺`` on ``log(T⁻¹ T_d)``.
+
+    Works on preallocated buffers (one :meth:`Robot.kinematics` per iteration). Also gives
+    the tangent space ``ker J_b`` at a point, the joint-space metric and the limit checks the
+    tracer needs.
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        T_target: np.ndarray,
+        frame: Frame,
+        position_tolerance: float = POSITION_TOLERANCE,
+        rotation_tolerance: float = ROTATION_TOLERANCE,
+    ):
+        self.robot = robot
+        self.frame = frame
+        self.T_target = T_target
+        self.position_tolerance = position_tolerance
+        self.rotation_tolerance = rotation_tolerance
+        self.periodic = periodic_joints(robot)
+        self.lower = np.asarray(robot.lower)
+        self.upper = np.asarray(robot.upper)
+        self._T = np.eye(4)
+        self._J = np.empty((6, robot.dof))
+        self._J_body = np.empty((6, robot.dof))
+        self.iterations = 0
+
+    def _error(self, q: np.ndarray) -> tuple[np.ndarray, float, float]:
+        """Body error twist, position error and rotation angle at ``q``; fills ``_J_body``."""
+        self.robot.kinematics(q, self.frame, self._T, self._J)
+        R = self._T[:3, :3]
+        np.matmul(R.T, self._J[:3], out=self._J_body[:3])
+        np.matmul(R.T, self._J[3:], out=self._J_body[3:])
+        xi = se3_log(inverse(self._T) @ self.T_target)
+        position_error = math.dist(self._T[:3, 3], self.T_target[:3, 3])
+        return xi, position_error, float(np.linalg.norm(xi[3:]))
+
+    def pose_errors(self, q: np.ndarray) -> tuple[float, float]:
+        """``(‖p_d − p‖, angle(Rᵀ R_d))`` at ``q`` (:func:`redik.lie.pose_errors`)."""
+        self.robot.kinematics(q, self.frame, self._T)
+        return pose_errors(self._T, self.T_target)
+
+    def correct(
+        self,
+        q: np.ndarray,
+        free: np.ndarray | None = None,
+        max_iterations: int = 12,
+        max_step: float = math.inf,
+    ) -> tuple[np.ndarray, bool]:
+        """Gauss–Newton from ``q`` onto the pose, moving only the ``free`` joints.
+
+        Iterates ``q ← q + J_b⁺ ξ_b`` (the step clipped to ``max_step``) until the errors are
+        a hundredth of the tolerances; returns ``(q, converged)`` where converged means within
+        the tolerances.
+        """
+        q = np.array(q, dtype=float)
+        for _ in range(max_iterations):
+            xi, position_error, rotation_error = self._error(q)
+            if (
+                position_error <= 0.01 * self.position_tolerance
+                and rotation_error <= 0.01 * self.rotation_tolerance
+            ):
+                return q, True  # the buffers hold the kinematics at the returned q
+            self.iterations += 1
+            J = self._J_body if free is None else self._J_body[:, free]
+            step = _min_norm_solve(J, xi)
+            norm = float(np.linalg.norm(step))
+            if not math.isfinite(norm):
+                return q, False
+            if norm > max_step:
+                step *= max_step / norm
+            if free is None:
+                q += step
+            else:
+                q[free] += step
+        _, position_error, rotation_error = self._error(q)
+        converged = (
+            position_error <= self.position_tolerance and rotation_error <= self.rotation_tolerance
+        )
+        return q, converged
+
+    def tangent_basis(self, q: np.ndarray | None, dimension: int) -> np.ndarray:
+        """Orthonormal basis (n × dimension) of ``ker J_b(q)``: the manifold's tangent space.
+
+        ``q = None`` reuses the Jacobian of the last point evaluated (the one :meth:`correct`
+        just returned).
+        """
+        if q is not None:
+            self._error(q)
+        _, _, Vt = np.linalg.svd(self._J_body, full_matrices=True)
+        return Vt[self.robot.dof - dimension :].T
+
+    def within_limits(self, q: np.ndarray) -> bool:
+        return bool(np.all(q >= self.lower) and np.all(q <= self.upper))
+
+    def limit_violation(self, q: np.ndarray) -> float:
+        """How far ``q`` is outside its limits, hinge angles taken modulo 2π: the largest
+        distance of one joint to its range. Every configuration closer than this (on the
+        torus of hinge angles) is outside the limits too."""
+        below = self.lower - q
+        above = q - self.upper
+        distance = np.maximum(np.maximum(below, above), 0.0)
+        hinges = self.robot.revolute & np.isfinite(self.lower) & np.isfinite(self.upper)
+        width = self.upper[hinges] - self.lower[hinges]
+        offset = np.mod(q[hinges] - self.lower[hinges], 2 * np.pi)  # angle past the lower limit
+        outside = np.where(offset > width, np.minimum(offset - width, 2 * np.pi - offset), 0.0)
+        distance[hinges] = np.where(width >= 2 * np.pi, 0.0, outside)
+        return float(np.max(distance, initial=0.0))
+
+    def into_limits(self, q: np.ndarray) -> np.ndarray | None:
+        """``q`` with hinges shifted by multiples of 2π into their ranges, or None if impossible."""
+        shifted = q.copy()
+        periodic_ok = self.robot.revolute
+        turns = np.where(
+            periodic_ok & (q < self.lower),
+            np.ceil((self.lower - q) / (2 * np.pi)),
+            np.where(periodic_ok & (q > self.upper), -np.ceil((q - self.upper) / (2 * np.pi)), 0.0),
+        )
+        shifted += 2 * np.pi * np.nan_to_num(turns)
+        shifted[self.periodic] = wrap_angle(shifted[self.periodic])
+        return shifted if self.within_limits(shifted) else None
+
+    def limit_point(self, q_inside: np.ndarray, q_outside: np.ndarray) -> np.ndarray | None:
+        """The point of the manifold on the joint limit between two nearby points.
+
+        The joints ``q_outside`` violates are frozen at their limits, starting from the
+        straight-line crossing of the boundary, and the pose is corrected with the others.
+        Returns None when that fails or lands outside another limit.
+        """
+        violated = (q_outside < self.lower) | (q_outside > self.upper)
+        delta = q_outside - q_inside
+        bound = np.where(q_outside < self.lower, self.lower, self.upper)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            fractions = (bound[violated] - q_inside[violated]) / delta[violated]
+        fraction = float(np.clip(np.min(fractions, initial=1.0), 0.0, 1.0))
+        start = np.clip(q_inside + fraction * delta, self.lower, self.upper)
+        start[violated] = bound[violated]
+        q, converged = self.correct(start, free=~violated)
+        if converged and self.within_limits(q):
+            return q
+        return None
+
+
+def _min_norm_solve(J: np.ndarray, xi: np.ndarray) -> np.ndarray:
+    """``J⁺ ξ``: ``Jᵀ(JJᵀ)⁻¹ξ`` for a wide ``J`` of full row rank, else least squares."""
+    if J.shape[1] >= J.shape[0]:
+        try:
+            return J.T @ np.linalg.solve(J @ J.T, xi)
+        except np.linalg.LinAlgError:
+            pass
+    return np.linalg.lstsq(J, xi, rcond=1e-10)[0]
+
+
+# --------------------------------------------------------------------------------------
+# Seeds
+
+
+def _seed_solutions(
+    corrector: Corrector, extra: np.ndarray, n_starts: int, rng: np.random.Generator
+) -> list[np.ndarray]:
+    """IK solutions of the pose: from ``extra`` configurations, then ``n_starts`` random ones.
+
+    Each start is solved by :func:`redik.solve_pose` (damped least squares) *without* the
+    joint limits — a curve is traced through the limits, so a solution outside them still
+    leads to the arcs inside — and polished by the corrector to the sample tolerances.
+    """
+    from ..pose_ik import solve_pose
+
+    robot = corrector.robot
+    seeds = []
+    for q0 in [*extra, *robot.random_q(rng, size=n_starts)]:
+        result = solve_pose(
+            robot, corrector.T_target, q0, restarts=0, respect_limits=False,
+            frame=corrector.frame, pos_tol=1e-6, rot_tol=1e-5,
+        )  # fmt: skip
+        if not result.success:
+            continue
+        q, converged = corrector.correct(result.q)
+        if converged:
+            seeds.append(q)
+    return seeds
+
+
+# --------------------------------------------------------------------------------------
+# Tracing and covering
+
+
+class _Explorer:
+    """Grows components from seeds: isolated points, traced curves or covered surfaces."""
+
+    def __init__(self, corrector: Corrector, dimension: int, spacing: float, max_samples: int):
+        self.corrector = corrector
+        self.dimension = dimension
+        self.spacing = spacing
+        self.max_samples = max_samples
+        self.periodic = corrector.periodic
+        self.index = _SampleIndex(self.periodic, corrector.robot.dof)
+        # Curves are traced through the joint limits, on the torus of all hinge angles.
+        self.torus = np.asarray(corrector.robot.revolute, dtype=bool)
+        self.traced = _SampleIndex(self.torus, corrector.robot.dof)
+        self.parts: list[list[np.ndarray]] = []
+        self.closed: list[bool] = []
+        self.ends: list[tuple[str, ...]] = []
+
+    @property
+    def budget(self) -> int:
+        return self.max_samples - len(self.index) - len(self.traced)
+
+    def distance(self, a: np.ndarray, b: np.ndarray) -> float:
+        return _distance(a, b, self.periodic)
+
+    def add_component(self, seed: np.ndarray) -> None:
+        """Grow the component through ``seed`` (an IK solution, maybe outside the limits)."""
+        if self.budget <= 0:
+            return
+        if self.dimension == 1:
+            if not self.traced.within(seed, self._stride(seed)):
+                self._add_curve(seed)
+            return
+        q = self.corrector.into_limits(seed)
+        if q is None:
+            return
+        if self.dimension == 0:
+            if not self.index.within(q, _DISTINCT_SOLUTIONS):
+                self._append(q[None], closed=False, ends=())
+        elif not self.index.within(q, self.spacing):
+            self._cover_surface(q)
+
+    def _append(self, part: np.ndarray | list[np.ndarray], closed: bool, ends: tuple) -> None:
+        if self.dimension != 2:  # the covering indexes its samples as it goes
+            self.index.extend(part)
+        self.parts.append(list(part))
+        self.closed.append(closed)
+        self.ends.append(ends)
+
+    # 1-D ------------------------------------------------------------------------------
+
+    def _add_curve(self, seed: np.ndarray) -> None:
+        """Trace the whole curve through ``seed`` ignoring the limits, then keep the arcs
+        inside them (each a component, its ends placed on the limits).
+
+        Tracing through the limits finds every arc of a loop from one seed anywhere on it,
+        so seeds outside the limits (most of them, for a Panda) still count.
+        """
+        curve, closed, ends = self._trace_curve(seed)
+        self.traced.extend(curve)
+        curve = self._refine_near_limits(curve, closed)
+        shifted = [self.corrector.into_limits(q) for q in curve]
+        valid = np.array([q is not None for q in shifted])
+        if valid.all():
+            self._append(shifted, closed, ends)
+            return
+        n = len(curve)
+        # Walk a loop from just after an invalid sample, so that no arc wraps around the end.
+        first = int(np.flatnonzero(~valid)[0]) + 1 if closed else 0
+        order = [(first + k) % n for k in range(n)]
+        runs: list[list[int]] = []
+        for position, k in enumerate(order):
+            if valid[k]:
+                if position == 0 or not valid[order[position - 1]]:
+                    runs.append([])
+                runs[-1].append(position)
+        for run in runs:
+            before = order[run[0] - 1] if run[0] > 0 else (order[-1] if closed else None)
+            after = order[run[-1] + 1] if run[-1] + 1 < n else (order[0] if closed else None)
+            self._append_arc(curve, shifted, [order[p] for p in run], before, after, ends)
+
+    def _refine_near_limits(self, curve: list[np.ndarray], closed: bool) -> list[np.ndarray]:
+        """Insert points between consecutive samples outside the limits wherever the curve
+        between them may dip inside: an arc shorter than a step would otherwise be missed.
+
+        The limit violation changes by at most the distance travelled, so the curve between
+        samples ``a`` and ``b`` (length ≈ ``‖b − a‖``) stays outside when
+        ``violation(a) + violation(b) > ‖b − a‖``; otherwise the pair is bisected.
+        """
+        violation = self.corrector.limit_violation
+        refined: list[np.ndarray] = []
+        pairs = len(curve) if closed else len(curve) - 1
+        for k in range(len(curve)):
+            refined.append(curve[k])
+            if k < pairs:
+                refined.extend(self._bisect(curve[k], curve[(k + 1) % len(curve)], violation, 0))
+        return refined
+
+    def _bisect(self, a: np.ndarray, b: np.ndarray, violation, depth: int) -> list[np.ndarray]:
+        va, vb = violation(a), violation(b)
+        delta = b - a
+        delta[self.torus] = wrap_angle(delta[self.torus])
+        if va == 0.0 or vb == 0.0 or va + vb > np.linalg.norm(delta) or depth >= 10:
+            return []
+        middle, converged = self.corrector.correct(a + 0.5 * delta)
+        if not converged:
+            return []
+        if violation(middle) == 0.0:
+            return [middle]
+        return [
+            *self._bisect(a, middle, violation, depth + 1),
+            middle,
+            *self._bisect(middle, b, violation, depth + 1),
+        ]
+
+    def _append_arc(
+        self,
+        curve: list[np.ndarray],
+        shifted: list[np.ndarray | None],
+        run: list[int],
+        before: int | None,
+        after: int | None,
+        ends: tuple[str, ...],
+    ) -> None:
+        """One arc inside the limits, extended onto the limit at each cut end."""
+        arc = [shifted[k] for k in run]
+        end_reasons = []
+        for side, outside, inside in ((0, before, run[0]), (1, after, run[-1])):
+            if outside is None:
+                end_reasons.append(ends[side] if len(ends) == 2 else ends[0])
+                continue
+            end_reasons.append("joint_limit")
+            q_in = shifted[inside]
+            q_out = curve[outside] + (q_in - curve[inside])  # the same 2π shifts
+            q_end = self.corrector.limit_point(q_in, q_out)
+            if q_end is not None and self.distance(q_in, q_end) <= self.spacing:
+                if side == 0:
+                    arc.insert(0, q_end)
+                else:
+                    arc.append(q_end)
+        self._append(arc, closed=False, ends=tuple(end_reasons))
+
+    def _trace_curve(self, seed: np.ndarray) -> tuple[list[np.ndarray], bool, tuple[str, ...]]:
+        tangent = self.corrector.tangent_basis(seed, 1)[:, 0]
+        forward, end = self._trace_branch(seed, tangent, self.budget - 1)
+        if end == "closed":
+            return [seed, *forward], True, ("closed",)
+        backward, other_end = self._trace_branch(seed, -tangent, self.budget - 1 - len(forward))
+        return [*backward[::-1], seed, *forward], False, (other_end, end)
+
+    def _stride(self, q: np.ndarray) -> float:
+        """Largest step allowed from ``q``: ``spacing`` near or inside the limits, longer
+        far outside them, where no sample is kept — a step shorter than the violation
+        cannot enter the limits unseen."""
+        return max(self.spacing, min(_MAX_STRIDE, 0.9 * self.corrector.limit_violation(q)))
+
+    def _trace_branch(
+        self, seed: np.ndarray, tangent: np.ndarray, budget: int
+    ) -> tuple[list[np.ndarray], str]:
+        """Predictor–corrector steps from ``seed`` along ``tangent`` until the curve returns to
+        the seed or the budget runs out (distances on the torus of hinge angles)."""
+        corrector, spacing = self.corrector, self.spacing
+        points: list[np.ndarray] = []
+        q, t = seed, tangent
+        stride = self._stride(q)
+        h = 0.9 * stride
+        min_step = 1e-4 * spacing
+        # The loop closes when the curve, having left the seed's neighbourhood, comes back.
+        neighbourhood = stride
+        departed = False
+        while len(points) < budget:
+            if h < min_step:
+                return points, "stalled"
+            q_new, converged = corrector.correct(q + h * t)
+            step = _distance(q, q_new, self.torus) if converged else math.inf
+            if step > stride or step < 0.25 * h:
+                h *= 0.5  # the corrector jumped or folded back
+                continue
+            t_new = corrector.tangent_basis(None, 1)[:, 0]
+            if t_new @ t < 0.0:
+                t_new = -t_new
+            if t_new @ t < _MIN_TANGENT_COSINE:
+                h *= 0.5  # too sharp a turn for this step
+                continue
+            closing = _distance(q_new, seed, self.torus)
+            departed = departed or closing > 2.0 * neighbourhood
+            if departed and closing <= max(stride, neighbourhood) and t_new @ tangent > 0.0:
+                if closing > 0.25 * h:
+                    points.append(q_new)
+                return points, "closed"
+            points.append(q_new)
+            q, t = q_new, t_new
+            stride = self._stride(q)
+            h = min(stride, h * min(2.0, max(0.5, 0.9 * stride / step)))
+        return points, "max_samples"
+
+    # 2-D ------------------------------------------------------------------------------
+
+    def _cover_surface(self, seed: np.ndarray) -> None:
+        corrector = self.corrector
+        step = _COVER_STEP * self.spacing
+        exclusion = _COVER_EXCLUSION * step
+        angles = np.arange(6) * (np.pi / 3.0)
+        directions = np.stack([np.cos(angles), np.sin(angles)])  # 2 × 6, in the tangent plane
+        part = [seed]
+        self.index.add(seed)
+        queue = collections.deque([seed])
+        while queue and self.budget > 0:
+            q = queue.popleft()
+            basis = corrector.tangent_basis(q, 2)
+            for prediction in (q[:, None] + step * (basis @ directions)).T:
+                if self.index.within(prediction, exclusion):
+                    continue
+                q_new, converged = corrector.correct(prediction)
+                if not converged:
+                    continue
+                if not corrector.within_limits(q_new):
+                    q_new = corrector.limit_point(q, q_new)
+                    if q_new is None:
+                        continue
+                if self.distance(q, q_new) > self.spacing or self.index.within(q_new, exclusion):
+                    continue
+                self.index.add(q_new)
+                part.append(q_new)
+                queue.append(q_new)
+                if self.budget <= 0:
+                    break
+        self._append(part, closed=False, ends=())
+
+
+# --------------------------------------------------------------------------------------
+# Joint-space metric and nearest-sample index
+
+
+def _distance(a: np.ndarray, b: np.ndarray, periodic: np.ndarray) -> float:
+    """``‖b − a‖`` with the differences of ``periodic`` joints wrapped to (−π, π]."""
+    delta = b - a
+    if np.any(periodic):
+        delta[periodic] = wrap_angle(delta[periodic])
+    return float(np.linalg.norm(delta))
+
+
+class _SampleIndex:
+    """Nearest-sample queries over a growing set: a KD-tree rebuilt as the set doubles plus a
+    brute-force tail. Periodic joints use the tree's toroidal metric (``boxsize``)."""
+
+    _BOX = 1e4  # box side of non-periodic coordinates: far larger than any joint range
+
+    def __init__(self, periodic: np.ndarray, dof: int):
+        self.periodic = np.asarray(periodic, dtype=bool)
+        self._wrapped = bool(np.any(self.periodic))
+        self._points = np.empty((256, dof))
+        self._count = 0
+        self._tree: cKDTree | None = None
+        self._tree_count = 0
+
+    def __len__(self) -> int:
+        return self._count
+
+    def _embed(self, q: np.ndarray) -> np.ndarray:
+        if not self._wrapped:
+            return q
+        x = np.array(q, dtype=float) + 0.5 * self._BOX
+        x[..., self.periodic] = np.mod(q[..., self.periodic] + np.pi, 2 * np.pi)
+        return x
+
+    def add(self, q: np.ndarray) -> None:
+        if self._count == len(self._points):
+            self._points = np.concatenate([self._points, np.empty_like(self._points)])
+        self._points[self._count] = self._embed(q)
+        self._count += 1
+        if self._count - self._tree_count > max(64, self._tree_count // 8):
+            self._rebuild()
+
+    def extend(self, qs) -> None:
+        for q in qs:
+            self.add(q)
+
+    def _rebuild(self) -> None:
+        boxsize = None
+        if self._wrapped:
+            boxsize = np.where(self.periodic, 2 * np.pi, self._BOX)
+        self._tree = cKDTree(self._points[: self._count].copy(), boxsize=boxsize)
+        self._tree_count = self._count
+
+    def _tail_distances(self, x: np.ndarray) -> np.ndarray:
+        delta = self._points[self._tree_count : self._count] - x
+        if self._wrapped:
+            delta[:, self.periodic] = wrap_angle(delta[:, self.periodic])
+        return np.sqrt(np.einsum("ij,ij->i", delta, delta))
+
+    def nearest(self, q: np.ndarray) -> float:
+        """Distance to the nearest sample (inf when empty)."""
+        x = self._embed(q)
+        best = math.inf
+        if self._tree is not None:
+            best = float(self._tree.query(x, k=1)[0])
+        tail = self._tail_distances(x)
+        return min(best, float(np.min(tail))) if tail.size else best
+
+    def within(self, q: np.ndarray, radius: float) -> bool:
+        """True when a sample lies within ``radius`` of ``q``."""
+        x = self._embed(q)
+        tail = self._tail_distances(x)
+        if tail.size and np.min(tail) <= radius:
+            return True
+        return self._tree is not None and bool(
+            self._tree.query(x, k=1, distance_upper_bound=radius)[0] <= radius
+        )
+
+    def pairs(self, radius: float) -> np.ndarray:
+        """All index pairs ``(i, j)``, ``i < j``, closer than ``radius`` (an m × 2 array)."""
+        self._rebuild()
+        assert self._tree is not None
+        return self._tree.query_pairs(radius, output_type="ndarray").reshape(-1, 2)
