@@ -50,6 +50,8 @@ CONVERGED, STALLED, MAX_ITERATIONS, INVALID = range(len(BATCH_STATUSES))
 METHODS = ("dls",)
 """Methods of :func:`solve_batch`: damped least squares (Levenberg–Marquardt)."""
 
+_SMALL_BATCH = 256
+
 CHUNK_SIZE_RANGE = (1024, 8192)
 """Bounds of the automatic chunk size: large enough to vectorise, small enough for the
 cache and to give every worker a share of a 10k batch."""
@@ -256,9 +258,16 @@ def damped_step(J: np.ndarray, e: np.ndarray, damping: np.ndarray) -> np.ndarray
     r"""``Δq = Jᵀ (J Jᵀ + λ I)⁻¹ e`` for every column: ``J`` is ``6 × n × A``, ``e`` ``6 × A``.
 
     The symmetric positive-definite ``6 × 6`` systems are solved by Cholesky ``L Lᵀ``,
-    forward and back substitution, each entry one vector operation over the batch.
+    forward and back substitution, each entry one vector operation over the batch; below
+    ``_SMALL_BATCH`` columns by LAPACK, one system after another.
     """
-    m = J.shape[0]
+    m, _, size = J.shape
+    if size < _SMALL_BATCH:
+        # Few columns: numpy's call overhead dominates, so one LAPACK call per system wins.
+        Jb = J.transpose(2, 0, 1)
+        A = Jb @ Jb.transpose(0, 2, 1)
+        A[:, range(m), range(m)] += damping[:, None]
+        return np.einsum("bik,bi->kb", Jb, np.linalg.solve(A, e.T[..., None])[..., 0])
     L: list[list[np.ndarray]] = [[] for _ in range(m)]
     for j in range(m):
         diagonal = np.einsum("kb,kb->b", J[j], J[j]) + damping
