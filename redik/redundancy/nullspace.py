@@ -309,12 +309,20 @@ def gradient_projection_ik(
             step *= max_step / norm
         q = robot.clip(q + step)
         history.append(q.copy())
+    message = ""
+    if status != "converged":
+        # The budget ran out mid-climb: drop the criterion and settle onto the pose.
+        for _ in range(10):
+            robot.kinematics(q, resolved, T, J)
+            J_body[:3] = T[:3, :3].T @ J[:3]
+            J_body[3:] = T[:3, :3].T @ J[3:]
+            q = robot.clip(q + pseudo_inverse(J_body) @ se3_log(inverse(T) @ T_target))
+        history.append(q.copy())
+        message = "the criterion was still improving when the iteration budget ran out"
     robot.kinematics(q, resolved, T)
     position_error, rotation_error = pose_errors(T, T_target)
-    if status != "converged" and (
-        position_error <= position_tolerance and rotation_error <= rotation_tolerance
-    ):
-        status = "converged"  # the pose is met; the criterion was still creeping
+    if position_error <= position_tolerance and rotation_error <= rotation_tolerance:
+        status = "converged"
     errors.append(float(np.linalg.norm(se3_log(inverse(T) @ T_target))))
     return IKResult(
         q=q,
@@ -327,4 +335,5 @@ def gradient_projection_ik(
         history=np.array(history),
         error_history=np.array(errors[: len(history)]),
         method=f"gradient_projection[{criterion.name}]",
+        message=message,
     )

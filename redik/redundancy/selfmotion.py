@@ -717,7 +717,7 @@ class _Explorer:
             closing = _distance(q_new, seed, self.torus)
             departed = departed or closing > 2.0 * neighbourhood
             if departed and closing <= max(stride, neighbourhood) and t_new @ tangent > 0.0:
-                if closing > 0.25 * h:
+                if closing > 1e-3 * spacing:  # else q_new is the seed again
                     points.append(q_new)
                 return points, "closed"
             points.append(q_new)

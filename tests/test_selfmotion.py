@@ -1,0 +1,193 @@
+"""Self-motion exploration (redik.redundancy.selfmotion) on the bundled 6R, 7R and 8R arms."""
+
+from __future__ import annotations
+
+import json
+
+import mujoco
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+import redik
+from redik.pose_ik import solve_pose
+from redik.redundancy import (
+    Manipulability,
+    SelfMotion,
+    explore_self_motion,
+    gradient_projection_ik,
+)
+from redik.redundancy.selfmotion import POSITION_TOLERANCE, ROTATION_TOLERANCE
+
+
+def without_limits(scene: str) -> redik.Robot:
+    """The bundled scene with every joint range removed: a 7R arm on the torus."""
+    spec = mujoco.MjSpec.from_file(str(redik.scene_path(scene)))
+    for joint in spec.joints:
+        joint.limited = mujoco.mjtLimited.mjLIMITED_FALSE
+    for actuator in spec.actuators:
+        actuator.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
+    return redik.Robot(spec.compile(), name=f"{scene}_unlimited")
+
+
+def assert_every_sample_keeps_the_pose(robot: redik.Robot, motion: SelfMotion) -> None:
+    assert len(motion) > 0
+    assert motion.position_error.max() <= POSITION_TOLERANCE
+    assert motion.rotation_error.max() <= ROTATION_TOLERANCE
+    for q in motion.samples[:: max(1, len(motion) // 50)]:  # recomputed independently
+        position, rotation = redik.lie.pose_errors(robot.fk(q), motion.T_target)
+        assert position <= POSITION_TOLERANCE and rotation <= ROTATION_TOLERANCE
+        assert robot.within_limits(q)
+
+
+@pytest.fixture(scope="module")
+def panda() -> redik.Robot:
+    return redik.load("panda")
+
+
+@pytest.fixture(scope="module")
+def panda_motion(panda) -> SelfMotion:
+    q = panda.random_q(np.random.default_rng(3))
+    return explore_self_motion(panda, panda.fk(q), seed=0, initial=q)
+
+
+def test_unlimited_7r_manifolds_are_closed_loops():
+    robot = without_limits("iiwa14")
+    rng = np.random.default_rng(7)
+    q = robot.random_q(rng)
+    motion = explore_self_motion(robot, robot.fk(q), spacing=0.08, seed=1, n_starts=24)
+    assert motion.dimension == 1
+    assert_every_sample_keeps_the_pose(robot, motion)
+    assert motion.n_components >= 1
+    assert motion.closed.all(), motion.ends
+    for k in range(motion.n_components):
+        loop = motion.component_samples(k)
+        assert len(loop) > 10
+        # Consecutive samples, and the last back to the first, are at most one spacing apart
+        # (hinge angles modulo 2π: the arm has no limits).
+        gaps = redik.lie.wrap_angle(np.diff(np.vstack([loop, loop[:1]]), axis=0))
+        assert np.linalg.norm(gaps, axis=1).max() <= motion.spacing + 1e-12
+    # The configuration the pose came from lies on one of the loops.
+    assert motion.distance_to(q)[0] <= motion.spacing
+
+
+def test_joint_limits_cut_the_loops_into_arcs_ending_on_a_limit(panda, panda_motion):
+    motion = panda_motion
+    assert_every_sample_keeps_the_pose(panda, motion)
+    cut = [k for k in range(motion.n_components) if not motion.closed[k]]
+    assert cut, "a random Panda pose has its self-motion loops cut by the limits"
+    for k in cut:
+        arc = motion.component_samples(k)
+        assert np.linalg.norm(np.diff(arc, axis=0), axis=1).max() <= motion.spacing + 1e-12
+        for side, end in zip((0, -1), motion.ends[k], strict=True):
+            if end == "joint_limit":
+                on_limit = np.minimum(
+                    np.abs(arc[side] - panda.lower), np.abs(arc[side] - panda.upper)
+                )
+                assert on_limit.min() <= 1e-12
+
+
+def test_best_is_at_least_as_good_as_gradient_projection_from_a_sample(panda, panda_motion):
+    motion = panda_motion
+    best = motion.best("manipulability")
+    J = panda.jacobian(best, reference="world")
+    assert np.isclose(
+        Manipulability().value(panda, best, J), motion.criteria["manipulability"].max()
+    )
+    start = motion.samples[len(motion) // 2]
+    local = gradient_projection_ik(panda, motion.T_target, start, Manipulability())
+    assert local.success
+    local_value = Manipulability().value(panda, local.q, panda.jacobian(local.q, reference="world"))
+    # The manifold's best sample beats (or, sampled every 0.05 rad, nearly matches) a local
+    # optimum of the same criterion.
+    assert motion.criteria["manipulability"].max() >= 0.99 * local_value
+    nearest = motion.best("posture_distance")
+    assert motion.criteria["posture_distance"].min() == pytest.approx(
+        np.linalg.norm(nearest - panda.home)
+    )
+
+
+@pytest.mark.parametrize("scene, pose_seed", [("panda", 11), ("iiwa14", 12)])
+def test_independent_ik_solutions_lie_on_the_explored_manifold(scene, pose_seed):
+    robot = redik.load(scene)
+    rng = np.random.default_rng(pose_seed)
+    T = robot.fk(robot.random_q(rng))
+    motion = explore_self_motion(robot, T, seed=pose_seed)
+    solutions = []
+    for q0 in robot.random_q(rng, size=30):
+        result = solve_pose(robot, T, q0, respect_limits=True, seed=rng)
+        if result.success:
+            solutions.append(result.q)
+    assert len(solutions) >= 20
+    distances = motion.distance_to(np.array(solutions))
+    assert np.mean(distances <= motion.spacing) >= 0.95, np.sort(distances)[-5:]
+
+
+def test_dexter8r_manifold_is_two_dimensional():
+    robot = redik.load("dexter8r")
+    T = robot.fk(robot.home)
+    motion = explore_self_motion(
+        robot, T, spacing=0.3, seed=0, n_starts=8, initial=robot.home, max_samples=600
+    )
+    assert motion.dimension == 2
+    assert_every_sample_keeps_the_pose(robot, motion)
+    # Local rank: the 12 nearest neighbours of a sample span a plane, not a line or a volume.
+    tree = cKDTree(motion.samples)
+    ratios = []
+    for q in motion.samples[::10]:
+        _, neighbours = tree.query(q, k=12)
+        patch = motion.samples[neighbours] - motion.samples[neighbours].mean(axis=0)
+        s = np.linalg.svd(patch, compute_uv=False)
+        ratios.append((s[1] / s[0], s[2] / s[1]))
+    ratios = np.median(np.array(ratios), axis=0)
+    assert ratios[0] > 0.3  # a second direction as wide as the first
+    assert ratios[1] < 0.2  # and no third
+    # Neighbours are at most one spacing apart and no closer than the covering's exclusion.
+    distances, _ = tree.query(motion.samples, k=2)
+    assert distances[:, 1].max() <= motion.spacing + 1e-12
+
+
+@pytest.mark.parametrize("scene", ["puma560", "ur5e"])
+def test_a_6r_arm_has_isolated_solutions(scene):
+    robot = redik.load(scene)
+    T = robot.fk(robot.home)
+    motion = explore_self_motion(robot, T, seed=0, n_starts=48, initial=robot.home)
+    assert motion.dimension == 0
+    assert_every_sample_keeps_the_pose(robot, motion)
+    assert 1 <= motion.n_components == len(motion)
+    assert not motion.closed.any()
+    # Distinct solutions, the home configuration among them.
+    gaps = cKDTree(motion.samples).query(motion.samples, k=min(2, len(motion)))[0]
+    if len(motion) > 1:
+        assert gaps[:, 1].min() > 1e-4
+    assert motion.distance_to(robot.home)[0] <= 1e-6
+
+
+def test_summary_and_npz_round_trip(panda_motion, tmp_path):
+    summary = json.loads(json.dumps(panda_motion.summary()))
+    assert summary["samples"] == len(panda_motion)
+    assert summary["dimension"] == 1
+    assert len(summary["components"]) == panda_motion.n_components
+    panda_motion.save(tmp_path / "motion.npz")
+    stored = np.load(tmp_path / "motion.npz")
+    assert np.array_equal(stored["samples"], panda_motion.samples)
+    assert np.array_equal(
+        stored["criterion_manipulability"], panda_motion.criteria["manipulability"]
+    )
+
+
+def test_walk_visits_a_component_in_small_steps(panda_motion):
+    path = panda_motion.walk(0)
+    steps = np.linalg.norm(np.diff(panda_motion.samples[path], axis=0), axis=1)
+    assert len(path) == np.sum(panda_motion.component == 0)
+    assert steps.max() <= panda_motion.spacing + 1e-12
+
+
+def test_bad_inputs_raise(panda, panda_motion):
+    T = panda.fk(panda.home)
+    with pytest.raises(redik.InvalidInput, match="spacing must be a positive number"):
+        explore_self_motion(panda, T, spacing=0.0)
+    with pytest.raises(redik.InvalidPose):
+        explore_self_motion(panda, np.eye(3))
+    with pytest.raises(redik.InvalidInput, match="unknown criterion 'speed'"):
+        panda_motion.best("speed")
