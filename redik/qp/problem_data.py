@@ -55,12 +55,20 @@ class QP:
             f"{self.n_eq} equalities"
         )
 
-    def one_sided(self) -> tuple[np.ndarray | None, np.ndarray | None]:
-        """``(G, h)`` of the rows ``l ≤ C x ≤ u`` as ``G x ≤ h`` (finite sides only)."""
-        if self.C is None:
+    def one_sided(self, bounds: bool = False) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """``(G, h)`` of the rows ``l ≤ C x ≤ u`` (and of the bounds, if ``bounds``) as
+        ``G x ≤ h``, finite sides only."""
+        blocks, sides = [], []
+        if bounds and self.lb is not None:
+            eye = np.eye(self.n)
+            blocks += [eye, -eye]
+            sides += [self.ub, -self.lb]
+        if self.C is not None:
+            blocks += [self.C, -self.C]
+            sides += [self.u, -self.l]
+        if not blocks:
             return None, None
-        G = np.vstack([self.C, -self.C])
-        h = np.concatenate([self.u, -self.l])
+        G, h = np.vstack(blocks), np.concatenate(sides)
         finite = np.isfinite(h)
         if not np.any(finite):
             return None, None
