@@ -191,3 +191,21 @@ def test_bad_inputs_raise(panda, panda_motion):
         explore_self_motion(panda, np.eye(3))
     with pytest.raises(redik.InvalidInput, match="unknown criterion 'speed'"):
         panda_motion.best("speed")
+
+
+def test_explore_cli_writes_samples_summary_and_pictures(tmp_path, monkeypatch):
+    from redik.cli import main
+
+    monkeypatch.setenv("MUJOCO_GL", "egl")
+    out = tmp_path / "panda"
+    args = ["explore", "panda", "--pose", "0.4", "0.1", "0.5", "0", "1", "0", "0", "--starts", "16"]
+    assert main([*args, "--out", str(out), "--frames", "3", "--size", "96", "72", "--no-mp4"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["samples"] > 0 and summary["max_position_error"] <= POSITION_TOLERANCE
+    assert np.allclose(np.array(summary["T_target"])[:3, 3], [0.4, 0.1, 0.5])
+    assert np.load(out / "samples.npz")["samples"].shape == (summary["samples"], 7)
+    for name in ("manifold_component", "manifold_manipulability", "selfmotion"):
+        assert (out / f"{name}.{'gif' if name == 'selfmotion' else 'png'}").stat().st_size > 0
+    assert len(list((out / "frames").glob("*.png"))) == 3
+    with pytest.raises(SystemExit):
+        main(["explore", "panda", "--pose", "1", "2", "3"])
