@@ -39,6 +39,22 @@ _SMALL_ANGLE = 1e-6
 # Validation at the boundary
 
 
+def _rotation_defect(R: np.ndarray) -> tuple[float, float]:
+    """``(max|RᵀR − I|, det R)`` on Python floats: a boundary check should not cost
+    more than the solver iterations it guards (numpy calls on 3×3 arrays do)."""
+    (a, b, c), (d, e, f), (g, h, i) = R.tolist()
+    defect = max(
+        abs(a * a + d * d + g * g - 1.0),
+        abs(b * b + e * e + h * h - 1.0),
+        abs(c * c + f * f + i * i - 1.0),
+        abs(a * b + d * e + g * h),
+        abs(a * c + d * f + g * i),
+        abs(b * c + e * f + h * i),
+    )
+    det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+    return defect, det
+
+
 def as_rotation(R: np.ndarray, name: str = "R", tol: float = ROTATION_TOLERANCE) -> np.ndarray:
     """Return ``R`` as a float (3, 3) array after checking it is a rotation matrix.
 
@@ -48,16 +64,19 @@ def as_rotation(R: np.ndarray, name: str = "R", tol: float = ROTATION_TOLERANCE)
     R = np.asarray(R, dtype=float)
     if R.shape != (3, 3):
         raise InvalidRotation(f"{name} must be a (3, 3) rotation matrix, got shape {R.shape}")
-    if not np.all(np.isfinite(R)):
-        raise InvalidRotation(f"{name} holds NaN or inf: {R.tolist()}")
-    orthogonality = float(np.max(np.abs(R.T @ R - np.eye(3))))
-    det = float(np.linalg.det(R))
-    if orthogonality > tol or abs(det - 1.0) > tol:
-        raise InvalidRotation(
-            f"{name} is not a rotation matrix: max|RᵀR − I| = {orthogonality:.3g}, "
+    _check_rotation_block(R, name, tol, InvalidRotation)
+    return R
+
+
+def _check_rotation_block(R: np.ndarray, name: str, tol: float, error: type) -> None:
+    defect, det = _rotation_defect(R)
+    if not (math.isfinite(defect) and math.isfinite(det)):
+        raise error(f"{name} holds NaN or inf: {R.tolist()}")
+    if defect > tol or abs(det - 1.0) > tol:
+        raise error(
+            f"{name} is not a rotation matrix: max|RᵀR − I| = {defect:.3g}, "
             f"det = {det:.6g} (expected orthonormal with det +1 within {tol:g})"
         )
-    return R
 
 
 def as_pose(T: np.ndarray, name: str = "T", tol: float = ROTATION_TOLERANCE) -> np.ndarray:
@@ -69,14 +88,13 @@ def as_pose(T: np.ndarray, name: str = "T", tol: float = ROTATION_TOLERANCE) -> 
     T = np.asarray(T, dtype=float)
     if T.shape != (4, 4):
         raise InvalidPose(f"{name} must be a (4, 4) homogeneous transform, got shape {T.shape}")
-    if not np.all(np.isfinite(T)):
-        raise InvalidPose(f"{name} holds NaN or inf: {T.tolist()}")
-    if np.max(np.abs(T[3] - (0.0, 0.0, 0.0, 1.0))) > tol:
-        raise InvalidPose(f"{name} must end with the row [0, 0, 0, 1], got {T[3].tolist()}")
-    try:
-        as_rotation(T[:3, :3], name=f"{name}[:3, :3]", tol=tol)
-    except InvalidRotation as error:
-        raise InvalidPose(str(error)) from None
+    rows = T.tolist()
+    if not math.isfinite(sum(rows[0]) + sum(rows[1]) + sum(rows[2]) + sum(rows[3])):
+        raise InvalidPose(f"{name} holds NaN or inf: {rows}")
+    x, y, z, w = rows[3]
+    if max(abs(x), abs(y), abs(z), abs(w - 1.0)) > tol:
+        raise InvalidPose(f"{name} must end with the row [0, 0, 0, 1], got {rows[3]}")
+    _check_rotation_block(T[:3, :3], f"{name}[:3, :3]", tol, InvalidPose)
     return T
 
 
