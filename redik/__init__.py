@@ -3,7 +3,7 @@
 Conventions (frames, twist order, units) are in :mod:`redik.conventions`.
 """
 
-from . import analytic, dh, lie, model_builder, scene_library
+from . import analytic, dh, lie, model_builder, plot, scene_library, trajectory
 from .exceptions import (
     BackendError,
     InfeasibleProblem,
@@ -15,16 +15,21 @@ from .exceptions import (
     RedikError,
     UnknownFrame,
 )
+from .iterative import finite_difference_jacobian, gradient, newton
 from .model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
+from .pose_ik import solve_all, solve_pose
 from .result import STATUSES, IKResult
 from .robot import Frame, Robot
 from .scenes import list_scenes, load, scene_path
+from .trajectory import CartesianPath, CircularPath, JointTrajectory, follow_path
 
 __version__ = "0.1.0"
 
 __all__ = [
     "STATUSES",
     "BackendError",
+    "CartesianPath",
+    "CircularPath",
     "Frame",
     "IKResult",
     "InfeasibleProblem",
@@ -32,6 +37,7 @@ __all__ = [
     "InvalidInput",
     "InvalidPose",
     "InvalidRotation",
+    "JointTrajectory",
     "ModelError",
     "RedikError",
     "Robot",
@@ -39,13 +45,21 @@ __all__ = [
     "analytic",
     "dh",
     "dh_to_mjcf",
+    "finite_difference_jacobian",
+    "follow_path",
+    "gradient",
     "lie",
     "list_scenes",
     "load",
     "model_builder",
+    "newton",
+    "plot",
     "read_dh",
     "read_screws",
     "scene_library",
     "scene_path",
     "screws_to_mjcf",
+    "solve_all",
+    "solve_pose",
+    "trajectory",
 ]
