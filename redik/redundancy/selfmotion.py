@@ -301,7 +301,7 @@ def explore_self_motion(
 
     corrector = Corrector(robot, T_target, resolved)
     rng = np.random.default_rng(seed)
-    seeds = _seed_solutions(corrector, extra, n_starts, rng)
+    seeds = _seed_solutions(corrector, extra, n_starts, rng, inside_limits_too=dimension == 2)
 
     explorer = _Explorer(corrector, dimension, spacing, max_samples)
     for q in seeds:
@@ -502,28 +502,36 @@ def _min_norm_solve(J: np.ndarray, xi: np.ndarray) -> np.ndarray:
 
 
 def _seed_solutions(
-    corrector: Corrector, extra: np.ndarray, n_starts: int, rng: np.random.Generator
+    corrector: Corrector,
+    extra: np.ndarray,
+    n_starts: int,
+    rng: np.random.Generator,
+    inside_limits_too: bool = False,
 ) -> list[np.ndarray]:
     """IK solutions of the pose: from ``extra`` configurations, then ``n_starts`` random ones.
 
     Each start is solved by :func:`redik.solve_pose` (damped least squares) *without* the
     joint limits — a curve is traced through the limits, so a solution outside them still
-    leads to the arcs inside — and polished by the corrector to the sample tolerances.
+    leads to the arcs inside — and, with ``inside_limits_too`` (surfaces, which are covered
+    inside the limits only), once more with the limits respected. Every solution is
+    polished by the corrector to the sample tolerances.
     """
     from ..pose_ik import solve_pose
 
     robot = corrector.robot
     seeds = []
+    modes = (False, True) if inside_limits_too else (False,)
     for q0 in [*extra, *robot.random_q(rng, size=n_starts)]:
-        result = solve_pose(
-            robot, corrector.T_target, q0, restarts=0, respect_limits=False,
-            frame=corrector.frame, pos_tol=1e-6, rot_tol=1e-5,
-        )  # fmt: skip
-        if not result.success:
-            continue
-        q, converged = corrector.correct(result.q)
-        if converged:
-            seeds.append(q)
+        for respect_limits in modes:
+            result = solve_pose(
+                robot, corrector.T_target, q0, restarts=0, respect_limits=respect_limits,
+                frame=corrector.frame, pos_tol=1e-6, rot_tol=1e-5,
+            )  # fmt: skip
+            if not result.success:
+                continue
+            q, converged = corrector.correct(result.q)
+            if converged:
+                seeds.append(q)
     return seeds
 
 
