@@ -1,25 +1,49 @@
-"""Plots of solver results: convergence curves (matplotlib, Agg backend, PNG).
+"""Plots of solver results: convergence curves (matplotlib, PNG).
 
 Every function takes results as data (:class:`~redik.result.IKResult`) and either draws on a
-given ``ax`` or creates a figure and, with ``path``, saves it as a PNG. Importing this module
-selects the non-interactive Agg backend, so plots work headless.
+given ``ax`` or creates a figure and, with ``path``, saves it as a PNG. Figures are built with
+matplotlib's object-oriented API (:func:`new_figure`), not pyplot: they render headless,
+leave the user's backend and pyplot's figure list alone, and matplotlib is only imported
+when a plot is drawn.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt
 import numpy as np
-from matplotlib.axes import Axes
 
 from .exceptions import InvalidInput
 from .result import IKResult
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+
+def new_figure(
+    nrows: int = 1,
+    ncols: int = 1,
+    *,
+    figsize: tuple[float, float] = (6.0, 4.0),
+    **subplot_options: Any,
+) -> tuple[Figure, Any]:
+    """A figure and its axes (``Figure.subplots(nrows, ncols, **subplot_options)``) that need
+    no GUI backend and stay out of pyplot's global state."""
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=figsize, layout="constrained")
+    return figure, figure.subplots(nrows, ncols, **subplot_options)
+
+
+def save_figure(figure: Figure, path: str | Path, dpi: int = 120) -> Path:
+    """Save ``figure`` as an image at ``path`` (parents created)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    figure.savefig(path, dpi=dpi)
+    return path
 
 
 def convergence(
@@ -59,7 +83,7 @@ def convergence(
             raise InvalidInput(f"result {label!r} has an empty error_history")
 
     if ax is None:
-        _, ax = plt.subplots(figsize=(6.0, 4.0), layout="constrained")
+        _, ax = new_figure(figsize=(6.0, 4.0))
     # Zero errors (an exact solve) cannot be drawn on a log scale: show them at the floor.
     floor = np.finfo(float).tiny
     for label, result in zip(labels, results, strict=True):
@@ -71,7 +95,5 @@ def convergence(
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     if path is not None:
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        ax.figure.savefig(path, dpi=120)
+        save_figure(ax.figure, path)
     return ax

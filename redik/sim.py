@@ -51,6 +51,7 @@ import numpy as np
 
 from .exceptions import InvalidInput, ModelError
 from .lie import pose_errors
+from .plot import new_figure, save_figure
 from .robot import Robot
 from .trajectory import Path as PosePath
 
@@ -277,14 +278,7 @@ def _site_pose(data: mujoco.MjData, frame, T: np.ndarray) -> None:
 
 def plot_tracking(result: SimulationResult, path: str | Path, title: str = "") -> Path:
     """Save a PNG: tracking errors over time, and each joint's command against its value."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig, (ax_err, ax_q) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
+    fig, (ax_err, ax_q) = new_figure(2, 1, figsize=(8, 6.5), sharex=True)
     ax_err.plot(result.times, result.position_error * 1e3, label="position (mm)")
     ax_rot = ax_err.twinx()
     ax_rot.plot(result.times, result.rotation_error, color="tab:orange", label="rotation (rad)")
@@ -299,10 +293,7 @@ def plot_tracking(result: SimulationResult, path: str | Path, title: str = "") -
     ax_q.set_ylabel("joint value (solid) / command (dashed)")
     ax_q.legend(ncol=4, fontsize=7)
     ax_q.grid(True, alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=110)
 
 
 def write_video(
