@@ -140,3 +140,39 @@ def test_empty_batch(panda):
 
 def test_status_names_follow_redik_statuses():
     assert set(BATCH_STATUSES) - {"invalid"} <= set(STATUSES)
+
+
+def test_rotation_log_matches_lie_at_every_angle(rng):
+    from redik.batch.solve import rotation_log
+    from redik.workspace import random_rotations
+
+    R = random_rotations(200, seed=1)
+    axes = rng.standard_normal((40, 3))
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    near_pi = [
+        redik.lie.so3_exp(a * (np.pi - d))
+        for a, d in zip(axes, np.logspace(-12, -2, 40), strict=True)
+    ]
+    Rd = np.concatenate([random_rotations(200, seed=2), R[:40] @ np.array(near_pi)])
+    R_all = np.concatenate([R, R[:40]])
+    omega = np.empty((3, len(R_all)))
+    angle = rotation_log(Rd.transpose(1, 2, 0).copy(), R_all.transpose(1, 2, 0).copy(), omega)
+    for i in range(len(R_all)):
+        expected = redik.lie.so3_log(Rd[i] @ R_all[i].T)
+        assert angle[i] == pytest.approx(np.linalg.norm(expected), abs=1e-12)
+        # At θ = π, ω and −ω are the same rotation.
+        np.testing.assert_allclose(redik.lie.so3_exp(omega[:, i]), Rd[i] @ R_all[i].T, atol=1e-9)
+
+
+@pytest.mark.parametrize("size", [10, 1000])  # the LAPACK path and the batched Cholesky
+def test_damped_step_solves_the_damped_normal_equations(size, rng):
+    from redik.batch.solve import damped_step
+
+    J = rng.standard_normal((6, 7, size))
+    e = rng.standard_normal((6, size))
+    damping = rng.uniform(1e-6, 1.0, size)
+    dq = damped_step(J, e, damping)
+    for b in range(0, size, max(1, size // 10)):
+        Jb = J[:, :, b]
+        expected = Jb.T @ np.linalg.solve(Jb @ Jb.T + damping[b] * np.eye(6), e[:, b])
+        np.testing.assert_allclose(dq[:, b], expected, rtol=1e-8, atol=1e-10)
