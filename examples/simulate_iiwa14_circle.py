@@ -16,7 +16,8 @@ os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is imported: offscree
 import redik
 from redik.limits import PositionLimit, VelocityLimit
 from redik.problem import Problem
-from redik.sim import plot_tracking, simulate, write_video
+from redik.render import render_states, save_video
+from redik.sim import plot_tracking, simulate
 from redik.tasks import PoseTask, PostureTask
 from redik.trajectory import CircularPath
 
@@ -40,4 +41,5 @@ try:
     video = out / "tracking.mp4"
 except ImportError:
     video = out / "tracking.gif"
-print(f"wrote {write_video(robot, result.qpos[::8], video, fps=12.5)}")
+frames = render_states(robot, result.qpos[::8], width=320, height=400, target=path.pose(0.0))
+print(f"wrote {save_video(video, frames, fps=12.5)}")

@@ -30,10 +30,11 @@ from .lie import pose_errors
 from .pose_ik import solve_pose
 from .problem import Problem
 from .redundancy import SelfMotion, explore_self_motion
+from .redundancy.plot import plot_joint_pairs
+from .render import render_frames, save_gif, save_png
 from .result import IKResult
 from .robot import Robot
 from .scenes import load
-from .sim import write_video
 from .tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
 
 SCENE = "dexter8r"
@@ -94,12 +95,15 @@ def run_demo(
     log("[3/4] writing data and plots")
     files = [out / "selfmotion.npz", out / "manifold.png"]
     motion.save(files[0])
-    _plot_manifold(motion, solution.q, files[1])
+    plot_joint_pairs(
+        motion, "posture_distance", lower=robot.lower, upper=robot.upper, path=files[1],
+        marks={"QP solution": solution.q, "best posture sample": motion.best("posture_distance")},
+    )  # fmt: skip
 
     log("[4/4] rendering headless (MUJOCO_GL=egl)")
     tour = _hold_pose(robot, target, _densify(motion.samples[motion.walk(0)], 0.1))
     drift = max(pose_errors(robot.fk(q), target)[0] for q in tour)
-    files += _render(robot, solution.q, tour, out)
+    files += _render(robot, solution.q, tour, target, out)
 
     summary = {
         "scene": robot.name,
@@ -163,42 +167,13 @@ def format_summary(result: DemoResult) -> str:
     return "\n".join(lines)
 
 
-def _plot_manifold(motion: SelfMotion, q_qp: np.ndarray, path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    names = list(motion.criteria)
-    pairs = [(i, i + 1) for i in range(0, motion.samples.shape[1] - 1, 2)]
-    fig, axes = plt.subplots(len(names), len(pairs), figsize=(3.2 * len(pairs), 3 * len(names)))
-    axes = np.atleast_2d(axes)
-    for row, name in enumerate(names):
-        best = motion.best(name)
-        for col, (i, j) in enumerate(pairs):
-            ax = axes[row, col]
-            points = ax.scatter(
-                motion.samples[:, i], motion.samples[:, j], c=motion.criteria[name], s=4
-            )
-            ax.plot(q_qp[i], q_qp[j], "r*", ms=12, label="QP solution")
-            ax.plot(best[i], best[j], "kx", ms=9, mew=2, label=f"best {name}")
-            ax.set_xlabel(motion.joint_names[i])
-            ax.set_ylabel(motion.joint_names[j])
-            if col == 0:
-                ax.set_title(name, loc="left", fontsize=9)
-        fig.colorbar(points, ax=axes[row, -1])
-    axes[0, 0].legend(fontsize=7)
-    fig.suptitle("self-motion of one pose in joint space (pairs of joints)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-
-
-def _render(robot: Robot, q: np.ndarray, tour: np.ndarray, out: Path) -> list[Path]:
-    """A PNG of ``q`` and a GIF along ``tour``, rendered offscreen from the scene's camera."""
-    png = write_video(robot, robot.full_qpos(q), out / "solution.png")
-    gif = write_video(
-        robot, np.array([robot.full_qpos(c) for c in tour]), out / "selfmotion.gif", fps=25.0
+def _render(
+    robot: Robot, q: np.ndarray, tour: np.ndarray, target: np.ndarray, out: Path
+) -> list[Path]:
+    """A PNG of ``q`` and a GIF along ``tour`` (target frame drawn), rendered offscreen."""
+    png = save_png(out / "solution.png", render_frames(robot, [q], 400, 320, target=target)[0])
+    gif = save_gif(
+        out / "selfmotion.gif", render_frames(robot, tour, 320, 256, target=target), 25.0
     )
     return [png, gif]
 

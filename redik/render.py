@@ -153,15 +153,42 @@ def render_frames(
 
     Args:
         robot: The robot (its model is drawn; its own ``data`` is left untouched).
-        qs: Configurations (k × n).
+        qs: Configurations (k × n) of the chain; other joints at their home values.
         width, height: Image size in pixels.
         camera: See :data:`Camera`; None frames every configuration (:func:`framing_camera`).
         target: A pose (4 × 4) drawn as RGB axes, e.g. the end-effector target.
     """
     qs = [robot.check_q(q, "qs[i]") for q in np.atleast_2d(np.asarray(qs, dtype=float))]
+    view = _camera(robot, camera, qs)
+    return _render(robot, [robot.full_qpos(q) for q in qs], width, height, view, target)
+
+
+def render_states(
+    robot: Robot,
+    qpos: Sequence[np.ndarray] | np.ndarray,
+    width: int = 640,
+    height: int = 480,
+    camera: Camera = None,
+    target: np.ndarray | None = None,
+) -> list[np.ndarray]:
+    """Render full model states (k × nq ``qpos``, e.g. ``SimulationResult.qpos``)."""
+    qpos = np.atleast_2d(np.asarray(qpos, dtype=float))
+    if qpos.shape[1] != robot.model.nq or not np.all(np.isfinite(qpos)):
+        raise InvalidInput(f"qpos must be finite, k × {robot.model.nq}; got shape {qpos.shape}")
+    chain = [state[robot.qpos_indices] for state in qpos]
+    return _render(robot, list(qpos), width, height, _camera(robot, camera, chain), target)
+
+
+def _render(
+    robot: Robot,
+    states: list[np.ndarray],
+    width: int,
+    height: int,
+    view: mujoco.MjvCamera,
+    target: np.ndarray | None,
+) -> list[np.ndarray]:
     if width <= 0 or height <= 0:
         raise InvalidInput(f"width and height must be positive, got {width} × {height}")
-    view = _camera(robot, camera, qs)
     data = mujoco.MjData(robot.model)
     scene = mujoco.MjvScene(robot.model, maxgeom=max(1000, 2 * robot.model.ngeom + 10))
     option = mujoco.MjvOption()
@@ -169,8 +196,8 @@ def render_frames(
     axis_length = 0.1 * max(robot.model.stat.extent, 0.5)
     frames = []
     with _offscreen(robot.model, width, height) as render_context:
-        for q in qs:
-            data.qpos[:] = robot.full_qpos(q)
+        for state in states:
+            data.qpos[:] = state
             mujoco.mj_forward(robot.model, data)
             mujoco.mjv_updateScene(
                 robot.model, data, option, None, view, mujoco.mjtCatBit.mjCAT_ALL, scene
@@ -225,3 +252,15 @@ def save_mp4(path: str | Path, frames: Sequence[np.ndarray], fps: float = 20.0) 
         for frame in frames:
             writer.append_data(np.ascontiguousarray(frame[:height, :width]))
     return path
+
+
+def save_video(path: str | Path, frames: Sequence[np.ndarray], fps: float = 20.0) -> Path:
+    """Write frames as ``.mp4``, ``.gif`` or (the last frame) ``.png``, by the path's suffix."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    writers = {".mp4": save_mp4, ".gif": save_gif}
+    if path.suffix == ".png":
+        return save_png(path, frames[-1])
+    if path.suffix not in writers:
+        raise InvalidInput(f"video path must end in .mp4, .gif or .png, got {str(path)!r}")
+    return writers[path.suffix](path, frames, fps)

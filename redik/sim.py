@@ -25,7 +25,7 @@ At every control tick ``k`` (period ``dt = 1 / control_rate``) :func:`simulate`
 5. advances the physics by ``mj_step`` until the next tick.
 
 No window is opened: the loop is pure computation, and pictures come afterwards from the
-recorded states (:func:`plot_tracking`, and :func:`write_video`, which renders offscreen —
+recorded states (:func:`plot_tracking`; videos by :func:`redik.render.render_states` —
 set ``MUJOCO_GL=egl`` before MuJoCo is first imported).
 
 Gravity is left to the scene (the bundled scenes compensate it with ``gravcomp``).
@@ -294,52 +294,3 @@ def plot_tracking(result: SimulationResult, path: str | Path, title: str = "") -
     ax_q.legend(ncol=4, fontsize=7)
     ax_q.grid(True, alpha=0.3)
     return save_figure(fig, path, dpi=110)
-
-
-def write_video(
-    robot: Robot,
-    qpos: np.ndarray,
-    path: str | Path,
-    fps: float = 30.0,
-    *,
-    size: tuple[int, int] = (320, 400),
-    camera: int | str | None = None,
-) -> Path:
-    """Render full-state frames offscreen and write an MP4 (imageio-ffmpeg) or a GIF.
-
-    Args:
-        robot: Its model is rendered.
-        qpos: (N, nq) states, e.g. ``SimulationResult.qpos[::k]`` or ``robot.full_qpos(q)``
-            per configuration.
-        path: ``.mp4`` or ``.gif`` (the suffix picks the format); a single frame may be a
-            ``.png``.
-        fps: Frames per second of the video.
-        size: ``(height, width)`` in pixels.
-        camera: Camera name or id; default the model's first camera, else the free camera.
-    """
-    import imageio.v3 as iio
-
-    path = Path(path)
-    if path.suffix not in (".mp4", ".gif", ".png"):
-        raise InvalidInput(f"video path must end in .mp4, .gif or .png, got {str(path)!r}")
-    qpos = np.atleast_2d(np.asarray(qpos, dtype=float))
-    if qpos.shape[1] != robot.model.nq:
-        raise InvalidInput(f"qpos must be N × {robot.model.nq}, got {qpos.shape}")
-    if camera is None:
-        camera = 0 if robot.model.ncam else -1
-    data = mujoco.MjData(robot.model)
-    frames = []
-    with mujoco.Renderer(robot.model, *size) as renderer:
-        for state in qpos:
-            data.qpos[:] = state
-            mujoco.mj_forward(robot.model, data)
-            renderer.update_scene(data, camera=camera)
-            frames.append(renderer.render().copy())
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if path.suffix == ".png":
-        iio.imwrite(path, frames[-1])
-    elif path.suffix == ".gif":
-        iio.imwrite(path, np.stack(frames), duration=1000.0 / fps, loop=0)
-    else:
-        iio.imwrite(path, np.stack(frames), fps=fps, codec="libx264", macro_block_size=8)
-    return path

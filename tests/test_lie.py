@@ -126,9 +126,7 @@ def test_slerp_endpoints_and_constant_speed(rng):
         total = lie.quaternion_geodesic_distance(q_a, q_b)
         ts = np.linspace(0, 1, 11)
         points = [lie.slerp(q_a, q_b, t) for t in ts]
-        steps = [
-            lie.quaternion_geodesic_distance(a, b) for a, b in itertools.pairwise(points)
-        ]
+        steps = [lie.quaternion_geodesic_distance(a, b) for a, b in itertools.pairwise(points)]
         np.testing.assert_allclose(steps, total / 10, rtol=1e-6, atol=1e-12)
         for quat in points:
             assert np.linalg.norm(quat) == pytest.approx(1.0)

@@ -72,14 +72,11 @@ def run(args: argparse.Namespace) -> int:
     if len(motion) == 0:
         print("no configuration reaches this pose (inside the limits); nothing to draw")
         return 1
-    import matplotlib.pyplot as plt
-
     for color_by in ["component", *motion.criteria]:
-        figure = plot_joint_pairs(
+        plot_joint_pairs(
             motion, color_by, lower=robot.lower, upper=robot.upper,
             path=out / f"manifold_{color_by}.png",
         )  # fmt: skip
-        plt.close(figure)
     if args.frames > 0:
         _render(robot, motion, out, args)
     print(f"wrote {out}/")

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..exceptions import InvalidInput
+from ..plot import new_figure, save_figure
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -42,17 +43,14 @@ def plot_joint_pairs(
     lower: np.ndarray | None = None,
     upper: np.ndarray | None = None,
     path: str | Path | None = None,
+    marks: dict[str, np.ndarray] | None = None,
 ) -> Figure:
     """Scatter the samples on joint pairs, coloured by ``"component"`` or a criterion name.
 
-    ``lower``/``upper`` (the robot's limits) draw the limit lines; ``path`` saves a PNG.
+    ``lower``/``upper`` (the robot's limits) draw the limit lines; ``marks`` maps a label to a
+    configuration drawn as a marker on every pair (e.g. a QP solution, the best sample);
+    ``path`` saves a PNG.
     """
-    import matplotlib
-
-    if matplotlib.get_backend().lower() not in ("agg", "module://matplotlib_inline.backend_inline"):
-        matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     if color_by != "component" and color_by not in motion.criteria:
         raise InvalidInput(
             f"color_by must be 'component' or one of {list(motion.criteria)}, got {color_by!r}"
@@ -60,7 +58,7 @@ def plot_joint_pairs(
     pairs = default_pairs(motion) if pairs is None else list(pairs)
     columns = min(3, len(pairs))
     rows = int(np.ceil(len(pairs) / columns))
-    figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 3.8 * rows), squeeze=False)
+    figure, axes = new_figure(rows, columns, figsize=(4.2 * columns, 3.8 * rows), squeeze=False)
     if color_by == "component":
         values, cmap, label = motion.component, "tab10", "component"
     else:
@@ -80,10 +78,14 @@ def plot_joint_pairs(
                 ax.axvline(bounds[i], color="grey", linestyle="--", linewidth=0.8)
             if bounds is not None and np.isfinite(bounds[j]):
                 ax.axhline(bounds[j], color="grey", linestyle="--", linewidth=0.8)
+        for (name, q), style in zip((marks or {}).items(), itertools.cycle("*XPD"), strict=False):
+            ax.plot(q[i], q[j], style, ms=10, mec="black", label=name)
         ax.set_xlabel(f"{motion.joint_names[i]} [rad]")
         ax.set_ylabel(f"{motion.joint_names[j]} [rad]")
     for ax in list(axes.flat)[len(pairs) :]:
         ax.set_visible(False)
+    if marks:
+        axes.flat[0].legend(fontsize=7)
     if scatter is not None:
         figure.colorbar(scatter, ax=axes.ravel().tolist(), label=label, shrink=0.8)
     figure.suptitle(
@@ -91,5 +93,5 @@ def plot_joint_pairs(
         f"{motion.n_components} component(s)"
     )
     if path is not None:
-        figure.savefig(path, dpi=110)
+        save_figure(figure, path, dpi=110)
     return figure
