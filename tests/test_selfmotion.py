@@ -17,7 +17,7 @@ from redik.redundancy import (
     explore_self_motion,
     gradient_projection_ik,
 )
-from redik.redundancy.selfmotion import POSITION_TOLERANCE, ROTATION_TOLERANCE
+from redik.redundancy.corrector import POSITION_TOLERANCE, ROTATION_TOLERANCE
 
 
 def without_limits(scene: str) -> redik.Robot:

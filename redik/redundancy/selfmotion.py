@@ -9,10 +9,10 @@ into patches. :func:`explore_self_motion` samples that set:
 1. **Seeds.** Inverse kinematics from many random starts (:func:`redik.solve_pose`) gives
    points on every component whose basin of attraction one start falls into; each is
    projected onto the pose to full precision by the corrector below.
-2. **Corrector.** Gauss–Newton on the body error twist (Modern Robotics §6.2.2,
-   *IKinBody*): ``ξ_b = log(T(q)⁻¹ T_d)``, ``q ← q + J_b⁺ ξ_b`` until ``‖p_d − p‖`` and
-   ``angle(Rᵀ R_d)`` are far below the tolerances. The minimum-norm step is orthogonal
-   to ``ker J_b``, so a corrected prediction does not slide along the manifold.
+2. **Corrector.** Gauss–Newton on the pose error with the minimum-norm step, which is
+   orthogonal to ``ker J`` so a corrected prediction does not slide along the manifold
+   (:mod:`redik.redundancy.corrector`: one point at a time, or a whole covering frontier at
+   once with :mod:`redik.batch`'s vectorised kinematics).
 3. **Tracing, d = 1** (pseudo-arclength continuation; Allgower & Georg, *Introduction to
    Numerical Continuation Methods*, ch. 2): predictor ``q + h t`` along the unit null
    vector ``t`` of ``J_b`` (its sign kept continuous, ``t_k · t_{k−1} > 0``), corrector back
@@ -22,21 +22,30 @@ into patches. :func:`explore_self_motion` samples that set:
    is then placed *on* the limit by correcting with the offending joint frozen there, and
    the other direction is traced from the seed.
 4. **Covering, d = 2**: breadth-first continuation over the tangent plane (in the spirit of
-   Henderson's multiple-parameter continuation, 2002): from each sample, predictions at
-   distance ``h = 0.8 · spacing`` in six directions 60° apart of ``ker J_b``, corrected, kept
-   unless a sample lies within ``0.45 h``; a KD-tree of the samples (periodic in unlimited
-   hinges) stops re-covering. This leaves every point of the patch within about
-   ``0.8 · spacing`` of a sample, with neighbours at most ``spacing`` apart.
-5. **Components.** A seed farther than ``spacing`` from every sample so far starts a new
-   component; one closer is already covered.
+   Henderson's multiple-parameter continuation, 2002), like the curves on the torus of hinge
+   angles with the limits ignored, so that one seed anywhere on a surface reaches every
+   patch the limits cut from it. Each generation of the frontier predicts points ``h`` away
+   in six directions 60° apart of ``ker J``; the predictions not within ``0.75 h`` of a node
+   are corrected together, and kept as nodes unless the corrector jumped or a node (or an
+   earlier prediction of the same generation) already lies within ``0.75 h``. KD-trees on
+   the torus stop re-covering. ``h = 0.7 · spacing`` inside and near the limits, up to
+   0.6 rad far outside them (never more than 0.9 × the limit violation, so no patch inside
+   the limits fits between coarse nodes). The nodes inside the limits are kept as samples,
+   with a point placed *on* the limit between each inside node and its nearest outside
+   neighbour; the samples fall into patches (components) joined by neighbours at most
+   ``spacing`` apart.
+5. **Components.** A seed farther than one step from every node traced or covered so far
+   (on the torus) starts new components; one closer is already covered.
 
 Distances are Euclidean in joint space (rad and m), angles of unlimited hinges compared
-modulo 2π. Frames and twists follow :mod:`redik.conventions`.
+modulo 2π. A limited hinge whose range spans 2π or more (a UR5e's ±2π) has several
+in-range angles for one point of the torus; the manifold is sampled at one of them
+(:meth:`Corrector.shift_into_limits <redik.redundancy.corrector.Corrector.shift_into_limits>`),
+not at every turn. Frames and twists follow :mod:`redik.conventions`.
 """
 
 from __future__ import annotations
 
-import collections
 import dataclasses
 import json
 import math
@@ -46,21 +55,16 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import dijkstra
+from scipy.sparse.csgraph import connected_components, dijkstra
 from scipy.spatial import cKDTree
 
 from ..exceptions import InvalidInput
-from ..lie import as_pose, inverse, pose_errors, se3_log, wrap_angle
-from .criteria import Criterion, default_criteria, evaluate_criteria, periodic_joints
+from ..lie import as_pose, wrap_angle
+from .corrector import BatchCorrector, Corrector
+from .criteria import Criterion, default_criteria, evaluate_criteria
 
 if TYPE_CHECKING:
     from ..robot import Frame, Robot
-
-POSITION_TOLERANCE = 1e-9
-"""Largest ``‖p_d − p‖`` (m) of a sample after correction."""
-
-ROTATION_TOLERANCE = 1e-8
-"""Largest ``angle(Rᵀ R_d)`` (rad) of a sample after correction."""
 
 DEFAULT_SPACING = {0: 0.05, 1: 0.05, 2: 0.3}
 """Default ``spacing`` (joint-space distance between neighbouring samples) by dimension."""
@@ -71,6 +75,7 @@ _COVER_STEP = 0.7  # prediction distance of the surface covering, × spacing
 _COVER_EXCLUSION = 0.75  # a prediction this close (× step) to a sample is already covered
 _MIN_TANGENT_COSINE = math.cos(math.radians(45.0))
 _MAX_STRIDE = 0.25  # rad: longest tracing step far outside the joint limits
+_MAX_COVER_STRIDE = 0.6  # rad: longest covering step far outside the joint limits
 _DISTINCT_SOLUTIONS = 1e-4  # isolated solutions closer than this (rad) are the same one
 
 
@@ -339,165 +344,6 @@ def explore_self_motion(
 
 
 # --------------------------------------------------------------------------------------
-# Corrector: Gauss–Newton onto the pose
-
-
-class Corrector:
-    """Projects configurations onto a pose: Gauss–Newton with ``J_b⁺`` on ``log(T⁻¹ T_d)``.
-
-    Works on preallocated buffers (one :meth:`Robot.kinematics` per iteration). Also gives
-    the tangent space ``ker J_b`` at a point, the joint-space metric and the limit checks the
-    tracer needs.
-    """
-
-    def __init__(
-        self,
-        robot: Robot,
-        T_target: np.ndarray,
-        frame: Frame,
-        position_tolerance: float = POSITION_TOLERANCE,
-        rotation_tolerance: float = ROTATION_TOLERANCE,
-    ):
-        self.robot = robot
-        self.frame = frame
-        self.T_target = T_target
-        self.position_tolerance = position_tolerance
-        self.rotation_tolerance = rotation_tolerance
-        self.periodic = periodic_joints(robot)
-        self.lower = np.asarray(robot.lower)
-        self.upper = np.asarray(robot.upper)
-        self._T = np.eye(4)
-        self._J = np.empty((6, robot.dof))
-        self._J_body = np.empty((6, robot.dof))
-        self.iterations = 0
-
-    def _error(self, q: np.ndarray) -> tuple[np.ndarray, float, float]:
-        """Body error twist, position error and rotation angle at ``q``; fills ``_J_body``."""
-        self.robot.kinematics(q, self.frame, self._T, self._J)
-        R = self._T[:3, :3]
-        np.matmul(R.T, self._J[:3], out=self._J_body[:3])
-        np.matmul(R.T, self._J[3:], out=self._J_body[3:])
-        xi = se3_log(inverse(self._T) @ self.T_target)
-        position_error = math.dist(self._T[:3, 3], self.T_target[:3, 3])
-        return xi, position_error, float(np.linalg.norm(xi[3:]))
-
-    def pose_errors(self, q: np.ndarray) -> tuple[float, float]:
-        """``(‖p_d − p‖, angle(Rᵀ R_d))`` at ``q`` (:func:`redik.lie.pose_errors`)."""
-        self.robot.kinematics(q, self.frame, self._T)
-        return pose_errors(self._T, self.T_target)
-
-    def correct(
-        self,
-        q: np.ndarray,
-        free: np.ndarray | None = None,
-        max_iterations: int = 12,
-        max_step: float = math.inf,
-    ) -> tuple[np.ndarray, bool]:
-        """Gauss–Newton from ``q`` onto the pose, moving only the ``free`` joints.
-
-        Iterates ``q ← q + J_b⁺ ξ_b`` (the step clipped to ``max_step``) until the errors are
-        a hundredth of the tolerances; returns ``(q, converged)`` where converged means within
-        the tolerances.
-        """
-        q = np.array(q, dtype=float)
-        for _ in range(max_iterations):
-            xi, position_error, rotation_error = self._error(q)
-            if (
-                position_error <= 0.01 * self.position_tolerance
-                and rotation_error <= 0.01 * self.rotation_tolerance
-            ):
-                return q, True  # the buffers hold the kinematics at the returned q
-            self.iterations += 1
-            J = self._J_body if free is None else self._J_body[:, free]
-            step = _min_norm_solve(J, xi)
-            norm = float(np.linalg.norm(step))
-            if not math.isfinite(norm):
-                return q, False
-            if norm > max_step:
-                step *= max_step / norm
-            if free is None:
-                q += step
-            else:
-                q[free] += step
-        _, position_error, rotation_error = self._error(q)
-        converged = (
-            position_error <= self.position_tolerance and rotation_error <= self.rotation_tolerance
-        )
-        return q, converged
-
-    def tangent_basis(self, q: np.ndarray | None, dimension: int) -> np.ndarray:
-        """Orthonormal basis (n × dimension) of ``ker J_b(q)``: the manifold's tangent space.
-
-        ``q = None`` reuses the Jacobian of the last point evaluated (the one :meth:`correct`
-        just returned).
-        """
-        if q is not None:
-            self._error(q)
-        _, _, Vt = np.linalg.svd(self._J_body, full_matrices=True)
-        return Vt[self.robot.dof - dimension :].T
-
-    def within_limits(self, q: np.ndarray) -> bool:
-        return bool(np.all(q >= self.lower) and np.all(q <= self.upper))
-
-    def limit_violation(self, q: np.ndarray) -> float:
-        """How far ``q`` is outside its limits, hinge angles taken modulo 2π: the largest
-        distance of one joint to its range. Every configuration closer than this (on the
-        torus of hinge angles) is outside the limits too."""
-        below = self.lower - q
-        above = q - self.upper
-        distance = np.maximum(np.maximum(below, above), 0.0)
-        hinges = self.robot.revolute & np.isfinite(self.lower) & np.isfinite(self.upper)
-        width = self.upper[hinges] - self.lower[hinges]
-        offset = np.mod(q[hinges] - self.lower[hinges], 2 * np.pi)  # angle past the lower limit
-        outside = np.where(offset > width, np.minimum(offset - width, 2 * np.pi - offset), 0.0)
-        distance[hinges] = np.where(width >= 2 * np.pi, 0.0, outside)
-        return float(np.max(distance, initial=0.0))
-
-    def into_limits(self, q: np.ndarray) -> np.ndarray | None:
-        """``q`` with hinges shifted by multiples of 2π into their ranges, or None if impossible."""
-        shifted = q.copy()
-        periodic_ok = self.robot.revolute
-        turns = np.where(
-            periodic_ok & (q < self.lower),
-            np.ceil((self.lower - q) / (2 * np.pi)),
-            np.where(periodic_ok & (q > self.upper), -np.ceil((q - self.upper) / (2 * np.pi)), 0.0),
-        )
-        shifted += 2 * np.pi * np.nan_to_num(turns)
-        shifted[self.periodic] = wrap_angle(shifted[self.periodic])
-        return shifted if self.within_limits(shifted) else None
-
-    def limit_point(self, q_inside: np.ndarray, q_outside: np.ndarray) -> np.ndarray | None:
-        """The point of the manifold on the joint limit between two nearby points.
-
-        The joints ``q_outside`` violates are frozen at their limits, starting from the
-        straight-line crossing of the boundary, and the pose is corrected with the others.
-        Returns None when that fails or lands outside another limit.
-        """
-        violated = (q_outside < self.lower) | (q_outside > self.upper)
-        delta = q_outside - q_inside
-        bound = np.where(q_outside < self.lower, self.lower, self.upper)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            fractions = (bound[violated] - q_inside[violated]) / delta[violated]
-        fraction = float(np.clip(np.min(fractions, initial=1.0), 0.0, 1.0))
-        start = np.clip(q_inside + fraction * delta, self.lower, self.upper)
-        start[violated] = bound[violated]
-        q, converged = self.correct(start, free=~violated)
-        if converged and self.within_limits(q):
-            return q
-        return None
-
-
-def _min_norm_solve(J: np.ndarray, xi: np.ndarray) -> np.ndarray:
-    """``J⁺ ξ``: ``Jᵀ(JJᵀ)⁻¹ξ`` for a wide ``J`` of full row rank, else least squares."""
-    if J.shape[1] >= J.shape[0]:
-        try:
-            return J.T @ np.linalg.solve(J @ J.T, xi)
-        except np.linalg.LinAlgError:
-            pass
-    return np.linalg.lstsq(J, xi, rcond=1e-10)[0]
-
-
-# --------------------------------------------------------------------------------------
 # Seeds
 
 
@@ -552,6 +398,7 @@ class _Explorer:
         # Curves are traced through the joint limits, on the torus of all hinge angles.
         self.torus = np.asarray(corrector.robot.revolute, dtype=bool)
         self.traced = _SampleIndex(self.torus, corrector.robot.dof)
+        self.batch = BatchCorrector(corrector)
         self.parts: list[list[np.ndarray]] = []
         self.closed: list[bool] = []
         self.ends: list[tuple[str, ...]] = []
@@ -570,19 +417,16 @@ class _Explorer:
         if self.dimension == 1:
             if not self.traced.within(seed, self._stride(seed)):
                 self._add_curve(seed)
-            return
-        q = self.corrector.into_limits(seed)
-        if q is None:
-            return
-        if self.dimension == 0:
-            if not self.index.within(q, _DISTINCT_SOLUTIONS):
+        elif self.dimension == 2:
+            if not self.traced.within(seed, self._cover_strides(seed[None])[0]):
+                self._cover_surface(seed)
+        else:
+            q = self.corrector.into_limits(seed)
+            if q is not None and not self.index.within(q, _DISTINCT_SOLUTIONS):
                 self._append(q[None], closed=False, ends=())
-        elif not self.index.within(q, self.spacing):
-            self._cover_surface(q)
 
     def _append(self, part: np.ndarray | list[np.ndarray], closed: bool, ends: tuple) -> None:
-        if self.dimension != 2:  # the covering indexes its samples as it goes
-            self.index.extend(part)
+        self.index.extend(part)
         self.parts.append(list(part))
         self.closed.append(closed)
         self.ends.append(ends)
@@ -736,40 +580,121 @@ class _Explorer:
 
     # 2-D ------------------------------------------------------------------------------
 
+    def _cover_strides(self, q: np.ndarray) -> np.ndarray:
+        """Prediction distance of the covering from each row of ``q``: ``0.7 · spacing`` near
+        or inside the limits, longer far outside them, where no sample is kept — a surface
+        point closer to ``q`` than its violation is outside the limits too."""
+        violation = self.corrector.limit_violations(q)
+        fine = _COVER_STEP * self.spacing
+        return np.maximum(fine, np.minimum(_MAX_COVER_STRIDE, 0.9 * violation))
+
     def _cover_surface(self, seed: np.ndarray) -> None:
-        corrector = self.corrector
-        step = _COVER_STEP * self.spacing
-        exclusion = _COVER_EXCLUSION * step
+        """Cover the surface through ``seed`` on the torus of hinge angles, limits ignored,
+        then keep its samples inside the limits (each patch a component) and add samples on
+        the limits where the covering crossed them.
+
+        Breadth-first, one generation of the frontier at a time: every node predicts six
+        points ``h`` away in its tangent plane; those farther than ``0.75 h`` from every node
+        are corrected together (:class:`BatchCorrector`) and kept as new nodes unless the
+        corrector jumped (a step outside ``[h/4, h/0.7]``) or a node already lies within
+        ``0.75 h``.
+        """
+        batch, n = self.batch, self.corrector.robot.dof
         angles = np.arange(6) * (np.pi / 3.0)
         directions = np.stack([np.cos(angles), np.sin(angles)])  # 2 × 6, in the tangent plane
-        part = [seed]
-        self.index.add(seed)
-        queue = collections.deque([seed])
-        while queue and self.budget > 0:
-            q = queue.popleft()
-            basis = corrector.tangent_basis(q, 2)
-            for prediction in (q[:, None] + step * (basis @ directions)).T:
-                if self.index.within(prediction, exclusion):
-                    continue
-                q_new, converged = corrector.correct(prediction)
-                if not converged:
-                    continue
-                if not corrector.within_limits(q_new):
-                    q_new = corrector.limit_point(q, q_new)
-                    if q_new is None:
-                        continue
-                if self.distance(q, q_new) > self.spacing or self.index.within(q_new, exclusion):
-                    continue
-                self.index.add(q_new)
-                part.append(q_new)
-                queue.append(q_new)
-                if self.budget <= 0:
-                    break
-        self._append(part, closed=False, ends=())
+        self.traced.add(seed)
+        frontier = seed[None]
+        nodes = [frontier]
+        while len(frontier) and self.budget > 0:
+            strides = self._cover_strides(frontier)
+            bases = batch.tangent_bases(frontier, 2)
+            predictions = frontier[:, None] + strides[:, None, None] * np.einsum(
+                "bnk,kd->bdn", bases, directions
+            )
+            parents = np.repeat(np.arange(len(frontier)), len(angles))
+            predictions = predictions.reshape(-1, n)
+            fresh = ~self.traced.within_each(predictions, _COVER_EXCLUSION * strides[parents])
+            corrected, converged = batch.correct(predictions[fresh])
+            parents = parents[fresh][converged]
+            corrected = corrected[converged]
+            reach = strides[parents]
+            steps = _distances(frontier[parents], corrected, self.torus)
+            fit = (steps >= 0.25 * reach) & (steps <= reach / _COVER_STEP)
+            corrected, reach = corrected[fit], reach[fit]
+            exclusion = _COVER_EXCLUSION * np.minimum(reach, self._cover_strides(corrected))
+            fresh = ~self.traced.within_each(corrected, exclusion)
+            corrected, exclusion = corrected[fresh], exclusion[fresh]
+            frontier = corrected[_spread(corrected, exclusion, self.torus)][: max(self.budget, 0)]
+            self.traced.extend(frontier)
+            nodes.append(frontier)
+        self._keep_inside(np.concatenate(nodes))
+
+    def _keep_inside(self, nodes: np.ndarray) -> None:
+        """The covering's nodes inside the limits, with the points where the surface crosses
+        a limit between an inside node and its nearest outside neighbour, split into
+        patches: connected components of the graph joining samples ≤ ``spacing`` apart."""
+        shifted, inside = self.corrector.shift_into_limits(nodes)
+        kept = shifted[inside]
+        if inside.any() and not inside.all():
+            graph = _SampleIndex(self.torus, nodes.shape[1])
+            graph.extend(nodes)
+            pairs = graph.pairs(self.spacing)
+            crossing = inside[pairs[:, 0]] != inside[pairs[:, 1]]
+            pairs = pairs[crossing]
+            pairs = np.where(inside[pairs[:, :1]], pairs, pairs[:, ::-1])  # (inside, outside)
+            lengths = _distances(nodes[pairs[:, 0]], nodes[pairs[:, 1]], self.torus)
+            order = np.lexsort((lengths, pairs[:, 0]))
+            pairs = pairs[order][np.unique(pairs[order, 0], return_index=True)[1]]
+            q_in = shifted[pairs[:, 0]]
+            delta = nodes[pairs[:, 1]] - nodes[pairs[:, 0]]
+            delta[:, self.torus] = wrap_angle(delta[:, self.torus])
+            on_limit, placed = self.batch.limit_points(q_in, q_in + delta)
+            placed &= _distances(q_in, on_limit, self.periodic) <= self.spacing
+            kept = np.concatenate([kept, on_limit[placed]])
+        if not len(kept):
+            return
+        index = _SampleIndex(self.periodic, kept.shape[1])
+        index.extend(kept)
+        pairs = index.pairs(1.01 * self.spacing)
+        _, labels = connected_components(
+            coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(kept),) * 2),
+            directed=False,
+        )
+        for label in range(labels.max() + 1):
+            self._append(kept[labels == label], closed=False, ends=())
 
 
 # --------------------------------------------------------------------------------------
 # Joint-space metric and nearest-sample index
+
+
+def _distances(a: np.ndarray, b: np.ndarray, periodic: np.ndarray) -> np.ndarray:
+    """Row-wise :func:`_distance` of two B × n arrays."""
+    delta = b - a
+    delta[:, periodic] = wrap_angle(delta[:, periodic])
+    return np.sqrt(np.einsum("ij,ij->i", delta, delta))
+
+
+def _spread(points: np.ndarray, exclusion: np.ndarray, periodic: np.ndarray) -> np.ndarray:
+    """Indices of a subset of ``points`` (in order) with no point within its ``exclusion``
+    radius of an earlier one kept: greedy, each kept point blocking its neighbours."""
+    if len(points) < 2:
+        return np.arange(len(points))
+    index = _SampleIndex(periodic, points.shape[1])
+    index.extend(points)
+    pairs = index.pairs(float(exclusion.max()))
+    pairs = pairs[_distances(points[pairs[:, 0]], points[pairs[:, 1]], periodic)
+                  <= exclusion[pairs[:, 1]]]  # fmt: skip
+    neighbours: list[list[int]] = [[] for _ in points]
+    for i, j in pairs[np.argsort(pairs[:, 0], kind="stable")]:
+        neighbours[i].append(j)
+    blocked = np.zeros(len(points), dtype=bool)
+    kept = []
+    for i in range(len(points)):
+        if not blocked[i]:
+            kept.append(i)
+            blocked[neighbours[i]] = True
+    return np.array(kept, dtype=int)
 
 
 def _distance(a: np.ndarray, b: np.ndarray, periodic: np.ndarray) -> float:
@@ -805,18 +730,20 @@ class _SampleIndex:
         return x
 
     def add(self, q: np.ndarray) -> None:
-        if self._count == len(self._points):
+        self.extend(q[None])
+
+    def extend(self, qs) -> None:
+        x = self._embed(np.asarray(qs, dtype=float).reshape(-1, self._points.shape[1]))
+        while self._count + len(x) > len(self._points):
             self._points = np.concatenate([self._points, np.empty_like(self._points)])
-        self._points[self._count] = self._embed(q)
-        self._count += 1
+        self._points[self._count : self._count + len(x)] = x
+        self._count += len(x)
         if self._count - self._tree_count > max(64, self._tree_count // 8):
             self._rebuild()
 
-    def extend(self, qs) -> None:
-        for q in qs:
-            self.add(q)
-
     def _rebuild(self) -> None:
+        if self._tree is not None and self._tree_count == self._count:
+            return
         boxsize = None
         if self._wrapped:
             boxsize = np.where(self.periodic, 2 * np.pi, self._BOX)
@@ -847,6 +774,15 @@ class _SampleIndex:
         return self._tree is not None and bool(
             self._tree.query(x, k=1, distance_upper_bound=radius)[0] <= radius
         )
+
+    def within_each(self, q: np.ndarray, radius: np.ndarray) -> np.ndarray:
+        """:meth:`within` for every row of ``q`` (B × n), each with its own ``radius``."""
+        if not len(q):
+            return np.zeros(0, dtype=bool)
+        self._rebuild()
+        assert self._tree is not None
+        distances, _ = self._tree.query(self._embed(q), k=1, distance_upper_bound=radius.max())
+        return distances <= radius
 
     def pairs(self, radius: float) -> np.ndarray:
         """All index pairs ``(i, j)``, ``i < j``, closer than ``radius`` (an m × 2 array)."""
