@@ -141,7 +141,7 @@ def solve_pose(
             ``‖e‖²`` fell by less than the fraction ``progress`` in ``patience`` iterations);
             ``"newton"``: ``form`` ("body" or "space"), ``step``;
             ``"transpose"``: ``step`` ("armijo" or a number); ``"hybrid"``: ``switch_error``;
-            ``"qp"``: passed on to the QP solver (which runs one attempt: no restarts).
+            ``"qp"``: passed on to :func:`redik.qp.solve.solve_pose_qp`.
 
     Returns:
         An :class:`~redik.result.IKResult`; ``restarts`` counts the attempts after the first,
@@ -173,7 +173,8 @@ def solve_pose(
             ) from None
         return solve_pose_qp(
             robot, T_target, q_start, pos_tol=pos_tol, rot_tol=rot_tol, max_iter=max_iter,
-            respect_limits=respect_limits, frame=frame, **method_options,
+            respect_limits=respect_limits, frame=frame, restarts=restarts, seed=seed,
+            **method_options,
         )  # fmt: skip
 
     options = dict(_OPTIONS[method])

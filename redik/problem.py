@@ -34,6 +34,9 @@ from .tasks.joint_space_task import JointSpaceTask
 from .tasks.kinematics import KinematicState
 from .tasks.task import ResidualTask, Task
 
+_MIN_STEP_FRACTION = 1.0 / 64.0
+"""Smallest fraction of a QP step ``solve`` tries before calling the iterate stalled."""
+
 
 class Problem:
     """Differential IK as a (hierarchical) QP over the chain joints of ``robot``.
@@ -205,7 +208,13 @@ class Problem:
         max_step: float | None = None,
         dt: float | None = None,
     ) -> IKResult:
-        """Iterate ``q ← q + Δq`` from ``q0`` until the priority-0 tasks converge.
+        """Iterate ``q ← q + αΔq`` from ``q0`` until the priority-0 tasks converge.
+
+        ``Δq`` is the lexicographic QP step of :meth:`step`; ``α ∈ {1, ½, ¼, …, 1/64}`` is
+        the first fraction that lowers the level-0 error (backtracking, as in damped
+        Gauss–Newton: Nocedal & Wright §10.3), so the error never increases and the
+        iteration cannot cycle. No fraction lowering it means a stationary point:
+        ``"stalled"``.
 
         Converged means: every frame task of level 0 within ``pos_tol`` (m) and
         ``rot_tol`` (rad) — position and rotation errors of :mod:`redik.conventions` —
@@ -234,30 +243,41 @@ class Problem:
         if self._clip:
             q = np.clip(q, self.robot.lower, self.robot.upper)
         history = [q.copy()]
-        errors = []
-        status = "max_iterations"
+        self._update(q)
+        converged, error, position_error, rotation_error = self._level0_errors(pos_tol, rot_tol)
+        errors = [error]
+        status = "converged" if converged and self._targets else "max_iterations"
         iterations = 0
-        while True:
-            self._update(q)
-            converged, error, position_error, rotation_error = self._level0_errors(pos_tol, rot_tol)
+        while status == "max_iterations" and iterations < max_iter:
+            dq = self._step(q, dt, max_step)
+            # Backtracking on the level-0 error: far from the target a full Gauss–Newton
+            # step overshoots (into the limits, or into a two-point cycle). Scaling the
+            # whole lexicographic Δq keeps every level's direction; q + αΔq stays in the
+            # box for α ≤ 1. Without a level-0 target there is nothing to backtrack on.
+            alpha = 1.0
+            while True:
+                trial = q + alpha * dq
+                self._update(trial)
+                result = self._level0_errors(pos_tol, rot_tol)
+                if not self._targets or result[1] < error or result[0]:
+                    break
+                if alpha <= _MIN_STEP_FRACTION:
+                    break
+                alpha *= 0.5
+            if self._targets and not (result[1] < error or result[0]):
+                self._update(q)  # no descent along Δq: q is a (constrained) stationary point
+                status = "stalled"
+                break
+            q = trial
+            iterations += 1
+            history.append(q.copy())
+            converged, error, position_error, rotation_error = result
             errors.append(error)
             if converged and self._targets:
                 status = "converged"
-                break
-            if iterations >= max_iter:
-                break
-            dq = self._step(q, dt, max_step)
-            q += dq
-            iterations += 1
-            history.append(q.copy())
-            if float(np.linalg.norm(dq)) < q_tol:
-                self._update(q)
-                converged, error, position_error, rotation_error = self._level0_errors(
-                    pos_tol, rot_tol
-                )
-                errors.append(error)
-                status = "converged" if converged else "stalled"
-                break
+            elif alpha * float(np.linalg.norm(dq)) < q_tol:
+                # Without level-0 targets, a vanishing step is convergence.
+                status = "stalled" if self._targets else "converged"
         return IKResult(
             q=q,
             success=status == "converged",

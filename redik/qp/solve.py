@@ -26,6 +26,8 @@ def solve_pose_qp(
     max_iter: int = 100,
     respect_limits: bool = True,
     frame: str | None = None,
+    restarts: int = 0,
+    seed: int | np.random.Generator | None = None,
     **options,
 ) -> IKResult:
     """Drive ``frame`` (default the end-effector) to ``T_target`` from ``q0``.
@@ -53,11 +55,24 @@ def solve_pose_qp(
         damping=options.get("damping", 1e-6),
         backend_options=options.get("backend_options"),
     )
-    return problem.solve(
-        q0,
-        pos_tol=pos_tol,
-        rot_tol=rot_tol,
-        max_iter=max_iter,
-        q_tol=options.get("q_tol", 1e-12),
-        max_step=options.get("max_step", 0.5),
-    )
+    rng = np.random.default_rng(seed)
+    best: IKResult | None = None
+    iterations = 0
+    for attempt in range(restarts + 1):
+        start = q0 if attempt == 0 else robot.random_q(rng)
+        result = problem.solve(
+            start,
+            pos_tol=pos_tol,
+            rot_tol=rot_tol,
+            max_iter=max_iter,
+            q_tol=options.get("q_tol", 1e-12),
+            max_step=options.get("max_step", 0.5),
+        )
+        iterations += result.iterations
+        if best is None or result.success or result.error < best.error:
+            best = result
+            best.restarts = attempt
+        if result.success:
+            break
+    best.iterations = iterations
+    return best
