@@ -37,6 +37,9 @@ from .tasks.task import ResidualTask, Task
 _MIN_STEP_FRACTION = 1.0 / 64.0
 """Smallest fraction of a QP step ``solve`` tries before calling the iterate stalled."""
 
+_MU_MIN, _MU_MAX = 1e-9, 1e6
+"""Bounds of the adaptive Levenberg–Marquardt scale of ``solve``."""
+
 
 class Problem:
     """Differential IK as a (hierarchical) QP over the chain joints of ``robot``.
@@ -146,8 +149,20 @@ class Problem:
         if self._configuration is not None:
             self._configuration.update(self.robot.data.qpos)
 
-    def _step(self, q: np.ndarray, dt: float | None, max_step: float | None = None):
+    def _step(
+        self,
+        q: np.ndarray,
+        dt: float | None,
+        max_step: float | None = None,
+        lm_damping: float = 0.0,
+    ):
         objectives = self._assembly.objectives(self._state, self._configuration)
+        damping: float | list[float] = self.damping
+        if lm_damping > 0.0:
+            # Levenberg–Marquardt on level 0 only; the arrays are rebuilt every step.
+            H0 = objectives[0][0]
+            H0.flat[:: H0.shape[0] + 1] += lm_damping
+            damping = [self.damping + lm_damping] + [self.damping] * (len(objectives) - 1)
         lb, ub = self._lb, self._ub
         if self._boxes:
             self._boxes[0].set_bounds(q, dt, lb, ub)
@@ -183,7 +198,7 @@ class Problem:
             C,
             low,
             up,
-            damping=self.damping,
+            damping=damping,
             rank_tol=self.rank_tol,
             stats=self.stats,
         )
@@ -207,8 +222,17 @@ class Problem:
         q_tol: float = 1e-12,
         max_step: float | None = None,
         dt: float | None = None,
+        lm_damping: float = 0.1,
     ) -> IKResult:
         """Iterate ``q ← q + αΔq`` from ``q0`` until the priority-0 tasks converge.
+
+        Level 0 is solved as damped least squares: its Hessian gets ``λ = μ‖e‖²`` (``e`` the
+        level-0 error; Levenberg–Marquardt with Sugihara's 2011 choice, as ``solve_pose``'s
+        ``"dls"``), so far from the target the step is short and gradient-like and near it
+        λ → 0 leaves Gauss–Newton's quadratic convergence. ``μ`` starts at ``lm_damping``,
+        halves after a full step and grows ×8 after a cut one; the lower levels still move
+        only in the null space of level 0's residual. ``lm_damping=0`` gives the plain
+        iteration of :meth:`step`.
 
         ``Δq`` is the lexicographic QP step of :meth:`step`; ``α ∈ {1, ½, ¼, …, 1/64}`` is
         the first fraction that lowers the level-0 error (backtracking, as in damped
@@ -231,6 +255,7 @@ class Problem:
             q_tol: Stop as ``"stalled"`` when ``‖Δq‖ < q_tol`` before converging.
             max_step: Optional trust region, ``|Δq_i| ≤ max_step`` per iteration.
             dt: Passed to the limits (velocity limits need it).
+            lm_damping: Initial Levenberg–Marquardt scale ``μ`` (≥ 0).
 
         Returns:
             :class:`~redik.result.IKResult` with ``method="qp"`` and the history.
@@ -240,6 +265,8 @@ class Problem:
             raise InvalidInput(f"max_iter must be >= 0, got {max_iter}")
         if max_step is not None and not max_step > 0.0:
             raise InvalidInput(f"max_step must be > 0, got {max_step}")
+        if not (np.isfinite(lm_damping) and lm_damping >= 0.0):
+            raise InvalidInput(f"lm_damping must be finite and >= 0, got {lm_damping}")
         if self._clip:
             q = np.clip(q, self.robot.lower, self.robot.upper)
         history = [q.copy()]
@@ -248,8 +275,9 @@ class Problem:
         errors = [error]
         status = "converged" if converged and self._targets else "max_iterations"
         iterations = 0
+        mu = lm_damping
         while status == "max_iterations" and iterations < max_iter:
-            dq = self._step(q, dt, max_step)
+            dq = self._step(q, dt, max_step, mu * error * error if self._targets else 0.0)
             # Backtracking on the level-0 error: far from the target a full Gauss–Newton
             # step overshoots (into the limits, or into a two-point cycle). Scaling the
             # whole lexicographic Δq keeps every level's direction; q + αΔq stays in the
@@ -268,6 +296,8 @@ class Problem:
                 self._update(q)  # no descent along Δq: q is a (constrained) stationary point
                 status = "stalled"
                 break
+            # A full step trusted the model: damp less; a cut step: damp more (Nielsen 1999).
+            mu = max(mu * 0.5, _MU_MIN) if alpha == 1.0 else min(mu * 8.0, _MU_MAX)
             q = trial
             iterations += 1
             history.append(q.copy())

@@ -123,3 +123,20 @@ def test_backends_give_the_same_iterates(panda, rng):
         result = Problem(panda, [PoseTask(T), PostureTask()], backend=backend).solve(q0)
         assert result.iterations == reference.iterations
         np.testing.assert_allclose(result.q, reference.q, atol=1e-6)
+
+
+def test_solve_never_increases_the_level0_error_and_does_not_cycle(panda):
+    """From home, this target made the plain iteration cycle between two points at 0.55 m."""
+    target = panda.fk(panda.random_q(1))
+    problem = Problem(panda, [PoseTask(target)])
+    result = problem.solve(panda.home, max_iter=200)
+    assert result.success and panda.within_limits(result.q)
+    assert np.all(np.diff(result.error_history) <= 0.0)
+    plain = problem.solve(panda.home, max_iter=200, lm_damping=0.0)
+    assert np.all(np.diff(plain.error_history) <= 0.0)  # backtracking alone: no cycle
+    assert not plain.success and plain.status == "stalled"  # but a stationary point
+
+
+def test_lm_damping_is_validated(panda):
+    with pytest.raises(InvalidInput, match="lm_damping"):
+        Problem(panda, [PoseTask(panda.fk(panda.home))]).solve(panda.home, lm_damping=-1.0)

@@ -83,7 +83,7 @@ def solve_lexicographic(
     C: np.ndarray | None = None,
     l: np.ndarray | None = None,
     u: np.ndarray | None = None,
-    damping: float = 0.0,
+    damping: float | Sequence[float] = 0.0,
     rank_tol: float = 1e-10,
     stats: dict | None = None,
 ) -> np.ndarray:
@@ -94,7 +94,9 @@ def solve_lexicographic(
         backends: One back-end per level (they may keep per-level state).
         lb, ub: Bounds on ``x`` (or None).
         C, l, u: Rows ``l ≤ C x ≤ u`` (or None).
-        damping: The ``ε`` the Hessians carry (discounted when finding null spaces).
+        damping: The ``ε`` the Hessians carry (discounted when finding null spaces): one
+            value for every level, or one per level (e.g. a Levenberg–Marquardt term on
+            level 0 only).
         rank_tol: Relative eigenvalue threshold of the null space.
         stats: If given, ``stats["skipped_levels"]`` counts lower levels whose back-end
             failed; their step is then zero (``z = 0`` is always feasible for them).
@@ -102,12 +104,13 @@ def solve_lexicographic(
     Raises:
         InfeasibleProblem, BackendError: from the back-end of level 0.
     """
+    shifts = [damping] * len(objectives) if np.isscalar(damping) else list(damping)
     H0, c0 = objectives[0]
     x = backends[0].solve(QP(H0, c0, lb, ub, C, l, u))
     if len(objectives) == 1:
         return x
-    N = free_directions(H0, c0, rank_tol, damping)
-    for (H_k, c_k), backend in zip(objectives[1:], backends[1:], strict=True):
+    N = free_directions(H0, c0, rank_tol, shifts[0])
+    for (H_k, c_k), backend, shift in zip(objectives[1:], backends[1:], shifts[1:], strict=True):
         if N.shape[1] == 0:
             break
         Hz = N.T @ H_k @ N
@@ -137,5 +140,5 @@ def solve_lexicographic(
                 stats["skipped_levels"] = stats.get("skipped_levels", 0) + 1
             break
         x = x + N @ z
-        N = N @ free_directions(Hz, cz, rank_tol, damping)
+        N = N @ free_directions(Hz, cz, rank_tol, shift)
     return x
