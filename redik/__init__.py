@@ -8,10 +8,13 @@ from . import (
     batch,
     dh,
     lie,
+    limits,
     model_builder,
     plot,
+    qp,
     redundancy,
     scene_library,
+    tasks,
     trajectory,
     workspace,
 )
@@ -28,12 +31,24 @@ from .exceptions import (
     UnknownFrame,
 )
 from .iterative import finite_difference_jacobian, gradient, newton
+from .limits import MinkLimit, PositionLimit, VelocityLimit
 from .model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
 from .pose_ik import solve_all, solve_pose
+from .problem import Problem
+from .qp import available_backends, make_backend
 from .redundancy import SelfMotion, explore_self_motion, nullspace_velocity
 from .result import STATUSES, IKResult
 from .robot import Frame, Robot
 from .scenes import list_scenes, load, scene_path
+from .tasks import (
+    DampingTask,
+    JointLimitAvoidanceTask,
+    ManipulabilityTask,
+    OrientationTask,
+    PoseTask,
+    PositionTask,
+    PostureTask,
+)
 from .trajectory import CartesianPath, CircularPath, JointTrajectory, follow_path
 
 __version__ = "0.1.0"
@@ -44,6 +59,7 @@ __all__ = [
     "BatchResult",
     "CartesianPath",
     "CircularPath",
+    "DampingTask",
     "Frame",
     "IKResult",
     "InfeasibleProblem",
@@ -51,13 +67,24 @@ __all__ = [
     "InvalidInput",
     "InvalidPose",
     "InvalidRotation",
+    "JointLimitAvoidanceTask",
     "JointTrajectory",
+    "ManipulabilityTask",
+    "MinkLimit",
     "ModelError",
+    "OrientationTask",
+    "PoseTask",
+    "PositionLimit",
+    "PositionTask",
+    "PostureTask",
+    "Problem",
     "RedikError",
     "Robot",
     "SelfMotion",
     "UnknownFrame",
+    "VelocityLimit",
     "analytic",
+    "available_backends",
     "batch",
     "dh",
     "dh_to_mjcf",
@@ -66,12 +93,15 @@ __all__ = [
     "follow_path",
     "gradient",
     "lie",
+    "limits",
     "list_scenes",
     "load",
+    "make_backend",
     "model_builder",
     "newton",
     "nullspace_velocity",
     "plot",
+    "qp",
     "read_dh",
     "read_screws",
     "redundancy",
@@ -81,6 +111,7 @@ __all__ = [
     "solve_all",
     "solve_batch",
     "solve_pose",
+    "tasks",
     "trajectory",
     "workspace",
 ]
