@@ -169,6 +169,8 @@ class Corrector:
         """Every row of ``q`` (… × n) with its hinges shifted by multiples of 2π towards their
         ranges (unlimited hinges wrapped to (−π, π]), and whether it then lies within them.
 
+        A hinge that cannot be brought into its range takes the angle nearest to it, on
+        whichever side (what :meth:`limit_violation` measures): the start of a limit point.
         A hinge whose range spans 2π or more has several in-range representatives: a row
         already in range keeps its own, one beyond a limit takes the one nearest that limit.
         The manifold is sampled at that one representative only.
@@ -182,6 +184,12 @@ class Corrector:
         )
         shifted = q + 2 * np.pi * np.nan_to_num(turns)
         shifted[..., self.periodic] = wrap_angle(shifted[..., self.periodic])
+        above, below = shifted - self.upper, self.lower - shifted
+        other_side = revolute & (
+            ((above > 0.0) & (self.lower - (shifted - 2 * np.pi) < above))
+            | ((below > 0.0) & (shifted + 2 * np.pi - self.upper < below))
+        )
+        shifted = np.where(other_side, shifted - 2 * np.pi * np.sign(above), shifted)
         inside = np.all((shifted >= self.lower) & (shifted <= self.upper), axis=-1)
         return shifted, inside
 
@@ -294,13 +302,15 @@ class BatchCorrector:
         return Vt[:, self.dof - dimension :].transpose(0, 2, 1)
 
     def limit_points(
-        self, q_inside: np.ndarray, q_outside: np.ndarray
+        self, q_inside: np.ndarray, q_outside: np.ndarray, max_rounds: int = 3
     ) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`Corrector.limit_point` for every pair of rows: the manifold's point on the
         limit between ``q_inside`` (within the limits) and a nearby ``q_outside``.
 
-        Returns ``(q, placed)``: the points (B × n) and whether each converged onto the
-        pose within the limits.
+        A joint the corrected point pushes past another limit is frozen there too and the
+        point corrected again (up to ``max_rounds`` times), which finds the corners where
+        two limits cut a surface. Returns ``(q, placed)``: the points (B × n) and whether
+        each converged onto the pose within the limits.
         """
         c = self.corrector
         violated = (q_outside < c.lower) | (q_outside > c.upper)
@@ -312,6 +322,14 @@ class BatchCorrector:
         start = np.clip(q_inside + fraction[:, None] * delta, c.lower, c.upper)
         start[violated] = bound[violated]
         q, converged = self.correct(start, frozen=violated)
+        for _ in range(max_rounds - 1):
+            past = converged[:, None] & ~violated & ((q < c.lower) | (q > c.upper))
+            again = np.flatnonzero(past.any(axis=1))
+            if not again.size:
+                break
+            violated[again] |= past[again]
+            start = np.clip(q[again], c.lower, c.upper)
+            q[again], converged[again] = self.correct(start, frozen=violated[again])
         inside = np.all((q >= c.lower) & (q <= c.upper), axis=1)
         return q, converged & inside
 

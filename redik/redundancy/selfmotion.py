@@ -306,7 +306,7 @@ def explore_self_motion(
 
     corrector = Corrector(robot, T_target, resolved)
     rng = np.random.default_rng(seed)
-    seeds = _seed_solutions(corrector, extra, n_starts, rng, inside_limits_too=dimension == 2)
+    seeds = _seed_solutions(corrector, extra, n_starts, rng)
 
     explorer = _Explorer(corrector, dimension, spacing, max_samples)
     for q in seeds:
@@ -352,32 +352,28 @@ def _seed_solutions(
     extra: np.ndarray,
     n_starts: int,
     rng: np.random.Generator,
-    inside_limits_too: bool = False,
 ) -> list[np.ndarray]:
     """IK solutions of the pose: from ``extra`` configurations, then ``n_starts`` random ones.
 
     Each start is solved by :func:`redik.solve_pose` (damped least squares) *without* the
-    joint limits — a curve is traced through the limits, so a solution outside them still
-    leads to the arcs inside — and, with ``inside_limits_too`` (surfaces, which are covered
-    inside the limits only), once more with the limits respected. Every solution is
-    polished by the corrector to the sample tolerances.
+    joint limits — curves and surfaces are followed through the limits, so a solution
+    outside them still leads to the arcs and patches inside. Every solution is polished by
+    the corrector to the sample tolerances.
     """
     from ..pose_ik import solve_pose
 
     robot = corrector.robot
     seeds = []
-    modes = (False, True) if inside_limits_too else (False,)
     for q0 in [*extra, *robot.random_q(rng, size=n_starts)]:
-        for respect_limits in modes:
-            result = solve_pose(
-                robot, corrector.T_target, q0, restarts=0, respect_limits=respect_limits,
-                frame=corrector.frame, pos_tol=1e-6, rot_tol=1e-5,
-            )  # fmt: skip
-            if not result.success:
-                continue
-            q, converged = corrector.correct(result.q)
-            if converged:
-                seeds.append(q)
+        result = solve_pose(
+            robot, corrector.T_target, q0, restarts=0, respect_limits=False,
+            frame=corrector.frame, pos_tol=1e-6, rot_tol=1e-5,
+        )  # fmt: skip
+        if not result.success:
+            continue
+        q, converged = corrector.correct(result.q)
+        if converged:
+            seeds.append(q)
     return seeds
 
 
@@ -630,27 +626,32 @@ class _Explorer:
         self._keep_inside(np.concatenate(nodes))
 
     def _keep_inside(self, nodes: np.ndarray) -> None:
-        """The covering's nodes inside the limits, with the points where the surface crosses
-        a limit between an inside node and its nearest outside neighbour, split into
-        patches: connected components of the graph joining samples ≤ ``spacing`` apart."""
+        """The covering's nodes inside the limits, with samples on the limits, split into
+        patches: connected components of the graph joining samples ≤ ``spacing`` apart.
+
+        A limit sample is placed where the surface crosses a limit between an inside node
+        and its nearest outside neighbour, and from every outside node near the limits with
+        no sample close by — a sliver of the surface inside the limits, narrower than a
+        step, may lie between such nodes.
+        """
         shifted, inside = self.corrector.shift_into_limits(nodes)
         kept = shifted[inside]
-        if inside.any() and not inside.all():
-            graph = _SampleIndex(self.torus, nodes.shape[1])
-            graph.extend(nodes)
-            pairs = graph.pairs(self.spacing)
-            crossing = inside[pairs[:, 0]] != inside[pairs[:, 1]]
-            pairs = pairs[crossing]
-            pairs = np.where(inside[pairs[:, :1]], pairs, pairs[:, ::-1])  # (inside, outside)
-            lengths = _distances(nodes[pairs[:, 0]], nodes[pairs[:, 1]], self.torus)
-            order = np.lexsort((lengths, pairs[:, 0]))
-            pairs = pairs[order][np.unique(pairs[order, 0], return_index=True)[1]]
-            q_in = shifted[pairs[:, 0]]
-            delta = nodes[pairs[:, 1]] - nodes[pairs[:, 0]]
-            delta[:, self.torus] = wrap_angle(delta[:, self.torus])
-            on_limit, placed = self.batch.limit_points(q_in, q_in + delta)
-            placed &= _distances(q_in, on_limit, self.periodic) <= self.spacing
-            kept = np.concatenate([kept, on_limit[placed]])
+        if not inside.all():
+            if inside.any():
+                kept = np.concatenate([kept, self._crossings(nodes, shifted, inside)])
+            index = _SampleIndex(self.periodic, nodes.shape[1])
+            index.extend(kept)
+            step = _COVER_STEP * self.spacing
+            near = np.flatnonzero(~inside & (self.corrector.limit_violations(nodes) <= step))
+            if len(kept):
+                near = near[~index.within_each(shifted[near], np.full(len(near), 0.5 * step))]
+            q_out = shifted[near]
+            lower, upper = self.corrector.lower, self.corrector.upper
+            on_limit, placed = self.batch.limit_points(np.clip(q_out, lower, upper), q_out)
+            placed &= _distances(q_out, on_limit, self.periodic) <= self.spacing
+            slivers = on_limit[placed]
+            slivers = slivers[_spread(slivers, np.full(len(slivers), 0.5 * step), self.periodic)]
+            kept = np.concatenate([kept, slivers])
         if not len(kept):
             return
         index = _SampleIndex(self.periodic, kept.shape[1])
@@ -662,6 +663,23 @@ class _Explorer:
         )
         for label in range(labels.max() + 1):
             self._append(kept[labels == label], closed=False, ends=())
+
+    def _crossings(self, nodes: np.ndarray, shifted: np.ndarray, inside: np.ndarray) -> np.ndarray:
+        """Points on the limits between each inside node and its nearest outside neighbour."""
+        graph = _SampleIndex(self.torus, nodes.shape[1])
+        graph.extend(nodes)
+        pairs = graph.pairs(self.spacing)
+        pairs = pairs[inside[pairs[:, 0]] != inside[pairs[:, 1]]]
+        pairs = np.where(inside[pairs[:, :1]], pairs, pairs[:, ::-1])  # (inside, outside)
+        lengths = _distances(nodes[pairs[:, 0]], nodes[pairs[:, 1]], self.torus)
+        order = np.lexsort((lengths, pairs[:, 0]))
+        pairs = pairs[order][np.unique(pairs[order, 0], return_index=True)[1]]
+        q_in = shifted[pairs[:, 0]]
+        delta = nodes[pairs[:, 1]] - nodes[pairs[:, 0]]
+        delta[:, self.torus] = wrap_angle(delta[:, self.torus])
+        on_limit, placed = self.batch.limit_points(q_in, q_in + delta)
+        placed &= _distances(q_in, on_limit, self.periodic) <= self.spacing
+        return on_limit[placed]
 
 
 # --------------------------------------------------------------------------------------
