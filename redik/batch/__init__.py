@@ -1,8 +1,10 @@
-"""Batch inverse kinematics: many targets at once, vectorised, on all cores or a Ray cluster.
+"""Batch inverse kinematics: many targets at once, compiled, on all cores or a Ray cluster.
 
 - :mod:`~redik.batch.chain` compiles a robot's MuJoCo chain once into arrays;
 - :mod:`~redik.batch.kinematics` evaluates FK and Jacobians over a whole batch;
-- :mod:`~redik.batch.solve` runs damped least squares on a batch (:func:`solve_batch`);
+- :mod:`~redik.batch.kernel` is the compiled (numba) damped least-squares solve of one target,
+  shared with :func:`redik.solve_pose`;
+- :mod:`~redik.batch.solve` runs it on a batch (:func:`solve_batch`);
 - :mod:`~redik.batch.engines` spreads chunks over this process, a process pool or Ray.
 """
 

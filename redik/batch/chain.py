@@ -29,7 +29,7 @@ import numpy as np
 
 from ..exceptions import ModelError
 from ..lie import make_pose, matrix_from_quat
-from ..robot import Robot
+from ..robot import Frame, Robot
 
 _CHAIN_TYPES = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
 
@@ -47,6 +47,8 @@ class Chain:
         sampling_lower, sampling_upper: Bounds for random seeds (the limits, or ±π / ±1 m).
         home: The robot's home configuration.
         name: The robot's name.
+        columns: Where each joint sits in the robot's ``q``: ``0 … n−1`` for the
+            end-effector, fewer for a frame that only some of the robot's joints move.
     """
 
     base: np.ndarray
@@ -58,6 +60,7 @@ class Chain:
     sampling_upper: np.ndarray
     home: np.ndarray
     name: str
+    columns: np.ndarray
 
     @property
     def dof(self) -> int:
@@ -76,27 +79,52 @@ class Chain:
         radius = float(np.linalg.norm(self.links[:, :3, 3], axis=1).sum() + extent)
         return self.base[:3, 3].copy(), radius
 
+    def kernel_arrays(self) -> tuple[np.ndarray, ...]:
+        """The arrays :mod:`redik.batch.kernel` takes, in its order; the last marks limited
+        hinges whose range spans a full turn (the kernel wraps them by 2π)."""
+        periodic = (
+            self.revolute
+            & np.isfinite(self.lower)
+            & np.isfinite(self.upper)
+            & (self.upper - self.lower >= 2.0 * np.pi)
+        )
+        return (
+            self.base, self.links, self.revolute, self.lower, self.upper,
+            self.sampling_lower, self.sampling_upper, periodic,
+        )  # fmt: skip
+
     @classmethod
-    def from_robot(cls, robot: Robot) -> Chain:
-        """Compile ``robot``'s chain from its MuJoCo model (off-chain joints at home)."""
+    def from_robot(cls, robot: Robot, frame: str | Frame | None = None) -> Chain:
+        """Compile ``robot``'s chain to ``frame`` (default the end-effector) from its MuJoCo
+        model; joints off the chain stay at home.
+
+        The chain holds the robot's joints that move ``frame``, in the robot's order
+        (:attr:`columns`): all of them for the end-effector or a frame attached below it.
+        """
+        frame = robot.frame(frame)
+        base, links, addresses = _fold(robot, frame)
+        columns = np.array(
+            [int(np.flatnonzero(robot.qpos_indices == adr)[0]) for adr in addresses], dtype=int
+        )
         return cls(
-            *_fold(robot),
-            revolute=np.array(robot.revolute, dtype=bool),
-            lower=np.array(robot.lower, dtype=float),
-            upper=np.array(robot.upper, dtype=float),
-            sampling_lower=np.array(robot.sampling_lower, dtype=float),
-            sampling_upper=np.array(robot.sampling_upper, dtype=float),
-            home=np.array(robot.home, dtype=float),
-            name=robot.name,
+            base,
+            links,
+            revolute=np.array(robot.revolute[columns], dtype=bool),
+            lower=np.array(robot.lower[columns], dtype=float),
+            upper=np.array(robot.upper[columns], dtype=float),
+            sampling_lower=np.array(robot.sampling_lower[columns], dtype=float),
+            sampling_upper=np.array(robot.sampling_upper[columns], dtype=float),
+            home=np.array(robot.home[columns], dtype=float),
+            name=robot.name if frame == robot.ee else f"{robot.name}:{frame.name}",
+            columns=columns,
         )
 
 
-def _fold(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
-    """``(F_0, [F_1 … F_n])`` by walking the bodies from the world to the end-effector."""
+def _fold(robot: Robot, ee: Frame) -> tuple[np.ndarray, np.ndarray, list[int]]:
+    """``(F_0, [F_1 … F_n], qpos addresses)`` by walking the bodies from the world to ``ee``."""
     model = robot.model
     home_qpos = robot.full_qpos(robot.home)
     chain_qpos = {int(adr) for adr in robot.qpos_indices}
-    ee = robot.ee
     ee_body = int(model.site_bodyid[ee.id]) if ee.kind == "site" else ee.id
 
     path = []
@@ -107,6 +135,7 @@ def _fold(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     path.reverse()
 
     fixed: list[np.ndarray] = []  # one F per joint boundary, built up as we walk
+    addresses: list[int] = []
     current = np.eye(4)
     for body in path:
         if model.body_mocapid[body] >= 0:
@@ -122,6 +151,7 @@ def _fold(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
                 hinge = kind == int(mujoco.mjtJoint.mjJNT_HINGE)
                 to_anchor = make_pose(np.eye(3), anchor if hinge else np.zeros(3))
                 fixed.append(current @ to_anchor @ align)
+                addresses.append(adr)
                 reference = float(model.qpos0[adr])
                 undo = np.eye(4)
                 if hinge:
@@ -141,7 +171,7 @@ def _fold(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
         site = ee.id
         current = current @ make_pose(matrix_from_quat(model.site_quat[site]), model.site_pos[site])
     fixed.append(current)
-    return fixed[0], np.stack(fixed[1:])
+    return fixed[0], np.stack(fixed[1:]) if addresses else np.empty((0, 4, 4)), addresses
 
 
 def _about(anchor: np.ndarray, rotation: np.ndarray) -> np.ndarray:
