@@ -17,7 +17,12 @@ from redik.redundancy import (
     explore_self_motion,
     gradient_projection_ik,
 )
-from redik.redundancy.corrector import POSITION_TOLERANCE, ROTATION_TOLERANCE
+from redik.redundancy.corrector import (
+    POSITION_TOLERANCE,
+    ROTATION_TOLERANCE,
+    BatchCorrector,
+    Corrector,
+)
 
 
 def without_limits(scene: str) -> redik.Robot:
@@ -145,6 +150,83 @@ def test_dexter8r_manifold_is_two_dimensional():
     # Neighbours are at most one spacing apart and no closer than the covering's exclusion.
     distances, _ = tree.query(motion.samples, k=2)
     assert distances[:, 1].max() <= motion.spacing + 1e-12
+
+
+def test_dexter8r_independent_ik_solutions_lie_on_the_explored_surface():
+    # The surface is covered through the limits, so patches no seed lands in are found too.
+    robot = redik.load("dexter8r")
+    rng = np.random.default_rng(21)
+    T = robot.fk(robot.random_q(rng))
+    motion = explore_self_motion(robot, T, spacing=0.45, seed=21, n_starts=16)
+    assert_every_sample_keeps_the_pose(robot, motion)
+    assert motion.n_components > 1  # the limits cut this surface into several patches
+    solutions = []
+    for q0 in robot.random_q(rng, size=100):
+        result = solve_pose(robot, T, q0, respect_limits=True, seed=rng)
+        if result.success:
+            solutions.append(result.q)
+    assert len(solutions) >= 80
+    distances = motion.distance_to(np.array(solutions))
+    assert np.mean(distances <= motion.spacing) >= 0.99, np.sort(distances)[-5:]
+
+
+@pytest.fixture(scope="module")
+def dexter_correctors() -> tuple[redik.Robot, Corrector, BatchCorrector, np.ndarray]:
+    robot = redik.load("dexter8r")
+    q = robot.random_q(np.random.default_rng(5))
+    corrector = Corrector(robot, robot.fk(q), robot.frame(None))
+    return robot, corrector, BatchCorrector(corrector), q
+
+
+def test_batch_corrector_projects_onto_the_pose_and_spans_the_tangent_plane(dexter_correctors):
+    robot, corrector, batch, q = dexter_correctors
+    rng = np.random.default_rng(0)
+    tangent = corrector.tangent_basis(q, 2)
+    predictions = q + 0.2 * (tangent @ rng.normal(size=(2, 40))).T + 0.01 * rng.normal(size=(40, 8))
+    corrected, converged = batch.correct(predictions)
+    assert converged.all()
+    for x in corrected:  # MuJoCo's kinematics, not the batch chain's
+        position, rotation = corrector.pose_errors(x)
+        assert position <= 0.01 * POSITION_TOLERANCE and rotation <= 0.01 * ROTATION_TOLERANCE
+    # The same projection as one point at a time, to within the corrector's tolerance.
+    one_by_one = np.array([corrector.correct(x)[0] for x in predictions[:5]])
+    assert np.allclose(corrected[:5], one_by_one, atol=1e-3)
+    bases = batch.tangent_bases(corrected, 2)
+    for x, basis in zip(corrected[:5], bases, strict=False):
+        assert np.allclose(robot.jacobian(x, reference="world") @ basis, 0.0, atol=1e-12)
+        assert np.allclose(basis.T @ basis, np.eye(2), atol=1e-12)
+
+
+def test_limit_points_lie_on_a_limit_and_keep_the_pose():
+    robot = redik.load("dexter8r")
+    inside = robot.random_q(np.random.default_rng(6))
+    inside[2] = robot.upper[2] - 0.02  # joint 3 just below its upper limit
+    corrector = Corrector(robot, robot.fk(inside), robot.frame(None))
+    # Step along the surface, in the tangent direction that raises joint 3, past the limit.
+    tangent = corrector.tangent_basis(inside, 2)
+    direction = tangent @ tangent[2]
+    direction /= np.linalg.norm(direction)
+    outside, converged = corrector.correct(inside + 0.1 * direction)
+    assert converged and outside[2] > robot.upper[2]
+    points, placed = BatchCorrector(corrector).limit_points(inside[None], outside[None])
+    assert placed.all()
+    position, rotation = corrector.pose_errors(points[0])
+    assert position <= POSITION_TOLERANCE and rotation <= ROTATION_TOLERANCE
+    assert points[0][2] == robot.upper[2] and robot.within_limits(points[0])
+    assert np.linalg.norm(points[0] - inside) < np.linalg.norm(outside - inside)
+
+
+def test_shift_into_limits_takes_the_nearer_side_of_the_range(dexter_correctors):
+    robot, corrector, _, _ = dexter_correctors
+    q = np.array(robot.home)
+    q[0] = robot.lower[0] - 0.03 + 2 * np.pi  # just below the lower limit, one turn up
+    shifted, inside = corrector.shift_into_limits(q[None])
+    assert not inside[0]
+    assert shifted[0, 0] == pytest.approx(robot.lower[0] - 0.03)
+    assert corrector.limit_violation(q) == pytest.approx(0.03)
+    q[0] = robot.lower[0] + 0.1 + 2 * np.pi
+    shifted, inside = corrector.shift_into_limits(q[None])
+    assert inside[0] and shifted[0, 0] == pytest.approx(robot.lower[0] + 0.1)
 
 
 @pytest.mark.parametrize("scene", ["puma560", "ur5e"])
