@@ -245,6 +245,16 @@ def test_a_6r_arm_has_isolated_solutions(scene):
     assert motion.distance_to(robot.home)[0] <= 1e-6
 
 
+def test_criteria_scored_in_batch_match_one_sample_at_a_time(panda, panda_motion):
+    from redik.redundancy import default_criteria
+
+    for criterion in default_criteria(panda):
+        for k in range(0, len(panda_motion), max(1, len(panda_motion) // 7)):
+            q = panda_motion.samples[k]
+            expected = criterion.value(panda, q, panda.jacobian(q, reference="world"))
+            assert panda_motion.criteria[criterion.name][k] == pytest.approx(expected, abs=1e-12)
+
+
 def test_summary_and_npz_round_trip(panda_motion, tmp_path):
     summary = json.loads(json.dumps(panda_motion.summary()))
     assert summary["samples"] == len(panda_motion)

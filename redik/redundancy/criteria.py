@@ -17,6 +17,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..batch.chain import Chain
+from ..batch.kinematics import jacobian
 from ..exceptions import InvalidInput
 from .nullspace import (
     joint_limit_margin,
@@ -55,6 +57,11 @@ class Criterion(abc.ABC):
     def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
         """A joint velocity ``q̇₀`` along which the criterion improves (to first order)."""
 
+    def values(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        """:meth:`value` at every row of ``q`` (N × n; ``J``: N × 6 × n). Subclasses may
+        vectorise it; this default calls :meth:`value` row by row."""
+        return np.array([self.value(robot, x, Jx) for x, Jx in zip(q, J, strict=True)])
+
 
 @dataclasses.dataclass(frozen=True)
 class JointLimitMargin(Criterion):
@@ -71,6 +78,10 @@ class JointLimitMargin(Criterion):
     def value(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> float:
         return joint_limit_margin(q, robot.lower, robot.upper)
 
+    def values(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        margins = np.minimum(q - robot.lower, robot.upper - q)
+        return np.min(margins, axis=1, initial=np.inf)
+
     def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
         return joint_limit_margin_gradient(q, robot.lower, robot.upper, self.temperature)
 
@@ -84,6 +95,9 @@ class Manipulability(Criterion):
 
     def value(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> float:
         return manipulability(J)
+
+    def values(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        return np.sqrt(np.maximum(np.linalg.det(J @ J.transpose(0, 2, 1)), 0.0))
 
     def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
         return manipulability_gradient(J)
@@ -99,6 +113,10 @@ class PostureDistance(Criterion):
 
     def value(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> float:
         return float(np.linalg.norm(posture_difference(q, self.nominal, periodic_joints(robot))))
+
+    def values(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        delta = posture_difference(q, self.nominal, periodic_joints(robot))
+        return np.linalg.norm(delta, axis=1)
 
     def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
         return posture_gradient(q, self.nominal, periodic_joints(robot))
@@ -125,12 +143,17 @@ def evaluate_criteria(
     criteria: tuple[Criterion, ...],
     frame: Frame,
 ) -> dict[str, np.ndarray]:
-    """Every criterion at every row of ``samples`` (N × n): a dict of length-N arrays."""
-    values = {c.name: np.empty(len(samples)) for c in criteria}
-    T = np.eye(4)
-    J = np.empty((6, robot.dof))
-    for k, q in enumerate(samples):
-        robot.kinematics(q, frame, T, J)
-        for criterion in criteria:
-            values[criterion.name][k] = criterion.value(robot, q, J)
-    return values
+    """Every criterion at every row of ``samples`` (N × n): a dict of length-N arrays.
+
+    The world Jacobians come from :mod:`redik.batch`'s vectorised kinematics when ``frame``
+    is the end-effector, else from MuJoCo one sample at a time.
+    """
+    samples = np.asarray(samples, dtype=float).reshape(-1, robot.dof)
+    if frame == robot.ee and len(samples):
+        J = jacobian(Chain.from_robot(robot), samples, reference="world")
+    else:
+        J = np.empty((len(samples), 6, robot.dof))
+        T = np.eye(4)
+        for k, q in enumerate(samples):
+            robot.kinematics(q, frame, T, J[k])
+    return {c.name: np.asarray(c.values(robot, samples, J), dtype=float) for c in criteria}
