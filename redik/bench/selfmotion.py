@@ -11,6 +11,7 @@ to lie within one sample spacing of the explored samples. Reports the covered fr
 from __future__ import annotations
 
 import argparse
+import os
 import time
 
 import numpy as np
@@ -63,6 +64,9 @@ def completeness(
 
 def run(args: argparse.Namespace) -> int:
     rng = np.random.default_rng(args.seed)
+    # Times are wall clock: on a shared machine they include waiting for a core.
+    loadavg = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+    print(f"load average {loadavg} on {os.cpu_count()} cores")
     print(
         f"{'robot':<10}{'pose':>5}{'dim':>4}{'samples':>9}{'comp':>6}{'solved':>8}"
         f"{'covered':>9}{'worst/sp':>10}{'time s':>9}{'samples/s':>11}"
