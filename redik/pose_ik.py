@@ -2,7 +2,8 @@ r"""Inverse kinematics of a :class:`~redik.robot.Robot` to a pose target in SE(3
 
 :func:`solve_pose` validates its inputs once, then runs one of the iterations below in a
 tight loop on preallocated buffers (one :meth:`Robot.kinematics` call — FK and world
-Jacobian — per trial), restarting from random configurations when an attempt fails.
+Jacobian — per trial; ``"dls"`` entirely in compiled code), restarting from random
+configurations when an attempt fails. The returned ``q`` is always checked by MuJoCo's FK.
 :func:`solve_all` collects the distinct solutions found from many starts. Frames, twist
 order ``(v, ω)`` and Jacobian references are those of :mod:`redik.conventions`.
 
@@ -28,7 +29,10 @@ Methods
 
         with ``(JᵀJ + λI)⁻¹Jᵀe`` when ``n < 6``. A trial is accepted only when it lowers
         ``‖e‖`` (then ``μ`` shrinks), otherwise it is rejected and ``μ`` grows; an attempt
-        that stops making progress ends early and a restart takes over.
+        that stops making progress ends early and a restart takes over, from the nearest
+        in pose of ``candidates`` random configurations. The attempts and restarts run in
+        the compiled kernel of :mod:`redik.batch.kernel` — the same code as
+        :func:`redik.batch.solve_batch` — on the robot's chain compiled once per frame.
     ``"qp"``
         Dispatched to :func:`redik.qp.solve.solve_pose_qp` (the QP core).
 
@@ -69,6 +73,9 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from .batch import kernel
+from .batch.chain import Chain
+from .batch.solve import BatchOptions
 from .exceptions import InvalidInput
 from .lie import adjoint, as_pose, inverse, pose_errors, se3_log, skew, so3_log
 from .result import IKResult
@@ -84,11 +91,8 @@ RESTARTS = {"newton": 20, "transpose": 5, "hybrid": 20, "dls": 200, "qp": 20}
 """Default number of random restarts after the first attempt, by method."""
 
 _DLS_OPTIONS = {
-    "damping": 1.0,
-    "min_damping": 1e-9,
-    "max_damping": 1e6,
-    "patience": 5,
-    "progress": 0.5,
+    name: getattr(BatchOptions, name)
+    for name in ("damping", "min_damping", "max_damping", "patience", "progress", "candidates")
 }
 _NEWTON_OPTIONS = {"form": "body", "step": 1.0}
 _TRANSPOSE_OPTIONS = {"step": "armijo"}
@@ -184,10 +188,12 @@ def solve_pose(
             f"unknown option(s) {unknown} for method {method!r}; it takes {sorted(options)}"
         )
     options.update(method_options)
-    iterate = _ITERATIONS[method](options)
-
     problem = _Problem(robot, resolved, T_target, pos_tol, rot_tol, respect_limits)
-    attempts = [iterate(problem, problem.project(q_start), max_iter)]
+    q_start = problem.project(q_start)
+    if method == "dls":
+        return _solve_dls(problem, q_start, max_iter, restarts, seed, options)
+    iterate = _ITERATIONS[method](options)
+    attempts = [iterate(problem, q_start, max_iter)]
     reach = 0.0
     if attempts[0].status != "converged":
         reach = _reach_excess(robot, resolved, problem.p_d)
@@ -198,7 +204,7 @@ def solve_pose(
             attempts.append(iterate(problem, problem.project(robot.random_q(rng)), max_iter))
             if attempts[-1].status == "converged":
                 break
-    return _finish(problem, attempts, method, reach)
+    return _finish(problem, _Outcome.of(attempts, robot.lower, robot.upper), method, reach)
 
 
 def solve_all(
@@ -279,18 +285,8 @@ class _Problem:
         self.respect_limits = respect_limits
         self.lower = robot.lower
         self.upper = robot.upper
-        self.bounded = respect_limits and bool(
-            np.any(np.isfinite(robot.lower) | np.isfinite(robot.upper))
-        )
+        self.bounded = respect_limits
         self.n = robot.dof
-        self.periodic = (
-            robot.revolute
-            & np.isfinite(robot.lower)
-            & np.isfinite(robot.upper)
-            & (robot.upper - robot.lower >= 2.0 * np.pi)
-        )
-        """Limited revolute joints whose range spans a full turn: one of q ± 2π fits."""
-        self.periodic_any = bool(np.any(self.periodic))
 
     def project(self, q: np.ndarray) -> np.ndarray:
         """``q`` clipped into the limits when they are respected (a new array)."""
@@ -317,7 +313,6 @@ class _Attempt:
     history: list[np.ndarray]
     errors: list[float]
     error_sq: float  # ‖e‖² of the world error at q, to pick the closest attempt
-    T: np.ndarray  # pose of the frame at q
     J: np.ndarray  # world Jacobian at q
     e: np.ndarray  # world error at q
 
@@ -333,116 +328,132 @@ def _stationarity(attempt: _Attempt, lower: np.ndarray, upper: np.ndarray) -> fl
     return float(np.linalg.norm(g))
 
 
+@dataclass
+class _Outcome:
+    """What :func:`_finish` needs from all the attempts of a solve."""
+
+    q: np.ndarray  # of the returned attempt: the converged one, else the closest
+    history: np.ndarray  # the returned attempt's iterates
+    errors: np.ndarray  # and its ‖e‖
+    iterations: int  # over every attempt
+    attempts: int
+    same_stationary_point: bool
+    all_diverged: bool
+    e: np.ndarray  # world error at q (by FK of q)
+    position_error: float  # at q
+    rotation_error: float
+
+    @classmethod
+    def of(cls, attempts: list[_Attempt], lower: np.ndarray, upper: np.ndarray) -> _Outcome:
+        best = attempts[-1]
+        if best.status != "converged":
+            best = min(attempts, key=lambda attempt: attempt.error_sq)
+        errors = np.sqrt([a.error_sq for a in attempts])
+        gradients = np.array([_stationarity(a, lower, upper) for a in attempts])
+        return cls(
+            q=best.q,
+            history=np.array(best.history),
+            errors=np.array(best.errors),
+            iterations=sum(len(attempt.history) - 1 for attempt in attempts),
+            attempts=len(attempts),
+            same_stationary_point=_same_stationary_point(
+                len(attempts), errors.min(), errors.max(), bool(np.all(gradients <= 1e-4 * errors))
+            ),
+            all_diverged=all(attempt.status == "diverged" for attempt in attempts),
+            e=best.e,
+            position_error=float(np.linalg.norm(best.e[:3])),
+            rotation_error=float(np.linalg.norm(best.e[3:])),
+        )
+
+
 # --------------------------------------------------------------------------------------
-# Damped least squares (Levenberg–Marquardt)
+# Damped least squares (Levenberg–Marquardt), in the compiled kernel
 
 
-def _dls(options: dict) -> Iteration:
-    mu0 = _positive(options["damping"], "damping")
-    lambda_min = _positive(options["min_damping"], "min_damping")
-    lambda_max = _positive(options["max_damping"], "max_damping")
-    patience = _count(options["patience"], "patience", 1)
-    progress_ratio = _positive(options["progress"], "progress")
-    # An attempt whose ‖e‖ has not dropped by the factor ``progress`` over the last
-    # ``patience`` iterations is stuck (a local minimum, a joint limit): a restart is cheaper.
-    required = math.sqrt(1.0 - min(progress_ratio, 1.0))
+_CHAINS: weakref.WeakKeyDictionary[Robot, dict[Frame, tuple[Chain, tuple]]] = (
+    weakref.WeakKeyDictionary()
+)
 
-    def iterate(problem: _Problem, q: np.ndarray, max_iter: int) -> _Attempt:
-        robot, frame, n = problem.robot, problem.frame, problem.n
-        lower, upper, bounded = problem.lower, problem.upper, problem.bounded
-        T, J, e = np.eye(4), np.empty((6, n)), np.empty(6)
-        T_trial, J_trial, e_trial = np.eye(4), np.empty((6, n)), np.empty(6)
-        wide = n >= 6  # solve the smaller of the 6×6 and n×n normal equations
-        size = 6 if wide else n
-        A = np.empty((size, size))
-        identity = np.eye(size).reshape(-1)
-        A_flat = A.reshape(-1)
-        y, dq = np.empty(size), np.empty(n)
-        periodic, periodic_any = problem.periodic, problem.periodic_any
 
-        def damped_step(J: np.ndarray, e: np.ndarray, damping: float) -> None:
-            if wide:  # Δq = Jᵀ (JJᵀ + λI)⁻¹ e
-                mujoco.mju_mulMatMatT(A, J, J)
-                mujoco.mju_addToScl(A_flat, identity, damping)
-                mujoco.mju_cholFactor(A, 0.0)
-                mujoco.mju_cholSolve(y, A, e)
-                mujoco.mju_mulMatTVec(dq, J, y)
-            else:  # Δq = (JᵀJ + λI)⁻¹ Jᵀ e
-                mujoco.mju_mulMatTMat(A, J, J)
-                mujoco.mju_addToScl(A_flat, identity, damping)
-                mujoco.mju_mulMatTVec(y, J, e)
-                mujoco.mju_cholFactor(A, 0.0)
-                mujoco.mju_cholSolve(dq, A, y)
+def _compiled_chain(robot: Robot, frame: Frame) -> tuple[Chain, tuple]:
+    """``robot``'s chain to ``frame`` and its kernel arrays, compiled once per robot."""
+    chains = _CHAINS.setdefault(robot, {})
+    if frame not in chains:
+        chain = Chain.from_robot(robot, frame)
+        chains[frame] = (chain, chain.kernel_arrays())
+    return chains[frame]
 
-        def saturated_step(
-            q: np.ndarray, J: np.ndarray, e: np.ndarray, damping: float, q_trial: np.ndarray
-        ) -> np.ndarray:
-            """Joints that would leave their range stop at the limit; the others re-solve.
 
-            Clipping alone bends the step away from the Gauss–Newton direction and parks the
-            arm on its limits; instead each saturated joint's share of the error is handed to
-            the joints still free (the clamping loop of Chan & Dubey 1995, with damping).
-            """
-            fixed = np.zeros(n, dtype=bool)
-            limit_value = np.zeros(n)
-            for _ in range(n):
-                over = (q_trial < lower) | (q_trial > upper)
-                if not over.any():
-                    break
-                limit_value[over] = np.minimum(np.maximum(q_trial[over], lower[over]), upper[over])
-                fixed |= over
-                J_free = J.copy()
-                J_free[:, fixed] = 0.0
-                damped_step(J_free, e - J @ np.where(fixed, limit_value - q, 0.0), damping)
-                q_trial = q + dq
-                q_trial[fixed] = limit_value[fixed]
-            return q_trial
+_SETTINGS: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
 
-        robot.kinematics(q, frame, T, J)
-        position_error, rotation_error = problem.world_error(T, e)
-        E = float(e @ e)
-        history, errors = [q.copy()], [math.sqrt(E)]
-        mu = mu0
-        status = "max_iterations"
-        for _ in range(max_iter):
-            if problem.within(position_error, rotation_error):
-                status = "converged"
-                break
-            damping = mu * E + lambda_min
-            damped_step(J, e, damping)
-            q_trial = q + dq
-            if bounded and (np.any(q_trial < lower) or np.any(q_trial > upper)):
-                if periodic_any:  # a turn of 2π is the same pose: wrap instead of stopping
-                    q_trial[periodic] = lower[periodic] + np.mod(
-                        q_trial[periodic] - lower[periodic], 2.0 * np.pi
-                    )
-                q_trial = saturated_step(q, J, e, damping, q_trial)
-            robot.kinematics(q_trial, frame, T_trial, J_trial)
-            trial_errors = problem.world_error(T_trial, e_trial)
-            E_trial = float(e_trial @ e_trial)
-            if E_trial < E:  # accept, and trust the Gauss–Newton model more
-                q, T, J, e, T_trial, J_trial, e_trial = q_trial, T_trial, J_trial, e_trial, T, J, e
-                position_error, rotation_error = trial_errors
-                E = E_trial
-                mu = max(0.5 * mu, 1e-12)
-            elif math.isfinite(float(dq @ dq)):  # reject, and lean towards the gradient
-                mu *= 8.0
-            else:
-                status = "diverged"
-                break
-            history.append(q.copy())
-            errors.append(math.sqrt(E))
-            if damping > lambda_max or (
-                len(errors) > patience and errors[-1] > required * errors[-1 - patience]
-            ):
-                status = "stalled"
-                break
-        else:
-            if problem.within(position_error, rotation_error):
-                status = "converged"
-        return _Attempt(q, status, history, errors, E, T, J, e)
 
-    return iterate
+def _kernel_settings(
+    pos_tol: float, rot_tol: float, max_iter: int, restarts: int, bounded: bool, options: dict
+) -> tuple[np.ndarray, np.ndarray]:
+    """The kernel's settings arrays, validated by :class:`BatchOptions` once per combination
+    (a solve takes ~50 µs: validating every call would be a sizeable share)."""
+    key = (pos_tol, rot_tol, max_iter, restarts, bounded, *sorted(options.items()))
+    if key not in _SETTINGS:
+        if len(_SETTINGS) > 256:
+            _SETTINGS.clear()
+        _SETTINGS[key] = BatchOptions(
+            pos_tol=pos_tol, rot_tol=rot_tol, max_iterations=max_iter, restarts=restarts,
+            **options,
+        ).kernel_settings(bounded)  # fmt: skip
+    return _SETTINGS[key]
+
+
+def _kernel_key(seed: int | np.random.Generator | None) -> np.uint64:
+    """The kernel generator's 64-bit state from ``seed`` (reproducible for an int)."""
+    if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+        return np.uint64(int(seed) % 2**64)
+    return np.uint64(np.random.default_rng(seed).integers(2**63))
+
+
+def _solve_dls(
+    problem: _Problem,
+    q_start: np.ndarray,
+    max_iter: int,
+    restarts: int,
+    seed: int | np.random.Generator | None,
+    options: dict,
+) -> IKResult:
+    """Every attempt in :func:`redik.batch.kernel.solve_one`; the joints that do not move
+    the frame stay at ``q_start``."""
+    robot, frame = problem.robot, problem.frame
+    chain, arrays = _compiled_chain(robot, frame)
+    reach = _reach_excess(robot, frame, problem.p_d)
+    floats, counts = _kernel_settings(
+        problem.pos_tol, problem.rot_tol, max_iter, restarts, problem.respect_limits, options
+    )
+    if reach > 0.0:
+        floats = floats.copy()
+        floats[kernel.REACH] = reach
+    columns, n = chain.columns, chain.dof
+    history, errors = np.empty((2, max_iter + 1, n)), np.empty((2, max_iter + 1))
+    q_chain, e = np.empty(n), np.empty(6)
+    _, iterations, used, length, summary = kernel.solve_one(
+        arrays, problem.T_target, q_start[columns], _kernel_key(seed), floats, counts, q_chain,
+        history, errors, e,
+    )  # fmt: skip
+    error_min, error_max, stationary, diverged, position_error, rotation_error = summary
+    q = q_start.copy()
+    q[columns] = q_chain
+    full_history = np.repeat(q_start[None], length, axis=0)
+    full_history[:, columns] = history[1, :length]
+    outcome = _Outcome(
+        q=q,
+        history=full_history,
+        errors=errors[1, :length].copy(),
+        iterations=iterations,
+        attempts=used + 1,
+        same_stationary_point=_same_stationary_point(used + 1, error_min, error_max, stationary),
+        all_diverged=diverged,
+        e=e,
+        position_error=position_error,
+        rotation_error=rotation_error,
+    )
+    return _finish(problem, outcome, "dls", reach)
 
 
 # --------------------------------------------------------------------------------------
@@ -488,7 +499,7 @@ def _newton(options: dict) -> Iteration:
             if problem.within(*pose_errors(T, problem.T_target)):
                 status = "converged"
         problem.world_error(T, e)
-        return _Attempt(q, status, history, errors, float(e @ e), T, J, e)
+        return _Attempt(q, status, history, errors, float(e @ e), J, e)
 
     return iterate
 
@@ -593,11 +604,10 @@ def _gradient_then_newton(
     else:
         if problem.within(*errors_now):
             status = "converged"
-    return _Attempt(q, status, history, errors, E, T, J, e)
+    return _Attempt(q, status, history, errors, E, J, e)
 
 
 _ITERATIONS: dict[str, Callable[[dict], Iteration]] = {
-    "dls": _dls,
     "newton": _newton,
     "transpose": _transpose,
     "hybrid": _hybrid,
@@ -608,22 +618,20 @@ _ITERATIONS: dict[str, Callable[[dict], Iteration]] = {
 # Finishing: success by the FK of the returned q, and the unreachable diagnosis
 
 
-def _finish(problem: _Problem, attempts: list[_Attempt], method: str, reach: float) -> IKResult:
+def _finish(problem: _Problem, outcome: _Outcome, method: str, reach: float) -> IKResult:
     robot = problem.robot
-    best = attempts[-1]
-    if best.status != "converged":
-        best = min(attempts, key=lambda attempt: attempt.error_sq)
-    q, T, e = _shift_into_limits(robot, best.q), best.T, best.e
-    if q is not best.q:
+    q, e = _shift_into_limits(robot, outcome.q), outcome.e
+    position_error, rotation_error = outcome.position_error, outcome.rotation_error
+    if q is not outcome.q:
         T, e = np.eye(4), np.empty(6)
         robot.kinematics(q, problem.frame, T)
         problem.world_error(T, e)
-    position_error, rotation_error = pose_errors(T, problem.T_target)
+        position_error, rotation_error = pose_errors(T, problem.T_target)
     inside = robot.within_limits(q)
     success = problem.within(position_error, rotation_error) and (
         inside or not problem.respect_limits
     )
-    iterations = sum(len(attempt.history) - 1 for attempt in attempts)
+    iterations, attempts = outcome.iterations, outcome.attempts
     closest = f"closest pose found: {position_error:.3g} m, {rotation_error:.3g} rad away"
     message = ""
     if success:
@@ -636,18 +644,18 @@ def _finish(problem: _Problem, attempts: list[_Attempt], method: str, reach: flo
             f"the target is {reach:.3g} m beyond the reach of the chain from its first joint; "
             f"{closest}"
         )
-    elif _same_stationary_point(attempts, robot.lower, robot.upper):
+    elif outcome.same_stationary_point:
         status = "unreachable"
         message = (
-            f"all {len(attempts)} attempts stopped at the same error with a vanishing "
+            f"all {attempts} attempts stopped at the same error with a vanishing "
             f"gradient Jᵀe; {closest}"
         )
-    elif all(attempt.status == "diverged" for attempt in attempts):
+    elif outcome.all_diverged:
         status = "diverged"
         message = f"every attempt produced NaN or inf; {closest}"
     else:
         status = "max_iterations"
-        message = f"no attempt of {len(attempts)} converged ({iterations} iterations); {closest}"
+        message = f"no attempt of {attempts} converged ({iterations} iterations); {closest}"
     return IKResult(
         q=q.copy(),
         success=success,
@@ -656,9 +664,9 @@ def _finish(problem: _Problem, attempts: list[_Attempt], method: str, reach: flo
         error=_body_twist_norm(e),
         position_error=position_error,
         rotation_error=rotation_error,
-        history=np.array(best.history),
-        error_history=np.array(best.errors),
-        restarts=len(attempts) - 1,
+        history=outcome.history,
+        error_history=outcome.errors,
+        restarts=attempts - 1,
         method=method,
         message=message,
     )
@@ -685,17 +693,17 @@ def _body_twist_norm(e: np.ndarray) -> float:
     return math.sqrt(vx * vx + vy * vy + vz * vz + theta2)
 
 
-def _same_stationary_point(attempts: list[_Attempt], lower: np.ndarray, upper: np.ndarray) -> bool:
-    """Every attempt (at least two) ended at one non-zero error with ``Jᵀe ≈ 0``."""
-    if len(attempts) < 2:
-        return False
-    errors = np.sqrt([a.error_sq for a in attempts])
-    gradients = np.array([_stationarity(a, lower, upper) for a in attempts])
-    return bool(
-        np.all(np.isfinite(errors))
-        and errors.min() > 0.0
-        and errors.max() <= 1.01 * errors.min()
-        and np.all(gradients <= 1e-4 * errors)
+def _same_stationary_point(
+    attempts: int, error_min: float, error_max: float, stationary: bool
+) -> bool:
+    """Every attempt (at least two) ended at one non-zero error (``error_min … error_max``
+    within 1 %) with ``Jᵀe ≈ 0`` (``stationary``: ``‖Jᵀe‖ ≤ 1e-4 ‖e‖`` for each)."""
+    return (
+        attempts >= 2
+        and math.isfinite(error_max)
+        and error_min > 0.0
+        and error_max <= 1.01 * error_min
+        and stationary
     )
 
 
