@@ -106,7 +106,8 @@ class SelfMotion:
         dimension: 0 (isolated solutions), 1 (curves) or 2 (surfaces): ``max(n − 6, 0)``.
         spacing: Largest joint-space distance between neighbouring samples.
         samples: N × n configurations. A 1-D component's rows are in order along the curve.
-        component: Component label (0, 1, …) of each sample.
+        component: Component label (0, 1, …) of each sample: an arc (1-D) or a patch (2-D,
+            samples joined by neighbours at most ``spacing`` apart) inside the limits.
         position_error: ``‖p_d − p‖`` (m) of each sample.
         rotation_error: ``angle(Rᵀ R_d)`` (rad) of each sample.
         criteria: Per-sample values of each criterion, by name (see
@@ -283,7 +284,8 @@ def explore_self_motion(
         seed: Seed (or generator) of the random starts.
         n_starts: Random starts of the multi-start IK that seeds the components.
         initial: Extra seed configurations (k × n), e.g. the one ``T_target`` came from.
-        max_samples: Budget of samples over all components.
+        max_samples: Budget of points over all components, counting those traced or
+            covered outside the limits (which are not kept as samples).
         nominal: Posture of the ``posture_distance`` criterion; default ``robot.home``.
         criteria: Criteria to score samples by; default
             :func:`redik.redundancy.criteria.default_criteria`.
