@@ -405,7 +405,8 @@ class _Explorer:
         self.max_samples = max_samples
         self.periodic = corrector.periodic
         self.index = _SampleIndex(self.periodic, corrector.robot.dof)
-        # Curves are traced through the joint limits, on the torus of all hinge angles.
+        # Curves and surfaces are followed through the joint limits, on the torus of all hinge
+        # angles.
         self.torus = np.asarray(corrector.robot.revolute, dtype=bool)
         self.traced = _SampleIndex(self.torus, corrector.robot.dof)
         self.batch = BatchCorrector(corrector)
