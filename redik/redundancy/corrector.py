@@ -29,6 +29,7 @@ import numpy as np
 
 from ..batch.chain import Chain
 from ..batch.kinematics import chain_poses, world_jacobian
+from ..batch.solve import damped_step, rotation_log
 from ..lie import inverse, pose_errors, se3_log, wrap_angle
 from .criteria import periodic_joints
 
@@ -274,7 +275,7 @@ class BatchCorrector:
                 break
             if frozen is not None:
                 J *= ~frozen[active].T[None]
-            step = _min_norm_steps(J, e)
+            step = damped_step(J, e, np.full(J.shape[2], _DAMPING))  # minimum-norm Newton
             finite = np.all(np.isfinite(step), axis=0)
             q[:, active[finite]] += step[:, finite]
             active = active[finite]
@@ -285,7 +286,8 @@ class BatchCorrector:
         R, p, axes, origins = chain_poses(self.chain, q)
         e = np.empty((6, q.shape[1]))
         np.subtract(self._pd, p, out=e[:3])
-        rotation = _rotation_log(self._Rd, R, out=e[3:])
+        Rd = np.broadcast_to(self._Rd, R.shape)
+        rotation = rotation_log(Rd, R, out=e[3:])
         position = np.sqrt(np.einsum("ib,ib->b", e[:3], e[:3]))
         return e, world_jacobian(self.chain, p, axes, origins), position, rotation
 
@@ -332,29 +334,3 @@ class BatchCorrector:
             q[again], converged[again] = self.correct(start, frozen=violated[again])
         inside = np.all((q >= c.lower) & (q <= c.upper), axis=1)
         return q, converged & inside
-
-
-def _rotation_log(Rd: np.ndarray, R: np.ndarray, out: np.ndarray) -> np.ndarray:
-    """Write ``log(R_d Rᵀ)^∨`` (3 × B) into ``out``; return the angles.
-
-    ``θ = atan2(‖s‖, (tr − 1)/2)`` from the skew part ``s = sin θ · u``: accurate at the small
-    angles a corrector meets. Near ``θ = π`` the axis is lost; a step from there is wrong, and
-    the point fails to converge, which the caller handles.
-    """
-    E = np.einsum("ik,jkb->ijb", Rd[:, :, 0], R)
-    out[0] = 0.5 * (E[2, 1] - E[1, 2])
-    out[1] = 0.5 * (E[0, 2] - E[2, 0])
-    out[2] = 0.5 * (E[1, 0] - E[0, 1])
-    sin = np.sqrt(np.einsum("ib,ib->b", out, out))
-    angle = np.arctan2(sin, 0.5 * (E[0, 0] + E[1, 1] + E[2, 2] - 1.0))
-    out *= np.divide(angle, sin, out=np.ones_like(angle), where=sin > 1e-300)
-    return angle
-
-
-def _min_norm_steps(J: np.ndarray, e: np.ndarray) -> np.ndarray:
-    """``Jᵀ (J Jᵀ + λ I)⁻¹ e`` for every column (``J``: 6 × n × B, ``e``: 6 × B), ``λ`` tiny:
-    the minimum-norm Newton step, defined at singular points too."""
-    Jb = J.transpose(2, 0, 1)
-    A = Jb @ Jb.transpose(0, 2, 1)
-    A[:, range(6), range(6)] += _DAMPING
-    return np.einsum("bik,bi->kb", Jb, np.linalg.solve(A, e.T[..., None])[..., 0])
