@@ -50,6 +50,7 @@ from __future__ import annotations
 import abc
 import math
 
+import numba
 import numpy as np
 
 from ..robot import Frame, Robot
@@ -59,6 +60,7 @@ from .task import ResidualTask
 _SMALL_ANGLE = 1e-3  # below it the series values of a and b are exact to O(θ⁴)
 
 
+@numba.njit(cache=True)
 def _coefficients(theta2: float) -> tuple[float, float]:
     """``(a, b)`` of the ad-polynomial at ``θ² = theta2``."""
     if theta2 < _SMALL_ANGLE**2:
@@ -93,12 +95,13 @@ def se3_left_jacobian_inverse(xi: np.ndarray) -> np.ndarray:
     return np.array(se3_left_jacobian_inverse_entries(*xi.tolist())).reshape(6, 6)
 
 
+@numba.njit(cache=True)
 def se3_left_jacobian_inverse_entries(
     vx: float, vy: float, vz: float, wx: float, wy: float, wz: float
 ) -> tuple[float, ...]:
     """The 36 entries (row-major) of :func:`se3_left_jacobian_inverse`, from floats.
 
-    Hot paths write them into a preallocated buffer: one copy instead of an array build.
+    Compiled (numba) so that the pose task's compiled residual calls the same code.
     """
     theta2 = wx * wx + wy * wy + wz * wz
     a, b = _coefficients(theta2)
@@ -119,14 +122,16 @@ def se3_left_jacobian_inverse_entries(
     u20 = 0.5 * vy + k * (vz * wx + wz * vx) + m * wz * wx
     u12 = 0.5 * vx + k * (vy * wz + wy * vz) + m * wy * wz
     u21 = -0.5 * vx + k * (vz * wy + wz * vy) + m * wz * wy
+    # fmt: off
     return (
-        *(j00, j01, j02, u00, u01, u02),
-        *(j10, j11, j12, u10, u11, u12),
-        *(j20, j21, j22, u20, u21, u22),
-        *(0.0, 0.0, 0.0, j00, j01, j02),
-        *(0.0, 0.0, 0.0, j10, j11, j12),
-        *(0.0, 0.0, 0.0, j20, j21, j22),
+        j00, j01, j02, u00, u01, u02,
+        j10, j11, j12, u10, u11, u12,
+        j20, j21, j22, u20, u21, u22,
+        0.0, 0.0, 0.0, j00, j01, j02,
+        0.0, 0.0, 0.0, j10, j11, j12,
+        0.0, 0.0, 0.0, j20, j21, j22,
     )
+    # fmt: on
 
 
 class FrameTask(ResidualTask):

@@ -12,21 +12,23 @@ with :math:`J_w` the world Jacobian and :math:`J_b` the body Jacobian
 so the two give the same step.
 
 The error is :math:`\log` of :math:`T^{-1} T_d = (R^\top R_d,\; R^\top (p_d - p))`: the
-rotation part through MuJoCo's quaternion routines (``mju_mat2Quat``, ``mju_quat2Vel``,
-robust at every angle), the translation part :math:`v = V(ω)^{-1} R^\top (p_d - p)` as in
-:func:`redik.lie.se3_log`. The 6 × 6 factor :math:`-J_l^{-1}(e)\,\mathrm{blockdiag}(R^\top,
-R^\top)` is applied as two products: the body Jacobian, then the 6 × 6 inverse Jacobian
-(closed form, :mod:`redik.tasks.frame_task`), weighted.
+rotation part :math:`ω = R^\top \log(R_d R^\top)` from the world-frame error of the compiled
+solver kernel (:func:`redik.batch.kernel.pose_error`, robust at every angle), the translation
+part :math:`v = V(ω)^{-1} R^\top (p_d - p)` as in :func:`redik.lie.se3_log`. Error, body
+Jacobian and the 6 × 6 inverse Jacobian (closed form, :mod:`redik.tasks.frame_task`) are
+fused in one compiled function, :func:`pose_residual`: this residual is the bulk of a QP step,
+and as Python scalar code it cost about half of one.
 """
 
 from __future__ import annotations
 
 import math
 
-import mujoco
+import numba
 import numpy as np
 
 from .. import lie
+from ..batch.kernel import pose_error
 from .frame_task import FrameTask, se3_left_jacobian_inverse_entries
 from .kinematics import KinematicState
 from .task import as_weight
@@ -39,7 +41,52 @@ def as_target_pose(target, name: str = "target") -> np.ndarray:
     return lie.as_pose(target, name=name).copy()
 
 
-_MINUS_ONES = -np.ones((6, 1))
+_ONES = np.ones(6)
+
+
+@numba.njit(cache=True)
+def pose_residual(R, p, R_d, p_d, J_world, row_scale, error_scale, A, b):
+    """``A = diag(row_scale) J_l⁻¹(e) blockdiag(Rᵀ, Rᵀ) J_w`` and ``b = error_scale ⊙ e``.
+
+    ``e = log(T⁻¹ T_d) = (v, ω)`` (module docstring). With ``row_scale = −1`` and
+    ``error_scale = 1`` these are the task's Jacobian ``J`` and error ``e``.
+    """
+    world = np.empty(6)
+    pose_error(R_d, p_d, R, p, world)
+    # Into the frame's own axes: d = Rᵀ(p_d − p), ω = Rᵀ log(R_d Rᵀ) = log(Rᵀ R_d).
+    dx = R[0, 0] * world[0] + R[1, 0] * world[1] + R[2, 0] * world[2]
+    dy = R[0, 1] * world[0] + R[1, 1] * world[1] + R[2, 1] * world[2]
+    dz = R[0, 2] * world[0] + R[1, 2] * world[1] + R[2, 2] * world[2]
+    wx = R[0, 0] * world[3] + R[1, 0] * world[4] + R[2, 0] * world[5]
+    wy = R[0, 1] * world[3] + R[1, 1] * world[4] + R[2, 1] * world[5]
+    wz = R[0, 2] * world[3] + R[1, 2] * world[4] + R[2, 2] * world[5]
+    theta2 = wx * wx + wy * wy + wz * wz
+    if theta2 < 1e-12:
+        c = 1.0 / 12.0 + theta2 / 720.0
+    else:
+        half = 0.5 * math.sqrt(theta2)
+        c = (1.0 - half * math.cos(half) / math.sin(half)) / theta2
+    # v = V(ω)⁻¹ d = d − ½ ω × d + c ω × (ω × d)
+    cx, cy, cz = wy * dz - wz * dy, wz * dx - wx * dz, wx * dy - wy * dx
+    ccx, ccy, ccz = wy * cz - wz * cy, wz * cx - wx * cz, wx * cy - wy * cx
+    e = np.empty(6)
+    e[0], e[1], e[2] = dx - 0.5 * cx + c * ccx, dy - 0.5 * cy + c * ccy, dz - 0.5 * cz + c * ccz
+    e[3], e[4], e[5] = wx, wy, wz
+    F = se3_left_jacobian_inverse_entries(e[0], e[1], e[2], wx, wy, wz)
+    column = np.empty(6)
+    for j in range(J_world.shape[1]):
+        for k in range(3):
+            column[k] = R[0, k] * J_world[0, j] + R[1, k] * J_world[1, j] + R[2, k] * J_world[2, j]
+            column[3 + k] = (
+                R[0, k] * J_world[3, j] + R[1, k] * J_world[4, j] + R[2, k] * J_world[5, j]
+            )
+        for i in range(6):
+            total = 0.0
+            for k in range(6):
+                total += F[6 * i + k] * column[k]
+            A[i, j] = row_scale[i] * total
+    for i in range(6):
+        b[i] = error_scale[i] * e[i]
 
 
 class PoseTask(FrameTask):
@@ -66,14 +113,6 @@ class PoseTask(FrameTask):
         super().__init__(frame, 1.0, gain, priority, size=6)
         self.set_weights(position_weight, orientation_weight)
         self.set_target(target)
-        self._R_rel = np.empty((3, 3))
-        self._R_rel_flat = self._R_rel.reshape(9)
-        self._dp = np.empty(3)
-        self._quat = np.empty(4)
-        self._omega = np.empty(3)
-        self._J_body = np.empty((6, 0))
-        self._factor = np.empty((6, 6))
-        self._factor_flat = self._factor.reshape(36)
         self._scales_version = -1
 
     def set_weights(self, position_weight, orientation_weight) -> None:
@@ -88,70 +127,23 @@ class PoseTask(FrameTask):
         self._R_d = self.target[:3, :3].copy()
         self._p_d = self.target[:3, 3].copy()
 
-    def _error(self, state: KinematicState) -> tuple[np.ndarray, tuple]:
-        """``e = log(T⁻¹ T_d)`` as six floats, with ``Rᵀ`` of the current pose."""
-        R, p = state.pose(self.frame)
-        Rt = R.T
-        np.dot(Rt, self._R_d, out=self._R_rel)
-        np.subtract(self._p_d, p, out=self._dp)
-        dx, dy, dz = np.dot(Rt, self._dp).tolist()
-        mujoco.mju_mat2Quat(self._quat, self._R_rel_flat)
-        mujoco.mju_quat2Vel(self._omega, self._quat, 1.0)
-        wx, wy, wz = self._omega.tolist()
-        theta2 = wx * wx + wy * wy + wz * wz
-        if theta2 < 1e-12:
-            c = 1.0 / 12.0 + theta2 / 720.0
-        else:
-            half = 0.5 * math.sqrt(theta2)
-            c = (1.0 - half * math.cos(half) / math.sin(half)) / theta2
-        # v = V(ω)⁻¹ d = d − ½ ω × d + c ω × (ω × d)
-        cx, cy, cz = wy * dz - wz * dy, wz * dx - wx * dz, wx * dy - wy * dx
-        ccx, ccy, ccz = wy * cz - wz * cy, wz * cx - wx * cz, wx * cy - wy * cx
-        vx, vy, vz = dx - 0.5 * cx + c * ccx, dy - 0.5 * cy + c * ccy, dz - 0.5 * cz + c * ccz
-        return Rt, (vx, vy, vz, wx, wy, wz)
-
-    def _factor_times_jacobian(
-        self,
-        state: KinematicState,
-        Rt: np.ndarray,
-        error: tuple,
-        row_scale: np.ndarray,
-        out: np.ndarray,
-    ) -> None:
-        """``out = diag(row_scale) J_l⁻¹(e) blockdiag(Rᵀ, Rᵀ) J_w``."""
-        J_world = state.jacobian(self.frame)
-        n = J_world.shape[1]
-        if self._J_body.shape[1] != n:
-            self._J_body = np.empty((6, n))
-        np.dot(Rt, J_world[:3], out=self._J_body[:3])
-        np.dot(Rt, J_world[3:], out=self._J_body[3:])
-        self._factor_flat[:] = se3_left_jacobian_inverse_entries(*error)
-        self._factor *= row_scale
-        np.dot(self._factor, self._J_body, out=out)
-
     def _refresh_scales(self) -> None:
         if self._scales_version != self.version:
-            self._row_scale = -self.cost[:, None]
-            self._error_scale = (-self.gain * self.cost).tolist()
+            self._row_scale = -self.cost
+            self._error_scale = -self.gain * self.cost
             self._scales_version = self.version
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
-        Rt, error = self._error(state)
-        e[:] = error
-        self._factor_times_jacobian(state, Rt, error, _MINUS_ONES, J)
+        R, p = state.pose(self.frame)
+        jacobian = state.jacobian(self.frame)
+        pose_residual(R, p, self._R_d, self._p_d, jacobian, -_ONES, _ONES, J, e)
 
     def weighted_residual_into(self, state: KinematicState, A: np.ndarray, b: np.ndarray) -> None:
         self._refresh_scales()
-        Rt, error = self._error(state)
-        self._factor_times_jacobian(state, Rt, error, self._row_scale, A)
-        s = self._error_scale
-        b[:] = (
-            s[0] * error[0],
-            s[1] * error[1],
-            s[2] * error[2],
-            s[3] * error[3],
-            s[4] * error[4],
-            s[5] * error[5],
+        R, p = state.pose(self.frame)
+        jacobian = state.jacobian(self.frame)
+        pose_residual(
+            R, p, self._R_d, self._p_d, jacobian, self._row_scale, self._error_scale, A, b
         )
 
     def pose_errors(self, state: KinematicState) -> tuple[float, float]:
