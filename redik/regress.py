@@ -284,15 +284,18 @@ def warm_up() -> None:
     tens of seconds on a fresh machine, then a fraction of a second per process. That is a
     cost of the machine, not of a spec, and must not land in a spec's time ratio. Kernel
     signatures do not depend on the robot, so a generated 2R arm compiles them all: the
-    single-target, the threaded and the serial batch kernel.
+    single-target, the threaded and the serial batch kernel, and the QP pose residual.
     """
     from .batch import solve_batch
     from .pose_ik import solve_pose
+    from .problem import Problem
     from .robot import Robot
+    from .tasks import PoseTask
 
     robot = Robot.from_dh([(1.0, 0.0, 0.0), (1.0, 0.0, 0.0)], name="warm_up")
     targets = np.stack([robot.fk(robot.home)] * 2)
     solve_pose(robot, targets[0])
+    Problem(robot, [PoseTask(targets[0])]).step(robot.home)
     solve_batch(robot, targets, engine="local", seed=0)
     solve_batch(robot, targets, engine="process", workers=1, seed=0)
 
