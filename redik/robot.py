@@ -152,11 +152,13 @@ class Robot:
         ``"modified"`` (Craig: ``Rx(α) Tx(a) Rz(θ) Tz(d)``); ``limits`` is n × 2; ``tool`` a
         4 × 4 flange transform or a row. The generated MJCF places the ``ee`` site at the
         last frame, so ``robot.fk(q)`` equals the table's ``T_0n(q) · tool``.
+        ``builder_options`` (``radius``, ``actuators``, ``custom``, …) go to
+        :func:`redik.model_builder.dh_to_mjcf`.
         """
         from .model_builder import dh_to_mjcf
 
         xml = dh_to_mjcf(
-            rows, convention=convention, limits=limits, tool=tool, name=name, home=home
+            rows, convention, limits, tool, name=name, home=home, **builder_options
         )
         return cls.from_xml_string(xml, name=name)
 

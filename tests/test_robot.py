@@ -183,3 +183,22 @@ def test_scene_fast_path_equals_generic_path():
     robot.kinematics(q, robot.ee, T, J_direct)
     robot.kinematics(q, robot.ee, T, J_strided)
     np.testing.assert_array_equal(J_direct, J_strided)
+
+
+def test_builders_pass_their_options_on():
+    rows = [(1.0, 0.0, 0.0), (1.0, 0.0, 0.0)]
+    thin = redik.Robot.from_dh(rows, radius=0.01)
+    thick = redik.Robot.from_dh(rows, radius=0.2)
+    capsule = int(mujoco.mjtGeom.mjGEOM_CAPSULE)
+    for robot, radius in ((thin, 0.01), (thick, 0.2)):
+        sizes = robot.model.geom_size[robot.model.geom_type == capsule, 0]
+        np.testing.assert_allclose(sizes, radius)
+    assert redik.Robot.from_dh(rows, custom={"l1": 1.0}).model.numeric("l1").data[0] == 1.0
+    with pytest.raises(TypeError):
+        redik.Robot.from_dh(rows, bogus_option=1)
+    screws = np.array([[0, 0, 1, 0, 0, 0], [0, 0, 1, 0, -1, 0]], dtype=float).T
+    M = np.eye(4)
+    M[0, 3] = 2.0
+    assert redik.Robot.from_screws(screws, M, actuators=False).model.nu == 0
+    with pytest.raises(TypeError):
+        redik.Robot.from_screws(screws, M, bogus_option=1)
