@@ -29,7 +29,7 @@ import numpy as np
 from .lie import pose_errors
 from .pose_ik import solve_pose
 from .problem import Problem
-from .redundancy import SelfMotion, explore_self_motion
+from .redundancy import SelfMotion, default_criteria, evaluate_criteria, explore_self_motion
 from .redundancy.plot import plot_joint_pairs
 from .render import render_frames, save_gif, save_png
 from .result import IKResult
@@ -90,7 +90,12 @@ def run_demo(
         robot, target, spacing=spacing, seed=seed, n_starts=16, initial=solution.q[None],
         max_samples=max_samples, nominal=nominal,
     )  # fmt: skip
-    qp_scores = _scores(motion, solution.q)
+    qp_scores = {
+        name: float(values[0])
+        for name, values in evaluate_criteria(
+            robot, solution.q[None], default_criteria(robot, nominal), robot.ee
+        ).items()
+    }
 
     log("[3/4] writing data and plots")
     files = [out / "selfmotion.npz", out / "manifold.png"]
@@ -118,7 +123,7 @@ def run_demo(
             "q": solution.q.tolist(),
             "criteria": qp_scores,
         },
-        "self_motion": motion.summary(),
+        "self_motion": {**motion.summary(), "spacing": spacing},
         "qp_vs_best_sample": {
             name: {
                 "qp": qp_scores[name],
@@ -133,12 +138,6 @@ def run_demo(
     files.append(out / "summary.json")
     files[-1].write_text(json.dumps(summary, indent=2) + "\n")
     return DemoResult(robot, target, solution, motion, summary, files)
-
-
-def _scores(motion: SelfMotion, q: np.ndarray) -> dict[str, float]:
-    """The criteria of the nearest sample to ``q`` (the exploration was seeded with ``q``)."""
-    nearest = int(np.argmin(np.linalg.norm(motion.samples - q, axis=1)))
-    return {name: float(values[nearest]) for name, values in motion.criteria.items()}
 
 
 def format_summary(result: DemoResult) -> str:

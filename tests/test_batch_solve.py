@@ -7,6 +7,7 @@ import pytest
 
 import redik
 from redik.batch import BATCH_STATUSES, Chain, forward_kinematics, solve_batch
+from redik.pose_ik import solve_pose
 from redik.result import STATUSES
 
 from .conftest import ARM_XML
@@ -78,10 +79,9 @@ def test_seed_at_the_solution_needs_no_iteration(panda):
 
 
 def test_agrees_with_single_target_solve_pose(panda):
-    pose_ik = pytest.importorskip("redik.pose_ik")
     _, T = _reachable(panda, 40, seed=5)
     batch = solve_batch(panda, T, seed=0, engine="local")
-    single = [pose_ik.solve_pose(panda, T[i], seed=i) for i in range(len(T))]
+    single = [solve_pose(panda, T[i], seed=i) for i in range(len(T))]
     single_success = np.array([r.success for r in single])
     # Both solve these reachable targets, each to the same strict tolerances.
     assert batch.success.all() and single_success.all()

@@ -208,7 +208,6 @@ def test_bad_arguments_raise(arm, kwargs):
 
 
 def test_qp_is_dispatched_to_the_qp_core():
-    pytest.importorskip("redik.qp.solve", reason="the QP core is not in this tree")
     robot = redik.load("iiwa14")
     T_target = robot.fk(robot.clip(robot.home + 0.2))
     result = solve_pose(robot, T_target, method="qp")
