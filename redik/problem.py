@@ -231,14 +231,14 @@ class Problem:
         ``"dls"``), so far from the target the step is short and gradient-like and near it
         λ → 0 leaves Gauss–Newton's quadratic convergence. ``μ`` starts at ``lm_damping``,
         halves after a full step and grows ×8 after a cut one; the lower levels still move
-        only in the null space of level 0's residual. ``lm_damping=0`` gives the plain
-        iteration of :meth:`step`.
+        only in the null space of level 0's residual. ``lm_damping=0`` keeps ``μ = 0``:
+        undamped Gauss–Newton steps, still backtracked.
 
         ``Δq`` is the lexicographic QP step of :meth:`step`; ``α ∈ {1, ½, ¼, …, 1/64}`` is
         the first fraction that lowers the level-0 error (backtracking, as in damped
-        Gauss–Newton: Nocedal & Wright §10.3), so the error never increases and the
-        iteration cannot cycle. No fraction lowering it means a stationary point:
-        ``"stalled"``.
+        Gauss–Newton: Nocedal & Wright §10.3); a step is taken only when it lowers that
+        error or meets the tolerances, so the iteration cannot cycle. No fraction lowering
+        it means a (constrained) stationary point: ``"stalled"``.
 
         Converged means: every frame task of level 0 within ``pos_tol`` (m) and
         ``rot_tol`` (rad) — position and rotation errors of :mod:`redik.conventions` —
@@ -246,13 +246,14 @@ class Problem:
         ``‖e‖ ≤ pos_tol``. Joint-space regularisers (posture, joint-limit avoidance,
         damping) and gradient tasks have no target and are not waited for, nor are
         lower levels: they shape the solution. With no target at level 0, the solve
-        converges when the step vanishes (``‖Δq‖ < q_tol``).
+        converges when the step taken vanishes (``‖αΔq‖ < q_tol``).
 
         Args:
             q0: Initial chain configuration.
             pos_tol, rot_tol: Tolerances.
             max_iter: Iteration budget.
-            q_tol: Stop as ``"stalled"`` when ``‖Δq‖ < q_tol`` before converging.
+            q_tol: Stop as ``"stalled"`` when the step taken, ``‖αΔq‖``, falls below it
+                before converging.
             max_step: Optional trust region, ``|Δq_i| ≤ max_step`` per iteration.
             dt: Passed to the limits (velocity limits need it).
             lm_damping: Initial Levenberg–Marquardt scale ``μ`` (≥ 0).
@@ -297,7 +298,8 @@ class Problem:
                 status = "stalled"
                 break
             # A full step trusted the model: damp less; a cut step: damp more (Nielsen 1999).
-            mu = max(mu * 0.5, _MU_MIN) if alpha == 1.0 else min(mu * 8.0, _MU_MAX)
+            if mu > 0.0:
+                mu = max(mu * 0.5, _MU_MIN) if alpha == 1.0 else min(mu * 8.0, _MU_MAX)
             q = trial
             iterations += 1
             history.append(q.copy())
@@ -355,7 +357,11 @@ class Problem:
             parts.append(f"rotation error {rotation_error:.3g} rad")
         if not parts:
             parts.append(f"|e| = {error:.3g}")
-        reason = "the step vanished" if status == "stalled" else "the iteration budget ran out"
+        reason = (
+            "no step lowers the level-0 error"
+            if status == "stalled"
+            else "the iteration budget ran out"
+        )
         return f"{reason} with {', '.join(parts)} (limits may block the target)"
 
     def __repr__(self) -> str:

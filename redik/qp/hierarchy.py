@@ -110,7 +110,10 @@ def solve_lexicographic(
     if len(objectives) == 1:
         return x
     N = free_directions(H0, c0, rank_tol, shifts[0])
-    for (H_k, c_k), backend, shift in zip(objectives[1:], backends[1:], shifts[1:], strict=True):
+    last = len(objectives) - 1
+    for level, ((H_k, c_k), backend, shift) in enumerate(
+        zip(objectives[1:], backends[1:], shifts[1:], strict=True), start=1
+    ):
         if N.shape[1] == 0:
             break
         Hz = N.T @ H_k @ N
@@ -140,5 +143,7 @@ def solve_lexicographic(
                 stats["skipped_levels"] = stats.get("skipped_levels", 0) + 1
             break
         x = x + N @ z
+        if level == last:
+            break  # no level below: its free directions would go unused
         N = N @ free_directions(Hz, cz, rank_tol, shift)
     return x

@@ -42,6 +42,7 @@ def as_target_pose(target, name: str = "target") -> np.ndarray:
 
 
 _ONES = np.ones(6)
+_MINUS_ONES = -_ONES
 
 
 @numba.njit(cache=True)
@@ -114,6 +115,7 @@ class PoseTask(FrameTask):
         self.set_weights(position_weight, orientation_weight)
         self.set_target(target)
         self._scales_version = -1
+        self._scratch = np.empty(6)
 
     def set_weights(self, position_weight, orientation_weight) -> None:
         """Weights of the linear and angular parts (each a scalar or 3 values)."""
@@ -136,7 +138,7 @@ class PoseTask(FrameTask):
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
         R, p = state.pose(self.frame)
         jacobian = state.jacobian(self.frame)
-        pose_residual(R, p, self._R_d, self._p_d, jacobian, -_ONES, _ONES, J, e)
+        pose_residual(R, p, self._R_d, self._p_d, jacobian, _MINUS_ONES, _ONES, J, e)
 
     def weighted_residual_into(self, state: KinematicState, A: np.ndarray, b: np.ndarray) -> None:
         self._refresh_scales()
@@ -148,7 +150,4 @@ class PoseTask(FrameTask):
 
     def pose_errors(self, state: KinematicState) -> tuple[float, float]:
         R, p = state.pose(self.frame)
-        return (
-            float(np.linalg.norm(self._p_d - p)),
-            lie.rotation_angle(R, self._R_d),
-        )
+        return pose_error(self._R_d, self._p_d, R, p, self._scratch)
