@@ -77,7 +77,7 @@ from .batch import kernel
 from .batch.chain import Chain
 from .batch.solve import BatchOptions
 from .exceptions import InvalidInput
-from .lie import adjoint, as_pose, inverse, pose_errors, se3_log, skew, so3_log
+from .lie import adjoint, as_pose, inverse, pose_errors, se3_log, skew, so3_log, wrap_angle
 from .result import IKResult
 from .robot import Frame, Robot
 
@@ -249,7 +249,7 @@ def solve_all(
             continue
         for index, known in enumerate(solutions):
             difference = result.q - known.q
-            difference[periodic] = np.abs(_wrap(difference[periodic]))
+            difference[periodic] = np.abs(wrap_angle(difference[periodic]))
             if np.max(np.abs(difference)) <= cluster_tol:
                 if result.error < known.error:
                     solutions[index] = result
@@ -761,10 +761,6 @@ def _shift_into_limits(robot: Robot, q: np.ndarray) -> np.ndarray:
         if shifted <= robot.upper[i]:
             q[i] = shifted
     return q
-
-
-def _wrap(angle: np.ndarray) -> np.ndarray:
-    return np.mod(angle + np.pi, 2.0 * np.pi) - np.pi
 
 
 def _positive(value: object, name: str) -> float:

@@ -157,9 +157,7 @@ class Robot:
         """
         from .model_builder import dh_to_mjcf
 
-        xml = dh_to_mjcf(
-            rows, convention, limits, tool, name=name, home=home, **builder_options
-        )
+        xml = dh_to_mjcf(rows, convention, limits, tool, name=name, home=home, **builder_options)
         return cls.from_xml_string(xml, name=name)
 
     @classmethod

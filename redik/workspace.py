@@ -27,6 +27,7 @@ import numpy as np
 
 from .batch import Chain, forward_kinematics, solve_batch
 from .exceptions import InvalidInput
+from .lie import matrix_from_quat
 from .robot import Robot
 
 AXES = "xyz"
@@ -154,15 +155,8 @@ class WorkspaceSample:
 
 def random_rotations(count: int, seed: int | np.random.Generator | None = None) -> np.ndarray:
     """``count × 3 × 3`` rotations uniform on SO(3) (normalised Gaussian quaternions)."""
-    quat = np.random.default_rng(seed).standard_normal((count, 4))
-    w, x, y, z = (quat / np.linalg.norm(quat, axis=1, keepdims=True)).T
-    return np.stack(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    ).transpose(2, 0, 1)
+    quats = np.random.default_rng(seed).standard_normal((count, 4))
+    return np.array([matrix_from_quat(quat) for quat in quats]).reshape(count, 3, 3)
 
 
 def reachability(

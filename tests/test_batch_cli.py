@@ -15,7 +15,7 @@ def test_random_targets_are_solved_and_written(tmp_path, capsys):
     assert "strict solves/s" in capsys.readouterr().out
     with np.load(out) as data:
         assert data["q"].shape == (40, 7) and data["T"].shape == (40, 4, 4)
-        assert data["success"].mean() >= 0.95
+        assert data["success"].mean() >= 0.99
         robot = redik.load("panda")
         i = int(np.flatnonzero(data["success"])[0])
         pos, rot = redik.lie.pose_errors(robot.fk(data["q"][i]), data["T"][i])

@@ -46,7 +46,7 @@ def map_chunks(
     function: Callable[..., Any],
     shared: Any,
     chunks: Iterable[tuple],
-    engine: str = "process",
+    engine: str,
     workers: int | None = None,
     address: str | None = None,
     on_result: Callable[[Any], None] | None = None,

@@ -97,10 +97,9 @@ class BatchOptions:
             if not integer or value < minimum:
                 raise InvalidInput(f"{name} must be an integer ≥ {minimum}, got {value!r}")
 
-    def kernel_settings(
-        self, bounded: bool = True, reach_excess: float = 0.0
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """The float and integer settings arrays of :mod:`redik.batch.kernel`."""
+    def kernel_settings(self, bounded: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """The float and integer settings arrays of :mod:`redik.batch.kernel` (the reach
+        excess ``REACH`` starts at 0: :func:`redik.solve_pose` sets it per target)."""
         settings = np.empty(7)
         settings[kernel.POS_TOL] = self.pos_tol
         settings[kernel.ROT_TOL] = self.rot_tol
@@ -108,7 +107,7 @@ class BatchOptions:
         settings[kernel.MIN_DAMPING] = self.min_damping
         settings[kernel.MAX_DAMPING] = self.max_damping
         settings[kernel.REQUIRED] = math.sqrt(1.0 - min(self.progress, 1.0))
-        settings[kernel.REACH] = reach_excess
+        settings[kernel.REACH] = 0.0
         counts = np.empty(5, dtype=np.int64)
         counts[kernel.CANDIDATES] = self.candidates
         counts[kernel.MAX_ITER] = self.max_iterations

@@ -269,7 +269,7 @@ def _tracik_solver(robot: Robot) -> Solver | None:
 
 def _dh_to_urdf(rows, convention: str, tool: np.ndarray, robot: Robot) -> str:
     """A URDF with one joint per DH row: ``origin`` then a motion about the joint's z."""
-    from ..dh import rot_x, rot_z, trans
+    from ..dh import parse_convention, split_row
 
     def origin(T: np.ndarray) -> str:
         xyz = " ".join(f"{v:.12g}" for v in T[:3, 3])
@@ -277,18 +277,7 @@ def _dh_to_urdf(rows, convention: str, tool: np.ndarray, robot: Robot) -> str:
         return f'<origin xyz="{xyz}" rpy="{rpy}"/>'
 
     # Each row as (fixed transform, motion about z, fixed transform), the motion Rz(q) or Tz(q).
-    before_after = []
-    for row in rows:
-        if convention == "modified":  # Rx(α) Tx(a) Rz(θ) Tz(d)
-            before = rot_x(row.alpha) @ trans(x=row.a) @ rot_z(row.theta) @ trans(z=row.d)
-            after = np.eye(4)
-        elif row.is_prismatic:  # Rz(θ) Tz(q) Tz(d) Tx(a) Rx(α)
-            before = rot_z(row.theta)
-            after = trans(z=row.d) @ trans(x=row.a) @ rot_x(row.alpha)
-        else:  # Rz(q) Rz(θ) Tz(d) Tx(a) Rx(α)
-            before = np.eye(4)
-            after = rot_z(row.theta) @ trans(z=row.d) @ trans(x=row.a) @ rot_x(row.alpha)
-        before_after.append((before, after))
+    before_after = [split_row(row, parse_convention(convention)) for row in rows]
     parts = ['<?xml version="1.0"?>', f'<robot name="{robot.name}">', '<link name="base"/>']
     for i, (before, after) in enumerate(before_after, start=1):
         kind = "prismatic" if rows[i - 1].is_prismatic else "revolute"

@@ -10,6 +10,7 @@ names of the codes), plus ``q_sampled`` with ``--random``.
 from __future__ import annotations
 
 import argparse
+import inspect
 import sys
 import time
 from pathlib import Path
@@ -34,13 +35,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     source.add_argument("--targets", type=Path, help=".npz with T (B×4×4) and optional q0")
     source.add_argument("--random", type=int, metavar="N", help="solve N random reachable poses")
     parser.add_argument("--out", type=Path, required=True, help="where to write the .npz")
-    parser.add_argument("--engine", choices=ENGINES, default="process")
-    parser.add_argument("--workers", type=int, default=None, help="processes (default: all)")
+    defaults = inspect.signature(solve_batch).parameters
+    parser.add_argument(
+        "--engine", choices=ENGINES, default=defaults["engine"].default, help="as solve_batch"
+    )
+    parser.add_argument(
+        "--workers", type=int, default=None, help="threads or processes (default: all cores)"
+    )
     parser.add_argument("--address", default=None, help="Ray cluster address (--engine ray)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--pos-tol", type=float, default=1e-6, help="metres")
     parser.add_argument("--rot-tol", type=float, default=1e-5, help="radians")
-    parser.add_argument("--restarts", type=int, default=20)
+    parser.add_argument("--restarts", type=int, default=defaults["restarts"].default)
     parser.add_argument("--chunk-size", type=int, default=None, help="default: automatic")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
