@@ -50,7 +50,9 @@ class Problem:
             of equal ``priority`` are weighted and summed; priorities are strict.
         limits: redik or mink limits; None is ``[PositionLimit()]``, ``[]`` is none.
         backend: A back-end name, a list of names (a fallback chain) or a
-            :class:`~redik.qp.backends.Backend` (see :func:`~redik.qp.backends.make_backend`).
+            :class:`~redik.qp.backends.Backend` (see :func:`~redik.qp.backends.make_backend`);
+            an instance serves one priority level only, since back-ends keep per-QP state
+            (a workspace, a warm start): with several levels, pass a name.
         damping: Regularisation ``ε`` added to each level's Hessian (default 1e-6: keeps
             active-set solvers out of trouble, changes a converged solution by nothing).
         rank_tol: Relative eigenvalue threshold of the null space between levels.
@@ -90,6 +92,12 @@ class Problem:
         self._assembly = Assembly(robot, tasks, self.damping)
         self.levels = [level.priority for level in self._assembly.levels]
         options = backend_options or {}
+        if isinstance(backend, Backend) and (len(self.levels) > 1 or options):
+            raise InvalidInput(
+                f"a Backend instance ({backend.name!r}) keeps one QP's state and its own "
+                f"settings: it cannot serve {len(self.levels)} priority levels or take "
+                "backend_options; pass the back-end by name"
+            )
         self.backends = [make_backend(backend, **options) for _ in self.levels]
         tolerance = max(b.tolerance for b in self.backends)
 

@@ -140,3 +140,12 @@ def test_solve_never_increases_the_level0_error_and_does_not_cycle(panda):
 def test_lm_damping_is_validated(panda):
     with pytest.raises(InvalidInput, match="lm_damping"):
         Problem(panda, [PoseTask(panda.fk(panda.home))]).solve(panda.home, lm_damping=-1.0)
+
+
+def test_a_backend_instance_cannot_be_shared_by_priority_levels(panda):
+    from redik.qp import make_backend
+
+    stack = [PoseTask(panda.fk(panda.home)), PostureTask(panda.home, priority=1)]
+    with pytest.raises(InvalidInput, match="priority levels"):
+        Problem(panda, stack, backend=make_backend("daqp"))
+    Problem(panda, stack[:1], backend=make_backend("daqp")).step(panda.home)  # one level: fine

@@ -353,7 +353,8 @@ def available_backends() -> list[str]:
 
 
 def make_backend(spec: str | Sequence[str] | Backend, **settings) -> Backend:
-    """A fresh back-end from a name, a list of names (fallback chain) or a :class:`Backend`.
+    """A fresh back-end from a name or a list of names (fallback chain); a :class:`Backend`
+    instance is returned as it is (it is the caller's, with its state).
 
     ``settings`` go to the solver (e.g. ``eps_abs`` for proxqp). Raises
     :class:`BackendError` for an unknown or uninstalled name.
