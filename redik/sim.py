@@ -37,8 +37,9 @@ and servo bandwidth; the bounds stated in the tests (and the ``iiwa14_tracking``
 are measured on the bundled scenes, whose servos run at about 4 Hz bandwidth. Measured
 (``redik run tasks/iiwa14_tracking.py --fast``, recorded in
 ``tasks/baselines/iiwa14_tracking.json``; ``tests/test_sim.py`` asserts the bound):
-iiwa14 tracing a 10 cm circle in 4 s (quintic timing, peak speed 0.3 m/s) at 100 Hz with ``"integrate"`` stays within 2.1 mm and 6.4e-3 rad of the reference
-and ends within 0.023 mm; the stated bound is 3 mm, 0.01 rad and 0.05 mm at the end.
+iiwa14 tracing a 10 cm circle in 4 s (quintic timing, peak speed 0.3 m/s) at 100 Hz with
+``"integrate"`` stays within 2.1 mm and 6.4e-3 rad of the reference and ends within
+0.023 mm; the stated bound is 3 mm, 0.01 rad and 0.05 mm at the end.
 """
 
 from __future__ import annotations
