@@ -211,11 +211,13 @@ class _Run:
                 f"f(q0) has shape {x.shape} but x_d has shape {self.x_d.shape}; "
                 "f must return a vector of the task's length"
             )
+        self._J0 = None  # jac(q0), checked here and used by the first iteration
         if jac is not None:
             J = np.asarray(jac(self.q.copy()), dtype=float)
             expected = (self.x_d.size, self.q.size)
             if J.shape != expected:
                 raise InvalidInput(f"jac(q0) must have shape {expected} (r × n), got {J.shape}")
+            self._J0 = J
         self.e = self.x_d - x
         self.norm = float(np.linalg.norm(self.e))
         self.history = [self.q.copy()]
@@ -227,7 +229,9 @@ class _Run:
         return self.norm <= tol
 
     def jacobian(self) -> np.ndarray | None:
-        if self.jac is None:
+        if self._J0 is not None:
+            J, self._J0 = self._J0, None
+        elif self.jac is None:
             J = finite_difference_jacobian(self.f, self.q)
         else:
             J = np.asarray(self.jac(self.q.copy()), dtype=float)

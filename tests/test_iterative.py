@@ -161,3 +161,20 @@ def test_bad_inputs_raise_redik_errors(kwargs):
 def test_gradient_rejects_an_unknown_step_name():
     with pytest.raises(InvalidInput):
         gradient(two_link, X_D, [0.1, 0.2], step="wolfe")
+
+
+def test_the_jacobian_is_evaluated_once_per_iteration():
+    calls = []
+
+    def f(q):
+        return np.array([np.cos(q[0]) + np.cos(q[0] + q[1]), np.sin(q[0]) + np.sin(q[0] + q[1])])
+
+    def jac(q):
+        calls.append(q.copy())
+        s1, s12, c1, c12 = np.sin(q[0]), np.sin(q[0] + q[1]), np.cos(q[0]), np.cos(q[0] + q[1])
+        return np.array([[-s1 - s12, -s12], [c1 + c12, c12]])
+
+    result = redik.newton(f, np.array([1.2, 0.7]), np.array([0.3, 0.4]), jac=jac)
+    assert result.status == "converged"
+    assert len(calls) == result.iterations  # jac(q0), checked up front, is reused
+    np.testing.assert_array_equal(calls[0], [0.3, 0.4])
