@@ -174,7 +174,7 @@ def test_the_jacobian_is_evaluated_once_per_iteration():
         s1, s12, c1, c12 = np.sin(q[0]), np.sin(q[0] + q[1]), np.cos(q[0]), np.cos(q[0] + q[1])
         return np.array([[-s1 - s12, -s12], [c1 + c12, c12]])
 
-    result = redik.newton(f, np.array([1.2, 0.7]), np.array([0.3, 0.4]), jac=jac)
+    result = newton(f, np.array([1.2, 0.7]), np.array([0.3, 0.4]), jac=jac)
     assert result.status == "converged"
     assert len(calls) == result.iterations  # jac(q0), checked up front, is reused
     np.testing.assert_array_equal(calls[0], [0.3, 0.4])
