@@ -1,23 +1,31 @@
 # Two commands do everything on a fresh machine: `make demo` and `make test`.
-# Each creates the virtual environment when it is missing and installs redik into it.
+# Each creates the virtual environment when it is missing and installs redik into it from
+# requirements.lock, the exact versions (every transitive one) the suite was last green with.
+# `make lock` re-resolves the newest versions pyproject.toml allows, runs the suite on them in
+# a scratch environment and rewrites the lock only when it is green.
 
 PYTHON ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.redik-installed
+LOCK := requirements.lock
 OUT ?= out/demo
+# Extras the lock covers: everything `make test` needs plus the reference libraries of `redik bench`.
+LOCK_EXTRAS := test,bench
 
 export MUJOCO_GL ?= egl
 export PYOPENGL_PLATFORM ?= egl
 
-.PHONY: demo test lint bench env clean scenes
+.PHONY: demo test check lint bench env lock clean scenes
 
 env: $(STAMP)
 
-$(STAMP): pyproject.toml
+# PIP_CONSTRAINT (not only -c) so that the isolated build of redik's own wheel (hatchling and
+# its dependencies) is pinned too.
+$(STAMP): pyproject.toml $(LOCK)
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[test]"
+	PIP_CONSTRAINT=$(CURDIR)/$(LOCK) $(BIN)/python -m pip install --quiet pip
+	PIP_CONSTRAINT=$(CURDIR)/$(LOCK) $(BIN)/python -m pip install --quiet -e ".[test]"
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -28,15 +36,34 @@ lint: $(STAMP)
 	$(BIN)/ruff format --check redik tests examples tasks
 
 # The regression scenes run first so that pytest's summary is the last line CI reads.
-test: lint
+test: lint check
+
+check: $(STAMP)
 	$(BIN)/redik regress --fast
 	$(BIN)/python -m pytest -n 2 -q
 
 bench: $(STAMP)
 	$(BIN)/redik bench all
 
+# Refresh the lock: newest allowed versions in a scratch environment, the whole suite on them,
+# and only then the new lock; .venv is then rebuilt from it.
+lock:
+	rm -rf .venv-lock
+	$(PYTHON) -m venv .venv-lock
+	.venv-lock/bin/python -m pip install --quiet --upgrade pip hatchling
+	.venv-lock/bin/python -m pip install --quiet -e ".[$(LOCK_EXTRAS)]"
+	touch .venv-lock/.redik-installed
+	$(MAKE) VENV=.venv-lock lint check
+	{ echo "# Exact versions the suite was green with (CPython $$(.venv-lock/bin/python -c 'import platform; print(platform.python_version(), platform.machine())'), $$(date -u +%F))."; \
+	  echo "# Written by 'make lock'; installed as pip constraints by 'make demo' / 'make test'."; \
+	  .venv-lock/bin/python -m pip freeze --all --exclude-editable | grep -v '^redik'; } > $(LOCK).new
+	mv $(LOCK).new $(LOCK)
+	rm -rf .venv-lock $(VENV)
+	$(MAKE) env
+	@echo "$(LOCK) refreshed and $(VENV) rebuilt from it; commit it with the change that needed it."
+
 clean:
-	rm -rf $(VENV) out .pytest_cache .ruff_cache
+	rm -rf $(VENV) .venv-lock out .pytest_cache .ruff_cache
 
 # Regenerate scenes/*.xml and scenes/README.md from redik/scene_library.py.
 scenes: $(STAMP)
