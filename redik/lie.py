@@ -470,10 +470,31 @@ def euler_difference(R_a: np.ndarray, R_b: np.ndarray, convention: str = "xyz") 
     return wrap_angle(diff)
 
 
+_TWO_PI = 2.0 * math.pi
+
+
 def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
-    """Wrap angles to (−π, π]."""
-    wrapped = np.pi - np.mod(np.pi - np.asarray(angle, dtype=float), 2.0 * np.pi)
-    return float(wrapped) if np.ndim(wrapped) == 0 else wrapped
+    """Angles wrapped to (−π, π]: ``a − 2πk`` for the integer ``k`` that lands there
+    (elementwise on arrays; a float for a scalar).
+
+    Exact in floating point, with ``π`` and ``2π`` the doubles ``math.pi`` and
+    ``2 * math.pi``: ``fmod`` is exact, and so is the final shift by ``±2π`` (Sterbenz's lemma,
+    the remainder being within a factor 2 of ``2π``). So ``±π`` and every odd multiple of
+    ``π`` give ``π``, ``wrap(−a) = −wrap(a)`` away from ``π``, a tiny angle is returned
+    unchanged, and a large one loses nothing to an intermediate rounding (the textbook
+    ``π − ((π − a) mod 2π)`` rounds ``π − a`` first: at ``a = 1e300`` it is off by π).
+    The double ``2π`` differs from the real one by 2.4e-16, so for large ``|a|`` the result
+    differs from the real-number remainder by ``k · 2.4e-16 < ulp(a) / 2``: less than the
+    rounding of the input itself. NaN and ±inf give NaN.
+    """
+    if isinstance(angle, float | int) and not isinstance(angle, bool):
+        r = math.fmod(angle, _TWO_PI) if math.isfinite(angle) else math.nan
+        return r - _TWO_PI if r > math.pi else (r + _TWO_PI if r <= -math.pi else r)
+    a = np.asarray(angle, dtype=float)
+    with np.errstate(invalid="ignore"):
+        r = np.fmod(a, _TWO_PI)
+        wrapped = np.where(r > math.pi, r - _TWO_PI, np.where(r <= -math.pi, r + _TWO_PI, r))
+    return float(wrapped) if wrapped.ndim == 0 else wrapped
 
 
 def pose_errors(T: np.ndarray, T_target: np.ndarray) -> tuple[float, float]:
