@@ -21,7 +21,7 @@ import mujoco
 import numpy as np
 
 from .exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
-from .lie import skew
+from .lie import real_array, skew
 
 JACOBIAN_REFERENCES = ("space", "body", "world")
 
@@ -229,8 +229,9 @@ class Robot:
     # Joint vectors
 
     def check_q(self, q: np.ndarray, name: str = "q") -> np.ndarray:
-        """``q`` as a float vector of length ``dof``, or raise :class:`InvalidConfiguration`."""
-        q = np.asarray(q, dtype=float)
+        """``q`` as a finite real vector of length ``dof``, or raise :class:`InvalidConfiguration`
+        naming the value (complex, string and object arrays are refused, not cast)."""
+        q = real_array(q, name, InvalidConfiguration)
         if q.shape != (self.dof,):
             raise InvalidConfiguration(
                 f"{name} must have shape ({self.dof},) for {self.name} "

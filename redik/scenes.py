@@ -6,9 +6,10 @@ The MJCF files are in the repository's ``scenes/`` folder (shipped inside the wh
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
-from .exceptions import ModelError
+from .exceptions import InvalidInput, ModelError
 from .robot import Robot
 
 _PACKAGE = Path(__file__).resolve().parent
@@ -27,19 +28,47 @@ def list_scenes() -> list[str]:
     return sorted(path.stem for path in scenes_dir().glob("*.xml"))
 
 
-def scene_path(name: str | Path) -> Path:
-    """Path of a scene given its bundled name (``"panda"``) or a path to any MJCF/URDF file."""
+def scene_path(name: str | os.PathLike[str]) -> Path:
+    """Path of a scene given its bundled name (``"panda"``) or a path to any MJCF/URDF file.
+
+    Raises:
+        InvalidInput: ``name`` is neither a string nor a path.
+        ModelError: no bundled scene has that name and no file has that path.
+    """
+    if not isinstance(name, str | os.PathLike) or not str(name).strip():
+        raise InvalidInput(
+            f"a robot is named by a bundled scene name (one of {list_scenes()}) or the path of "
+            f"an MJCF/URDF file, got {name!r}"
+        )
     path = Path(name)
-    if path.suffix in (".xml", ".urdf", ".mjcf") or path.exists():
-        if not path.is_file():
+    try:
+        is_file = path.is_file()
+        exists = is_file or path.exists()
+    except (OSError, ValueError):  # a name too long for the file system, or a NUL byte
+        is_file = exists = False
+    if path.suffix in (".xml", ".urdf", ".mjcf") or exists:
+        if not is_file:
             raise ModelError(f"robot file not found: {str(path)!r}")
         return path
     bundled = scenes_dir() / f"{name}.xml"
-    if not bundled.is_file():
-        raise ModelError(f"no bundled scene named {str(name)!r}; available: {list_scenes()}")
+    try:
+        found = bundled.is_file()
+    except (OSError, ValueError):
+        found = False
+    if not found:
+        raise ModelError(
+            f"no bundled scene named {str(name)[:200]!r} and no file at that path; bundled "
+            f"scenes: {list_scenes()} (or give the path of an MJCF/URDF file)"
+        )
     return bundled
 
 
-def load(name: str | Path, ee: str | None = None) -> Robot:
-    """Load a bundled scene by name (``redik.load("panda")``) or any MJCF/URDF file by path."""
+def load(name: str | os.PathLike[str], ee: str | None = None) -> Robot:
+    """Load a bundled scene by name (``redik.load("panda")``) or any MJCF/URDF file by path.
+
+    Raises:
+        InvalidInput: ``name`` is neither a string nor a path.
+        ModelError: no such scene or file, or MuJoCo cannot compile it.
+        UnknownFrame: ``ee`` names no site or body of the model.
+    """
     return Robot.from_file(scene_path(name), ee=ee)
