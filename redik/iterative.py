@@ -38,7 +38,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .exceptions import InvalidInput
-from .lie import as_vector
+from .lie import as_vector, real_array
 from .result import IKResult
 
 TaskFunction = Callable[[np.ndarray], np.ndarray]
@@ -55,6 +55,10 @@ ARMIJO_SHRINK = 0.5
 
 ARMIJO_MAX_TRIALS = 60
 """Halvings tried before a line search gives up (``α`` then ≈ 10⁻¹⁸ of the first trial)."""
+
+_MAX_MAGNITUDE = 1e150
+"""Largest ``|x_d|``, ``|q0|`` entry and ``‖e‖`` taken: ``‖e‖²`` (Armijo's test) stays finite.
+A larger error at an iterate counts as non-finite (the step is refused)."""
 
 
 def finite_difference_jacobian(f: TaskFunction, q: np.ndarray) -> np.ndarray:
@@ -205,7 +209,7 @@ class _Run:
         self.f = f
         self.jac = jac
         self.method = method
-        x = np.asarray(f(self.q.copy()), dtype=float)
+        x = real_array(f(self.q.copy()), "f(q0)")
         if x.shape != self.x_d.shape:
             raise InvalidInput(
                 f"f(q0) has shape {x.shape} but x_d has shape {self.x_d.shape}; "
@@ -213,17 +217,20 @@ class _Run:
             )
         self._J0 = None  # jac(q0), checked here and used by the first iteration
         if jac is not None:
-            J = np.asarray(jac(self.q.copy()), dtype=float)
+            J = real_array(jac(self.q.copy()), "jac(q0)")
             expected = (self.x_d.size, self.q.size)
             if J.shape != expected:
                 raise InvalidInput(f"jac(q0) must have shape {expected} (r × n), got {J.shape}")
             self._J0 = J
         self.e = self.x_d - x
-        self.norm = float(np.linalg.norm(self.e))
+        with np.errstate(over="ignore", invalid="ignore"):
+            self.norm = float(np.linalg.norm(self.e))
+        if not self.norm <= _MAX_MAGNITUDE:
+            raise InvalidInput(
+                f"f(q0) must be finite with ‖x_d − f(q0)‖ ≤ {_MAX_MAGNITUDE:g}, got {x.tolist()}"
+            )
         self.history = [self.q.copy()]
         self.errors = [self.norm]
-        if not math.isfinite(self.norm):
-            raise InvalidInput(f"f(q0) holds NaN or inf: {x.tolist()}")
 
     def done(self, tol: float) -> bool:
         return self.norm <= tol
@@ -238,12 +245,14 @@ class _Run:
         return J if np.all(np.isfinite(J)) else None
 
     def evaluate(self, q: np.ndarray) -> tuple[np.ndarray, float] | None:
-        """``(e, ‖e‖)`` at ``q``, or None when ``q`` or ``f(q)`` is not finite."""
+        """``(e, ‖e‖)`` at ``q``, or None when ``q`` or ``f(q)`` is not finite (or so large
+        that ``‖e‖²`` overflows)."""
         if not np.all(np.isfinite(q)):
             return None
         e = self.x_d - np.asarray(self.f(q.copy()), dtype=float)
-        norm = float(np.linalg.norm(e))
-        return (e, norm) if math.isfinite(norm) else None
+        with np.errstate(over="ignore", invalid="ignore"):
+            norm = float(np.linalg.norm(e))
+        return (e, norm) if norm <= _MAX_MAGNITUDE else None
 
     def move(self, q: np.ndarray) -> bool:
         """Accept ``q`` as the next iterate; False (and no move) when it is not finite."""
@@ -284,7 +293,10 @@ def _newton_step(J: np.ndarray, e: np.ndarray) -> np.ndarray:
 
 def _armijo(run: _Run, g: np.ndarray, q_tol: float | None) -> IKResult | None:
     """One backtracking line search along ``g = Jᵀ e``; a result when the run must stop."""
-    slope = float(g @ g)
+    with np.errstate(over="ignore", invalid="ignore"):
+        slope = float(g @ g)
+    if not math.isfinite(slope):
+        return run.result("diverged", f"‖Jᵀe‖² overflows at ‖e‖ = {run.norm:.3g}")
     F = 0.5 * run.norm**2
     alpha = 1.0
     for _ in range(ARMIJO_MAX_TRIALS):
@@ -305,10 +317,13 @@ def _armijo(run: _Run, g: np.ndarray, q_tol: float | None) -> IKResult | None:
 
 
 def _finite_vector(x: np.ndarray, name: str) -> np.ndarray:
-    x = np.atleast_1d(np.asarray(x, dtype=float))
+    x = np.atleast_1d(real_array(x, name))
     if x.ndim != 1:
         raise InvalidInput(f"{name} must be a vector, got shape {x.shape}")
-    return as_vector(x, x.size, name)
+    x = as_vector(x, x.size, name)
+    if np.abs(x).max(initial=0.0) > _MAX_MAGNITUDE:
+        raise InvalidInput(f"{name} must be within ±{_MAX_MAGNITUDE:g} (‖e‖² overflows): {x}")
+    return x
 
 
 def _check_options(step: float, tol: float, q_tol: float | None, max_iter: int) -> None:

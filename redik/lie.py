@@ -32,7 +32,8 @@ matrix ``M`` with ``d = max|MᵀM − I|``:
 * anything else (NaN/inf, a reflection, a scaled or sheared matrix): refused with
   :class:`~redik.exceptions.InvalidRotation` or :class:`~redik.exceptions.InvalidPose`.
 
-The bottom row of a pose must be ``[0, 0, 0, 1]`` within 1e-6 in both modes.
+The bottom row of a pose must be ``[0, 0, 0, 1]`` within 1e-6 in both modes, and its
+translation within ±:data:`MAX_COORDINATE` (1e10 m, MuJoCo's ``mjMAXVAL``).
 """
 
 from __future__ import annotations
@@ -56,6 +57,11 @@ rotation typed from a book with three or more decimals. Rounding each entry by `
 moves an entry of ``RᵀR`` by at most ``2 ‖column‖ ‖ε‖ ≤ 2√3 · 5e-4 ≈ 1.7e-3`` (Modern
 Robotics' IKinBody quiz target has 5.4e-5; four decimals give at most 1.7e-4), while two
 decimals give up to 1.7e-2 and are refused. A reflection is refused whatever its defect."""
+
+MAX_COORDINATE = mujoco.mjMAXVAL
+"""Largest magnitude (1e10) of a translation coordinate (m) or a joint value accepted at the
+boundary: MuJoCo's ``mjMAXVAL``, beyond which it calls a state diverged. Squares of much
+larger values overflow in the pose-error and QP arithmetic long before they mean anything."""
 
 _SMALL_ANGLE = 1e-6
 
@@ -122,7 +128,9 @@ def _checked_rotation_block(
     policy above, or raise ``error``."""
     defect, det = _rotation_defect(R)
     if not (math.isfinite(defect) and math.isfinite(det)):
-        raise error(f"{name} holds NaN or inf: {R.tolist()}")
+        if not np.isfinite(R).all():
+            raise error(f"{name} must be finite, holds NaN or inf: {R.tolist()}")
+        raise error(_refusal(name, defect, det, strict))  # entries so large RᵀR overflows
     if defect <= ROTATION_TOLERANCE and abs(det - 1.0) <= ROTATION_TOLERANCE:
         return None
     if strict or defect > NEAR_ROTATION_TOLERANCE or det <= 0.0:
@@ -175,7 +183,7 @@ def as_rotation(R: np.ndarray, name: str = "R", *, strict: bool = False) -> np.n
     """
     R = real_array(R, name, InvalidRotation)
     if R.shape != (3, 3):
-        raise InvalidRotation(f"{name} must be a (3, 3) rotation matrix, got shape {R.shape}")
+        raise InvalidRotation(f"{name} must have shape (3, 3) (a rotation), got shape {R.shape}")
     projected = _checked_rotation_block(R, name, strict, InvalidRotation)
     return R if projected is None else projected
 
@@ -183,23 +191,29 @@ def as_rotation(R: np.ndarray, name: str = "R", *, strict: bool = False) -> np.n
 def as_pose(T: np.ndarray, name: str = "T", *, strict: bool = False) -> np.ndarray:
     """Return ``T`` as a float (4, 4) rigid transform, under the tolerance policy above.
 
-    The bottom row must be ``[0, 0, 0, 1]`` within :data:`ROTATION_TOLERANCE`; a near-rotation
+    The bottom row must be ``[0, 0, 0, 1]`` within :data:`ROTATION_TOLERANCE` and the
+    translation within ``±``:data:`MAX_COORDINATE`; a near-rotation
     block is returned projected onto SO(3) (in a copy, with a
     :class:`~redik.exceptions.NearRotationWarning`) unless ``strict``.
 
     Raises:
-        InvalidPose: wrong shape or dtype, non-finite entries, bad bottom row, or a rotation
-            block that is not a rotation.
+        InvalidPose: wrong shape or dtype, non-finite entries, bad bottom row, a translation
+            beyond :data:`MAX_COORDINATE`, or a rotation block that is not a rotation.
     """
     T = real_array(T, name, InvalidPose)
     if T.shape != (4, 4):
-        raise InvalidPose(f"{name} must be a (4, 4) homogeneous transform, got shape {T.shape}")
+        raise InvalidPose(f"{name} must have shape (4, 4) (a rigid transform), got shape {T.shape}")
     rows = T.tolist()
     if not math.isfinite(sum(rows[0]) + sum(rows[1]) + sum(rows[2]) + sum(rows[3])):
-        raise InvalidPose(f"{name} holds NaN or inf: {rows}")
+        raise InvalidPose(f"{name} must be finite, holds NaN or inf: {rows}")
     x, y, z, w = rows[3]
     if max(abs(x), abs(y), abs(z), abs(w - 1.0)) > ROTATION_TOLERANCE:
         raise InvalidPose(f"{name} must have the bottom row [0, 0, 0, 1], got {rows[3]}")
+    if max(abs(rows[0][3]), abs(rows[1][3]), abs(rows[2][3])) > MAX_COORDINATE:
+        raise InvalidPose(
+            f"{name} has a translation beyond ±{MAX_COORDINATE:g} m (MuJoCo's mjMAXVAL): "
+            f"{[rows[0][3], rows[1][3], rows[2][3]]}"
+        )
     projected = _checked_rotation_block(T[:3, :3], f"{name}[:3, :3]", strict, InvalidPose)
     if projected is None:
         return T

@@ -23,6 +23,7 @@ import mink
 import numpy as np
 
 from .exceptions import InfeasibleProblem, InvalidInput
+from .lie import MAX_COORDINATE
 from .limits import BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
 from .qp.assembly import Assembly
 from .qp.backends import Backend, make_backend
@@ -144,8 +145,9 @@ class Problem:
                 by more than its velocity limit allows to recover in ``dt``).
             BackendError: the back-end (every back-end of a chain) failed.
         """
-        q = np.asarray(q, dtype=float)
-        if q.shape != self._shape or not np.isfinite(q).all():
+        if not (isinstance(q, np.ndarray) and q.dtype == np.float64 and q.shape == self._shape):
+            q = self.robot.check_q(q)  # casts a list; refuses junk with the full message
+        elif not np.isfinite(q).all() or np.abs(q).max() > MAX_COORDINATE:
             q = self.robot.check_q(q)  # raises with the full message
         if dt is not None and not (np.isfinite(dt) and dt > 0.0):
             raise InvalidInput(f"dt must be a positive number of seconds, got {dt}")

@@ -21,7 +21,7 @@ import mujoco
 import numpy as np
 
 from .exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
-from .lie import real_array, skew
+from .lie import MAX_COORDINATE, real_array, skew
 
 JACOBIAN_REFERENCES = ("space", "body", "world")
 
@@ -193,11 +193,11 @@ class Robot:
             return self.ee
         if isinstance(name, Frame):
             return name
+        if not isinstance(name, str):
+            raise UnknownFrame(f"a frame is named by a string, got {name!r}")
         cached = self._frames.get(name)
         if cached is not None:
             return cached
-        if not isinstance(name, str):
-            raise UnknownFrame(f"a frame is named by a string, got {name!r}")
         site = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_SITE, name)
         body = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, name)
         if site >= 0:
@@ -229,8 +229,9 @@ class Robot:
     # Joint vectors
 
     def check_q(self, q: np.ndarray, name: str = "q") -> np.ndarray:
-        """``q`` as a finite real vector of length ``dof``, or raise :class:`InvalidConfiguration`
-        naming the value (complex, string and object arrays are refused, not cast)."""
+        """``q`` as a finite real vector of length ``dof``, within ``±``
+        :data:`redik.lie.MAX_COORDINATE`, or raise :class:`InvalidConfiguration` naming the
+        value (complex, string and object arrays are refused, not cast)."""
         q = real_array(q, name, InvalidConfiguration)
         if q.shape != (self.dof,):
             raise InvalidConfiguration(
@@ -239,6 +240,10 @@ class Robot:
             )
         if not np.all(np.isfinite(q)):
             raise InvalidConfiguration(f"{name} holds NaN or inf: {q.tolist()}")
+        if np.any(np.abs(q) > MAX_COORDINATE):
+            raise InvalidConfiguration(
+                f"{name} holds values beyond ±{MAX_COORDINATE:g} (MuJoCo's mjMAXVAL): {q.tolist()}"
+            )
         return q
 
     def within_limits(self, q: np.ndarray, tol: float = 0.0) -> bool:

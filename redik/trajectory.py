@@ -36,7 +36,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from .exceptions import InvalidInput
-from .lie import as_pose, interpolate_pose, pose_errors, so3_exp
+from .lie import as_pose, interpolate_pose, pose_errors, real_array, so3_exp
 from .pose_ik import solve_pose
 from .result import IKResult
 from .robot import Robot
@@ -104,10 +104,16 @@ class CartesianPath(Path):
         times: Sequence[float] | None = None,
         time_scaling: str = "linear",
     ):
-        if len(poses) < 2:
-            raise InvalidInput(f"a path needs at least two waypoint poses, got {len(poses)}")
+        try:
+            count = -1 if isinstance(poses, str | bytes) else len(poses)
+        except TypeError:  # None, a number, a 0-d array
+            count = -1
+        if count < 2:
+            raise InvalidInput(f"a path needs at least two waypoint poses (4 × 4), got {poses!r}")
         self.poses = np.array([as_pose(T, name=f"poses[{i}]") for i, T in enumerate(poses)])
-        self.times = np.arange(len(poses), dtype=float) if times is None else np.array(times, float)
+        self.times = (
+            np.arange(len(poses), dtype=float) if times is None else real_array(times, "times")
+        )
         if self.times.shape != (len(poses),) or not np.all(np.isfinite(self.times)):
             raise InvalidInput(
                 f"times must be {len(poses)} finite numbers (one per pose), got {times!r}"

@@ -31,7 +31,7 @@ import numba
 import numpy as np
 
 from ..exceptions import InvalidInput
-from ..lie import ROTATION_TOLERANCE, check_rotations, real_array
+from ..lie import MAX_COORDINATE, ROTATION_TOLERANCE, check_rotations, real_array
 from ..robot import Robot
 from . import kernel
 from .chain import Chain
@@ -183,7 +183,8 @@ class BatchResult:
 def check_targets(T_targets: np.ndarray, strict: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """``(T, valid)``: the targets as a float ``B × 4 × 4`` array and a per-target mask.
 
-    A target is valid when it is finite, ends with ``[0, 0, 0, 1]`` and has a rotation block
+    A target is valid when it is finite, ends with ``[0, 0, 0, 1]``, has a translation within
+    ``±``:data:`redik.lie.MAX_COORDINATE` and a rotation block
     accepted by :mod:`redik.lie`'s tolerance policy, as :func:`redik.lie.as_pose` checks one
     pose: near-rotations come back projected onto SO(3) (one warning), or invalid when
     ``strict``. Malformed targets are reported, not raised.
@@ -197,7 +198,8 @@ def check_targets(T_targets: np.ndarray, strict: bool = False) -> tuple[np.ndarr
     with np.errstate(invalid="ignore"):
         finite = np.isfinite(T).all(axis=(1, 2))
         bottom = np.abs(T[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1, initial=0.0)
-        well_formed = finite & (bottom <= ROTATION_TOLERANCE)
+        far = np.abs(T[:, :3, 3]).max(axis=1, initial=0.0)
+        well_formed = finite & (bottom <= ROTATION_TOLERANCE) & (far <= MAX_COORDINATE)
     block = np.where(well_formed[:, None, None], T[:, :3, :3], np.eye(3))
     R, accepted = check_rotations(block, "T_targets[:, :3, :3]", strict=strict)
     if R is not block:

@@ -28,12 +28,16 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..exceptions import InvalidInput
-from ..lie import as_pose, inverse, pose_errors, se3_log, wrap_angle
+from ..lie import as_pose, as_vector, inverse, pose_errors, real_array, se3_log, wrap_angle
 from ..result import IKResult
 
 if TYPE_CHECKING:
     from ..robot import Frame, Robot
     from .criteria import Criterion
+
+_MAX_ENTRY = 1e100
+"""Largest entry of ``J``, ``ẋ`` or ``q̇₀`` (and damping) :func:`nullspace_velocity` takes:
+``J Jᵀ + λ²I`` and ``J⁺ J q̇₀`` stay finite."""
 
 RANK_TOLERANCE = 1e-10
 """Singular values below ``RANK_TOLERANCE · σ_max`` count as zero in :func:`pseudo_inverse`."""
@@ -98,19 +102,23 @@ def nullspace_velocity(
         ``q̇`` (n). With ``damping = 0`` and ``J`` of full row rank, ``J q̇ = ẋ`` exactly and the
         second term changes nothing in the task.
     """
-    J = np.asarray(J, dtype=float)
-    if J.ndim != 2:
-        raise InvalidInput(f"J must be a 2-D (m × n) matrix, got shape {J.shape}")
+    J = real_array(J, "J")
+    if J.ndim != 2 or not np.isfinite(J).all():
+        raise InvalidInput(f"J must be a finite 2-D (m × n) matrix, got {J!r}")
     m, n = J.shape
-    twist = np.asarray(twist, dtype=float)
-    if twist.shape != (m,):
-        raise InvalidInput(f"twist must have shape ({m},) to match J {J.shape}, got {twist.shape}")
+    twist = as_vector(twist, m, "twist")
+    if not (
+        isinstance(damping, int | float | np.floating | np.integer) and 0.0 <= damping <= _MAX_ENTRY
+    ):
+        raise InvalidInput(f"damping must be a number in [0, {_MAX_ENTRY:g}], got {damping!r}")
+    if max(np.abs(J).max(initial=0.0), np.abs(twist).max(initial=0.0)) > _MAX_ENTRY:
+        raise InvalidInput(f"J and twist must be within ±{_MAX_ENTRY:g} (their products overflow)")
     J_pinv = pseudo_inverse(J, damping)
     dq = J_pinv @ twist
     if dq0 is not None:
-        dq0 = np.asarray(dq0, dtype=float)
-        if dq0.shape != (n,):
-            raise InvalidInput(f"dq0 must have shape ({n},) to match J {J.shape}, got {dq0.shape}")
+        dq0 = as_vector(dq0, n, "dq0")
+        if np.abs(dq0).max(initial=0.0) > _MAX_ENTRY:
+            raise InvalidInput(f"dq0 must be within ±{_MAX_ENTRY:g} (its products overflow)")
         dq += dq0 - J_pinv @ (J @ dq0)
     return dq
 
