@@ -164,8 +164,11 @@ def solve_pose(
     """
     T_target = as_pose(T_target, "T_target", strict=strict)
     q_start = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
-    if method not in METHODS:
+    if not isinstance(method, str) or method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
+    if not isinstance(respect_limits, bool | np.bool_):
+        raise InvalidInput(f"respect_limits must be True or False, got {respect_limits!r}")
+    _check_seed(seed)
     for name, tol in (("pos_tol", pos_tol), ("rot_tol", rot_tol)):
         if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
             raise InvalidInput(f"{name} must be a positive number, got {tol!r}")
@@ -774,6 +777,17 @@ def _positive(value: object, name: str) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
         raise InvalidInput(f"{name} must be a positive number, got {value!r}")
     return float(value)
+
+
+def _check_seed(seed: object) -> None:
+    """Refuse what ``np.random.default_rng`` would fail on deep inside a solve."""
+    try:
+        np.random.default_rng(seed)
+    except (TypeError, ValueError) as error:
+        raise InvalidInput(
+            f"seed must be None, a non-negative integer or a numpy Generator, got {seed!r} "
+            f"({error})"
+        ) from None
 
 
 def _count(value: object, name: str, minimum: int) -> int:

@@ -78,14 +78,14 @@ class Problem:
     ):
         if not isinstance(robot, Robot):
             raise InvalidInput(f"robot must be a redik.Robot, got {type(robot).__name__}")
-        tasks = list(tasks)
+        tasks = _as_list(tasks, "tasks")
         if not tasks:
             raise InvalidInput("a Problem needs at least one task")
         for task in tasks:
             if not hasattr(task, "compute_qp_objective"):
                 raise InvalidInput(f"{task!r} is not a task (no compute_qp_objective)")
-        if not (np.isfinite(damping) and damping >= 0.0):
-            raise InvalidInput(f"damping must be finite and >= 0, got {damping}")
+        if not (_is_real(damping) and np.isfinite(damping) and damping >= 0.0):
+            raise InvalidInput(f"damping must be finite and >= 0, got {damping!r}")
         self.robot = robot
         self.tasks = tasks
         self.damping = float(damping)
@@ -102,7 +102,7 @@ class Problem:
         self.backends = [make_backend(backend, **options) for _ in self.levels]
         tolerance = max(b.tolerance for b in self.backends)
 
-        limits = [PositionLimit()] if limits is None else list(limits)
+        limits = [PositionLimit()] if limits is None else _as_list(limits, "limits")
         self.limits: list[Limit] = []
         for limit in limits:
             if not isinstance(limit, Limit):
@@ -149,8 +149,8 @@ class Problem:
             q = self.robot.check_q(q)  # casts a list; refuses junk with the full message
         elif not np.isfinite(q).all() or np.abs(q).max() > MAX_COORDINATE:
             q = self.robot.check_q(q)  # raises with the full message
-        if dt is not None and not (np.isfinite(dt) and dt > 0.0):
-            raise InvalidInput(f"dt must be a positive number of seconds, got {dt}")
+        if dt is not None and not (_is_real(dt) and np.isfinite(dt) and dt > 0.0):
+            raise InvalidInput(f"dt must be a positive number of seconds, got {dt!r}")
         self._update(q)
         return self._step(q, dt)
 
@@ -272,11 +272,16 @@ class Problem:
             :class:`~redik.result.IKResult` with ``method="qp"`` and the history.
         """
         q = self.robot.check_q(q0, "q0").copy()
-        if max_iter < 0:
-            raise InvalidInput(f"max_iter must be >= 0, got {max_iter}")
-        if max_step is not None and not max_step > 0.0:
-            raise InvalidInput(f"max_step must be > 0, got {max_step}")
-        if not (np.isfinite(lm_damping) and lm_damping >= 0.0):
+        if isinstance(max_iter, bool) or not isinstance(max_iter, int | np.integer) or max_iter < 0:
+            raise InvalidInput(f"max_iter must be an integer >= 0, got {max_iter!r}")
+        for name, value in (("pos_tol", pos_tol), ("rot_tol", rot_tol), ("q_tol", q_tol)):
+            if not (_is_real(value) and value >= 0.0):
+                raise InvalidInput(f"{name} must be a number >= 0, got {value!r}")
+        if max_step is not None and not (_is_real(max_step) and max_step > 0.0):
+            raise InvalidInput(f"max_step must be > 0, got {max_step!r}")
+        if dt is not None and not (_is_real(dt) and np.isfinite(dt) and dt > 0.0):
+            raise InvalidInput(f"dt must be a positive number of seconds, got {dt!r}")
+        if not (_is_real(lm_damping) and np.isfinite(lm_damping) and lm_damping >= 0.0):
             raise InvalidInput(f"lm_damping must be finite and >= 0, got {lm_damping}")
         if self._clip:
             q = np.clip(q, self.robot.lower, self.robot.upper)
@@ -380,3 +385,18 @@ class Problem:
             f"Problem({self.robot!r}, tasks={names}, levels={self.levels}, "
             f"backend={self.backends[0].name!r})"
         )
+
+
+def _as_list(items: object, name: str) -> list:
+    """``items`` (a sequence of tasks or limits) as a list, or :class:`InvalidInput`."""
+    try:
+        if isinstance(items, str | bytes):
+            raise TypeError
+        return list(items)  # type: ignore[call-overload]
+    except TypeError:  # None, a number, a 0-d array
+        raise InvalidInput(f"{name} must be a list, got {items!r}") from None
+
+
+def _is_real(value: object) -> bool:
+    """A real scalar (not a bool, a string or an array): what a tolerance or a step may be."""
+    return isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool)

@@ -303,6 +303,20 @@ def test_lie_maps_on_validated_input(R, T, omega):
 # Pose IK
 
 
+def options() -> st.SearchStrategy:
+    """Tolerances, budgets, seeds and frames: mostly sane, sometimes junk."""
+    return st.fixed_dictionaries(
+        {},
+        optional={
+            "pos_tol": st.one_of(st.just(1e-4), number, junk()),
+            "rot_tol": st.one_of(st.just(1e-3), number, junk()),
+            "seed": st.one_of(st.integers(-5, 2**70), junk()),
+            "frame": st.one_of(st.sampled_from(["ee", "link7", "nowhere"]), junk()),
+            "respect_limits": st.one_of(st.booleans(), junk()),
+        },
+    )
+
+
 @SLOW
 @given(data=st.data())
 @pytest.mark.parametrize("method", redik.pose_ik.METHODS)
@@ -310,11 +324,14 @@ def test_solve_pose(panda, method, data):
     T = data.draw(targets(panda))
     q0 = data.draw(st.one_of(st.none(), configurations(panda)))
     strict = data.draw(st.booleans())
+    kwargs = data.draw(mostly(st.just({}), options()))
+    kwargs["max_iter"] = data.draw(mostly(st.just(15), st.integers(-1, 3), number, junk()))
+    kwargs["restarts"] = data.draw(mostly(st.just(1), st.integers(-1, 2), number, junk()))
+    limited = kwargs.get("respect_limits", True) is not False
     holds(
-        lambda: redik.solve_pose(
-            panda, T, q0, method=method, max_iter=15, restarts=1, seed=0, strict=strict
-        ),
+        lambda: redik.solve_pose(panda, T, q0, method=method, strict=strict, **kwargs),
         panda,
+        limited,
     )
 
 
@@ -322,7 +339,13 @@ def test_solve_pose(panda, method, data):
 @given(data=st.data(), n_starts=st.one_of(st.integers(-1, 3), junk()))
 def test_solve_all(panda, data, n_starts):
     T = data.draw(targets(panda))
-    holds(lambda: redik.solve_all(panda, T, n_starts=n_starts, seed=0, max_iter=10), panda)
+    cluster_tol = data.draw(mostly(st.just(1e-3), number, junk()))
+    holds(
+        lambda: redik.solve_all(
+            panda, T, n_starts=n_starts, seed=0, max_iter=10, cluster_tol=cluster_tol
+        ),
+        panda,
+    )
 
 
 @FUZZ
@@ -356,6 +379,24 @@ def test_problem_and_task_targets(panda, data):
     q = data.draw(configurations(panda))
     holds(lambda: problem.solve(q, max_iter=5), panda)
     holds(lambda: problem.step(q))
+    weight = data.draw(mostly(st.just(1.0), number, junk()))
+    gain = data.draw(mostly(st.just(0.5), number, junk()))
+    priority = data.draw(mostly(st.just(1), st.integers(-2, 2), number, junk()))
+    holds(lambda: redik.PostureTask(data.draw(configurations(panda)), weight=weight))
+    holds(lambda: redik.JointLimitAvoidanceTask(weight, gain, priority))
+    holds(lambda: redik.PoseTask(panda.fk(panda.home), None, weight, weight, gain, priority))
+    holds(lambda: redik.DampingTask(weight, priority))
+    holds(lambda: redik.ManipulabilityTask(None, weight, gain, priority))
+    holds(
+        lambda: redik.Problem(
+            panda,
+            data.draw(mostly(st.just([task]), st.just([]), junk())),
+            data.draw(mostly(st.none(), st.just([]), junk())),
+            data.draw(mostly(st.sampled_from(["daqp", "quadprog"]), junk())),
+            damping=data.draw(mostly(st.just(1e-6), number, junk())),
+        ).solve(panda.home, max_iter=data.draw(mostly(st.just(3), st.integers(-1, 2), junk()))),
+        panda,
+    )
 
 
 @SLOW
@@ -363,7 +404,18 @@ def test_problem_and_task_targets(panda, data):
 def test_solve_batch(panda, data, strict):
     stack = st.lists(st.one_of(reachable(panda), poses()), min_size=0, max_size=4)
     T = data.draw(st.one_of(stack.map(lambda ts: np.array(ts).reshape(-1, 4, 4)), junk()))
-    holds(lambda: redik.solve_batch(panda, T, restarts=1, max_iterations=10, strict=strict), panda)
+    q0 = data.draw(st.one_of(st.none(), configurations(panda), junk()))
+    restarts = data.draw(mostly(st.just(1), st.integers(-1, 2), number, junk()))
+    tol = data.draw(mostly(st.just(1e-6), number, junk()))
+    chunk = data.draw(mostly(st.none(), st.integers(-1, 3), number, junk()))
+    engine = data.draw(mostly(st.just("local"), st.text(max_size=5), junk()))
+    holds(
+        lambda: redik.solve_batch(
+            panda, T, q0, pos_tol=tol, restarts=restarts, max_iterations=10, strict=strict,
+            chunk_size=chunk, engine=engine,
+        ),
+        panda,
+    )  # fmt: skip
 
 
 # --------------------------------------------------------------------------------------
@@ -431,12 +483,16 @@ def test_nullspace_velocity(data, damping):
 @given(data=st.data(), spacing=mostly(st.none(), number), initial=mostly(st.none(), junk()))
 def test_explore_self_motion(panda, data, spacing, initial):
     T = data.draw(targets(panda))
+    n_starts = data.draw(mostly(st.just(2), st.integers(-1, 1), junk()))
+    max_samples = data.draw(mostly(st.just(40), st.integers(-1, 2), junk()))
+    nominal = data.draw(mostly(st.none(), configurations(panda)))
     holds(
         lambda: redik.explore_self_motion(
-            panda, T, spacing=spacing, n_starts=2, max_samples=40, seed=0, initial=initial
+            panda, T, spacing=spacing, n_starts=n_starts, max_samples=max_samples, seed=0,
+            initial=initial, nominal=nominal,
         ),
         panda,
-    )
+    )  # fmt: skip
 
 
 @SLOW
@@ -455,7 +511,8 @@ def test_cartesian_path_and_follow_path(panda, data, times, rate):
     holds(lambda: path.sample(rate))
     if path.duration * rate <= 40:  # keep the solves few; the rest checks the rate
         q0 = data.draw(configurations(panda))
-        holds(lambda: redik.follow_path(panda, path, q0, rate=rate), panda)
+        jump_tol = data.draw(mostly(st.just(0.1), number, junk()))
+        holds(lambda: redik.follow_path(panda, path, q0, rate=rate, jump_tol=jump_tol), panda)
 
 
 # --------------------------------------------------------------------------------------
@@ -566,3 +623,87 @@ def test_cartesian_path_refuses_junk_times():
     # Found by test_cartesian_path_and_follow_path: times="" raised a raw ValueError.
     with pytest.raises(redik.InvalidInput, match="times must hold real numbers"):
         redik.CartesianPath([np.eye(4), np.eye(4)], "")  # type: ignore[arg-type]
+
+
+def test_solve_pose_refuses_a_non_bool_respect_limits_and_junk_seeds(panda):
+    # Found by test_solve_pose: respect_limits=None was read as False and the returned q
+    # left the joint limits; a junk seed raised inside numpy.
+    T = panda.fk(panda.home)
+    with pytest.raises(redik.InvalidInput, match="respect_limits must be True or False"):
+        redik.solve_pose(panda, T, respect_limits=None)  # type: ignore[arg-type]
+    for seed in ("", -1, [0.5]):
+        with pytest.raises(redik.InvalidInput, match="seed must be"):
+            redik.solve_pose(panda, T, method="newton", seed=seed)  # type: ignore[arg-type]
+    with pytest.raises(redik.InvalidInput, match="method must be one of"):
+        redik.solve_pose(panda, T, method=np.array([]))  # type: ignore[arg-type]
+
+
+def test_problem_and_tasks_refuse_junk_arguments(panda):
+    # Found by test_problem_and_task_targets: tasks=1.0 / None raised "not iterable",
+    # backend=None a TypeError inside make_backend, damping="" a numpy TypeError,
+    # max_iter=None a comparison TypeError, gain/priority junk raw ValueErrors.
+    task = redik.PoseTask(panda.fk(panda.home))
+    for tasks in (1.0, None, np.array(0.0)):
+        with pytest.raises(redik.InvalidInput, match="tasks must be a list"):
+            redik.Problem(panda, tasks)  # type: ignore[arg-type]
+    for backend in (None, [], 3):
+        with pytest.raises(redik.BackendError, match="a back-end is a name"):
+            redik.Problem(panda, [task], backend=backend)  # type: ignore[arg-type]
+    with pytest.raises(redik.InvalidInput, match="damping"):
+        redik.Problem(panda, [task], damping="")  # type: ignore[arg-type]
+    problem = redik.Problem(panda, [task])
+    with pytest.raises(redik.InvalidInput, match="max_iter"):
+        problem.solve(panda.home, max_iter=None)  # type: ignore[arg-type]
+    with pytest.raises(redik.InvalidInput, match="pos_tol"):
+        problem.solve(panda.home, pos_tol=math.nan)
+    with pytest.raises(redik.InvalidInput, match="gain"):
+        redik.JointLimitAvoidanceTask(1.0, "")  # type: ignore[arg-type]
+    with pytest.raises(redik.InvalidInput, match="priority"):
+        redik.DampingTask(1.0, math.nan)  # type: ignore[arg-type]
+    with pytest.raises(redik.InvalidInput, match="gain"):
+        redik.ManipulabilityTask(gain=None)  # type: ignore[arg-type]
+
+
+def test_huge_task_weights_are_refused_and_daqp_failures_are_backend_errors(panda):
+    # Found by test_problem_and_task_targets: a PoseTask weight of 1e100 reached daqp, whose
+    # set-up failed; the next solve raised a raw RuntimeError ("Model has not been set up").
+    with pytest.raises(redik.InvalidInput, match=r"position_weight must be in \[0, 1e\+06\]"):
+        redik.PoseTask(panda.fk(panda.home), position_weight=1e100)
+    from redik.qp.backends import DaqpBackend
+    from redik.qp.problem_data import QP
+
+    with pytest.raises(redik.BackendError, match="daqp"):
+        DaqpBackend().solve(QP(np.full((2, 2), np.inf), np.ones(2), -np.ones(2), np.ones(2)))
+
+
+def test_solve_batch_refuses_junk_options(panda):
+    # Found by test_solve_batch: junk q0, chunk_size, engine and seed raised raw numpy or
+    # Python errors.
+    T = panda.fk(panda.home)[None]
+    bad = [
+        ({"q0": ""}, "q0 must hold real numbers"),
+        ({"chunk_size": 1.5}, "chunk_size must be a positive integer"),
+        ({"chunk_size": ""}, "chunk_size"),
+        ({"engine": np.array([])}, "engine must be one of"),
+        ({"seed": ""}, "seed must be"),
+        ({"seed": -1}, "seed must be"),
+        ({"workers": "x"}, "workers must be"),
+    ]
+    for kwargs, message in bad:
+        with pytest.raises(redik.InvalidInput, match=message):
+            redik.solve_batch(panda, T, restarts=0, max_iterations=1, **kwargs)
+
+
+def test_explore_self_motion_refuses_junk_options(panda):
+    # Found by test_explore_self_motion: max_samples=None raised a TypeError deep in the
+    # explorer; spacing="" and junk initial raw ValueErrors.
+    T = panda.fk(panda.home)
+    bad = [
+        ({"max_samples": None}, "max_samples must be"),
+        ({"spacing": ""}, "spacing must be"),
+        ({"initial": ""}, "initial must hold real numbers"),
+        ({"seed": "x"}, "seed must be"),
+    ]
+    for kwargs, message in bad:
+        with pytest.raises(redik.InvalidInput, match=message):
+            redik.explore_self_motion(panda, T, n_starts=1, **kwargs)

@@ -35,7 +35,7 @@ from ..lie import MAX_COORDINATE, ROTATION_TOLERANCE, check_rotations, real_arra
 from ..robot import Robot
 from . import kernel
 from .chain import Chain
-from .engines import default_workers, map_chunks
+from .engines import ENGINES, default_workers, map_chunks
 
 BATCH_STATUSES = ("converged", "stalled", "max_iterations", "invalid", "diverged")
 """Status names by code (those of :mod:`redik.batch.kernel`). All but ``"invalid"`` are
@@ -208,6 +208,10 @@ def check_targets(T_targets: np.ndarray, strict: bool = False) -> tuple[np.ndarr
     return T, well_formed & accepted
 
 
+def _is_integer(value: object) -> bool:
+    return isinstance(value, int | np.integer) and not isinstance(value, bool)
+
+
 def check_seeds(chain: Chain, q0: np.ndarray | None, size: int) -> np.ndarray:
     """Seeds as ``B × n`` within the limits: ``q0`` broadcast, or the home configuration.
 
@@ -217,7 +221,7 @@ def check_seeds(chain: Chain, q0: np.ndarray | None, size: int) -> np.ndarray:
     n = chain.dof
     if q0 is None:
         q0 = chain.home
-    q0 = np.asarray(q0, dtype=float)
+    q0 = real_array(q0, "q0")
     if q0.shape not in ((n,), (size, n)):
         raise InvalidInput(f"q0 must have shape ({n},) or ({size}, {n}), got {q0.shape}")
     if not np.all(np.isfinite(q0)):
@@ -401,10 +405,17 @@ def solve_batch(
         InvalidInput: ``T_targets`` is not ``B × 4 × 4``, a bad ``q0``, method, engine or
             tolerance.
     """
-    if method not in METHODS:
+    if not isinstance(method, str) or method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
-    if chunk_size is not None and chunk_size < 1:
-        raise InvalidInput(f"chunk_size must be a positive integer, got {chunk_size!r}")
+    if not isinstance(engine, str) or engine not in ENGINES:
+        raise InvalidInput(f"engine must be one of {ENGINES}, got {engine!r}")
+    for name, count in (("chunk_size", chunk_size), ("workers", workers)):
+        if count is not None and not (_is_integer(count) and count >= 1):
+            raise InvalidInput(f"{name} must be a positive integer or None, got {count!r}")
+    if not (seed is None or isinstance(seed, np.random.SeedSequence) or _is_integer(seed)) or (
+        _is_integer(seed) and seed < 0
+    ):
+        raise InvalidInput(f"seed must be None, an integer ≥ 0 or a SeedSequence, got {seed!r}")
     chain = robot if isinstance(robot, Chain) else Chain.from_robot(robot)
     options = BatchOptions(
         pos_tol=pos_tol, rot_tol=rot_tol, restarts=restarts, max_iterations=max_iterations

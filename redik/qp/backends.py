@@ -144,7 +144,13 @@ class DaqpBackend(Backend):
             self._model.update(
                 H=qp.H, f=qp.c, A=A if A.shape[0] else None, bupper=upper, blower=lower
             )
-        x, _, exitflag, _ = self._model.solve()
+        try:
+            x, _, exitflag, _ = self._model.solve()
+        except (RuntimeError, IndexError) as error:  # the set-up refused H (not PD, inf)
+            self._model = None
+            raise BackendError(
+                f"QP back-end 'daqp' failed on a QP with {qp.size()}: {error}"
+            ) from None
         if exitflag == -1:
             self._model = None
             raise self._infeasible(qp)
@@ -362,6 +368,11 @@ def make_backend(spec: str | Sequence[str] | Backend, **settings) -> Backend:
     if isinstance(spec, Backend):
         return spec
     if not isinstance(spec, str):
+        if isinstance(spec, bytes) or not isinstance(spec, Sequence) or not spec:
+            raise BackendError(
+                f"a back-end is a name, a non-empty list of names or a Backend, got {spec!r}; "
+                f"names: {available_backends()}"
+            )
         return FallbackChain([make_backend(name, **settings) for name in spec])
     try:
         if spec == "daqp":

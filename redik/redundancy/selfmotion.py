@@ -59,7 +59,7 @@ from scipy.sparse.csgraph import connected_components, dijkstra
 from scipy.spatial import cKDTree
 
 from ..exceptions import InvalidInput
-from ..lie import as_pose, wrap_angle
+from ..lie import as_pose, real_array, wrap_angle
 from .corrector import BatchCorrector, Corrector
 from .criteria import Criterion, default_criteria, evaluate_criteria
 
@@ -306,20 +306,26 @@ def explore_self_motion(
             f"{robot.name} has {robot.dof} joints: its self-motion manifolds have dimension "
             f"{dimension}; explore_self_motion samples dimensions up to {MAX_DIMENSION}"
         )
-    spacing = DEFAULT_SPACING[dimension] if spacing is None else float(spacing)
-    if not (math.isfinite(spacing) and spacing > 0):
+    spacing = DEFAULT_SPACING[dimension] if spacing is None else spacing
+    if not (isinstance(spacing, int | float) and math.isfinite(spacing) and spacing > 0):
         raise InvalidInput(f"spacing must be a positive number, got {spacing!r}")
-    if not (isinstance(n_starts, int) and n_starts >= 0):
-        raise InvalidInput(f"n_starts must be a non-negative integer, got {n_starts!r}")
+    for name, count in (("n_starts", n_starts), ("max_samples", max_samples)):
+        if not (isinstance(count, int | np.integer) and not isinstance(count, bool) and count >= 0):
+            raise InvalidInput(f"{name} must be a non-negative integer, got {count!r}")
+    try:
+        rng = np.random.default_rng(seed)
+    except (TypeError, ValueError):
+        raise InvalidInput(
+            f"seed must be None, an integer ≥ 0 or a Generator, got {seed!r}"
+        ) from None
     extra = np.empty((0, robot.dof))
     if initial is not None:
-        extra = np.atleast_2d(np.asarray(initial, dtype=float))
+        extra = np.atleast_2d(real_array(initial, "initial"))
         if extra.shape[1:] != (robot.dof,) or not np.all(np.isfinite(extra)):
             raise InvalidInput(f"initial must be finite k × {robot.dof} configurations")
     criteria = default_criteria(robot, nominal) if criteria is None else tuple(criteria)
 
     corrector = Corrector(robot, T_target, resolved)
-    rng = np.random.default_rng(seed)
     seeds = _seed_solutions(corrector, extra, n_starts, rng)
 
     explorer = _Explorer(corrector, dimension, spacing, max_samples)

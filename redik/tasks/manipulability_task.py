@@ -53,6 +53,8 @@ class ManipulabilityTask(Task):
         self.frame: Frame | None = None
         self._weight_spec = weight
         self.weight = np.empty(0)
+        if isinstance(gain, bool) or not isinstance(gain, int | float | np.integer | np.floating):
+            raise InvalidInput(f"gain must be a finite number >= 0, got {gain!r}")
         self.gain = float(gain)
         if not np.isfinite(self.gain) or self.gain < 0.0:
             raise InvalidInput(f"gain must be finite and >= 0, got {gain}")

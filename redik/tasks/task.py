@@ -39,31 +39,43 @@ from mink.tasks import BaseTask, Objective
 from mink.tasks import Task as MinkTask
 
 from ..exceptions import InvalidInput
+from ..lie import real_array
 from ..robot import Robot
 from .kinematics import KinematicState
 
+MAX_WEIGHT = 1e6
+"""Largest task weight accepted. A weight enters the Hessian squared: beyond ``1e6`` (``w² =
+1e12``) a weight-1 task beside it is lost to rounding and active-set back-ends fail
+(quadprog's Cholesky at 1e8, daqp's set-up at 1e20, measured on panda). Strict precedence
+is what priorities are for."""
+
 
 def as_weight(weight, size: int, name: str) -> np.ndarray:
-    """A non-negative finite weight, scalar or per component, as a (``size``,) array."""
-    array = np.atleast_1d(np.asarray(weight, dtype=float))
+    """A finite weight in ``[0, MAX_WEIGHT]``, scalar or per component, as a (``size``,)
+    array."""
+    array = np.atleast_1d(real_array(weight, name))
     if array.ndim != 1 or array.shape[0] not in (1, size):
         raise InvalidInput(f"{name} must be a scalar or have shape ({size},), got {array.shape}")
-    if not np.all(np.isfinite(array)) or np.any(array < 0.0):
-        raise InvalidInput(f"{name} must be finite and >= 0, got {array.tolist()}")
+    if not np.all((array >= 0.0) & (array <= MAX_WEIGHT)):  # NaN fails too
+        raise InvalidInput(f"{name} must be in [0, {MAX_WEIGHT:g}], got {array.tolist()}")
     return np.broadcast_to(array, (size,)).copy()
 
 
 def as_gain(gain: float) -> float:
     """A task gain in [0, 1] (1 = dead-beat, smaller = low-pass)."""
-    gain = float(gain)
+    if isinstance(gain, bool) or not isinstance(gain, int | float | np.integer | np.floating):
+        raise InvalidInput(f"gain must be a number in [0, 1], got {gain!r}")
     if not 0.0 <= gain <= 1.0:
         raise InvalidInput(f"gain must be in [0, 1], got {gain}")
-    return gain
+    return float(gain)
 
 
 def as_priority(priority: int) -> int:
     """A priority level: an integer >= 0, 0 being the highest."""
-    if isinstance(priority, bool) or int(priority) != priority or priority < 0:
+    integral = isinstance(priority, int | np.integer) or (
+        isinstance(priority, float) and priority.is_integer()
+    )
+    if isinstance(priority, bool) or not integral or priority < 0:
         raise InvalidInput(f"priority must be an integer >= 0 (0 is highest), got {priority!r}")
     return int(priority)
 
