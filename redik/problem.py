@@ -22,7 +22,7 @@ from collections.abc import Sequence
 import mink
 import numpy as np
 
-from .exceptions import InfeasibleProblem, InvalidInput
+from .exceptions import InfeasibleProblem, InvalidConfiguration, InvalidInput
 from .limits import BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
 from .qp.assembly import Assembly
 from .qp.backends import Backend, make_backend
@@ -41,14 +41,45 @@ _MU_MIN, _MU_MAX = 1e-9, 1e6
 """Bounds of the adaptive Levenberg–Marquardt scale of ``solve``."""
 
 
+def _is_real(value) -> bool:
+    return isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool)
+
+
+def _joint_vector(robot: Robot, q, name: str) -> np.ndarray:
+    """``robot.check_q``, with a non-numeric ``q`` an :class:`InvalidConfiguration` too."""
+    try:
+        q = np.asarray(q, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidConfiguration(
+            f"{name} must be a vector of {robot.dof} joint values, got {q!r}"
+        ) from None
+    return robot.check_q(q, name)
+
+
+def _check_dt(dt) -> None:
+    if dt is not None and not (_is_real(dt) and np.isfinite(dt) and dt > 0.0):
+        raise InvalidInput(f"dt must be a positive number of seconds (or None), got {dt!r}")
+
+
+def _as_list(items, name: str, marker: str) -> list:
+    """``items`` as a list; one object having ``marker`` (a task, a limit) is the list of it."""
+    if hasattr(items, marker) or isinstance(items, Limit):
+        return [items]
+    if isinstance(items, str | bytes) or not hasattr(items, "__iter__"):
+        raise InvalidInput(f"{name} must be a list (or a single one), got {items!r}")
+    return list(items)
+
+
 class Problem:
     """Differential IK as a (hierarchical) QP over the chain joints of ``robot``.
 
     Args:
         robot: The robot; ``Δq`` has ``robot.dof`` entries (its chain joints).
         tasks: redik tasks and/or mink tasks (``mink.FrameTask``, ``mink.ComTask``…). Tasks
-            of equal ``priority`` are weighted and summed; priorities are strict.
-        limits: redik or mink limits; None is ``[PositionLimit()]``, ``[]`` is none.
+            of equal ``priority`` are weighted and summed; priorities are strict. A single
+            task is accepted as the list of it, ``Problem(robot, PoseTask(T))``.
+        limits: redik or mink limits; None is ``[PositionLimit()]``, ``[]`` is none; a
+            single limit is the list of it.
         backend: A back-end name, a list of names (a fallback chain) or a
             :class:`~redik.qp.backends.Backend` (see :func:`~redik.qp.backends.make_backend`);
             an instance serves one priority level only, since back-ends keep per-QP state
@@ -77,14 +108,18 @@ class Problem:
     ):
         if not isinstance(robot, Robot):
             raise InvalidInput(f"robot must be a redik.Robot, got {type(robot).__name__}")
-        tasks = list(tasks)
+        tasks = _as_list(tasks, "tasks", "compute_qp_objective")
         if not tasks:
             raise InvalidInput("a Problem needs at least one task")
         for task in tasks:
             if not hasattr(task, "compute_qp_objective"):
                 raise InvalidInput(f"{task!r} is not a task (no compute_qp_objective)")
-        if not (np.isfinite(damping) and damping >= 0.0):
-            raise InvalidInput(f"damping must be finite and >= 0, got {damping}")
+        if not _is_real(damping) or not (np.isfinite(damping) and damping >= 0.0):
+            raise InvalidInput(f"damping must be finite and >= 0, got {damping!r}")
+        if not _is_real(rank_tol) or not (np.isfinite(rank_tol) and 0.0 <= rank_tol < 1.0):
+            raise InvalidInput(f"rank_tol must be in [0, 1), got {rank_tol!r}")
+        if backend_options is not None and not isinstance(backend_options, dict):
+            raise InvalidInput(f"backend_options must be a dict, got {backend_options!r}")
         self.robot = robot
         self.tasks = tasks
         self.damping = float(damping)
@@ -101,7 +136,11 @@ class Problem:
         self.backends = [make_backend(backend, **options) for _ in self.levels]
         tolerance = max(b.tolerance for b in self.backends)
 
-        limits = [PositionLimit()] if limits is None else list(limits)
+        limits = (
+            [PositionLimit()]
+            if limits is None
+            else _as_list(limits, "limits", "compute_qp_inequalities")
+        )
         self.limits: list[Limit] = []
         for limit in limits:
             if not isinstance(limit, Limit):
@@ -115,7 +154,6 @@ class Problem:
         self._bounded = bool(self._boxes)
 
         self.stats: dict[str, int] = {}
-        self._shape = (robot.dof,)
         self._state = KinematicState.for_robot(robot)
         self._configuration = None
         if self._assembly.needs_configuration or any(r.needs_configuration for r in self._rows):
@@ -144,11 +182,8 @@ class Problem:
                 by more than its velocity limit allows to recover in ``dt``).
             BackendError: the back-end (every back-end of a chain) failed.
         """
-        q = np.asarray(q, dtype=float)
-        if q.shape != self._shape or not np.isfinite(q).all():
-            q = self.robot.check_q(q)  # raises with the full message
-        if dt is not None and not (np.isfinite(dt) and dt > 0.0):
-            raise InvalidInput(f"dt must be a positive number of seconds, got {dt}")
+        q = _joint_vector(self.robot, q, "q")
+        _check_dt(dt)
         self._update(q)
         return self._step(q, dt)
 
@@ -269,12 +304,18 @@ class Problem:
         Returns:
             :class:`~redik.result.IKResult` with ``method="qp"`` and the history.
         """
-        q = self.robot.check_q(q0, "q0").copy()
+        q = _joint_vector(self.robot, q0, "q0").copy()
+        for name, value in (("pos_tol", pos_tol), ("rot_tol", rot_tol), ("q_tol", q_tol)):
+            if not _is_real(value) or not (np.isfinite(value) and value >= 0.0):
+                raise InvalidInput(f"{name} must be a finite number >= 0, got {value!r}")
+        if isinstance(max_iter, bool) or not isinstance(max_iter, int | np.integer):
+            raise InvalidInput(f"max_iter must be an integer, got {max_iter!r}")
         if max_iter < 0:
             raise InvalidInput(f"max_iter must be >= 0, got {max_iter}")
-        if max_step is not None and not max_step > 0.0:
-            raise InvalidInput(f"max_step must be > 0, got {max_step}")
-        if not (np.isfinite(lm_damping) and lm_damping >= 0.0):
+        _check_dt(dt)
+        if max_step is not None and not (_is_real(max_step) and max_step > 0.0):
+            raise InvalidInput(f"max_step must be > 0 (or None), got {max_step!r}")
+        if not (_is_real(lm_damping) and np.isfinite(lm_damping) and lm_damping >= 0.0):
             raise InvalidInput(f"lm_damping must be finite and >= 0, got {lm_damping}")
         if self._clip:
             q = np.clip(q, self.robot.lower, self.robot.upper)

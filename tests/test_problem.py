@@ -149,3 +149,72 @@ def test_a_backend_instance_cannot_be_shared_by_priority_levels(panda):
     with pytest.raises(InvalidInput, match="priority levels"):
         Problem(panda, stack, backend=make_backend("daqp"))
     Problem(panda, stack[:1], backend=make_backend("daqp")).step(panda.home)  # one level: fine
+
+
+def test_a_single_task_or_limit_is_the_list_of_it(panda):
+    T = panda.fk(panda.home)
+    problem = Problem(panda, PoseTask(T), PositionLimit())
+    assert problem.levels == [0] and len(problem.tasks) == 1 and len(problem.limits) == 1
+    np.testing.assert_allclose(problem.step(panda.home), 0.0, atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("arguments", "match"),
+    [
+        ({"tasks": 3}, "tasks must be a list"),
+        ({"tasks": "PoseTask"}, "tasks must be a list"),
+        ({"tasks": ()}, "at least one task"),
+        ({"limits": 1.0}, "limits must be a list"),
+        ({"damping": float("nan")}, "damping"),
+        ({"damping": "1e-6"}, "damping"),
+        ({"rank_tol": -1.0}, "rank_tol"),
+        ({"backend_options": 1e-9}, "backend_options"),
+    ],
+)
+def test_constructor_arguments_are_checked(panda, arguments, match):
+    kwargs = {"tasks": [PoseTask(np.eye(4))], **arguments}
+    with pytest.raises(InvalidInput, match=match):
+        Problem(panda, **kwargs)
+
+
+def test_unknown_or_malformed_backend_is_a_backend_error(panda):
+    for backend in ("nope", ["daqp", "nope"], 7, [None]):
+        with pytest.raises(redik.BackendError, match="available"):
+            Problem(panda, PoseTask(np.eye(4)), backend=backend)
+
+
+@pytest.mark.parametrize(
+    ("arguments", "error", "match"),
+    [
+        ({"q0": np.zeros(6)}, InvalidConfiguration, "7"),
+        ({"q0": np.full(7, np.nan)}, InvalidConfiguration, ""),
+        ({"q0": "home"}, InvalidInput, ""),
+        ({"dt": 0.0}, InvalidInput, "dt"),
+        ({"dt": -0.01}, InvalidInput, "dt"),
+        ({"dt": float("inf")}, InvalidInput, "dt"),
+        ({"pos_tol": -1.0}, InvalidInput, "pos_tol"),
+        ({"rot_tol": float("nan")}, InvalidInput, "rot_tol"),
+        ({"q_tol": "0"}, InvalidInput, "q_tol"),
+        ({"max_iter": 2.5}, InvalidInput, "max_iter"),
+        ({"max_iter": -1}, InvalidInput, "max_iter"),
+        ({"max_step": 0.0}, InvalidInput, "max_step"),
+        ({"max_step": float("nan")}, InvalidInput, "max_step"),
+        ({"lm_damping": "0.1"}, InvalidInput, "lm_damping"),
+    ],
+)
+def test_solve_arguments_are_checked(panda, arguments, error, match):
+    problem = Problem(panda, PoseTask(panda.fk(panda.home)))
+    kwargs = {"q0": panda.home, **arguments}
+    with pytest.raises(error, match=match):
+        problem.solve(**kwargs)
+
+
+def test_step_checks_dt_and_q(panda):
+    problem = Problem(panda, PoseTask(panda.fk(panda.home)))
+    for dt in (0.0, -1.0, float("nan"), "0.01"):
+        with pytest.raises(InvalidInput, match="dt"):
+            problem.step(panda.home, dt=dt)
+    with pytest.raises(InvalidConfiguration):
+        problem.step(np.append(panda.home, 0.0))
+    with pytest.raises(InvalidConfiguration):
+        problem.step(np.full(7, np.inf))
