@@ -17,6 +17,7 @@ mink tasks and limits may be mixed in; a ``mink.Configuration`` is then kept in 
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 
 import mink
@@ -26,7 +27,8 @@ from .exceptions import InfeasibleProblem, InvalidConfiguration, InvalidInput
 from .limits import BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
 from .qp.assembly import Assembly
 from .qp.backends import Backend, make_backend
-from .qp.hierarchy import solve_lexicographic
+from .qp.hierarchy import free_directions, solve_lexicographic
+from .qp.problem_data import QP
 from .result import IKResult
 from .robot import Robot
 from .tasks.frame_task import FrameTask
@@ -39,6 +41,28 @@ _MIN_STEP_FRACTION = 1.0 / 64.0
 
 _MU_MIN, _MU_MAX = 1e-9, 1e6
 """Bounds of the adaptive Levenberg–Marquardt scale of ``solve``."""
+
+
+_ACTIVE_TOL = 1e-9
+"""A limit whose bound on ``Δq`` is within this of 0 is active (stationarity test)."""
+
+
+@dataclasses.dataclass
+class QPResult(IKResult):
+    """:class:`~redik.result.IKResult` of :meth:`Problem.solve`, with the lower levels' optimality.
+
+    Attributes:
+        stationarity: Per lower level (priority order, level 0 excluded), the norm of its
+            objective's gradient projected onto the directions the higher levels and the
+            active limits leave free, at ``q`` (:meth:`Problem.stationarity`); empty with one
+            level.
+        stationary: True when every value is within ``stationarity_tol``: ``q`` is a
+            (first-order) optimum of the lower levels subject to the higher ones and the
+            limits, not merely a point where level 0 converged.
+    """
+
+    stationarity: list[float] = dataclasses.field(default_factory=list)
+    stationary: bool = True
 
 
 def _is_real(value) -> bool:
@@ -134,6 +158,8 @@ class Problem:
                 "backend_options; pass the back-end by name"
             )
         self.backends = [make_backend(backend, **options) for _ in self.levels]
+        # Projects lower-level gradients onto the tangent cone of the active limits (solve).
+        self._cone_backend = make_backend(backend, **options) if len(self.levels) > 1 else None
         tolerance = max(b.tolerance for b in self.backends)
 
         limits = (
@@ -266,8 +292,10 @@ class Problem:
         max_step: float | None = None,
         dt: float | None = None,
         lm_damping: float = 0.1,
-    ) -> IKResult:
-        """Iterate ``q ← q + αΔq`` from ``q0`` until the priority-0 tasks converge.
+        stationarity_tol: float | None = 1e-8,
+    ) -> QPResult:
+        r"""Iterate ``q ← q + αΔq`` from ``q0`` until the priority-0 tasks converge and the
+        lower levels are stationary.
 
         Level 0 is solved as damped least squares: its Hessian gets ``λ = μ‖e‖²`` (``e`` the
         level-0 error; Levenberg–Marquardt with Sugihara's 2011 choice, as ``solve_pose``'s
@@ -287,9 +315,23 @@ class Problem:
         ``rot_tol`` (rad) — position and rotation errors of :mod:`redik.conventions` —
         and every other level-0 task that has a target (a mink task, say) with
         ``‖e‖ ≤ pos_tol``. Joint-space regularisers (posture, joint-limit avoidance,
-        damping) and gradient tasks have no target and are not waited for, nor are
-        lower levels: they shape the solution. With no target at level 0, the solve
-        converges when the step taken vanishes (``‖αΔq‖ < q_tol``).
+        damping) and gradient tasks have no target and are not waited for. With no target
+        at level 0, the solve converges when the step taken vanishes (``‖αΔq‖ < q_tol``).
+
+        **Lower levels are finished, not abandoned.** Stopping as soon as level 0 converges
+        leaves the lower levels wherever the iteration happened to be: a posture task at
+        priority 1 is then only partly served. With ``stationarity_tol`` set and several
+        levels, the iteration goes on after level 0 converges — a step is then accepted
+        when level 0 stays converged — until every lower level is stationary
+        (:meth:`stationarity` ≤ ``stationarity_tol``): the first-order condition of
+
+        .. math:: \min_q f_k(q) \quad\text{s.t.}\quad e_0(q) = 0,\ \dots,
+                  \ q \in \mathcal{Q},
+
+        i.e. ``q`` is the constrained optimum of the lower levels (Nocedal & Wright
+        §12.3; the lexicographic form of Kanoun et al. 2011). Should the budget run out
+        first, the result keeps ``success`` (level 0 is met) with ``stationary=False``.
+        ``stationarity_tol=None`` stops at level-0 convergence.
 
         Args:
             q0: Initial chain configuration.
@@ -300,14 +342,21 @@ class Problem:
             max_step: Optional trust region, ``|Δq_i| ≤ max_step`` per iteration.
             dt: Passed to the limits (velocity limits need it).
             lm_damping: Initial Levenberg–Marquardt scale ``μ`` (≥ 0).
+            stationarity_tol: Bound on each lower level's projected gradient (units of
+                that gradient: ``α w² (q − r)`` for a posture task), or None.
 
         Returns:
-            :class:`~redik.result.IKResult` with ``method="qp"`` and the history.
+            :class:`QPResult` with ``method="qp"``, the history and the lower levels'
+            stationarity at ``q``.
         """
         q = _joint_vector(self.robot, q0, "q0").copy()
         for name, value in (("pos_tol", pos_tol), ("rot_tol", rot_tol), ("q_tol", q_tol)):
             if not _is_real(value) or not (np.isfinite(value) and value >= 0.0):
                 raise InvalidInput(f"{name} must be a finite number >= 0, got {value!r}")
+        if stationarity_tol is not None and not (
+            _is_real(stationarity_tol) and np.isfinite(stationarity_tol) and stationarity_tol > 0
+        ):
+            raise InvalidInput(f"stationarity_tol must be > 0 (or None), got {stationarity_tol!r}")
         if isinstance(max_iter, bool) or not isinstance(max_iter, int | np.integer):
             raise InvalidInput(f"max_iter must be an integer, got {max_iter!r}")
         if max_iter < 0:
@@ -319,32 +368,45 @@ class Problem:
             raise InvalidInput(f"lm_damping must be finite and >= 0, got {lm_damping}")
         if self._clip:
             q = np.clip(q, self.robot.lower, self.robot.upper)
+        finish_lower = stationarity_tol is not None and len(self.levels) > 1 and self._targets
         history = [q.copy()]
         self._update(q)
         converged, error, position_error, rotation_error = self._level0_errors(pos_tol, rot_tol)
         errors = [error]
-        status = "converged" if converged and self._targets else "max_iterations"
+        stationarity: list[float] = []
         iterations = 0
         mu = lm_damping
-        while status == "max_iterations" and iterations < max_iter:
+        status = "max_iterations"
+        while True:
+            if converged and self._targets:
+                if not finish_lower:
+                    status = "converged"
+                    break
+                stationarity = self._stationarity(q, dt)
+                if max(stationarity) <= stationarity_tol:
+                    status = "converged"
+                    break
+            if iterations >= max_iter:
+                status = "converged" if converged and self._targets else "max_iterations"
+                break
             dq = self._step(q, dt, max_step, mu * error * error if self._targets else 0.0)
             # Backtracking on the level-0 error: far from the target a full Gauss–Newton
             # step overshoots (into the limits, or into a two-point cycle). Scaling the
             # whole lexicographic Δq keeps every level's direction; q + αΔq stays in the
             # box for α ≤ 1. Without a level-0 target there is nothing to backtrack on.
+            # Once converged, a step must keep level 0 converged (the lower levels move).
             alpha = 1.0
             while True:
                 trial = q + alpha * dq
                 self._update(trial)
                 result = self._level0_errors(pos_tol, rot_tol)
-                if not self._targets or result[1] < error or result[0]:
-                    break
-                if alpha <= _MIN_STEP_FRACTION:
+                accepted = result[0] if converged else (result[1] < error or result[0])
+                if not self._targets or accepted or alpha <= _MIN_STEP_FRACTION:
                     break
                 alpha *= 0.5
-            if self._targets and not (result[1] < error or result[0]):
-                self._update(q)  # no descent along Δq: q is a (constrained) stationary point
-                status = "stalled"
+            if self._targets and not accepted:
+                self._update(q)  # no acceptable step along Δq: a (constrained) stationary point
+                status = "converged" if converged else "stalled"
                 break
             # A full step trusted the model: damp less; a cut step: damp more (Nielsen 1999).
             if mu > 0.0:
@@ -354,12 +416,23 @@ class Problem:
             history.append(q.copy())
             converged, error, position_error, rotation_error = result
             errors.append(error)
-            if converged and self._targets:
-                status = "converged"
-            elif alpha * float(np.linalg.norm(dq)) < q_tol:
-                # Without level-0 targets, a vanishing step is convergence.
-                status = "stalled" if self._targets else "converged"
-        return IKResult(
+            if not self._targets and alpha * float(np.linalg.norm(dq)) < q_tol:
+                status = "converged"  # without level-0 targets, a vanishing step converges
+                break
+            if alpha * float(np.linalg.norm(dq)) < q_tol:
+                status = "converged" if converged else "stalled"
+                break
+        if finish_lower:
+            stationarity = self._stationarity(q, dt)
+            self._update(q)
+        stationary = not stationarity or max(stationarity) <= (stationarity_tol or np.inf)
+        message = self._message(status, position_error, rotation_error, error)
+        if status == "converged" and not stationary:
+            message = (
+                f"level 0 converged; lower levels not stationary within {stationarity_tol:g} "
+                f"(projected gradients {[float(f'{v:.3g}') for v in stationarity]})"
+            )
+        return QPResult(
             q=q,
             success=status == "converged",
             status=status,
@@ -370,8 +443,68 @@ class Problem:
             history=np.array(history),
             error_history=np.array(errors),
             method="qp",
-            message=self._message(status, position_error, rotation_error, error),
+            message=message,
+            stationarity=stationarity,
+            stationary=bool(stationary),
         )
+
+    def stationarity(self, q: np.ndarray, dt: float | None = None) -> list[float]:
+        r"""Per lower level, the norm of its projected gradient at ``q``.
+
+        With :math:`g_k` the gradient of level :math:`k`'s objective at ``q`` (the linear
+        term :math:`c_k` of its QP), :math:`N_{k-1}` an orthonormal basis of the directions
+        the levels above leave free (the null spaces of their Hessians, as in
+        :mod:`redik.qp.hierarchy`) and :math:`\mathcal{A}` the limits active at ``q``
+        (bounds on ``Δq`` within 1e-9 of zero), the value is
+
+        .. math:: \|P_{T}(-g_k)\|, \qquad
+                  T = \{N_{k-1} z : a_i^\top N_{k-1} z \le 0,\ i \in \mathcal{A}\},
+
+        the projection onto the tangent cone (a small QP, solved by the problem's
+        back-end); zero is the first-order (KKT) condition of level :math:`k` subject to
+        the higher levels and the limits (Nocedal & Wright, Theorem 12.1).
+        """
+        q = _joint_vector(self.robot, q, "q")
+        _check_dt(dt)
+        return self._stationarity(q, dt)
+
+    def _stationarity(self, q: np.ndarray, dt: float | None) -> list[float]:
+        self._update(q)
+        objectives = self._assembly.objectives(self._state, self._configuration)
+        n = self.robot.dof
+        # Active limits as rows a_i of a_i·Δq ≤ 0.
+        active = []
+        if self._boxes:
+            lb, ub = np.full(n, -np.inf), np.full(n, np.inf)
+            for limit in self._boxes:
+                limit.bounds_into(q, dt, lb, ub)
+            eye = np.eye(n)
+            active += [-eye[lb >= -_ACTIVE_TOL], eye[ub <= _ACTIVE_TOL]]
+        for limit in self._rows:
+            block = limit.inequalities(self._configuration, dt)
+            if block is not None:
+                G, h = block
+                active.append(G[h <= _ACTIVE_TOL])
+        A = np.vstack(active) if active else np.zeros((0, n))
+        N = free_directions(objectives[0][0], np.zeros(n), self.rank_tol, self.damping)
+        values = []
+        for H_k, c_k in objectives[1:]:
+            if N.shape[1] == 0:
+                values.append(0.0)
+                continue
+            g = N.T @ c_k
+            rows = A @ N
+            if rows.shape[0] == 0:
+                values.append(float(np.linalg.norm(g)))
+            else:
+                # P_T(−g) = argmin_{z: rows z ≤ 0} ½‖z + g‖².
+                cone = QP(np.eye(N.shape[1]), g, C=rows, l=np.full(rows.shape[0], -np.inf),
+                          u=np.zeros(rows.shape[0]))  # fmt: skip
+                values.append(float(np.linalg.norm(self._cone_backend.solve(cone))))
+            N = N @ free_directions(
+                N.T @ H_k @ N, np.zeros(N.shape[1]), self.rank_tol, self.damping
+            )
+        return values
 
     def _level0_errors(self, pos_tol: float, rot_tol: float):
         converged = True

@@ -218,3 +218,57 @@ def test_step_checks_dt_and_q(panda):
         problem.step(np.append(panda.home, 0.0))
     with pytest.raises(InvalidConfiguration):
         problem.step(np.full(7, np.inf))
+
+
+def test_solve_finishes_the_lower_level_at_the_constrained_optimum(panda, rng):
+    """Pose at priority 0, posture at priority 1: the returned q minimises the posture cost
+    subject to the pose (an independent SLSQP solve agrees); stopping at level-0
+    convergence leaves the posture cost higher and the stationarity condition unmet."""
+    from scipy.optimize import minimize
+
+    for _ in range(3):
+        q0 = np.clip(panda.random_q(rng), panda.lower + 0.3, panda.upper - 0.3)
+        T = panda.fk(np.clip(q0 + rng.uniform(-0.3, 0.3, 7), panda.lower, panda.upper))
+        q_nominal = np.clip(q0 + rng.uniform(-0.5, 0.5, 7), panda.lower, panda.upper)
+        problem = Problem(panda, [PoseTask(T), PostureTask(q_nominal, gain=0.2, priority=1)])
+        result = problem.solve(q0, max_iter=300)
+        early = problem.solve(q0, max_iter=300, stationarity_tol=None)
+        assert result.success and result.stationary and len(result.stationarity) == 1
+        assert result.stationarity[0] <= 1e-8
+        assert problem.stationarity(result.q)[0] == pytest.approx(result.stationarity[0])
+        assert early.success and problem.stationarity(early.q)[0] > 1e-6
+
+        def cost(q, q_nominal=q_nominal):
+            return 0.5 * float(np.sum((q - q_nominal) ** 2))
+
+        assert cost(result.q) < cost(early.q) - 1e-5
+
+        def pose_residual(q, T=T):
+            F = panda.fk(q)
+            return np.concatenate([F[:3, 3] - T[:3, 3], lie.so3_log(F[:3, :3].T @ T[:3, :3])])
+
+        reference = minimize(
+            cost,
+            early.q,
+            method="SLSQP",
+            constraints=[{"type": "eq", "fun": pose_residual}],
+            bounds=list(zip(panda.lower, panda.upper, strict=True)),
+            options={"ftol": 1e-14, "maxiter": 500},
+        )
+        assert reference.success and np.max(np.abs(pose_residual(reference.x))) < 1e-10
+        np.testing.assert_allclose(result.q, reference.x, atol=1e-6)
+        assert cost(result.q) == pytest.approx(cost(reference.x), abs=1e-9)
+
+
+def test_stationarity_is_reported_as_unmet_when_the_budget_runs_out(panda, rng):
+    q0, T = nearby_targets(panda, rng, 1)[0]
+    problem = Problem(panda, [PoseTask(T), PostureTask(panda.home, gain=0.05, priority=1)])
+    early = problem.solve(q0, stationarity_tol=None)
+    result = problem.solve(q0, max_iter=early.iterations + 2)
+    assert result.success and result.status == "converged"
+    assert not result.stationary and result.stationarity[0] > 1e-8
+    assert "not stationary" in result.message
+    single = Problem(panda, [PoseTask(T)]).solve(q0)
+    assert single.stationary and single.stationarity == []
+    with pytest.raises(InvalidInput, match="stationarity_tol"):
+        problem.solve(q0, stationarity_tol=0.0)

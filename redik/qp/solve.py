@@ -13,7 +13,16 @@ from ..exceptions import InvalidInput
 from ..result import IKResult
 from ..robot import Robot
 
-_OPTIONS = ("backend", "damping", "tasks", "gain", "max_step", "backend_options", "q_tol")
+_OPTIONS = (
+    "backend",
+    "damping",
+    "tasks",
+    "gain",
+    "max_step",
+    "backend_options",
+    "q_tol",
+    "stationarity_tol",
+)
 
 
 def solve_pose_qp(
@@ -35,7 +44,8 @@ def solve_pose_qp(
     Options: ``backend`` (default ``"daqp"``; a list is a fallback chain), ``damping``
     (1e-6), ``tasks`` (extra redik/mink tasks, e.g. a ``PostureTask`` at priority 1),
     ``gain`` of the pose task (1.0), ``max_step`` (trust region per iteration, rad or m;
-    default 0.5), ``q_tol``, ``backend_options``.
+    default 0.5), ``q_tol``, ``stationarity_tol`` (lower levels finished to this projected
+    gradient, :meth:`redik.Problem.solve`; default 1e-8), ``backend_options``.
 
     Raises:
         InvalidInput: an unknown option or a bad target/``q0``.
@@ -67,6 +77,7 @@ def solve_pose_qp(
             max_iter=max_iter,
             q_tol=options.get("q_tol", 1e-12),
             max_step=options.get("max_step", 0.5),
+            stationarity_tol=options.get("stationarity_tol", 1e-8),
         )
         iterations += result.iterations
         if best is None or result.success or result.error < best.error:
