@@ -160,6 +160,8 @@ class Problem:
         self.backends = [make_backend(backend, **options) for _ in self.levels]
         # Projects lower-level gradients onto the tangent cone of the active limits (solve).
         self._cone_backend = make_backend(backend, **options) if len(self.levels) > 1 else None
+        level0 = self._assembly.levels[0]
+        self._rows0 = level0.A if level0.least_squares and len(self.levels) > 1 else None
         tolerance = max(b.tolerance for b in self.backends)
 
         limits = (
@@ -270,6 +272,7 @@ class Problem:
             damping=damping,
             rank_tol=self.rank_tol,
             stats=self.stats,
+            rows0=self._rows0,
         )
         if self._clip:
             # Into the (shrunk) box the solver was given: inside the limits, whatever its

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import statistics
 import time
 import warnings
@@ -43,7 +44,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--backends", nargs="+", default=None, help="default: all installed")
     parser.add_argument("--steps", type=int, default=400, help="timed steps per back-end")
     parser.add_argument("--targets", type=int, default=500, help="FK targets for part 2")
-    parser.add_argument("--converge-backends", nargs="+", default=["daqp", "proxsuite", "quadprog"])
+    parser.add_argument("--converge-backends", nargs="*", default=["daqp", "proxsuite", "quadprog"])
     parser.add_argument("--max-iter", type=int, default=200)
     parser.add_argument("--pos-tol", type=float, default=1e-6)
     parser.add_argument("--rot-tol", type=float, default=1e-5)
@@ -129,6 +130,27 @@ def _time_steps(robot, backend: str, solver: str | None, args, targets) -> tuple
     return redik_us, mink_us
 
 
+def _time_priorities(robot, backend: str, args, targets) -> tuple[float, float]:
+    """Median step time of the same three tasks as one weighted level and as two strict
+    levels (pose, then posture + joint-limit avoidance), interleaved at the same ``q``."""
+    one = _redik_problem(robot, args.weight, backend, strict=False)
+    two = _redik_problem(robot, args.weight, backend, strict=True)
+    times: tuple[list, list] = ([], [])
+    steps_per_target = 8
+    for i in range(math.ceil(args.steps / steps_per_target)):
+        T = targets[i % len(targets)]
+        one.tasks[0].set_target(T)
+        two.tasks[0].set_target(T)
+        q = robot.home.copy()
+        for _ in range(steps_per_target):
+            for problem, record in zip((one, two), times, strict=True):
+                start = time.perf_counter()
+                dq = problem.step(q)
+                record.append(time.perf_counter() - start)
+            q = q + dq
+    return statistics.median(times[0]) * 1e6, statistics.median(times[1]) * 1e6
+
+
 def _converge_redik(robot, backend, args, targets, strict: bool) -> dict:
     weight = 1.0 if strict else 1e-4
     problem = _redik_problem(robot, weight, backend, strict)
@@ -193,6 +215,10 @@ def _summary(results, overshoot: float, total: float) -> dict:
     }
 
 
+def _load() -> str:
+    return " ".join(f"{value:.2f}" for value in os.getloadavg())
+
+
 def run(args: argparse.Namespace) -> int:
     with warnings.catch_warnings():
         # qpsolvers warns on every dense-to-sparse conversion mink's calls make.
@@ -205,7 +231,10 @@ def _run(args: argparse.Namespace) -> int:
     rng = np.random.default_rng(args.seed)
     targets = [robot.fk(q) for q in robot.random_q(rng, size=args.targets)]
     backends = args.backends or available_backends()
-    print(f"{robot!r}: per-step time, weighted stack (weight {args.weight}), medians")
+    print(
+        f"{robot!r}: per-step time, weighted stack (weight {args.weight}), medians, "
+        f"load average {_load()}"
+    )
     print(f"{'redik back-end':<16}{'mink solver':<13}{'redik µs':>10}{'mink µs':>10}{'ratio':>8}")
     for backend in backends:
         solver = MINK_SOLVER.get(backend, backend)
@@ -215,6 +244,15 @@ def _run(args: argparse.Namespace) -> int:
             print(f"{backend:<16}{solver:<13}{redik_us:>10.1f}{mink_us:>10.1f}{ratio}")
         else:
             print(f"{backend:<16}{'-':<13}{redik_us:>10.1f}{'-':>10}{'-':>8}")
+
+    print(
+        f"\nstrict priorities: one weighted level vs pose > (posture, limits), medians, "
+        f"load average {_load()}"
+    )
+    print(f"{'redik back-end':<16}{'1 level µs':>12}{'2 levels µs':>13}{'ratio':>8}")
+    for backend in backends:
+        one_us, two_us = _time_priorities(robot, backend, args, targets)
+        print(f"{backend:<16}{one_us:>12.1f}{two_us:>13.1f}{two_us / one_us:>7.2f}x")
 
     print(
         f"\n{len(targets)} FK targets from home, pos_tol {args.pos_tol:g} m, rot_tol "
