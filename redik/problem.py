@@ -18,6 +18,7 @@ mink tasks and limits may be mixed in; a ``mink.Configuration`` is then kept in 
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Sequence
 
 import mink
@@ -196,6 +197,18 @@ class Problem:
             if not isinstance(task, JointSpaceTask)
             and (isinstance(task, ResidualTask) or not isinstance(task, Task))
         ]
+        # (task, e, J, is a frame task): error buffers of the residual tasks, filled in place.
+        self._target_buffers = [
+            (
+                task,
+                np.empty(task.k),
+                np.empty((task.k, self._state.n_columns)),
+                isinstance(task, FrameTask),
+            )
+            if isinstance(task, ResidualTask)
+            else (task, None, None, False)
+            for task in self._targets
+        ]
 
     # ----------------------------------------------------------------------------------
     # Online control
@@ -296,6 +309,8 @@ class Problem:
         dt: float | None = None,
         lm_damping: float = 0.1,
         stationarity_tol: float | None = 1e-8,
+        patience: int | None = None,
+        progress: float = 0.5,
     ) -> QPResult:
         r"""Iterate ``q ← q + αΔq`` from ``q0`` until the priority-0 tasks converge and the
         lower levels are stationary.
@@ -347,6 +362,11 @@ class Problem:
             lm_damping: Initial Levenberg–Marquardt scale ``μ`` (≥ 0).
             stationarity_tol: Bound on each lower level's projected gradient (units of
                 that gradient: ``α w² (q − r)`` for a posture task), or None.
+            patience, progress: Early stop for restarts: before level 0 converges, an
+                iterate whose ``‖e‖²`` fell by less than the fraction ``progress`` over the
+                last ``patience`` iterations is ``"stalled"`` (slow progress near a
+                singularity or a limit rarely ends well; a restart is cheaper). None (the
+                default) waits for the budget.
 
         Returns:
             :class:`QPResult` with ``method="qp"``, the history and the lower levels'
@@ -369,6 +389,13 @@ class Problem:
             raise InvalidInput(f"max_step must be > 0 (or None), got {max_step!r}")
         if not (_is_real(lm_damping) and np.isfinite(lm_damping) and lm_damping >= 0.0):
             raise InvalidInput(f"lm_damping must be finite and >= 0, got {lm_damping}")
+        if patience is not None and (
+            isinstance(patience, bool) or not isinstance(patience, int | np.integer) or patience < 1
+        ):
+            raise InvalidInput(f"patience must be an integer >= 1 (or None), got {patience!r}")
+        if not (_is_real(progress) and 0.0 < progress < 1.0):
+            raise InvalidInput(f"progress must be in (0, 1), got {progress!r}")
+        required = 1.0 - progress  # ‖e‖² must fall to this fraction in `patience` iterations
         if self._clip:
             q = np.clip(q, self.robot.lower, self.robot.upper)
         finish_lower = stationarity_tol is not None and len(self.levels) > 1 and self._targets
@@ -419,10 +446,19 @@ class Problem:
             history.append(q.copy())
             converged, error, position_error, rotation_error = result
             errors.append(error)
-            if not self._targets and alpha * float(np.linalg.norm(dq)) < q_tol:
+            if (
+                patience is not None
+                and not converged
+                and iterations >= patience
+                and error * error > required * errors[-1 - patience] ** 2
+            ):
+                status = "stalled"
+                break
+            step_norm = alpha * math.sqrt(float(dq @ dq))
+            if not self._targets and step_norm < q_tol:
                 status = "converged"  # without level-0 targets, a vanishing step converges
                 break
-            if alpha * float(np.linalg.norm(dq)) < q_tol:
+            if step_norm < q_tol:
                 status = "converged" if converged else "stalled"
                 break
         if finish_lower:
@@ -513,23 +549,24 @@ class Problem:
         converged = True
         squared = 0.0
         position_error = rotation_error = None
-        for task in self._targets:
-            if isinstance(task, ResidualTask):
-                e, _ = task.error_and_jacobian(self._state)
+        for task, e, J, is_frame in self._target_buffers:
+            if J is not None:
+                task.residual_into(self._state, e, J)
             else:
                 e = task.compute_error(self._configuration)
-            squared += float(e @ e)
-            if isinstance(task, FrameTask):
+            norm_squared = float(e @ e)
+            squared += norm_squared
+            if is_frame:
                 p_err, r_err = task.pose_errors(self._state)
                 if p_err is not None:
-                    converged &= p_err <= pos_tol
+                    converged = converged and p_err <= pos_tol
                     position_error = p_err if position_error is None else position_error
                 if r_err is not None:
-                    converged &= r_err <= rot_tol
+                    converged = converged and r_err <= rot_tol
                     rotation_error = r_err if rotation_error is None else rotation_error
             else:
-                converged &= float(np.linalg.norm(e)) <= pos_tol
-        return bool(converged), float(np.sqrt(squared)), position_error, rotation_error
+                converged = converged and math.sqrt(norm_squared) <= pos_tol
+        return bool(converged), math.sqrt(squared), position_error, rotation_error
 
     @staticmethod
     def _message(status, position_error, rotation_error, error) -> str:
@@ -543,7 +580,7 @@ class Problem:
         if not parts:
             parts.append(f"|e| = {error:.3g}")
         reason = (
-            "no step lowers the level-0 error"
+            "the level-0 error stopped falling"
             if status == "stalled"
             else "the iteration budget ran out"
         )
