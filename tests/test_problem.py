@@ -272,3 +272,41 @@ def test_stationarity_is_reported_as_unmet_when_the_budget_runs_out(panda, rng):
     assert single.stationary and single.stationarity == []
     with pytest.raises(InvalidInput, match="stationarity_tol"):
         problem.solve(q0, stationarity_tol=0.0)
+
+
+def test_patience_ends_an_attempt_that_stops_making_progress(panda):
+    far = np.eye(4)
+    far[:3, 3] = (3.0, 0.0, 0.0)  # out of reach: the error plateaus
+    problem = Problem(panda, [PoseTask(far)])
+    patient = problem.solve(panda.home, max_iter=200, patience=5)
+    assert patient.status == "stalled" and patient.iterations < 60
+    squared = patient.error_history**2
+    # It stopped at the first iteration where ‖e‖² was not halved over the last 5...
+    assert squared[-1] > 0.5 * squared[-6]
+    # ... and not before.
+    assert all(squared[k] <= 0.5 * squared[k - 5] for k in range(5, len(squared) - 1))
+    assert problem.solve(panda.home, max_iter=60).iterations > patient.iterations
+    for patience in (0, 2.5, True):
+        with pytest.raises(InvalidInput, match="patience"):
+            problem.solve(panda.home, patience=patience)
+    for progress in (0.0, 1.0, float("nan")):
+        with pytest.raises(InvalidInput, match="progress"):
+            problem.solve(panda.home, patience=3, progress=progress)
+
+
+def test_solve_pose_qp_restarts_from_the_nearest_candidate(panda, rng):
+    from redik.qp.solve import _nearest_start
+
+    task = PoseTask(panda.fk(panda.random_q(rng)))
+    problem = Problem(panda, [task])  # binds the task to the robot
+    start = _nearest_start(panda, task, np.random.default_rng(5), 32)
+    candidates = panda.random_q(np.random.default_rng(5), size=32)
+    distances = [
+        np.sum((panda.fk(q)[:3, 3] - task.target[:3, 3]) ** 2)
+        + 0.125 * np.sum((panda.fk(q)[:3, :3] - task.target[:3, :3]) ** 2)
+        for q in candidates
+    ]
+    np.testing.assert_array_equal(start, candidates[int(np.argmin(distances))])
+    assert problem.levels == [0]
+    with pytest.raises(InvalidInput, match="candidates"):
+        solve_pose_qp(panda, task.target, panda.home, candidates=0)

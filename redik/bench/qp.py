@@ -14,6 +14,18 @@ Part 2 solves the FK targets (seeded random configurations, start at ``home``) t
 to bias the converged pose) — and reports success, median iterations, median time to
 converge and the worst joint-limit overshoot of any iterate. redik's strict-priority
 stack (joint-space tasks at priority 1) is reported beside them.
+
+Part 1b times the same three tasks as one weighted level and as two strict levels (pose,
+then posture and joint-limit avoidance), interleaved at the same ``q``: the price of strict
+priorities, as a ratio.
+
+Part 3 is the latency of ``solve_pose(method="qp")`` with its defaults (restarts included)
+over ``--latency-targets`` random reachable targets per robot, from ``home`` and from
+random seeds: success, p50/p95/p99/max of the CPU time of the calling thread (on a
+shared machine the wall time also counts the time slices other processes take: a 10 ms
+preemption in a 1 ms solve; its p99 is printed beside), the p99 iterations, and the CPU
+p99 in units of the median single QP step measured in the same run. One warm-up call
+precedes each robot's timings.
 """
 
 from __future__ import annotations
@@ -50,6 +62,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--rot-tol", type=float, default=1e-5)
     parser.add_argument("--weight", type=float, default=1e-2, help="posture/limit weight, part 1")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--latency-robots", nargs="*", default=["panda", "iiwa14", "ur5e"])
+    parser.add_argument("--latency-targets", type=int, default=200)
 
 
 class _MinkStack:
@@ -215,6 +229,48 @@ def _summary(results, overshoot: float, total: float) -> dict:
     }
 
 
+def _latency(robot, args) -> list[dict]:
+    """``solve_pose(method="qp")`` wall times over random reachable targets, per seed mode."""
+    from ..pose_ik import solve_pose
+
+    rng = np.random.default_rng(args.seed)
+    targets = [robot.fk(q) for q in robot.random_q(rng, size=args.latency_targets)]
+    seeds = robot.random_q(rng, size=args.latency_targets)
+    solve_pose(robot, targets[0], method="qp")  # warm-up: imports, first allocations
+    step_problem = Problem(robot, [PoseTask(targets[0])], backend="daqp")
+    rows = []
+    for mode in ("home", "random"):
+        times, walls, successes, iterations, step_times = [], [], 0, [], []
+        for i, T in enumerate(targets):
+            q0 = robot.home if mode == "home" else seeds[i]
+            start, start_wall = time.thread_time(), time.perf_counter()
+            result = solve_pose(robot, T, q0, method="qp", seed=i)
+            times.append(time.thread_time() - start)
+            walls.append(time.perf_counter() - start_wall)
+            successes += result.success
+            iterations.append(result.iterations)
+            # A reference measured alongside: one QP step of the same robot.
+            start = time.thread_time()
+            step_problem.step(q0)
+            step_times.append(time.thread_time() - start)
+        ms = np.array(times) * 1e3
+        step_ms = statistics.median(step_times) * 1e3
+        rows.append(
+            {
+                "mode": mode,
+                "success": successes / len(targets),
+                "p50": float(np.percentile(ms, 50)),
+                "p95": float(np.percentile(ms, 95)),
+                "p99": float(np.percentile(ms, 99)),
+                "max": float(ms.max()),
+                "wall_p99": float(np.percentile(walls, 99)) * 1e3,
+                "iterations_p99": float(np.percentile(iterations, 99)),
+                "p99_steps": float(np.percentile(ms, 99)) / step_ms,
+            }
+        )
+    return rows
+
+
 def _load() -> str:
     return " ".join(f"{value:.2f}" for value in os.getloadavg())
 
@@ -274,4 +330,24 @@ def _run(args: argparse.Namespace) -> int:
                 f"{name:<34}{s['success']:>8.1%}{s['iterations']:>7}{s['time_ms']:>10.2f}"
                 f"{s['overshoot']:>11.1e}"
             )
+
+    if args.latency_robots:
+        print(
+            f"\nsolve_pose(method='qp') latency, {args.latency_targets} random reachable "
+            f"targets per robot, defaults (restarts included), CPU time of the thread, "
+            f"load average {_load()}"
+        )
+        print(
+            f"{'robot':<9}{'seed':<8}{'success':>8}{'p50 ms':>8}{'p95 ms':>8}{'p99 ms':>8}"
+            f"{'max ms':>8}{'p99 it':>8}{'p99/step':>10}{'wall p99':>10}"
+        )
+        for name in args.latency_robots:
+            latency_robot = load(name)
+            for row in _latency(latency_robot, args):
+                print(
+                    f"{name:<9}{row['mode']:<8}{row['success']:>7.1%}{row['p50']:>8.2f}"
+                    f"{row['p95']:>8.2f}{row['p99']:>8.2f}{row['max']:>8.2f}"
+                    f"{row['iterations_p99']:>8.0f}{row['p99_steps']:>9.0f}x"
+                    f"{row['wall_p99']:>10.2f}"
+                )
     return 0
