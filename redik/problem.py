@@ -28,7 +28,7 @@ from .exceptions import InfeasibleProblem, InvalidConfiguration, InvalidInput
 from .limits import BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
 from .qp.assembly import Assembly
 from .qp.backends import Backend, make_backend
-from .qp.hierarchy import free_directions, solve_lexicographic
+from .qp.hierarchy import free_directions, row_null_space, solve_lexicographic
 from .qp.problem_data import QP
 from .result import IKResult
 from .robot import Robot
@@ -508,7 +508,8 @@ class Problem:
         return self._stationarity(q, dt)
 
     def _stationarity(self, q: np.ndarray, dt: float | None) -> list[float]:
-        self._update(q)
+        if not np.array_equal(self._state.q, q):
+            self._update(q)
         objectives = self._assembly.objectives(self._state, self._configuration)
         n = self.robot.dof
         # Active limits as rows a_i of a_i·Δq ≤ 0.
@@ -517,32 +518,37 @@ class Problem:
             lb, ub = np.full(n, -np.inf), np.full(n, np.inf)
             for limit in self._boxes:
                 limit.bounds_into(q, dt, lb, ub)
-            eye = np.eye(n)
-            active += [-eye[lb >= -_ACTIVE_TOL], eye[ub <= _ACTIVE_TOL]]
+            at_lower, at_upper = lb >= -_ACTIVE_TOL, ub <= _ACTIVE_TOL
+            if at_lower.any() or at_upper.any():
+                eye = np.eye(n)
+                active += [-eye[at_lower], eye[at_upper]]
         for limit in self._rows:
             block = limit.inequalities(self._configuration, dt)
             if block is not None:
                 G, h = block
                 active.append(G[h <= _ACTIVE_TOL])
-        A = np.vstack(active) if active else np.zeros((0, n))
-        N = free_directions(objectives[0][0], np.zeros(n), self.rank_tol, self.damping)
+        A = np.vstack(active) if active else None
+        N = None if self._rows0 is None else row_null_space(self._rows0, self.rank_tol)
+        if N is None:
+            N = free_directions(objectives[0][0], np.zeros(n), self.rank_tol, self.damping)
         values = []
-        for H_k, c_k in objectives[1:]:
+        last = len(objectives) - 1
+        for level, (H_k, c_k) in enumerate(objectives[1:], start=1):
             if N.shape[1] == 0:
                 values.append(0.0)
                 continue
-            g = N.T @ c_k
-            rows = A @ N
-            if rows.shape[0] == 0:
-                values.append(float(np.linalg.norm(g)))
+            g = c_k @ N
+            rows = None if A is None else A @ N
+            if rows is None or rows.shape[0] == 0:
+                values.append(math.sqrt(float(g @ g)))
             else:
                 # P_T(−g) = argmin_{z: rows z ≤ 0} ½‖z + g‖².
                 cone = QP(np.eye(N.shape[1]), g, C=rows, l=np.full(rows.shape[0], -np.inf),
                           u=np.zeros(rows.shape[0]))  # fmt: skip
                 values.append(float(np.linalg.norm(self._cone_backend.solve(cone))))
-            N = N @ free_directions(
-                N.T @ H_k @ N, np.zeros(N.shape[1]), self.rank_tol, self.damping
-            )
+            if level < last:
+                HN = N.T @ H_k @ N
+                N = N @ free_directions(HN, np.zeros(N.shape[1]), self.rank_tol, self.damping)
         return values
 
     def _level0_errors(self, pos_tol: float, rot_tol: float):
