@@ -162,7 +162,8 @@ def compile_spec(spec: mujoco.MjSpec, source: str = "the model") -> mujoco.MjMod
     try:
         return spec.compile()
     except ValueError as error:
-        raise ModelError(f"MuJoCo could not compile {source}: {error}") from None
+        hint = "; load with meshes=False to skip the meshes" if spec.meshes else ""
+        raise ModelError(f"MuJoCo could not compile {source}: {error}{hint}") from None
 
 
 def search_folders(
@@ -308,30 +309,33 @@ def _prepare(
 
 
 def _repair_inertias(spec: mujoco.MjSpec, source: str) -> None:
-    """Make indefinite URDF inertia tensors positive definite (MuJoCo rejects them).
+    """Make singular or indefinite URDF inertia tensors positive definite (MuJoCo rejects them).
 
     The symmetric tensor ``I = V diag(λ) Vᵀ`` becomes ``V diag(max(λ, ε)) Vᵀ`` with
     ``ε = max(10⁻¹², 10⁻³ max λ)``: the nearest positive-definite tensor with the same principal
-    axes. Such tensors appear in CAD exports of tiny parts; kinematics never reads them.
+    axes. Zero tensors (massless helper links) are bounded silently, like ``boundinertia``;
+    indefinite ones (negative moments, CAD-export errors) with a :class:`ModelWarning`.
+    Kinematics never reads inertia.
     """
-    repaired = []
+    indefinite = []
     for body in spec.bodies:
         full = np.asarray(body.fullinertia, dtype=float)
         if not np.all(np.isfinite(full)):
-            continue  # diagonal inertia given (or none): MuJoCo checks it, balanceinertia fixes
+            continue  # diagonal inertia given (or none): boundinertia and balanceinertia apply
         xx, yy, zz, xy, xz, yz = full
         tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
         eigenvalues, axes = np.linalg.eigh(tensor)
         if eigenvalues[0] > 0.0:
             continue
+        if eigenvalues[0] < -1e-12 * max(1.0, abs(float(eigenvalues[-1]))):
+            indefinite.append(body.name)
         floor = max(1e-12, 1e-3 * float(eigenvalues[-1]))
         tensor = axes @ np.diag(np.maximum(eigenvalues, floor)) @ axes.T
         body.fullinertia = [*np.diag(tensor), tensor[0, 1], tensor[0, 2], tensor[1, 2]]
-        repaired.append(body.name)
-    if repaired:
+    if indefinite:
         warnings.warn(
-            f"{source}: the inertia tensors of links {repaired} are not positive definite; "
-            "replaced by the nearest positive-definite tensor with the same principal axes",
+            f"{source}: the inertia tensors of links {indefinite} are indefinite; replaced by "
+            "the nearest positive-definite tensor with the same principal axes",
             ModelWarning,
             stacklevel=5,
         )
