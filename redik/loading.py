@@ -228,12 +228,16 @@ def resolve_mesh_path(
 def unknown_frame(model: mujoco.MjModel, name: str, label: str = "the model") -> UnknownFrame:
     """The :class:`UnknownFrame` for a frame name that names no site or body of ``model``.
 
-    The message gives the closest names (:func:`difflib.get_close_matches`) and lists every
-    site and body; a geom of that name is pointed out (geoms are not frames: add a site).
+    The message gives the closest names (:func:`difflib.get_close_matches`, then names that
+    contain ``name``) and lists every site and body; a geom of that name is pointed out (geoms
+    are not frames: add a site).
     """
     sites = object_names(model, mujoco.mjtObj.mjOBJ_SITE)
     bodies = object_names(model, mujoco.mjtObj.mjOBJ_BODY)
+    lowered = str(name).lower()
+    containing = [n for n in sites + bodies if lowered and lowered in n.lower()]
     close = difflib.get_close_matches(str(name), sites + bodies, n=5, cutoff=0.5)
+    close = list(dict.fromkeys(close + containing))[:5]
     parts = [f"no site or body named {name!r} in {label}"]
     if close:
         parts.append(f"did you mean {', '.join(map(repr, close))}?")

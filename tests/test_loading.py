@@ -360,7 +360,8 @@ def test_indefinite_inertia_is_repaired_with_a_warning():
     assert np.all(model.body_inertia[1:] > 0)
 
 
-def test_every_listed_model_exists_and_loads():
+def test_every_listed_model_exists_and_loads(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # MuJoCo logs asr_twodof's empty joint ranges to MUJOCO_LOG.TXT
     start = time.perf_counter()
     for table, finder in (
         (models.EXAMPLE_ROBOT_DATA, models.example_robot_data),
@@ -546,6 +547,11 @@ def test_unknown_frame_lists_close_matches_and_frames():
     message = str(error.value)
     assert "did you mean 'panda_hand'" in message
     assert "bodies: [" in message and "'panda_link7'" in message and "sites: [" in message
+
+
+def test_unknown_frame_suggests_names_containing_it():
+    with pytest.raises(redik.UnknownFrame, match="did you mean 'ee_link'"):
+        _load_robot(models.example_robot_data("ur5"), ee=None, meshes=False)  # default "ee"
 
 
 def test_unknown_frame_points_out_a_geom():
