@@ -63,7 +63,7 @@ FLOATING_BASE_JOINT = "floating_base"
 
 
 @dataclasses.dataclass(frozen=True)
-class LoadOptions:
+class _Options:
     """How a model file is loaded; every field is an argument of :func:`load_spec`."""
 
     meshes: bool = True
@@ -107,7 +107,12 @@ def load_spec(
     try:
         spec = mujoco.MjSpec.from_file(str(path))
     except ValueError as error:
-        raise ModelError(f"MuJoCo could not load {str(path)!r}: {error}") from None
+        hint = ""
+        if path.suffix == ".xacro" or "xacro" in text or "$(" in text:
+            hint = (
+                "; this looks like a xacro file: expand it first (xacro robot.xacro > robot.urdf)"
+            )
+        raise ModelError(f"MuJoCo could not load {str(path)!r}: {error}{hint}") from None
     options = _options(meshes, package_paths, floating_base, keep_fixed_links)
     _prepare(spec, urdf, path.resolve().parent, str(path), options)
     return spec
@@ -263,7 +268,7 @@ def object_names(model: mujoco.MjModel, obj: mujoco.mjtObj) -> list[str]:
 # Internals
 
 
-def _options(meshes, package_paths, floating_base, keep_fixed_links) -> LoadOptions:
+def _options(meshes, package_paths, floating_base, keep_fixed_links) -> _Options:
     for label, value in (
         ("meshes", meshes),
         ("floating_base", floating_base),
@@ -271,7 +276,7 @@ def _options(meshes, package_paths, floating_base, keep_fixed_links) -> LoadOpti
     ):
         if not isinstance(value, bool):
             raise ModelError(f"{label} must be True or False, got {value!r}")
-    return LoadOptions(
+    return _Options(
         meshes=meshes,
         package_paths=tuple(Path(p).expanduser() for p in _as_paths(package_paths)),
         floating_base=floating_base,
@@ -298,7 +303,7 @@ def _root_tag(text: str) -> str | None:
 
 
 def _prepare(
-    spec: mujoco.MjSpec, urdf: bool, directory: Path, source: str, options: LoadOptions
+    spec: mujoco.MjSpec, urdf: bool, directory: Path, source: str, options: _Options
 ) -> None:
     if urdf:
         spec.compiler.fusestatic = not options.keep_fixed_links

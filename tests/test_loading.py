@@ -562,13 +562,17 @@ def test_unknown_frame_points_out_a_geom():
         robot.frame("finger")
 
 
-def test_mjcf_keeps_keyframes_sites_and_relative_assets(tmp_path):
+def test_mjcf_keeps_keyframes_sites_includes_and_relative_assets(tmp_path):
     _write_stl(tmp_path / "assets" / "tet.stl")
+    (tmp_path / "parts").mkdir()
+    (tmp_path / "parts" / "link.xml").write_text(
+        """<mujoco><body name="link"><joint name="j" axis="0 0 1" range="-1 1"/>
+        <geom type="mesh" mesh="tet"/><site name="ee" pos="1 0 0"/></body></mujoco>"""
+    )
     (tmp_path / "arm.xml").write_text(
         """<mujoco model="arm"><compiler meshdir="assets" angle="radian"/>
       <asset><mesh file="tet.stl"/></asset>
-      <worldbody><body name="link"><joint name="j" axis="0 0 1" range="-1 1"/>
-        <geom type="mesh" mesh="tet"/><site name="ee" pos="1 0 0"/></body></worldbody>
+      <worldbody><include file="parts/link.xml"/></worldbody>
       <keyframe><key name="home" qpos="0.5"/></keyframe></mujoco>"""
     )
     robot = redik.load(tmp_path / "arm.xml")
@@ -578,8 +582,15 @@ def test_mjcf_keeps_keyframes_sites_and_relative_assets(tmp_path):
         redik.load(tmp_path / "arm.xml", floating_base=True)
 
 
-def test_bad_options_and_files():
+def test_bad_options_and_files(tmp_path):
     path = models.example_robot_data("ur5")
+    xacro = tmp_path / "arm.urdf"
+    xacro.write_text(
+        '<robot name="a"><link name="b"/><link name="c"/><joint name="j" type="fixed">'
+        '<parent link="b"/><child link="c"/><origin xyz="$(arg x) 0 0"/></joint></robot>'
+    )
+    with pytest.raises(redik.ModelError, match="xacro file"):
+        loading.load_spec(xacro)
     with pytest.raises(redik.ModelError, match="meshes must be True or False"):
         loading.load_spec(path, meshes="no")
     with pytest.raises(redik.ModelError, match="not found"):
