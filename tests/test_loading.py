@@ -43,7 +43,9 @@ THIRD_PARTY = {
     "franka_panda": (models.pybullet_data, "franka_panda", False, ["panda_grasptarget"]),
 }
 
-_TIMINGS: dict[str, float] = {}
+# A load takes 1–100 ms here (talos with its 37 meshes is the slowest); the bound leaves room
+# for a loaded machine and still catches a load that re-reads meshes or probes per mesh.
+LOAD_SECONDS = 2.0
 
 
 def _load_model(path: Path, **options) -> mujoco.MjModel:
@@ -210,7 +212,7 @@ def test_third_party_urdf_loads_with_and_without_meshes(key):
     for meshes in (False, True):
         start = time.perf_counter()
         model = _load_model(path, meshes=meshes, floating_base=floating)
-        _TIMINGS[f"{key} meshes={meshes}"] = time.perf_counter() - start
+        assert time.perf_counter() - start < LOAD_SECONDS
         if not meshes:
             assert model.nmesh == 0
         for frame in frames:
@@ -372,7 +374,7 @@ def test_every_listed_model_exists_and_loads(tmp_path, monkeypatch):
             assert path.is_file()
             model = _load_model(path, meshes=False, floating_base=entry.floating_base)
             assert model.nbody > 1, name
-    _TIMINGS["every listed model, meshes=False"] = time.perf_counter() - start
+    assert time.perf_counter() - start < 10 * LOAD_SECONDS  # ~0.6 s for the 66 models
 
 
 def test_finders_accept_stems_and_relative_paths():
@@ -608,10 +610,3 @@ def test_load_spec_returns_an_editable_spec():
     robot = redik.Robot(model, ee="tcp")
     T_tool = robot.fk(robot.home, "tool0")
     np.testing.assert_allclose(robot.fk(robot.home)[:3, 3], T_tool[:3, 3] + 0.1 * T_tool[:3, 2])
-
-
-def test_loading_timings_are_small():
-    """Printed with -s; the whole file stays well under 30 s."""
-    for label, seconds in sorted(_TIMINGS.items()):
-        print(f"{label:40s} {seconds * 1e3:8.1f} ms")
-    assert all(seconds < 5.0 for seconds in _TIMINGS.values())
