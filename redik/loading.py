@@ -230,25 +230,44 @@ def resolve_mesh_path(
     return _first_file(candidates)
 
 
-def unknown_frame(model: mujoco.MjModel, name: str, label: str = "the model") -> UnknownFrame:
-    """The :class:`UnknownFrame` for a frame name that names no site or body of ``model``.
+_FRAME_OBJECTS = {
+    "site": mujoco.mjtObj.mjOBJ_SITE,
+    "body": mujoco.mjtObj.mjOBJ_BODY,
+    "geom": mujoco.mjtObj.mjOBJ_GEOM,
+}
+_LISTED_NAMES = 100  # per kind, so that a message about a 1000-geom scene stays readable
+
+
+def unknown_frame(
+    model: mujoco.MjModel,
+    name: str,
+    label: str = "the model",
+    kinds: Sequence[str] = ("site", "body", "geom"),
+) -> UnknownFrame:
+    """The :class:`UnknownFrame` for a frame name that names no object of ``kinds`` in ``model``.
 
     The message gives the closest names (:func:`difflib.get_close_matches`, then names that
-    contain ``name``) and lists every site and body; a geom of that name is pointed out (geoms
-    are not frames: add a site).
+    contain ``name``; a ``"kind:"`` prefix is ignored) and lists the names of every kind. A
+    geom of that name is pointed out when geoms are not among ``kinds``.
     """
-    sites = object_names(model, mujoco.mjtObj.mjOBJ_SITE)
-    bodies = object_names(model, mujoco.mjtObj.mjOBJ_BODY)
-    lowered = str(name).lower()
-    containing = [n for n in sites + bodies if lowered and lowered in n.lower()]
-    close = difflib.get_close_matches(str(name), sites + bodies, n=5, cutoff=0.5)
+    names = {kind: object_names(model, _FRAME_OBJECTS[kind]) for kind in kinds}
+    everything = [n for kind in kinds for n in names[kind]]
+    prefix, _, rest = str(name).partition(":")
+    bare = rest if rest and prefix in _FRAME_OBJECTS else str(name)
+    lowered = bare.lower()
+    containing = [n for n in everything if lowered and lowered in n.lower()]
+    close = difflib.get_close_matches(bare, everything, n=5, cutoff=0.5)
     close = list(dict.fromkeys(close + containing))[:5]
-    parts = [f"no site or body named {name!r} in {label}"]
+    parts = [f"no {' or '.join(kinds)} named {name!r} in {label}"]
     if close:
         parts.append(f"did you mean {', '.join(map(repr, close))}?")
-    if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, str(name)) >= 0:
-        parts.append(f"{name!r} is a geom, which is not a frame: add a site at it, or use its body")
-    parts.append(f"sites: {sites}; bodies: {bodies}")
+    if "geom" not in kinds and mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, bare) >= 0:
+        parts.append(f"{bare!r} is a geom, which is not a frame here: add a site, or use its body")
+    for kind in kinds:
+        listed = names[kind][:_LISTED_NAMES]
+        more = len(names[kind]) - len(listed)
+        plural = "bodies" if kind == "body" else f"{kind}s"
+        parts.append(f"{plural}: {listed}" + (f" and {more} more" if more > 0 else ""))
     return UnknownFrame("; ".join(parts))
 
 

@@ -206,7 +206,7 @@ class Robot:
         elif body >= 0:
             resolved = Frame(name, "body", body)
         else:
-            raise loading.unknown_frame(self.model, name, f"model {self.name!r}")
+            raise loading.unknown_frame(self.model, name, f"model {self.name!r}", ("site", "body"))
         self._frames[name] = resolved
         return resolved
 

@@ -556,12 +556,19 @@ def test_unknown_frame_suggests_names_containing_it():
         _load_robot(models.example_robot_data("ur5"), ee=None, meshes=False)  # default "ee"
 
 
-def test_unknown_frame_points_out_a_geom():
+def test_unknown_frame_lists_every_kind_and_points_out_a_geom():
     xml = """<mujoco><worldbody><body name="link"><joint name="j" axis="0 0 1"/>
       <geom name="finger" size="0.1"/><site name="ee"/></body></worldbody></mujoco>"""
-    robot = redik.Robot.from_xml_string(xml)
-    with pytest.raises(redik.UnknownFrame, match="'finger' is a geom"):
-        robot.frame("finger")
+    model = redik.Robot.from_xml_string(xml).model
+    message = str(loading.unknown_frame(model, "fingr", "arm"))
+    assert message.startswith("no site or body or geom named 'fingr' in arm")
+    assert "did you mean 'finger'" in message and "geoms: ['finger']" in message
+    message = str(loading.unknown_frame(model, "body:finger", "arm", kinds=("site", "body")))
+    assert "'finger' is a geom, which is not a frame here" in message
+    assert "geoms:" not in message and "bodies: ['world', 'link']" in message
+    sites = "".join(f'<site name="s{i}"/>' for i in range(105))
+    crowded = redik.Robot.from_xml_string(xml.replace('<site name="ee"/>', sites), ee="s0")
+    assert "] and 5 more" in str(loading.unknown_frame(crowded.model, "nothing", "arm"))
 
 
 def test_mjcf_keeps_keyframes_sites_includes_and_relative_assets(tmp_path):
