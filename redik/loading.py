@@ -15,7 +15,8 @@ stops real-world URDFs from loading or from being useful for inverse kinematics:
   that needs no mesh file at all (and loads faster).
 * **Mesh formats.** MuJoCo decodes STL, OBJ and MSH. Collision meshes in another format
   (COLLADA ``.dae`` is common) are dropped with a :class:`ModelWarning` that lists them.
-  Visual geoms are discarded by MuJoCo's URDF import anyway (``discardvisual``).
+  MuJoCo's URDF import keeps the collision geometry only (``discardvisual``); ``visual=True``
+  keeps the ``<visual>`` geometry too, for rendering, as geoms that never collide.
 * **Fixed links.** MuJoCo's URDF import fuses links attached by fixed joints into their parent
   (``<compiler fusestatic="true"/>``), so tool flanges and hands (``tool0``, ``ee_link``,
   ``panda_hand``) vanish. They are kept as jointless bodies here (``fusestatic=False``), so
@@ -67,6 +68,7 @@ class _Options:
     """How a model file is loaded; every field is an argument of :func:`load_spec`."""
 
     meshes: bool = True
+    visual: bool = False
     package_paths: tuple[Path, ...] = ()
     floating_base: bool = False
     keep_fixed_links: bool = True
@@ -76,6 +78,7 @@ def load_spec(
     source: str | Path,
     *,
     meshes: bool = True,
+    visual: bool = False,
     package_paths: Sequence[str | Path] | str | Path | None = None,
     floating_base: bool = False,
     keep_fixed_links: bool = True,
@@ -87,6 +90,9 @@ def load_spec(
             root element is ``<robot>`` is read as URDF.
         meshes: Resolve and load mesh files (True), or drop every mesh geom for a
             kinematics-only model (False).
+        visual: Keep the URDF's ``<visual>`` geometry too (for rendering), as geoms of group 1
+            that never collide (``contype = conaffinity = 0``). MuJoCo's URDF import discards it
+            by default; collision geometry is kept either way.
         package_paths: Folders searched first for ``package://`` and relative mesh paths:
             folders that contain ROS packages, or a package folder itself.
         floating_base: Add a free joint to the root body (URDF, or MJCF with one root body).
@@ -96,6 +102,7 @@ def load_spec(
         ModelError: the file is missing, unreadable, a mesh cannot be found, or
             ``floating_base`` cannot be applied.
     """
+    options = _options(meshes, visual, package_paths, floating_base, keep_fixed_links)
     path = Path(source)
     if not path.is_file():
         raise ModelError(f"robot file not found: {str(path)!r}")
@@ -104,17 +111,13 @@ def load_spec(
     except OSError as error:
         raise ModelError(f"cannot read {str(path)!r}: {error}") from None
     urdf = path.suffix.lower() == ".urdf" or _root_tag(text) == "robot"
-    try:
-        spec = mujoco.MjSpec.from_file(str(path))
-    except ValueError as error:
-        hint = ""
-        if path.suffix == ".xacro" or "xacro" in text or "$(" in text:
-            hint = (
-                "; this looks like a xacro file: expand it first (xacro robot.xacro > robot.urdf)"
-            )
-        raise ModelError(f"MuJoCo could not load {str(path)!r}: {error}{hint}") from None
-    options = _options(meshes, package_paths, floating_base, keep_fixed_links)
-    _prepare(spec, urdf, path.resolve().parent, str(path), options)
+    directory = path.resolve().parent
+    if urdf and visual:
+        spec = _parse(_keep_visual(text), text, str(path))
+        spec.modelfiledir = str(directory) + os.sep
+    else:
+        spec = _parse(None, text, str(path))
+    _prepare(spec, urdf, directory, str(path), options)
     return spec
 
 
@@ -123,6 +126,7 @@ def load_spec_from_string(
     *,
     directory: str | Path | None = None,
     meshes: bool = True,
+    visual: bool = False,
     package_paths: Sequence[str | Path] | str | Path | None = None,
     floating_base: bool = False,
     keep_fixed_links: bool = True,
@@ -131,17 +135,14 @@ def load_spec_from_string(
 
     ``directory`` defaults to the current working directory.
     """
+    options = _options(meshes, visual, package_paths, floating_base, keep_fixed_links)
     if not isinstance(xml, str):
         raise ModelError(f"the model must be an XML string, got {type(xml).__name__}")
     urdf = _root_tag(xml) == "robot"
-    try:
-        spec = mujoco.MjSpec.from_string(xml)
-    except ValueError as error:
-        raise ModelError(f"MuJoCo could not parse the model: {error}") from None
+    spec = _parse(_keep_visual(xml) if urdf and visual else xml, xml, "the model string")
     base = Path(directory).resolve() if directory is not None else Path.cwd()
     # Assets are then named relative to ``directory``, as they would be for a file there.
     spec.modelfiledir = str(base) + os.sep
-    options = _options(meshes, package_paths, floating_base, keep_fixed_links)
     _prepare(spec, urdf, base, "the model string", options)
     return spec
 
@@ -287,9 +288,10 @@ def object_names(model: mujoco.MjModel, obj: mujoco.mjtObj) -> list[str]:
 # Internals
 
 
-def _options(meshes, package_paths, floating_base, keep_fixed_links) -> _Options:
+def _options(meshes, visual, package_paths, floating_base, keep_fixed_links) -> _Options:
     for label, value in (
         ("meshes", meshes),
+        ("visual", visual),
         ("floating_base", floating_base),
         ("keep_fixed_links", keep_fixed_links),
     ):
@@ -297,6 +299,7 @@ def _options(meshes, package_paths, floating_base, keep_fixed_links) -> _Options
             raise ModelError(f"{label} must be True or False, got {value!r}")
     return _Options(
         meshes=meshes,
+        visual=visual,
         package_paths=tuple(Path(p).expanduser() for p in _as_paths(package_paths)),
         floating_base=floating_base,
         keep_fixed_links=keep_fixed_links,
@@ -309,6 +312,37 @@ def _as_paths(paths: Sequence[str | Path] | str | Path | None) -> list[str | Pat
     if isinstance(paths, (str, Path)):
         return [paths]
     return list(paths)
+
+
+def _parse(xml: str | None, text: str, source: str) -> mujoco.MjSpec:
+    """``MjSpec.from_string(xml)``, or ``from_file(source)`` when ``xml`` is None."""
+    try:
+        if xml is None:
+            return mujoco.MjSpec.from_file(source)
+        return mujoco.MjSpec.from_string(xml)
+    except ValueError as error:
+        hint = ""
+        if source.endswith(".xacro") or "xacro" in text or "$(" in text:
+            hint = (
+                "; this looks like a xacro file: expand it first (xacro robot.xacro > robot.urdf)"
+            )
+        raise ModelError(f"MuJoCo could not load {source}: {error}{hint}") from None
+
+
+def _keep_visual(urdf: str) -> str:
+    """The URDF with ``<mujoco><compiler discardvisual="false"/></mujoco>`` (MuJoCo's extension)."""
+    try:
+        root = ElementTree.fromstring(urdf)
+    except ElementTree.ParseError as error:
+        raise ModelError(f"the URDF is not well-formed XML: {error}") from None
+    extension = root.find("mujoco")
+    if extension is None:
+        extension = ElementTree.SubElement(root, "mujoco")
+    compiler = extension.find("compiler")
+    if compiler is None:
+        compiler = ElementTree.SubElement(extension, "compiler")
+    compiler.set("discardvisual", "false")
+    return ElementTree.tostring(root, encoding="unicode")
 
 
 def _root_tag(text: str) -> str | None:

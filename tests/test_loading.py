@@ -329,6 +329,21 @@ def test_floating_base_robot_keeps_its_chain():
     np.testing.assert_allclose(floating.fk(q), fixed.fk(q), atol=1e-12)
 
 
+def test_visual_geometry_is_kept_on_request_and_never_collides():
+    path = models.pybullet_data("kuka_iiwa")
+    collision = _load_model(path)
+    both = _load_model(path, visual=True)
+    assert both.nmesh == collision.nmesh + 8  # link_0 … link_7: an .obj each
+    visual = both.geom_group == 1
+    assert visual.sum() == 8 and collision.ngeom == both.ngeom - 8
+    assert not np.any(both.geom_contype[visual]) and not np.any(both.geom_conaffinity[visual])
+    assert np.all(both.geom_contype[~visual] == 1)
+    # example-robot-data's visual meshes are COLLADA: dropped with a warning, collision kept.
+    with pytest.warns(redik.ModelWarning, match=r"link0\.dae"):
+        panda = loading.load_model(models.example_robot_data("panda"), visual=True)
+    assert panda.nmesh == 9
+
+
 def test_fixed_links_are_fused_only_on_request():
     path = models.example_robot_data("ur5")
     fused = _load_model(path, meshes=False, keep_fixed_links=False)
