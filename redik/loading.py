@@ -5,8 +5,9 @@ stops real-world URDFs from loading or from being useful for inverse kinematics:
 
 * **Mesh paths.** URDFs name meshes ``package://<package>/<path>`` (ROS), ``file://<path>``
   or relative to the URDF file. Each mesh is resolved to an absolute path by trying, in order,
-  the folders in ``package_paths``, the entries of ``ROS_PACKAGE_PATH`` and the ``share``
-  folders of ``AMENT_PREFIX_PATH``, then the model file's own folder and every folder above it
+  the folders in ``package_paths`` and ``ROS_PACKAGE_PATH`` (each with the ROS packages nested
+  below it, as in a workspace's ``src``), the ``share`` folders of ``AMENT_PREFIX_PATH``, then
+  the model file's own folder and every folder above it
   (so a package installed as ``…/share/<package>/`` is found from any file inside it). For a
   folder ``F`` the candidates of ``package://pkg/rest`` are ``F/pkg/rest`` and, when ``F`` is
   itself named ``pkg``, ``F/rest``; a relative path ``rest`` is tried against the model's folder
@@ -176,9 +177,17 @@ def search_folders(
     package_paths: Sequence[str | Path] | str | Path | None = None,
     model_directory: str | Path | None = None,
 ) -> list[Path]:
-    """The folders searched for meshes, in order (see the module notes); existing ones only."""
-    folders: list[Path] = [Path(p).expanduser() for p in _as_paths(package_paths)]
-    folders += [Path(p) for p in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if p]
+    """The folders searched for meshes, in order (see the module notes); existing ones only.
+
+    Each folder of ``package_paths`` and ``ROS_PACKAGE_PATH`` is followed by the ROS packages
+    (folders holding a ``package.xml``) up to :data:`PACKAGE_DEPTH` levels below it, as
+    ``rospack`` finds the packages of a workspace's ``src``.
+    """
+    explicit = [Path(p).expanduser() for p in _as_paths(package_paths)]
+    explicit += [Path(p) for p in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if p]
+    folders: list[Path] = []
+    for folder in explicit:
+        folders += [folder, *_packages_below(folder, PACKAGE_DEPTH)]
     folders += [
         Path(p) / "share" for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p
     ]
@@ -190,6 +199,30 @@ def search_folders(
         if folder.is_dir():
             unique.setdefault(folder.resolve(), None)
     return list(unique)
+
+
+#: How deep below a package path :func:`search_folders` looks for ROS packages.
+PACKAGE_DEPTH = 3
+
+
+def _packages_below(folder: Path, depth: int) -> list[Path]:
+    """Folders holding a ``package.xml`` within ``depth`` levels below ``folder`` (not hidden)."""
+    found: list[Path] = []
+    if depth <= 0:
+        return found
+    try:
+        entries = sorted(os.scandir(folder), key=lambda entry: entry.name)
+    except OSError:
+        return found
+    for entry in entries:
+        if entry.name.startswith(".") or not entry.is_dir(follow_symlinks=False):
+            continue
+        child = Path(entry.path)
+        if (child / "package.xml").is_file():
+            found.append(child)  # a package holds no other package
+        else:
+            found += _packages_below(child, depth - 1)
+    return found
 
 
 def resolve_mesh_path(

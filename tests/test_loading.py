@@ -497,6 +497,14 @@ def test_package_uri_resolves_from_package_paths_and_ros_package_path(tmp_path, 
     monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "ws"))
     assert loading.load_model(elsewhere).nmesh == 1
     monkeypatch.delenv("ROS_PACKAGE_PATH")
+    # A catkin/colcon workspace: packages (folders with a package.xml) nested below src/.
+    nested = tmp_path / "catkin" / "src" / "robots" / "tiny_description"
+    nested.parent.mkdir(parents=True)
+    package.rename(nested)
+    with pytest.raises(redik.ModelError):
+        loading.load_model(elsewhere, package_paths=[tmp_path / "catkin" / "src"])
+    (nested / "package.xml").write_text("<package><name>tiny_description</name></package>")
+    assert loading.load_model(elsewhere, package_paths=[tmp_path / "catkin" / "src"]).nmesh == 1
     assert loading.load_model(elsewhere, meshes=False).nmesh == 0
 
 
