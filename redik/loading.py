@@ -7,8 +7,8 @@ stops real-world URDFs from loading or from being useful for inverse kinematics:
   or relative to the URDF file. Each mesh is resolved to an absolute path by trying, in order,
   the folders in ``package_paths`` and ``ROS_PACKAGE_PATH`` (each with the ROS packages nested
   below it, as in a workspace's ``src``), the ``share`` folders of ``AMENT_PREFIX_PATH``, then
-  the model file's own folder and every folder above it
-  (so a package installed as ``…/share/<package>/`` is found from any file inside it). For a
+  the model file's own folder and every folder above it (so a package installed as
+  ``…/share/<package>/`` is found from any file inside it). For a
   folder ``F`` the candidates of ``package://pkg/rest`` are ``F/pkg/rest`` and, when ``F`` is
   itself named ``pkg``, ``F/rest``; a relative path ``rest`` is tried against the model's folder
   (and its ``meshdir``) first. A mesh that is found nowhere raises :class:`ModelError` naming
@@ -22,10 +22,11 @@ stops real-world URDFs from loading or from being useful for inverse kinematics:
   (``<compiler fusestatic="true"/>``), so tool flanges and hands (``tool0``, ``ee_link``,
   ``panda_hand``) vanish. They are kept as jointless bodies here (``fusestatic=False``), so
   every URDF link is a frame, at the URDF link frame.
-* **Inertia.** Kinematic URDFs often omit inertias and CAD exports break the triangle
-  inequality of principal moments; mass and inertia are bounded from below
-  (``boundmass``/``boundinertia``) and, for URDF, balanced (``balanceinertia``). Neither
-  changes a valid link nor any kinematics.
+* **Inertia.** Kinematic URDFs often omit inertias, and CAD exports break the triangle
+  inequality of principal moments or even give indefinite tensors; mass and inertia are
+  bounded from below (``boundmass``/``boundinertia``), URDF inertias balanced
+  (``balanceinertia``) and indefinite ones replaced by the nearest positive-definite tensor
+  (with a :class:`ModelWarning`). None of this changes a valid link, nor any kinematics.
 * **Floating base.** MuJoCo's URDF import fixes the root link to the world. With
   ``floating_base=True`` a free joint named ``floating_base`` is added to the root body (its
   ``qpos`` is ``(x, y, z, qw, qx, qy, qz)``, starting at the root's URDF pose), as legged robots
