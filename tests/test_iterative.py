@@ -145,7 +145,8 @@ def test_non_finite_values_never_leave_the_solver():
         {"x_d": [1.0, 2.0, 3.0]},
         {"q0": [np.inf, 0.0]},
         {"q0": [[0.0, 1.0]]},
-        {"tol": 0.0},
+        {"tol": -1e-3},
+        {"tol": (1e-3, 1e-3)},  # a pair needs a pose residual of length 6
         {"step": -1.0},
         {"max_iter": -1},
         {"jac": lambda q: np.eye(3)},
