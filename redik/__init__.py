@@ -27,7 +27,9 @@ from .exceptions import (
     InvalidPose,
     InvalidRotation,
     ModelError,
+    NearRotationWarning,
     RedikError,
+    RedikWarning,
     UnknownFrame,
 )
 from .iterative import finite_difference_jacobian, gradient, newton
@@ -72,6 +74,7 @@ __all__ = [
     "ManipulabilityTask",
     "MinkLimit",
     "ModelError",
+    "NearRotationWarning",
     "OrientationTask",
     "PoseTask",
     "PositionLimit",
@@ -79,6 +82,7 @@ __all__ = [
     "PostureTask",
     "Problem",
     "RedikError",
+    "RedikWarning",
     "Robot",
     "SelfMotion",
     "UnknownFrame",

@@ -139,6 +139,7 @@ def solve_pose(
     respect_limits: bool = True,
     seed: int | np.random.Generator | None = None,
     frame: str | Frame | None = None,
+    strict: bool = False,
     **method_options: object,
 ) -> IKResult:
     """Joint values that put ``frame`` at ``T_target`` (see the module docstring).
@@ -155,6 +156,8 @@ def solve_pose(
         respect_limits: Keep every iterate inside the joint limits (see the module docstring).
         seed: Seed (or generator) of the random restarts, for reproducible results.
         frame: Site or body to place; default the end-effector.
+        strict: Refuse a near-rotation target instead of projecting it onto SO(3) with a
+            warning (the tolerance policy of :mod:`redik.lie`).
         **method_options: ``"dls"``: ``damping`` (initial μ), ``min_damping`` (λ_min),
             ``max_damping``, ``patience`` and ``progress`` (an attempt ends as stalled when
             ``‖e‖²`` fell by less than the fraction ``progress`` in ``patience`` iterations);
@@ -173,7 +176,7 @@ def solve_pose(
         InvalidInput: unknown method or option, or a non-positive tolerance or budget.
         UnknownFrame: ``frame`` names no site or body.
     """
-    T_target = as_pose(T_target, "T_target")
+    T_target = as_pose(T_target, "T_target", strict=strict)
     q_start = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
     if method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
@@ -235,6 +238,7 @@ def solve_all(
     respect_limits: bool = True,
     frame: str | Frame | None = None,
     cluster_tol: float = 1e-3,
+    strict: bool = False,
     **method_options: object,
 ) -> list[IKResult]:
     """The distinct solutions reached from ``n_starts`` random starts.
@@ -249,6 +253,7 @@ def solve_all(
         The successful results, one per cluster (the most accurate), ordered by
         ``‖log(T⁻¹ T_d)‖`` — empty when no start converged.
     """
+    T_target = as_pose(T_target, "T_target", strict=strict)  # once, not per start
     n_starts = _count(n_starts, "n_starts", 1)
     if not (isinstance(cluster_tol, (int, float)) and cluster_tol > 0):
         raise InvalidInput(f"cluster_tol must be a positive number, got {cluster_tol!r}")

@@ -129,6 +129,7 @@ def stanford(
     d1: float = 0.0,
     limits: tuple[np.ndarray, np.ndarray] | None = None,
     tol: float = DEFAULT_TOL,
+    strict: bool = False,
 ) -> IKSolutions:
     """Every ``(θ1, θ2, d3, θ4, θ5, θ6)`` with ``d3 ≥ 0`` of a Stanford arm reaching ``T``.
 
@@ -138,12 +139,13 @@ def stanford(
         d1: Height of the shoulder above the base frame (m; 0 in Spong's table).
         limits: Optional ``(lower, upper)`` arrays of 6; angles compared modulo 2π, d3 as is.
         tol: Distance (m) from a singular set reported as singular.
+        strict: Refuse a near-rotation instead of projecting it (:mod:`redik.lie`'s policy).
 
     Returns:
         Up to 4 solutions ``"left-noflip"`` … ``"right-flip"``; none, with a ``reason``,
         when the wrist centre is closer to the base axis than ``|d2|``.
     """
-    T = _checks.pose(T)
+    T = _checks.pose(T, strict=strict)
     d2, d6, d1 = (_checks.scalar(v, n) for v, n in ((d2, "d2"), (d6, "d6"), (d1, "d1")))
     checked_limits = _checks.limits(limits, 6)
     M, num = pose_entries(T)
