@@ -52,7 +52,8 @@ Stopping rules, each with its own ``status``
       in :mod:`redik.conventions`: converged when ``‖e_p‖ ≤ ε_p`` and ``‖e_R‖ ≤ ε_R``
       (metres and radians are not comparable, so one norm would mix units). ``tol = 0``
       never stops on the error: all ``max_iter`` iterations run (to reproduce an iterate
-      table), unless ``e`` becomes exactly 0; the status is then ``"max_iterations"``.
+      table); the status is then ``"max_iterations"``, or ``"converged"`` when ``e`` ended
+      exactly 0.
     - ``rel_tol``: the relative change :math:`‖f(q_{k+1}) − f(q_k)‖ / ‖e(q_k)‖ ≤ ε`
       (equivalently ``‖e_{k+1} − e_k‖ / ‖e_k‖``) ends the iteration; the status is
       ``"converged"`` when ``tol`` is met too, else ``"stalled"`` (a small change does
@@ -422,12 +423,12 @@ class _Run:
         self.e_bound = options.max_growth * max(1.0, self.norm)
 
     def done(self) -> bool:
-        """The tolerance is met (never, for ``tol = 0``, unless ``e`` is exactly 0)."""
+        """The tolerance is met (never, for ``tol = 0``: every iteration runs)."""
         pose_tol = self.options.pose_tol
         if pose_tol is not None:
             position, rotation = self.pose_errors()
-            return (position <= pose_tol[0] and rotation <= pose_tol[1]) or self.norm == 0.0
-        return self.norm <= self.options.tol
+            return position <= pose_tol[0] and rotation <= pose_tol[1]
+        return self.options.tol > 0.0 and self.norm <= self.options.tol
 
     def pose_errors(self) -> tuple[float, float]:
         return float(np.linalg.norm(self.e[:3])), float(np.linalg.norm(self.e[3:]))
