@@ -146,6 +146,8 @@ def test_rrp_example_is_reachable_in_its_scene():
         ("planar_3r", np.array([0.925, 0.586, 0.684])),  # the IKinBody quiz
         ("planar_3r", np.full(3, math.pi / 4)),
         ("rrp_polar", np.array([math.pi / 4, math.atan2(0.5, math.sqrt(2.0)), 1.5])),
+        # The standing foot (0.15, 0, −0.12) of tests/test_analytic_planar.py, knee-up.
+        ("hexapod_leg", hexapod_leg([0.15, 0.0, -0.12], 0.052, 0.082, 0.142, -0.015)[1].q),
     ],
 )
 def test_every_worked_example_lies_inside_its_scene(scene, q):
