@@ -46,7 +46,6 @@ import dataclasses
 import difflib
 import io
 import os
-import warnings
 import xml.etree.ElementTree as ElementTree
 from collections.abc import Iterable, Sequence
 from pathlib import Path
@@ -54,7 +53,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from .exceptions import ModelError, ModelWarning, UnknownFrame
+from .exceptions import ModelError, ModelWarning, UnknownFrame, warn
 
 # Mesh formats MuJoCo decodes without a plugin; other extensions are probed once per run.
 _DECODED_MESH_FORMATS = {".stl", ".obj", ".msh"}
@@ -429,11 +428,10 @@ def _repair_inertias(spec: mujoco.MjSpec, source: str) -> None:
         tensor = axes @ np.diag(np.maximum(eigenvalues, floor)) @ axes.T
         body.fullinertia = [*np.diag(tensor), tensor[0, 1], tensor[0, 2], tensor[1, 2]]
     if indefinite:
-        warnings.warn(
+        warn(
             f"{source}: the inertia tensors of links {indefinite} are indefinite; replaced by "
             "the nearest positive-definite tensor with the same principal axes",
             ModelWarning,
-            stacklevel=5,
         )
 
 
@@ -494,11 +492,10 @@ def _resolve_meshes(
             f"{path.name} ({sorted({g.parent.name for g in users.get(mesh.name, ())})})"
             for mesh, path in unreadable
         )
-        warnings.warn(
+        warn(
             f"{source}: dropped {len(unreadable)} mesh(es) in formats MuJoCo cannot read "
             f"(it reads STL, OBJ, MSH): {listed}; convert them to keep their geoms",
             ModelWarning,
-            stacklevel=4,
         )
         _drop_meshes(spec, [mesh for mesh, _ in unreadable])
     # Paths are absolute now; a meshdir would be prepended to nothing, strippath would undo them.
