@@ -53,7 +53,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from .exceptions import ModelError, ModelWarning, UnknownFrame, warn
+from .exceptions import InvalidInput, ModelError, ModelWarning, UnknownFrame, warn
 
 # Mesh formats MuJoCo decodes without a plugin; other extensions are probed once per run.
 _DECODED_MESH_FORMATS = {".stl", ".obj", ".msh"}
@@ -138,7 +138,7 @@ def load_spec_from_string(
     """
     options = _options(meshes, visual, package_paths, floating_base, keep_fixed_links)
     if not isinstance(xml, str):
-        raise ModelError(f"the model must be an XML string, got {type(xml).__name__}")
+        raise InvalidInput(f"the model must be an XML string, got {type(xml).__name__}")
     urdf = _root_tag(xml) == "robot"
     spec = _parse(_keep_visual(xml) if urdf and visual else xml, xml, "the model string")
     base = Path(directory).resolve() if directory is not None else Path.cwd()
@@ -321,7 +321,13 @@ def object_names(model: mujoco.MjModel, obj: mujoco.mjtObj) -> list[str]:
 # Internals
 
 
-def _options(meshes, visual, package_paths, floating_base, keep_fixed_links) -> _Options:
+def _options(
+    meshes: bool,
+    visual: bool,
+    package_paths: Sequence[str | Path] | str | Path | None,
+    floating_base: bool,
+    keep_fixed_links: bool,
+) -> _Options:
     for label, value in (
         ("meshes", meshes),
         ("visual", visual),
@@ -329,7 +335,7 @@ def _options(meshes, visual, package_paths, floating_base, keep_fixed_links) -> 
         ("keep_fixed_links", keep_fixed_links),
     ):
         if not isinstance(value, bool):
-            raise ModelError(f"{label} must be True or False, got {value!r}")
+            raise InvalidInput(f"{label} must be True or False, got {value!r}")
     return _Options(
         meshes=meshes,
         visual=visual,
@@ -355,7 +361,9 @@ def _parse(xml: str | None, text: str, source: str) -> mujoco.MjSpec:
         return mujoco.MjSpec.from_string(xml)
     except ValueError as error:
         hint = ""
-        if source.endswith(".xacro") or "xacro" in text or "$(" in text:
+        if _root_tag(text) == "sdf":
+            hint = "; MuJoCo reads MJCF and URDF, not SDF: convert the file to URDF first"
+        elif source.endswith(".xacro") or "xacro" in text or "$(" in text:
             hint = (
                 "; this looks like a xacro file: expand it first (xacro robot.xacro > robot.urdf)"
             )

@@ -623,8 +623,12 @@ def test_bad_options_and_files(tmp_path):
     )
     with pytest.raises(redik.ModelError, match="xacro file"):
         loading.load_spec(xacro)
-    with pytest.raises(redik.ModelError, match="meshes must be True or False"):
+    with pytest.raises(redik.InvalidInput, match="meshes must be True or False"):
         loading.load_spec(path, meshes="no")
+    with pytest.raises(redik.InvalidInput, match="XML string"):
+        loading.load_spec_from_string(b"<mujoco/>")
+    with pytest.raises(redik.ModelError, match="not SDF"):
+        loading.load_spec(models.pybullet_data("kuka_iiwa/model.sdf"))
     with pytest.raises(redik.ModelError, match="not found"):
         loading.load_spec("/nonexistent/robot.urdf")
     xml = """<mujoco><worldbody><body name="a"/><body name="b"/></worldbody></mujoco>"""
