@@ -29,8 +29,9 @@ stops real-world URDFs from loading or from being useful for inverse kinematics:
   (with a :class:`ModelWarning`). None of this changes a valid link, nor any kinematics.
 * **Floating base.** MuJoCo's URDF import fixes the root link to the world. With
   ``floating_base=True`` a free joint named ``floating_base`` is added to the root body (its
-  ``qpos`` is ``(x, y, z, qw, qx, qy, qz)``, starting at the root's URDF pose), as legged robots
-  and humanoids need.
+  ``qpos`` is ``(x, y, z, qw, qx, qy, qz)``, starting at the root's pose in the file), as
+  legged robots and humanoids need; the same works on an MJCF with one top-level body, whose
+  keyframes then start with the root's pose (and zero velocity).
 
 URDF ``continuous`` joints become unlimited hinges and ``mimic`` joints equality constraints
 (MuJoCo's own import); MJCF files keep their keyframes, sites, includes and asset paths, which
@@ -96,7 +97,8 @@ def load_spec(
             by default; collision geometry is kept either way.
         package_paths: Folders searched first for ``package://`` and relative mesh paths:
             folders that contain ROS packages, or a package folder itself.
-        floating_base: Add a free joint to the root body (URDF, or MJCF with one root body).
+        floating_base: Add a free joint to the root body (URDF, or MJCF with one top-level
+            body, whose keyframes gain the root's initial pose).
         keep_fixed_links: Keep links attached by fixed joints as bodies (URDF only).
 
     Raises:
@@ -544,12 +546,23 @@ def _add_floating_base(spec: mujoco.MjSpec, source: str) -> None:
             f"floating_base=True: root body {root.name!r} of {source} already has joints "
             f"{[j.name for j in joints]}"
         )
-    if len(spec.keys):
-        raise ModelError(
-            f"floating_base=True: {source} has keyframes, whose qpos would lose their meaning; "
-            "add a <freejoint/> to the root body and its 7 values to each keyframe instead"
-        )
+    initial = None
+    if any(len(key.qpos) or len(key.qvel) for key in spec.keys):
+        # Keyframes grow by the free joint's values (first in qpos: the root is the only top
+        # body): its initial pose, read off a mesh-free, key-free copy, and zero velocity.
+        probe = spec.copy()
+        for key in list(probe.keys):
+            probe.delete(key)
+        _drop_meshes(probe, probe.meshes)
+        probe.worldbody.first_body().add_freejoint()
+        initial = compile_spec(probe, source).qpos0[:7].tolist()
     root.add_freejoint(name=FLOATING_BASE_JOINT)
+    if initial is not None:
+        for key in spec.keys:
+            if len(key.qpos):
+                key.qpos = [*initial, *key.qpos]
+            if len(key.qvel):
+                key.qvel = [0.0] * 6 + list(key.qvel)
 
 
 def _first_file(candidates: Iterable[Path]) -> Path | None:

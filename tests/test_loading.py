@@ -597,21 +597,31 @@ def test_unknown_frame_lists_every_kind_and_points_out_a_geom():
 def test_mjcf_keeps_keyframes_sites_includes_and_relative_assets(tmp_path):
     _write_stl(tmp_path / "assets" / "tet.stl")
     (tmp_path / "parts").mkdir()
-    (tmp_path / "parts" / "link.xml").write_text(
-        """<mujoco><body name="link"><joint name="j" axis="0 0 1" range="-1 1"/>
-        <geom type="mesh" mesh="tet"/><site name="ee" pos="1 0 0"/></body></mujoco>"""
+    (tmp_path / "parts" / "arm.xml").write_text(
+        """<mujoco><body name="base" pos="1 2 3" euler="0 0 90">
+          <body name="link"><joint name="j" axis="0 0 1" range="-60 60"/>
+          <geom type="mesh" mesh="tet"/><site name="ee" pos="1 0 0"/></body></body></mujoco>"""
     )
     (tmp_path / "arm.xml").write_text(
-        """<mujoco model="arm"><compiler meshdir="assets" angle="radian"/>
+        """<mujoco model="arm"><compiler meshdir="assets"/>
       <asset><mesh file="tet.stl"/></asset>
-      <worldbody><include file="parts/link.xml"/></worldbody>
-      <keyframe><key name="home" qpos="0.5"/></keyframe></mujoco>"""
+      <worldbody><include file="parts/arm.xml"/></worldbody>
+      <keyframe><key name="home" qpos="0.5" qvel="0.25"/><key name="rest"/></keyframe>
+    </mujoco>"""
     )
     robot = redik.load(tmp_path / "arm.xml")
     assert robot.model.nmesh == 1 and robot.home[0] == 0.5 and robot.ee.kind == "site"
     assert redik.load(tmp_path / "arm.xml", meshes=False).model.nmesh == 0
-    with pytest.raises(redik.ModelError, match="keyframes"):
-        redik.load(tmp_path / "arm.xml", floating_base=True)
+    # A free root: each keyframe gains the root's initial pose first and keeps its own values.
+    floating = redik.load(tmp_path / "arm.xml", floating_base=True)
+    model = floating.model
+    assert model.nq == 8 and model.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE
+    half = np.sqrt(0.5)
+    np.testing.assert_allclose(model.key_qpos[0], [1, 2, 3, half, 0, 0, half, 0.5], atol=1e-15)
+    np.testing.assert_allclose(model.key_qvel[0], [0, 0, 0, 0, 0, 0, 0.25])
+    np.testing.assert_allclose(model.key_qpos[1], model.qpos0)  # a key without qpos: qpos0
+    assert floating.home[0] == 0.5
+    np.testing.assert_allclose(floating.fk(floating.home), robot.fk(robot.home), atol=1e-15)
 
 
 def test_bad_options_and_files(tmp_path):
