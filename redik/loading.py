@@ -64,6 +64,9 @@ _URI_SCHEMES = ("package://", "model://")
 
 FLOATING_BASE_JOINT = "floating_base"
 
+#: How deep below a package path :func:`search_folders` looks for ROS packages.
+PACKAGE_DEPTH = 3
+
 
 @dataclasses.dataclass(frozen=True)
 class _Options:
@@ -203,10 +206,6 @@ def search_folders(
     return list(unique)
 
 
-#: How deep below a package path :func:`search_folders` looks for ROS packages.
-PACKAGE_DEPTH = 3
-
-
 def _packages_below(folder: Path, depth: int) -> list[Path]:
     """Folders holding a ``package.xml`` within ``depth`` levels below ``folder`` (not hidden)."""
     found: list[Path] = []
@@ -233,13 +232,12 @@ def resolve_mesh_path(
     folders: Iterable[Path],
     *,
     meshdir: str = "",
-    strip: bool = False,
 ) -> Path | None:
     """The file a URDF/MJCF mesh reference names, or None when no candidate exists.
 
     ``name`` is ``package://pkg/rest``, ``model://pkg/rest``, ``file://path``, an absolute
-    path or a path relative to ``model_directory`` (after ``meshdir``; only the file name when
-    ``strip``, as MuJoCo's ``strippath`` does).
+    path or a path relative to ``model_directory`` (tried inside ``meshdir`` first; with
+    ``strippath`` MuJoCo has already cut it to the file name while parsing).
     """
     model_directory = Path(model_directory)
     for scheme in _URI_SCHEMES:
@@ -256,8 +254,6 @@ def resolve_mesh_path(
     relative = Path(name)
     if relative.is_absolute():
         return relative if relative.is_file() else None
-    if strip:
-        relative = Path(relative.name)
     candidates = []
     if meshdir:
         candidates.append(model_directory / meshdir / relative)
@@ -483,9 +479,7 @@ def _resolve_meshes(
             continue  # MuJoCo resolves MJCF paths itself, relative to the file and meshdir
         if folders is None:
             folders = search_folders(package_paths, directory)
-        resolved = resolve_mesh_path(
-            name, directory, folders, meshdir=spec.meshdir, strip=bool(spec.strippath)
-        )
+        resolved = resolve_mesh_path(name, directory, folders, meshdir=spec.meshdir)
         if resolved is None:
             links = sorted({geom.parent.name for geom in users.get(mesh.name, ())})
             searched = "\n  ".join(str(f) for f in folders) or "(none)"
@@ -508,8 +502,7 @@ def _resolve_meshes(
             ModelWarning,
         )
         _drop_meshes(spec, [mesh for mesh, _ in unreadable])
-    # Paths are absolute now; a meshdir would be prepended to nothing, strippath would undo them.
-    if urdf:
+    if folders is not None:  # some paths are absolute now: strippath would undo them
         spec.strippath = False
 
 

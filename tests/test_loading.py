@@ -521,6 +521,16 @@ def test_relative_and_file_uri_mesh_paths(tmp_path, monkeypatch):
         loading.load_model(urdf)
 
 
+def test_mujoco_extension_meshdir_and_strippath_are_honoured(tmp_path):
+    urdf = _package(tmp_path)
+    extension = '<mujoco><compiler meshdir="../meshes" strippath="true"/></mujoco>'
+    # MuJoCo strips the folders while parsing; the file name is then looked up in meshdir.
+    for filename in ("cad/export/tet.stl", "/opt/ros/elsewhere/tet.stl"):
+        text = _URDF.format(collision=_collision(filename))
+        urdf.write_text(text.replace('<robot name="tiny">', f'<robot name="tiny">{extension}'))
+        assert loading.load_model(urdf).nmesh == 1
+
+
 def test_urdf_string_resolves_relative_to_directory(tmp_path):
     _package(tmp_path)
     xml = _URDF.format(collision=_collision("meshes/tet.stl"))
