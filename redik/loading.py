@@ -118,11 +118,10 @@ def load_spec(
         raise ModelError(f"cannot read {str(path)!r}: {error}") from None
     urdf = path.suffix.lower() == ".urdf" or _root_tag(text) == "robot"
     directory = path.resolve().parent
-    if urdf and visual:
-        spec = _parse(_keep_visual(text), text, str(path))
+    edited = _edit_urdf(text, options) if urdf else None
+    spec = _parse(edited, text, str(path))
+    if edited is not None:
         spec.modelfiledir = str(directory) + os.sep
-    else:
-        spec = _parse(None, text, str(path))
     _prepare(spec, urdf, directory, str(path), options)
     return spec
 
@@ -145,7 +144,8 @@ def load_spec_from_string(
     if not isinstance(xml, str):
         raise InvalidInput(f"the model must be an XML string, got {type(xml).__name__}")
     urdf = _root_tag(xml) == "robot"
-    spec = _parse(_keep_visual(xml) if urdf and visual else xml, xml, "the model string")
+    edited = _edit_urdf(xml, options) if urdf else None
+    spec = _parse(xml if edited is None else edited, xml, "the model string")
     base = Path(directory).resolve() if directory is not None else Path.cwd()
     # Assets are then named relative to ``directory``, as they would be for a file there.
     spec.modelfiledir = str(base) + os.sep
@@ -368,19 +368,34 @@ def _parse(xml: str | None, text: str, source: str) -> mujoco.MjSpec:
         raise ModelError(f"MuJoCo could not load {source}: {error}{hint}") from None
 
 
-def _keep_visual(urdf: str) -> str:
-    """The URDF with ``<mujoco><compiler discardvisual="false"/></mujoco>`` (MuJoCo's extension)."""
+def _edit_urdf(urdf: str, options: _Options) -> str | None:
+    """The URDF text as MuJoCo should read it, or None when it needs no change.
+
+    ``visual`` adds ``<mujoco><compiler discardvisual="false"/></mujoco>`` (MuJoCo's URDF
+    extension); ``meshes=False`` removes the ``<visual>``/``<collision>`` elements of mesh
+    geometry before MuJoCo parses them (far faster than deleting their geoms from the spec).
+    """
+    if options.meshes and not options.visual:
+        return None
     try:
         root = ElementTree.fromstring(urdf)
-    except ElementTree.ParseError as error:
-        raise ModelError(f"the URDF is not well-formed XML: {error}") from None
-    extension = root.find("mujoco")
-    if extension is None:
-        extension = ElementTree.SubElement(root, "mujoco")
-    compiler = extension.find("compiler")
-    if compiler is None:
-        compiler = ElementTree.SubElement(extension, "compiler")
-    compiler.set("discardvisual", "false")
+    except ElementTree.ParseError:
+        return None  # MuJoCo's parser reports the error, with the file's name
+    if options.visual:
+        extension = root.find("mujoco")
+        if extension is None:
+            extension = ElementTree.SubElement(root, "mujoco")
+        compiler = extension.find("compiler")
+        if compiler is None:
+            compiler = ElementTree.SubElement(extension, "compiler")
+        compiler.set("discardvisual", "false")
+    if not options.meshes:
+        for link in root.iter("link"):
+            for element in list(link):
+                if element.tag in ("visual", "collision") and (
+                    element.find("geometry/mesh") is not None
+                ):
+                    link.remove(element)
     return ElementTree.tostring(root, encoding="unicode")
 
 
@@ -423,8 +438,10 @@ def _repair_inertias(spec: mujoco.MjSpec, source: str) -> None:
         full = np.asarray(body.fullinertia, dtype=float)
         if not np.all(np.isfinite(full)):
             continue  # diagonal inertia given (or none): boundinertia and balanceinertia apply
-        xx, yy, zz, xy, xz, yz = full
+        xx, yy, zz, xy, xz, yz = full.tolist()
         tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+        if xx > 0.0 and xx * yy - xy * xy > 0.0 and np.linalg.det(tensor) > 0.0:
+            continue  # positive definite (Sylvester's criterion)
         eigenvalues, axes = np.linalg.eigh(tensor)
         if eigenvalues[0] > 0.0:
             continue
@@ -559,7 +576,8 @@ def _add_floating_base(spec: mujoco.MjSpec, source: str) -> None:
 
 
 def _first_file(candidates: Iterable[Path]) -> Path | None:
+    """The first existing file, absolute and without ``..`` (symlinks kept: no realpath)."""
     for candidate in candidates:
         if candidate.is_file():
-            return candidate.resolve()
+            return Path(os.path.abspath(candidate))
     return None
