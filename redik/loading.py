@@ -3,17 +3,17 @@
 MuJoCo reads both formats itself (:meth:`mujoco.MjSpec.from_file`); this module fixes what
 stops real-world URDFs from loading or from being useful for inverse kinematics:
 
-* **Mesh paths.** URDFs name meshes ``package://<package>/<path>`` (ROS), ``file://<path>``
-  or relative to the URDF file. Each mesh is resolved to an absolute path by trying, in order,
+* **Mesh paths.** URDFs name meshes ``package://<package>/<path>`` (ROS), ``file://<path>`` or
+  relative to the URDF file. Each mesh is resolved to an absolute path by trying, in order,
   the folders in ``package_paths`` and ``ROS_PACKAGE_PATH`` (each with the ROS packages nested
   below it, as in a workspace's ``src``), the ``share`` folders of ``AMENT_PREFIX_PATH``, then
   the model file's own folder and every folder above it (so a package installed as
-  ``…/share/<package>/`` is found from any file inside it). For a
-  folder ``F`` the candidates of ``package://pkg/rest`` are ``F/pkg/rest`` and, when ``F`` is
-  itself named ``pkg``, ``F/rest``; a relative path ``rest`` is tried against the model's folder
-  (and its ``meshdir``) first. A mesh that is found nowhere raises :class:`ModelError` naming
-  the folders searched. ``meshes=False`` drops every mesh geom instead: a kinematics-only model
-  that needs no mesh file at all (and loads faster).
+  ``…/share/<package>/`` is found from any file inside it). For a folder ``F`` the candidates
+  of ``package://pkg/rest`` are ``F/pkg/rest`` and, when ``F`` is the package itself (named
+  ``pkg``, or its ``package.xml`` says so), ``F/rest``; a relative path ``rest`` is tried
+  against the model's folder (and its ``meshdir``) first. A mesh that is found nowhere raises
+  :class:`ModelError` naming the folders searched. ``meshes=False`` drops every mesh geom
+  instead: a kinematics-only model that needs no mesh file at all (and loads faster).
 * **Mesh formats.** MuJoCo decodes STL, OBJ and MSH. Collision meshes in another format
   (COLLADA ``.dae`` is common) are dropped with a :class:`ModelWarning` that lists them.
   MuJoCo's URDF import keeps the collision geometry only (``discardvisual``); ``visual=True``
@@ -226,6 +226,18 @@ def _packages_below(folder: Path, depth: int) -> list[Path]:
     return found
 
 
+def _package_name(folder: Path) -> str | None:
+    """The ``<name>`` in ``folder/package.xml`` (a ROS package), else None."""
+    manifest = folder / "package.xml"
+    if not manifest.is_file():
+        return None
+    try:
+        name = ElementTree.parse(manifest).getroot().findtext("name")
+    except (ElementTree.ParseError, OSError):
+        return None
+    return name.strip() if name else None
+
+
 def resolve_mesh_path(
     name: str,
     model_directory: str | Path,
@@ -246,7 +258,7 @@ def resolve_mesh_path(
             candidates = []
             for folder in folders:
                 candidates.append(folder / package / rest)
-                if folder.name == package:
+                if folder.name == package or _package_name(folder) == package:
                     candidates.append(folder / rest)
             return _first_file(candidates)
     if name.startswith("file://"):

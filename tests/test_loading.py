@@ -505,6 +505,10 @@ def test_package_uri_resolves_from_package_paths_and_ros_package_path(tmp_path, 
         loading.load_model(elsewhere, package_paths=[tmp_path / "catkin" / "src"])
     (nested / "package.xml").write_text("<package><name>tiny_description</name></package>")
     assert loading.load_model(elsewhere, package_paths=[tmp_path / "catkin" / "src"]).nmesh == 1
+    # A package is named by its package.xml, whatever its folder is called (a git checkout).
+    renamed = nested.parent / "tiny_robot-main"
+    nested.rename(renamed)
+    assert loading.load_model(elsewhere, package_paths=[tmp_path / "catkin" / "src"]).nmesh == 1
     assert loading.load_model(elsewhere, meshes=False).nmesh == 0
 
 
