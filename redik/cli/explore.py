@@ -64,14 +64,16 @@ def run(args: argparse.Namespace) -> int:
     motion.save(out / "samples.npz")
     summary = motion.summary()
     (out / "summary.json").write_text(json.dumps(summary, indent=2))
+    if len(motion) == 0:
+        print(f"{robot.name}: {motion.status}: {motion.message}; nothing to draw")
+        return 1
     print(
-        f"{robot.name}: {len(motion)} samples, dimension {motion.dimension}, "
+        f"{robot.name}: {motion.status}, {len(motion)} samples, dimension {motion.dimension}, "
         f"{motion.n_components} component(s), max errors {summary['max_position_error']:.1e} m / "
         f"{summary['max_rotation_error']:.1e} rad, {motion.elapsed:.2f} s"
     )
-    if len(motion) == 0:
-        print("no configuration reaches this pose (inside the limits); nothing to draw")
-        return 1
+    if motion.message:
+        print(f"note: {motion.message}")
     for color_by in ["component", *motion.criteria]:
         plot_joint_pairs(
             motion, color_by, lower=robot.lower, upper=robot.upper,
