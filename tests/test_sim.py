@@ -196,6 +196,15 @@ def test_exceeding_the_bound_warns_and_says_why():
                  error_bound=None)  # fmt: skip
 
 
+def test_a_reference_the_ik_cannot_follow_is_blamed_on_the_ik():
+    robot = menagerie_like_iiwa14()
+    task = PoseTask(robot.fk(robot.home))
+    slow = Problem(robot, [task], limits=[PositionLimit(), VelocityLimit(0.05)])
+    with pytest.warns(TrackingWarning, match="The IK reference itself leaves the path"):
+        result = simulate(robot, slow, task, circle(robot, robot.home, duration=1.0))
+    assert result.reference_position_error.max() > 0.5 * result.max_position_error
+
+
 def test_force_limited_servos_report_saturation():
     robot = menagerie_like_iiwa14(forcerange=5.0)  # far below the gravity torque of joint 2
     problem, task = tracking_problem(robot)
