@@ -8,8 +8,9 @@ At every control tick ``k`` (period ``dt = 1 / control_rate``) :func:`simulate`
 4. drives each chain joint's actuator (:func:`joint_drives` reads which kind it is), either
 
    * ``command="integrate"`` (default): the joint reference is the integral of the IK
-     velocity, ``q̂_{k+1} = q̂_k + Δq(q̂_k)``, with ``\dot{\hat q} = Δq / dt`` and
-     ``\ddot{\hat q}`` its backward difference; the actuators track it with
+     velocity, ``q̂_{k+1} = q̂_k + Δq(q̂_k)``; over the tick the actuators track ``q̂_k``
+     with velocity ``\dot{\hat q} = Δq / dt`` and acceleration ``\ddot{\hat q}`` its
+     backward difference — all three at the same instant, the start of the tick — with
      computed-torque feed-forward (Siciliano et al., *Robotics*, §8.5),
 
      .. math::
@@ -58,16 +59,17 @@ lagging ``q̂``). When the tracking error exceeds ``error_bound`` :func:`simulat
 Measured (``redik run tasks/iiwa14_tracking.py --fast``, recorded in
 ``tasks/baselines/iiwa14_tracking.json``; ``tests/test_sim.py`` asserts the bound):
 iiwa14 tracing a 10 cm circle in 4 s (quintic timing, peak speed 0.3 m/s) at 100 Hz with
-``"integrate"`` stays within 1.9 mm and 9.0e-4 rad of the reference and ends within
-0.024 mm; the stated bound is 3 mm, 0.01 rad and 0.05 mm at the end. The same circle on
+``"integrate"`` stays within 1.3 mm and 3.4e-4 rad of the reference and ends within
+0.001 mm; the stated bound is 3 mm, 0.01 rad and 0.05 mm at the end. The same circle on
 MuJoCo Menagerie's arms (servos with ``k_p`` = 500–4500, ``k_v = k_p / 10`` or ``/ 20``, no
-``gravcomp``, ``forcerange`` down to ±12 N·m), from a non-singular start: iiwa14 24 → 1.7 mm,
-Panda 4.0 → 1.7 mm, Gen3 7.1 → 1.8 mm (without → with the inverse-dynamics feed-forward).
-Started at a posture where two joint axes are (nearly) collinear — Menagerie's Panda
-``home`` (``q₂ = 0``) and Gen3 ``home`` — the IK reference itself leaves the circle by
-25–39 mm and chatters against its velocity limits, and no servo law helps: the warning says
-so. ``tests/test_sim.py`` runs Menagerie-like servos built from the bundled iiwa14 and
-gymnasium's Pusher arm (torque motors).
+``gravcomp``, ``forcerange`` down to ±12 N·m), from a non-singular start, with the
+inverse-dynamics feed-forward (without it): iiwa14 1.1 mm (24 mm), Panda 1.1 mm (3.6 mm),
+Gen3 1.2 mm (6.7 mm). Started at a posture where two joint axes are (nearly) collinear —
+Menagerie's Panda ``home`` (``q₂ = 0``) and Gen3 ``home`` — the IK reference itself leaves
+the circle by 39 and 26 mm and chatters against its velocity limits; the arms then miss by
+49 and 84 mm (54 and 53 mm without feed-forward) and the warning blames the IK.
+``tests/test_sim.py`` runs Menagerie-like servos built from the bundled iiwa14, the iiwa14
+on torque motors and gymnasium's Pusher arm (torque motors).
 """
 
 from __future__ import annotations
@@ -347,6 +349,10 @@ class _Controller:
         joint_limited = model.jnt_actfrclimited[joints].astype(bool)
         self.joint_low = np.where(joint_limited, model.jnt_actfrcrange[joints, 0], -np.inf)
         self.joint_high = np.where(joint_limited, model.jnt_actfrcrange[joints, 1], np.inf)
+        gear = drives.gear
+        bounds = np.sort(np.stack([gear * self.force_low, gear * self.force_high]), axis=0)
+        self.torque_low = np.maximum(np.nan_to_num(bounds[0], nan=-np.inf), self.joint_low)
+        self.torque_high = np.minimum(np.nan_to_num(bounds[1], nan=np.inf), self.joint_high)
 
     def inverse_dynamics(self, data: mujoco.MjData, qacc: np.ndarray) -> np.ndarray:
         """``M(q) q̈ + c(q, q̇) + g(q) − τ_passive`` on the chain joints at the measured state,
@@ -359,6 +365,26 @@ class _Controller:
         scratch.qacc[self.dofs] = qacc
         mujoco.mj_inverse(self.model, scratch)
         return scratch.qfrc_inverse[self.dofs].copy()
+
+    def _unreachable_inertia(self, torque: np.ndarray, accel: np.ndarray) -> np.ndarray:
+        """The part of the inertial feed-forward ``M q̈`` (just computed by
+        :meth:`inverse_dynamics`) that would push a joint's torque past its actuator's range.
+
+        A reference that chatters (near a singularity the QP's joint velocities flip from
+        tick to tick) asks for accelerations no actuator can give; sent anyway, they saturate
+        the actuator and take away the feedback and gravity terms that keep the arm on the
+        path. So the inertial term is scaled down first, per joint, to fit the range.
+        """
+        full = np.zeros(self.model.nv)
+        full[self.dofs] = accel
+        inertial = np.zeros(self.model.nv)
+        mujoco.mj_mulM(self.model, self.scratch, inertial, full)
+        inertial = inertial[self.dofs]
+        excess = np.maximum(torque - self.torque_high, 0.0) + np.minimum(
+            torque - self.torque_low, 0.0
+        )
+        ratio = np.divide(excess, inertial, out=np.zeros_like(excess), where=inertial != 0.0)
+        return (1.0 - np.clip(1.0 - ratio, 0.0, 1.0)) * inertial
 
     def controls(
         self,
@@ -374,8 +400,12 @@ class _Controller:
         u = np.empty(len(g))
         if np.any(servo):
             # servo torque g·kp·u − g²kp·q − g²kv·q̇ = g²kp (q̂ − q) + g²kv (q̂' − q̇) + τ_ff
-            tau = self.inverse_dynamics(data, accel_ref) if self.feedforward else 0.0 * q
             kp, kv = drives.gain, drives.kv
+            tau = 0.0 * q
+            if self.feedforward:
+                tau = self.inverse_dynamics(data, accel_ref)
+                feedback = g * g * (kp * (q_ref - q) + kv * (velocity_ref - qdot))
+                tau -= self._unreachable_inertia(feedback + tau, accel_ref)
             lead = kv / np.where(servo, kp, 1.0)
             servo_u = g * (q_ref + lead * velocity_ref) + tau / (g * np.where(servo, kp, 1.0))
             u[servo] = servo_u[servo]
@@ -501,11 +531,13 @@ def simulate(
             q_command = q_measured + problem.step(q_measured.copy(), dt)
             ctrl, clipped = controller.controls(data, q_command, still, still)
         else:
+            # The reference over this tick runs from q̂_k (now) to q̂_{k+1} (at t): track it
+            # with position, velocity and acceleration taken at the same instant.
             dq = problem.step(q_command, dt)
-            q_command = q_command + dq
             previous_velocity, velocity = velocity, dq / dt
             accel = (velocity - previous_velocity) / dt
             ctrl, clipped = controller.controls(data, q_command, velocity, accel)
+            q_command = q_command + dq
         data.ctrl[drives.actuators] = ctrl
         mujoco.mj_step(robot.model, data, nstep=substeps)
         saturated[k] = clipped or controller.force_saturated(data)

@@ -213,6 +213,28 @@ def test_force_limited_servos_report_saturation():
     assert result.saturation_fraction > 0.5
 
 
+def test_inertial_feedforward_is_cut_to_what_the_actuator_can_give():
+    # A chattering reference (near a singularity) asks for accelerations no servo can give;
+    # sent whole, the feed-forward saturated the servo and lost the gravity and PD terms.
+    from redik.sim import _Controller
+
+    robot = menagerie_like_iiwa14(forcerange=60.0)
+    drives = joint_drives(robot)
+    controller = _Controller(robot, drives, feedforward=True, motor_bandwidth=30.0)
+    controller.qpos_adr = robot.qpos_indices
+    data = mujoco.MjData(robot.model)
+    data.qpos[:] = robot.full_qpos(robot.home)
+    mujoco.mj_forward(robot.model, data)
+    still = np.zeros(robot.dof)
+    for sign in (1.0, -1.0):
+        ctrl, _ = controller.controls(data, robot.home, still, sign * np.full(robot.dof, 1e3))
+        force = drives.gain * (ctrl - robot.home)  # at rest: kp (u − q)
+        assert np.all(np.abs(force) <= 60.0 + 1e-9), force
+        assert np.any(np.abs(force) > 59.0)  # cut to the range, not dropped
+    gravity_only, _ = controller.controls(data, robot.home, still, still)
+    assert np.allclose(drives.gain * (gravity_only - robot.home), data.qfrc_bias[:7], atol=1e-9)
+
+
 def torque_iiwa14() -> redik.Robot:
     """The bundled iiwa14 driven by torque motors (gear 1, ±320 N·m), gravity on."""
     spec = iiwa14_spec()
