@@ -64,9 +64,10 @@ iiwa14 tracing a 10 cm circle in 4 s (quintic timing, peak speed 0.3 m/s) at 100
 MuJoCo Menagerie's arms (servos with ``k_p`` = 500–4500, ``k_v = k_p / 10`` or ``/ 20``, no
 ``gravcomp``, ``forcerange`` down to ±12 N·m), from a non-singular start, with the
 inverse-dynamics feed-forward (without it): iiwa14 1.1 mm (24 mm), Panda 1.1 mm (3.6 mm),
-Gen3 1.2 mm (6.7 mm). Started at a posture where two joint axes are (nearly) collinear —
-Menagerie's Panda ``home`` (``q₂ = 0``) and Gen3 ``home`` — the IK reference itself leaves
-the circle by 39 and 26 mm and chatters against its velocity limits; the arms then miss by
+Gen3 1.2 mm (6.7 mm). Started at Menagerie's Panda ``home`` (``q₂ = 0``: axes 1 and 3
+collinear) or Gen3 ``home``, the circle's top is out of the QP's reach at 2 rad/s: the IK
+reference itself leaves it by 39 and 26 mm and chatters against the velocity limits; the
+arms then miss by
 49 and 84 mm (54 and 53 mm without feed-forward) and the warning blames the IK.
 ``tests/test_sim.py`` runs Menagerie-like servos built from the bundled iiwa14, the iiwa14
 on torque motors and gymnasium's Pusher arm (torque motors).
