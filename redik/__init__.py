@@ -27,10 +27,12 @@ from .exceptions import (
     InvalidPose,
     InvalidRotation,
     ModelError,
+    NearRotationWarning,
     RedikError,
+    RedikWarning,
     UnknownFrame,
 )
-from .iterative import finite_difference_jacobian, gradient, newton
+from .iterative import finite_difference_jacobian, gradient, hybrid, newton
 from .limits import MinkLimit, PositionLimit, VelocityLimit
 from .model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
 from .pose_ik import solve_all, solve_pose
@@ -72,6 +74,7 @@ __all__ = [
     "ManipulabilityTask",
     "MinkLimit",
     "ModelError",
+    "NearRotationWarning",
     "OrientationTask",
     "PoseTask",
     "PositionLimit",
@@ -79,6 +82,7 @@ __all__ = [
     "PostureTask",
     "Problem",
     "RedikError",
+    "RedikWarning",
     "Robot",
     "SelfMotion",
     "UnknownFrame",
@@ -92,6 +96,7 @@ __all__ = [
     "finite_difference_jacobian",
     "follow_path",
     "gradient",
+    "hybrid",
     "lie",
     "limits",
     "list_scenes",
