@@ -333,6 +333,7 @@ class _Controller:
         model = robot.model
         self.model, self.drives, self.feedforward = model, drives, feedforward
         self.dofs = np.asarray(robot.dof_indices)
+        self.qpos_adr = np.asarray(robot.qpos_indices)
         self.scratch = mujoco.MjData(model)
         self.servo = drives.servo
         self.kp_motor, self.kd_motor = motor_bandwidth**2, 2.0 * motor_bandwidth
@@ -505,7 +506,7 @@ def simulate(
     q = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
     drives = joint_drives(robot)
     controller = _Controller(robot, drives, feedforward, motor_bandwidth)
-    qpos_adr = controller.qpos_adr = robot.qpos_indices
+    qpos_adr = robot.qpos_indices
 
     data = mujoco.MjData(robot.model)
     data.qpos[:] = robot.full_qpos(q)

@@ -221,7 +221,6 @@ def test_inertial_feedforward_is_cut_to_what_the_actuator_can_give():
     robot = menagerie_like_iiwa14(forcerange=60.0)
     drives = joint_drives(robot)
     controller = _Controller(robot, drives, feedforward=True, motor_bandwidth=30.0)
-    controller.qpos_adr = robot.qpos_indices
     data = mujoco.MjData(robot.model)
     data.qpos[:] = robot.full_qpos(robot.home)
     mujoco.mj_forward(robot.model, data)
