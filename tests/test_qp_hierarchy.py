@@ -182,3 +182,15 @@ def test_a_one_dimensional_lower_level_with_rows_matches_the_general_path():
     for rows0 in (A0, None):  # QR null space, eigendecomposition
         x = solve_lexicographic(objectives, backends, C=C, l=l, u=u, damping=eps, rows0=rows0)
         np.testing.assert_allclose(x, [1.5, -0.5, 0.0], atol=1e-6)
+
+
+def test_a_one_dimensional_lower_level_without_constraints():
+    A0 = np.array([[1.0, 1.0]])
+    eps = 1e-9
+    objectives = [
+        (A0.T @ A0 + eps * np.eye(2), -A0.T @ np.array([1.0])),
+        (np.diag([1.0, 0.0]) + eps * np.eye(2), -np.array([3.0, 0.0])),
+    ]
+    backends = [make_backend("daqp") for _ in objectives]
+    x = solve_lexicographic(objectives, backends, damping=eps, rows0=A0)
+    np.testing.assert_allclose(x, [3.0, -2.0], atol=1e-6)

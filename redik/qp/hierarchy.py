@@ -131,20 +131,25 @@ def _identity_tail(n: int, m: int) -> np.ndarray:
     return tail
 
 
-def _solve_one_variable(h: float, g: float, a: list, lower: list, upper: list) -> float:
-    """``argmin ½ h z² + g z`` s.t. ``min(lower, 0) ≤ a z ≤ max(upper, 0)`` (h > 0; the
-    relaxation keeps ``z = 0`` feasible): the unconstrained minimiser ``−g/h``, pulled back
-    to the first row it crosses on its way from 0 — exact, no back-end needed. A plain
-    loop: at a handful of rows it is several times faster than numpy's per-call overhead.
+def _solve_one_variable(
+    h: float, g: float, a: list, lower: list, upper: list, offset: list | None = None
+) -> float:
+    """``argmin ½ h z² + g z`` s.t. ``min(l, 0) ≤ a z ≤ max(u, 0)`` with ``l = lower − offset``,
+    ``u = upper − offset`` (``offset`` default 0; h > 0; the relaxation keeps ``z = 0``
+    feasible): the unconstrained minimiser ``−g/h``, pulled back to the first row it crosses
+    on its way from 0 — exact, no back-end needed. A plain loop over Python floats: at a
+    handful of rows it is several times faster than numpy's per-call overhead.
     """
     z = -g / h
-    for a_i, lower_i, upper_i in zip(a, lower, upper, strict=True):
+    if offset is None:
+        offset = [0.0] * len(a)
+    for a_i, lower_i, upper_i, offset_i in zip(a, lower, upper, offset, strict=True):
         # The side of row i that z moves towards: a_i z grows when a_i and z share a sign.
         if (a_i > 0.0) == (z > 0.0):
-            if a_i * z > upper_i:
-                z = max(upper_i, 0.0) / a_i
-        elif a_i * z < lower_i:
-            z = min(lower_i, 0.0) / a_i
+            if a_i * z > upper_i - offset_i:
+                z = max(upper_i - offset_i, 0.0) / a_i
+        elif a_i * z < lower_i - offset_i:
+            z = min(lower_i - offset_i, 0.0) / a_i
     return z
 
 
@@ -206,18 +211,24 @@ def solve_lexicographic(
             h = float(v @ Hv)
             if h > 0.0:
                 g = float(x @ Hv) + float(c_k @ v)
-                a, lower, upper = [], [], []
-                if lb is not None:
-                    a += v.tolist()
-                    x_list = x.tolist()
-                    lower += [bound - x_i for bound, x_i in zip(lb.tolist(), x_list, strict=True)]
-                    upper += [bound - x_i for bound, x_i in zip(ub.tolist(), x_list, strict=True)]
-                if C is not None:
+                if C is None and lb is None:
+                    z = -g / h
+                elif C is None:
+                    z = _solve_one_variable(h, g, v.tolist(), lb.tolist(), ub.tolist(), x.tolist())
+                else:
+                    a, lower, upper, offset = [], [], [], []
+                    if lb is not None:
+                        a += v.tolist()
+                        lower += lb.tolist()
+                        upper += ub.tolist()
+                        offset += x.tolist()
                     Cx = C @ x
                     a += (C @ v).tolist()
-                    lower += (l - Cx).tolist()
-                    upper += (u - Cx).tolist()
-                x = x + _solve_one_variable(h, g, a, lower, upper) * v
+                    lower += l.tolist()
+                    upper += u.tolist()
+                    offset += Cx.tolist()
+                    z = _solve_one_variable(h, g, a, lower, upper, offset)
+                x = x + z * v
                 if level == last:
                     break
                 N = N @ free_directions(np.array([[h]]), np.array([g]), rank_tol, shift)
