@@ -508,8 +508,7 @@ class Problem:
         return self._stationarity(q, dt)
 
     def _stationarity(self, q: np.ndarray, dt: float | None) -> list[float]:
-        if not np.array_equal(self._state.q, q):
-            self._update(q)
+        self._update(q)
         objectives = self._assembly.objectives(self._state, self._configuration)
         n = self.robot.dof
         # Active limits as rows a_i of a_i·Δq ≤ 0.

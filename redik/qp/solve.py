@@ -126,7 +126,10 @@ def _nearest_start(robot: Robot, task, rng: np.random.Generator, candidates: int
     qs = robot.random_q(rng, size=candidates)
     if candidates == 1:
         return qs[0]
-    poses = np.array([robot.fk(q, task.frame) for q in qs])
+    poses = np.empty((candidates, 4, 4))
+    for q, T in zip(qs, poses, strict=True):
+        robot.update(q)  # forward kinematics only: robot.fk would also check and allocate
+        robot.pose_into(task.frame, T)
     # ‖p − p_d‖² + w²‖R − R_d‖²_F / 2, and ‖R − R_d‖²_F = 4(1 − cos θ) ≈ 2θ²: (w θ)² near 0.
     target = task.target
     distance = np.sum((poses[:, :3, 3] - target[:3, 3]) ** 2, axis=1) + (
