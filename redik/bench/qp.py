@@ -41,6 +41,7 @@ import mink
 import numpy as np
 
 from .. import lie
+from ..exceptions import BackendError, InfeasibleProblem
 from ..limits import PositionLimit
 from ..problem import Problem
 from ..qp.backends import QPSOLVERS_SETTINGS, available_backends
@@ -294,7 +295,11 @@ def _run(args: argparse.Namespace) -> int:
     print(f"{'redik back-end':<16}{'mink solver':<13}{'redik µs':>10}{'mink µs':>10}{'ratio':>8}")
     for backend in backends:
         solver = MINK_SOLVER.get(backend, backend)
-        redik_us, mink_us = _time_steps(robot, backend, solver, args, targets)
+        try:
+            redik_us, mink_us = _time_steps(robot, backend, solver, args, targets)
+        except (BackendError, InfeasibleProblem, mink.exceptions.NoSolutionFound) as error:
+            print(f"{backend:<16}failed: {error}")
+            continue
         if solver:
             ratio = f"{mink_us / redik_us:>7.2f}x"
             print(f"{backend:<16}{solver:<13}{redik_us:>10.1f}{mink_us:>10.1f}{ratio}")
@@ -307,7 +312,11 @@ def _run(args: argparse.Namespace) -> int:
     )
     print(f"{'redik back-end':<16}{'1 level µs':>12}{'2 levels µs':>13}{'ratio':>8}")
     for backend in backends:
-        one_us, two_us = _time_priorities(robot, backend, args, targets)
+        try:
+            one_us, two_us = _time_priorities(robot, backend, args, targets)
+        except (BackendError, InfeasibleProblem) as error:
+            print(f"{backend:<16}failed: {error}")
+            continue
         print(f"{backend:<16}{one_us:>12.1f}{two_us:>13.1f}{two_us / one_us:>7.2f}x")
 
     print(

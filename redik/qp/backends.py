@@ -56,12 +56,15 @@ QPSOLVERS_SETTINGS: dict[str, dict] = {
     "proxqp": {"eps_abs": 1e-12, "eps_rel": 0.0},
     # ADMM: at eps 1e-8 it stops ~1e-5 from the minimiser, at 1e-10 ~6e-8. (Polishing
     # would do as well but prints "Polishing not needed" on stdout whatever `verbose`.)
-    "osqp": {"eps_abs": 1e-10, "eps_rel": 1e-10, "max_iter": 100000, "verbose": False},
+    # Ill-conditioned levels (a pose alone, Hessian eigenvalues down to 1e-6) need up to
+    # a few 1e5 iterations at that precision.
+    "osqp": {"eps_abs": 1e-10, "eps_rel": 1e-10, "max_iter": 400000, "verbose": False},
     "highs": {"qp_regularization_value": 1e-12},  # its default 1e-7 biases x by ~1e-4
     "scs": {"eps_abs": 1e-11, "eps_rel": 1e-11, "max_iters": 200000},
     # Interior point: the duality gap decides the distance to the minimiser; at 1e-10
-    # Clarabel is 2e-5 off, at 1e-13 5e-9 (1e-14 makes it fail to converge).
-    "clarabel": {"tol_gap_abs": 1e-13, "tol_gap_rel": 1e-13, "tol_feas": 1e-13},
+    # Clarabel is 2e-5 off, at 1e-12 1e-8 (at 1e-13 it fails to converge on some
+    # ill-conditioned IK QPs, Hessian eigenvalues down to 1e-6).
+    "clarabel": {"tol_gap_abs": 1e-12, "tol_gap_rel": 1e-12, "tol_feas": 1e-12},
     # PIQP's duality-gap tolerances default to 1e-8 and are what stopped it 2e-5 off;
     # eps_abs/eps_rel alone do not tighten them.
     "piqp": {
