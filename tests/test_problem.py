@@ -310,3 +310,46 @@ def test_solve_pose_qp_restarts_from_the_nearest_candidate(panda, rng):
     assert problem.levels == [0]
     with pytest.raises(InvalidInput, match="candidates"):
         solve_pose_qp(panda, task.target, panda.home, candidates=0)
+
+
+def test_the_stationarity_test_accounts_for_active_limits(panda):
+    """A posture beyond a joint limit: the optimum rests on the limit, where the gradient
+    projected onto the pose's null space is not zero but points out of the box."""
+    from scipy.optimize import minimize
+
+    rng = np.random.default_rng(5)
+    checked = 0
+    for _ in range(30):
+        q_star = np.clip(panda.random_q(rng), panda.lower + 0.3, panda.upper - 0.3)
+        joint = rng.integers(panda.dof)
+        q_star[joint] = panda.upper[joint] - 0.05
+        T = panda.fk(q_star)
+        q_nominal = q_star.copy()
+        q_nominal[joint] = panda.upper[joint] + 1.0
+        tasks = [PoseTask(T), PostureTask(q_nominal, priority=1)]
+        result = Problem(panda, tasks).solve(q_star, max_iter=300)
+        at_limit = np.isclose(result.q, panda.upper, atol=1e-8)
+        if not at_limit.any():
+            continue  # the self-motion reached its optimum inside the box
+        checked += 1
+        assert result.success and result.stationary and result.stationarity == [0.0]
+        # Without the limits, the same point is not stationary: the cone made the difference.
+        assert Problem(panda, tasks, limits=[]).stationarity(result.q)[0] > 1e-3
+
+        def pose_residual(q, T=T):
+            F = panda.fk(q)
+            return np.concatenate([F[:3, 3] - T[:3, 3], lie.so3_log(F[:3, :3].T @ T[:3, :3])])
+
+        reference = minimize(
+            lambda q, q_nominal=q_nominal: 0.5 * np.sum((q - q_nominal) ** 2),
+            q_star,
+            method="SLSQP",
+            constraints=[{"type": "eq", "fun": pose_residual}],
+            bounds=list(zip(panda.lower, panda.upper, strict=True)),
+            options={"ftol": 1e-14, "maxiter": 500},
+        )
+        assert reference.success
+        np.testing.assert_allclose(result.q, reference.x, atol=1e-5)
+        if checked == 2:
+            break
+    assert checked == 2
