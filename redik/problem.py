@@ -23,13 +23,13 @@ from collections.abc import Sequence
 
 import mink
 import numpy as np
+from scipy.optimize import nnls
 
 from .exceptions import InfeasibleProblem, InvalidConfiguration, InvalidInput
 from .limits import BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
 from .qp.assembly import Assembly
 from .qp.backends import Backend, make_backend
 from .qp.hierarchy import free_directions, row_null_space, solve_lexicographic
-from .qp.problem_data import QP
 from .result import IKResult
 from .robot import Robot
 from .tasks.frame_task import FrameTask
@@ -159,8 +159,6 @@ class Problem:
                 "backend_options; pass the back-end by name"
             )
         self.backends = [make_backend(backend, **options) for _ in self.levels]
-        # Projects lower-level gradients onto the tangent cone of the active limits (solve).
-        self._cone_backend = make_backend(backend, **options) if len(self.levels) > 1 else None
         level0 = self._assembly.levels[0]
         self._rows0 = level0.A if level0.least_squares and len(self.levels) > 1 else None
         tolerance = max(b.tolerance for b in self.backends)
@@ -499,9 +497,10 @@ class Problem:
         .. math:: \|P_{T}(-g_k)\|, \qquad
                   T = \{N_{k-1} z : a_i^\top N_{k-1} z \le 0,\ i \in \mathcal{A}\},
 
-        the projection onto the tangent cone (a small QP, solved by the problem's
-        back-end); zero is the first-order (KKT) condition of level :math:`k` subject to
-        the higher levels and the limits (Nocedal & Wright, Theorem 12.1).
+        the projection onto the tangent cone, computed through its dual, a non-negative
+        least-squares problem (Lawson & Hanson's NNLS, ``scipy.optimize.nnls``). Zero is the
+        first-order (KKT) condition of level :math:`k` subject to the higher levels and the
+        limits (Nocedal & Wright, Theorem 12.1).
         """
         q = _joint_vector(self.robot, q, "q")
         _check_dt(dt)
@@ -541,10 +540,10 @@ class Problem:
             if rows is None or rows.shape[0] == 0:
                 values.append(math.sqrt(float(g @ g)))
             else:
-                # P_T(−g) = argmin_{z: rows z ≤ 0} ½‖z + g‖².
-                cone = QP(np.eye(N.shape[1]), g, C=rows, l=np.full(rows.shape[0], -np.inf),
-                          u=np.zeros(rows.shape[0]))  # fmt: skip
-                values.append(float(np.linalg.norm(self._cone_backend.solve(cone))))
+                # P_T(−g) = argmin_{z: rows z ≤ 0} ½‖z + g‖² = −(g + rowsᵀλ) with λ the
+                # non-negative least-squares solution of rowsᵀλ ≈ −g (its dual).
+                multipliers, _ = nnls(rows.T, -g)
+                values.append(float(np.linalg.norm(g + rows.T @ multipliers)))
             if level < last:
                 HN = N.T @ H_k @ N
                 N = N @ free_directions(HN, np.zeros(N.shape[1]), self.rank_tol, self.damping)

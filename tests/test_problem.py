@@ -335,6 +335,8 @@ def test_the_stationarity_test_accounts_for_active_limits(panda):
         assert result.success and result.stationary and result.stationarity == [0.0]
         # Without the limits, the same point is not stationary: the cone made the difference.
         assert Problem(panda, tasks, limits=[]).stationarity(result.q)[0] > 1e-3
+        # The projection is the problem's own (NNLS), not the back-end's: the same with any.
+        assert Problem(panda, tasks, backend="proxsuite").stationarity(result.q) == [0.0]
 
         def pose_residual(q, T=T):
             F = panda.fk(q)
