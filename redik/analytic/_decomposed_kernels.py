@@ -1,0 +1,575 @@
+r"""Compiled kernels of :mod:`redik.analytic.decomposed`: one 6R geometry class each.
+
+The arm is ``T(q) = e^{[S_1]q_1} ⋯ e^{[S_6]q_6} M`` (Modern Robotics §4.1), written as axes
+``h_i`` and points ``a_i`` on them (at q = 0, world frame) with the rotations
+``R_i = rot(h_i, q_i)`` (IK-Geo's form, Elias & Wen 2022 §II):
+
+.. math::
+    p(q) = a_1 + R_1 (a_2 - a_1) + R_1 R_2 (a_3 - a_2) + ⋯ + R_1 ⋯ R_6 (p_M - a_6),\qquad
+    R(q) = R_1 ⋯ R_6 R_M .
+
+With :math:`Z = R R_M^\top = R_1 ⋯ R_6` known from the target, each kernel peels the chain
+with the subproblems of :mod:`.subproblems`; the derivations are in the docstring of each.
+The geometry is packed in one (17, 3) array ``G``: rows 0–5 the axes, 6–11 the points (where
+axes meet, the same point), 12 ``p_M``, 13–15 the rows of ``R_M``, 16 a unit vector
+perpendicular to the axis of the last SP1 (``h_6`` for a spherical wrist, the parallel axis of
+the three-parallel class).
+
+A kernel fills slots: ``q`` (S, 6) unwrapped, ``status`` (S,) — :data:`EMPTY`,
+:data:`REGULAR` or :data:`SINGULAR` (a subproblem was at its boundary or free) — ``free``
+(S,), the joint a degenerate subproblem left arbitrary (−1 if none; it takes ``fix_value``
+when ``fix_joint`` names it, else 0), and ``stage`` (S,), the step at which an empty slot
+failed (1 shoulder, 2 elbow, 3 wrist).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from redik.analytic._checks import ORTHONORMAL_TOL
+from redik.analytic.subproblems import (
+    BOUNDARY,
+    FREE,
+    OUT,
+    add,
+    cross,
+    dot,
+    norm,
+    rotate,
+    scale,
+    sp1,
+    sp2,
+    sp3,
+    sp4,
+    sub,
+)
+
+EMPTY, REGULAR, SINGULAR = 0, 1, 2
+
+#: Kernel identifiers (``kind`` of :func:`solve_raw`).
+SPHERICAL_TWO_INTERSECTING, SPHERICAL_TWO_PARALLEL, SPHERICAL, THREE_PARALLEL_TWO_INTERSECTING = (
+    range(4)
+)
+
+#: Slots per kernel: 8 for the closed forms, 16 for the searched one (up to 8 arm roots).
+SLOTS = (8, 8, 16, 8)
+
+#: Samples of θ1 on [−π, π) for the 1-D search, and bisection steps per root.
+SEARCH_SAMPLES = 720
+BISECTIONS = 60
+
+
+@numba.njit(cache=True)
+def _row(G, i):
+    return (G[i, 0], G[i, 1], G[i, 2])
+
+
+@numba.njit(cache=True)
+def _neg(a):
+    return (-a[0], -a[1], -a[2])
+
+
+@numba.njit(cache=True)
+def _fixed(fix_joint, fix_value, joint):
+    return fix_value if fix_joint == joint else 0.0
+
+
+@numba.njit(cache=True)
+def _target(T, G):
+    """``(Z rows, p)`` with ``Z = R R_Mᵀ``."""
+    m0, m1, m2 = _row(G, 13), _row(G, 14), _row(G, 15)
+    r0, r1, r2 = (T[0, 0], T[0, 1], T[0, 2]), (T[1, 0], T[1, 1], T[1, 2]), (T[2, 0], T[2, 1], T[2, 2])
+    return (
+        (dot(r0, m0), dot(r0, m1), dot(r0, m2)),
+        (dot(r1, m0), dot(r1, m1), dot(r1, m2)),
+        (dot(r2, m0), dot(r2, m1), dot(r2, m2)),
+        (T[0, 3], T[1, 3], T[2, 3]),
+    )
+
+
+@numba.njit(cache=True)
+def _mul(z0, z1, z2, v):
+    """``Z v`` for the rows of Z."""
+    return (dot(z0, v), dot(z1, v), dot(z2, v))
+
+
+@numba.njit(cache=True)
+def _mul_t(z0, z1, z2, v):
+    """``Zᵀ v``."""
+    return add(add(scale(z0, v[0]), scale(z1, v[1])), scale(z2, v[2]))
+
+
+@numba.njit(cache=True)
+def _wrist(G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free, stage, pos):
+    r"""Fill slots ``slot`` (noflip) and ``slot + 1`` (flip) of a spherical wrist after the arm
+    angles ``t1, t2, t3`` (``pos`` = the arm's status: REGULAR or SINGULAR, ``free`` already
+    set for an arm singularity).
+
+    :math:`R_{36} = R_3^\top R_2^\top R_1^\top Z = R_4 R_5 R_6`, so
+    ``rot(−h4, θ4) R36 h6 = rot(h5, θ5) h6`` (SP2) and ``rot(h6, θ6) e = R5ᵀ R4ᵀ R36 e`` (SP1)
+    for ``z = Z h6``, ``y = Z e``.
+    """
+    h1, h2, h3 = _row(G, 0), _row(G, 1), _row(G, 2)
+    h4, h5, h6, e = _row(G, 3), _row(G, 4), _row(G, 5), _row(G, 16)
+    zw = rotate(h3, -t3, rotate(h2, -t2, rotate(h1, -t1, z)))
+    yw = rotate(h3, -t3, rotate(h2, -t2, rotate(h1, -t1, y)))
+    t4a, t5a, t4b, t5b, result, which = sp2(
+        _neg(h4), zw, h5, h6, _fixed(fix_joint, fix_value, 3), 0.0, tol
+    )
+    arm_free = free[slot]
+    for branch in range(2):
+        index = slot + branch
+        t4 = t4a if branch == 0 else t4b
+        t5 = t5a if branch == 0 else t5b
+        t6, _ = sp1(h6, e, rotate(h5, -t5, rotate(h4, -t4, yw)))
+        q[index, 0], q[index, 1], q[index, 2] = t1, t2, t3
+        q[index, 3], q[index, 4], q[index, 5] = t4, t5, t6
+        free[index] = arm_free
+        if result == OUT:
+            status[index], stage[index] = EMPTY, 3
+        elif result == FREE and branch == 1:
+            status[index], stage[index] = EMPTY, 0  # the same family as the noflip slot
+        elif result == FREE:
+            status[index] = SINGULAR
+            free[index] = 3 if which == 1 else 5
+        elif result == BOUNDARY:
+            status[index] = SINGULAR
+        else:
+            status[index] = pos
+
+
+@numba.njit(cache=True)
+def _empty(slot, count, stage_code, status, stage, free):
+    for index in range(slot, slot + count):
+        status[index], stage[index], free[index] = EMPTY, stage_code, -1
+
+
+@numba.njit(cache=True)
+def _status_of(*codes):
+    for code in codes:
+        if code != 0:
+            return SINGULAR
+    return REGULAR
+
+
+@numba.njit(cache=True)
+def spherical_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free, stage):
+    r"""Spherical wrist (axes 4, 5, 6 meet at ``w``) and axes 1, 2 meeting at ``o``.
+
+    The wrist centre :math:`p_w = p - Z (p_M - w)` satisfies
+    :math:`p_w - o = R_1 R_2 u(θ_3)`, :math:`u = (a_3 - o) + R_3 (w - a_3)`, so
+    ‖u‖ = ‖p_w − o‖ gives θ3 (SP3, elbow ±) and ``rot(−h1, θ1)(p_w − o) = rot(h2, θ2) u``
+    gives θ1, θ2 (SP2, shoulder ±). Slot = 4·shoulder + 2·elbow + wrist.
+    """
+    z0, z1, z2, p = _target(T, G)
+    h1, h2, h3 = _row(G, 0), _row(G, 1), _row(G, 2)
+    o, a3, w, pM = _row(G, 6), _row(G, 8), _row(G, 9), _row(G, 12)
+    pw = sub(p, _mul(z0, z1, z2, sub(pM, w)))
+    z = _mul(z0, z1, z2, _row(G, 5))
+    y = _mul(z0, z1, z2, _row(G, 16))
+    t3a, t3b, elbow = sp3(h3, sub(w, a3), sub(o, a3), norm(sub(pw, o)), tol)
+    for e in range(2):
+        t3 = t3a if e == 0 else t3b
+        if elbow == OUT:
+            _empty(2 * e, 2, 2, status, stage, free)
+            _empty(4 + 2 * e, 2, 2, status, stage, free)
+            continue
+        u = add(sub(a3, o), rotate(h3, t3, sub(w, a3)))
+        t1a, t2a, t1b, t2b, shoulder, which = sp2(
+            _neg(h1),
+            sub(pw, o),
+            h2,
+            u,
+            _fixed(fix_joint, fix_value, 0),
+            _fixed(fix_joint, fix_value, 1),
+            tol,
+        )
+        for s in range(2):
+            slot = 4 * s + 2 * e
+            if shoulder == OUT:
+                _empty(slot, 2, 1, status, stage, free)
+                continue
+            free[slot] = -1 if which == 0 else which - 1
+            t1, t2 = (t1a, t2a) if s == 0 else (t1b, t2b)
+            pos = _status_of(elbow, shoulder)
+            _wrist(G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free, stage, pos)
+            if shoulder == FREE and s == 1:
+                _empty(slot, 2, 0, status, stage, free)
+
+
+@numba.njit(cache=True)
+def _shoulder_sp4(G, pw, fix_joint, fix_value, tol, parallel):
+    """θ1 (two roots) from ``h·rot(−h1, θ1)(p_w − a1) = h·(w − a1)``, h the axis parallel to the
+    next ones (axis 2): everything after joint 1 keeps its offset along h."""
+    h1, h, a1, w = _row(G, 0), _row(G, parallel), _row(G, 6), _row(G, 9)
+    t1a, t1b, result = sp4(h, _neg(h1), sub(pw, a1), dot(h, sub(w, a1)), tol)
+    if result == FREE:
+        t1a = t1b = _fixed(fix_joint, fix_value, 0)
+    return t1a, t1b, result
+
+
+@numba.njit(cache=True)
+def spherical_two_parallel(T, G, fix_joint, fix_value, tol, q, status, free, stage):
+    r"""Spherical wrist (axes 4, 5, 6 meet at ``w``) and axes 2 ∥ 3.
+
+    R2 and R3 keep the component along h2, so ``h2·R1ᵀ(p_w − a1) = h2·(w − a1)`` gives θ1
+    (SP4, shoulder ±); then :math:`v = R_1^\top(p_w - a_1) - (a_2 - a_1) = R_2 u(θ_3)` with
+    :math:`u = (a_3 - a_2) + R_3 (w - a_3)`: ‖u‖ = ‖v‖ gives θ3 (SP3, elbow ±) and
+    ``rot(h2, θ2) u = v`` gives θ2 (SP1).
+    """
+    z0, z1, z2, p = _target(T, G)
+    h1, h2, h3 = _row(G, 0), _row(G, 1), _row(G, 2)
+    a1, a2, a3, w, pM = _row(G, 6), _row(G, 7), _row(G, 8), _row(G, 9), _row(G, 12)
+    pw = sub(p, _mul(z0, z1, z2, sub(pM, w)))
+    z = _mul(z0, z1, z2, _row(G, 5))
+    y = _mul(z0, z1, z2, _row(G, 16))
+    t1a, t1b, shoulder = _shoulder_sp4(G, pw, fix_joint, fix_value, tol, 1)
+    for s in range(2):
+        if shoulder == OUT:
+            _empty(4 * s, 4, 1, status, stage, free)
+            continue
+        t1 = t1a if s == 0 else t1b
+        v = sub(rotate(h1, -t1, sub(pw, a1)), sub(a2, a1))
+        t3a, t3b, elbow = sp3(h3, sub(w, a3), sub(a2, a3), norm(v), tol)
+        for e in range(2):
+            slot = 4 * s + 2 * e
+            if elbow == OUT:
+                _empty(slot, 2, 2, status, stage, free)
+                continue
+            t3 = t3a if e == 0 else t3b
+            u = add(sub(a3, a2), rotate(h3, t3, sub(w, a3)))
+            t2, reach = sp1(h2, u, v)
+            elbow_free = reach <= tol
+            if elbow_free:
+                t2 = _fixed(fix_joint, fix_value, 1)
+            free[slot] = 0 if shoulder == FREE else (1 if elbow_free else -1)
+            pos = _status_of(shoulder, elbow, 1 if elbow_free else 0)
+            _wrist(G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free, stage, pos)
+            if (shoulder == FREE and s == 1) or (elbow == FREE and e == 1):
+                _empty(slot, 2, 0, status, stage, free)
+
+
+@numba.njit(cache=True)
+def _search_residual(G, pw, t1, tol):
+    """The two residuals ``h2·v − h2·u±`` of the 1-D search at θ1 (SP3 clipped, so both are
+    continuous in θ1), with the two θ3 and whether SP3 was within reach."""
+    h1, h2, h3 = _row(G, 0), _row(G, 1), _row(G, 2)
+    a1, a2, a3, w = _row(G, 6), _row(G, 7), _row(G, 8), _row(G, 9)
+    v = sub(rotate(h1, -t1, sub(pw, a1)), sub(a2, a1))
+    t3a, t3b, elbow = sp3(h3, sub(w, a3), sub(a2, a3), norm(v), tol)
+    hv = dot(h2, v)
+    ra = hv - dot(h2, add(sub(a3, a2), rotate(h3, t3a, sub(w, a3))))
+    rb = hv - dot(h2, add(sub(a3, a2), rotate(h3, t3b, sub(w, a3))))
+    return ra, rb, t3a, t3b, elbow
+
+
+@numba.njit(cache=True)
+def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
+    r"""Spherical wrist (axes 4, 5, 6 meet at ``w``), general axes 1–3: a 1-D search on θ1.
+
+    For a given θ1, :math:`v = R_1^\top(p_w - a_1) - (a_2 - a_1) = R_2 u(θ_3)` needs
+    ‖u‖ = ‖v‖ (SP3 → θ3±) and equal components along h2 (R2 keeps them):
+    :math:`f_±(θ_1) = h_2·v - h_2·u(θ_{3±}) = 0`, then θ2 by SP1 (IK-Geo's 1-D search, Elias
+    & Wen 2022 §IV). Each ``f±`` is sampled at :data:`SEARCH_SAMPLES` points of θ1 and every
+    sign change refined by bisection; a root is kept only if SP3 was within reach there
+    (the clipped residual is continuous, so roots at the edge of reach are not lost). A root
+    where ``f`` touches zero without changing sign (a double root, at the boundary between
+    2 and 0 solutions) can be missed. Slot = 2·(root index, by θ1) + wrist.
+    """
+    z0, z1, z2, p = _target(T, G)
+    h2, h3 = _row(G, 1), _row(G, 2)
+    a2, a3, w, pM = _row(G, 7), _row(G, 8), _row(G, 9), _row(G, 12)
+    pw = sub(p, _mul(z0, z1, z2, sub(pM, w)))
+    z = _mul(z0, z1, z2, _row(G, 5))
+    y = _mul(z0, z1, z2, _row(G, 16))
+    n_slots = q.shape[0]
+    _empty(0, n_slots, 1, status, stage, free)
+    roots = np.empty(n_slots // 2)
+    branches = np.empty(n_slots // 2, np.int64)
+    found = 0
+    step = 2.0 * math.pi / SEARCH_SAMPLES
+    start = -math.pi
+    previous_a, previous_b, _, _, _ = _search_residual(G, pw, start, tol)
+    for k in range(1, SEARCH_SAMPLES + 1):
+        t = start + k * step
+        ra, rb, _, _, _ = _search_residual(G, pw, t, tol)
+        for branch in range(2):
+            before = previous_a if branch == 0 else previous_b
+            now = ra if branch == 0 else rb
+            if before == 0.0 or (before < 0.0) != (now < 0.0):
+                low, high, f_low = t - step, t, before
+                for _ in range(BISECTIONS):
+                    middle = 0.5 * (low + high)
+                    ma, mb, _, _, _ = _search_residual(G, pw, middle, tol)
+                    f_middle = ma if branch == 0 else mb
+                    if (f_middle < 0.0) == (f_low < 0.0):
+                        low, f_low = middle, f_middle
+                    else:
+                        high = middle
+                root = 0.5 * (low + high)
+                _, _, _, _, elbow = _search_residual(G, pw, root, tol)
+                if elbow != OUT and found < roots.shape[0] and now != 0.0:
+                    roots[found], branches[found] = root, branch
+                    found += 1
+        previous_a, previous_b = ra, rb
+    h1, a1 = _row(G, 0), _row(G, 6)
+    order = np.argsort(roots[:found])
+    for index in range(found):
+        t1, branch = roots[order[index]], branches[order[index]]
+        _, _, t3a, t3b, elbow = _search_residual(G, pw, t1, tol)
+        t3 = t3a if branch == 0 else t3b
+        v = sub(rotate(h1, -t1, sub(pw, a1)), sub(a2, a1))
+        u = add(sub(a3, a2), rotate(h3, t3, sub(w, a3)))
+        t2, _ = sp1(h2, u, v)
+        slot = 2 * index
+        free[slot] = -1
+        pos = _status_of(0 if elbow != BOUNDARY else 1)
+        _wrist(G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free, stage, pos)
+
+
+@numba.njit(cache=True)
+def three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free, stage):
+    r"""Axes 2 ∥ 3 ∥ 4 (direction h) and axes 5, 6 meeting at ``w`` (the UR class).
+
+    1. :math:`p_w = p - Z(p_M - w)`; R2 R3 R4 keep the component along h:
+       ``h·R1ᵀ(p_w − a1) = h·(w − a1)`` gives θ1 (SP4, shoulder ±).
+    2. :math:`R_1^\top Z = R_{234} R_5 R_6` and :math:`R_6 h_6 = h_6`:
+       ``h·rot(h5, θ5) h6 = h·R1ᵀ Z h6`` gives θ5 (SP4, wrist ±).
+    3. ``hᵀ R5 R6 = hᵀ R1ᵀ Z``: ``rot(h6, θ6) (Zᵀ R1 h) = R5ᵀ h`` gives θ6 (SP1; arbitrary
+       when Zᵀ R1 h ∥ h6, the wrist singularity).
+    4. :math:`R_{234} = R_1^\top Z R_6^\top R_5^\top` gives θ234 (SP1 on e ⊥ h);
+       :math:`v = R_1^\top(p_w - a_1) - (a_2 - a_1) - R_{234}(w - a_4) = R_2 u(θ_3)`,
+       :math:`u = (a_3 - a_2) + R_3(a_4 - a_3)`: ‖u‖ = ‖v‖ gives θ3 (SP3, elbow ±),
+       ``rot(h, θ2) u = v`` gives θ2 (SP1), θ4 = θ234 − θ2 − θ3.
+
+    Slot = 4·shoulder + 2·elbow + wrist.
+    """
+    z0, z1, z2, p = _target(T, G)
+    h1, h, h5, h6, e = _row(G, 0), _row(G, 1), _row(G, 4), _row(G, 5), _row(G, 16)
+    a1, a2, a3, a4, w, pM = _row(G, 6), _row(G, 7), _row(G, 8), _row(G, 9), _row(G, 10), _row(G, 12)
+    pw = sub(p, _mul(z0, z1, z2, sub(pM, w)))
+    t1a, t1b, result1 = sp4(h, _neg(h1), sub(pw, a1), dot(h, sub(w, a1)), tol)
+    if result1 == FREE:
+        t1a = t1b = _fixed(fix_joint, fix_value, 0)
+    zh6 = _mul(z0, z1, z2, h6)
+    for s in range(2):
+        if result1 == OUT:
+            _empty(4 * s, 4, 1, status, stage, free)
+            continue
+        t1 = t1a if s == 0 else t1b
+        t5a, t5b, result5 = sp4(h, h5, h6, dot(h, rotate(h1, -t1, zh6)), tol)
+        zt = _mul_t(z0, z1, z2, rotate(h1, t1, h))
+        for wrist in range(2):
+            if result5 == OUT:
+                for el in range(2):
+                    _empty(4 * s + 2 * el + wrist, 1, 3, status, stage, free)
+                continue
+            t5 = t5a if wrist == 0 else t5b
+            t6, reach6 = sp1(h6, zt, rotate(h5, -t5, h))
+            wrist_free = reach6 <= tol
+            if wrist_free:
+                t6 = _fixed(fix_joint, fix_value, 5)
+            image = rotate(h6, -t6, rotate(h5, -t5, e))
+            t234, _ = sp1(h, e, rotate(h1, -t1, _mul(z0, z1, z2, image)))
+            v = sub(sub(rotate(h1, -t1, sub(pw, a1)), sub(a2, a1)), rotate(h, t234, sub(w, a4)))
+            t3a, t3b, elbow = sp3(h, sub(a4, a3), sub(a2, a3), norm(v), tol)
+            for el in range(2):
+                slot = 4 * s + 2 * el + wrist
+                if elbow == OUT:
+                    _empty(slot, 1, 2, status, stage, free)
+                    continue
+                t3 = t3a if el == 0 else t3b
+                u = add(sub(a3, a2), rotate(h, t3, sub(a4, a3)))
+                t2, reach2 = sp1(h, u, v)
+                elbow_free = reach2 <= tol
+                if elbow_free:
+                    t2 = _fixed(fix_joint, fix_value, 1)
+                q[slot, 0], q[slot, 1], q[slot, 2] = t1, t2, t3
+                q[slot, 3], q[slot, 4], q[slot, 5] = t234 - t2 - t3, t5, t6
+                stage[slot] = 0
+                free[slot] = (
+                    0 if result1 == FREE else (5 if wrist_free else (1 if elbow_free else -1))
+                )
+                status[slot] = _status_of(
+                    result1, result5, elbow, 1 if wrist_free else 0, 1 if elbow_free else 0
+                )
+                duplicate = (
+                    (result1 == FREE and s == 1)
+                    or (result5 == FREE and wrist == 1)
+                    or (elbow == FREE and el == 1)
+                )
+                if duplicate:
+                    _empty(slot, 1, 0, status, stage, free)
+
+
+@numba.njit(cache=True)
+def solve_kind(kind, T, G, fix_joint, fix_value, tol):
+    """Run kernel ``kind`` on the 4×4 target ``T``: ``(q, status, free, stage)``."""
+    n_slots = 16 if kind == SPHERICAL else 8
+    q = np.zeros((n_slots, 6))
+    status = np.zeros(n_slots, np.int64)
+    free = np.full(n_slots, -1, np.int64)
+    stage = np.zeros(n_slots, np.int64)
+    if kind == SPHERICAL_TWO_INTERSECTING:
+        spherical_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free, stage)
+    elif kind == SPHERICAL_TWO_PARALLEL:
+        spherical_two_parallel(T, G, fix_joint, fix_value, tol, q, status, free, stage)
+    elif kind == SPHERICAL:
+        spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage)
+    else:
+        three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free, stage)
+    return q, status, free, stage
+
+
+@numba.njit(cache=True)
+def _rotation(k, theta):
+    """Rows of ``rot(k, θ)``."""
+    c, s = math.cos(theta), math.sin(theta)
+    v = 1.0 - c
+    return (
+        (c + k[0] * k[0] * v, k[0] * k[1] * v - k[2] * s, k[0] * k[2] * v + k[1] * s),
+        (k[1] * k[0] * v + k[2] * s, c + k[1] * k[1] * v, k[1] * k[2] * v - k[0] * s),
+        (k[2] * k[0] * v - k[1] * s, k[2] * k[1] * v + k[0] * s, c + k[2] * k[2] * v),
+    )
+
+
+@numba.njit(cache=True)
+def fk_error(G, q, T):
+    """``max(‖p(q) − p‖, max |R(q) − R|)`` for the chain of ``G``."""
+    r0, r1, r2 = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+    p = _row(G, 6)
+    for i in range(6):
+        m0, m1, m2 = _rotation(_row(G, i), q[i])
+        c0, c1, c2 = (m0[0], m1[0], m2[0]), (m0[1], m1[1], m2[1]), (m0[2], m1[2], m2[2])
+        r0, r1, r2 = (
+            (dot(r0, c0), dot(r0, c1), dot(r0, c2)),
+            (dot(r1, c0), dot(r1, c1), dot(r1, c2)),
+            (dot(r2, c0), dot(r2, c1), dot(r2, c2)),
+        )
+        following = _row(G, 12) if i == 5 else _row(G, 7 + i)
+        p = add(p, _mul(r0, r1, r2, sub(following, _row(G, 6 + i))))
+    error = norm(sub(p, (T[0, 3], T[1, 3], T[2, 3])))
+    m = (_row(G, 13), _row(G, 14), _row(G, 15))
+    columns = (
+        (m[0][0], m[1][0], m[2][0]),
+        (m[0][1], m[1][1], m[2][1]),
+        (m[0][2], m[1][2], m[2][2]),
+    )
+    rows = (r0, r1, r2)
+    for i in range(3):
+        for j in range(3):
+            error = max(error, abs(dot(rows[i], columns[j]) - T[i, j]))
+    return error
+
+
+@numba.njit(cache=True)
+def _wrap(angle):
+    wrapped = math.pi - ((math.pi - angle) % (2.0 * math.pi))
+    return wrapped + 2.0 * math.pi if wrapped <= -math.pi else wrapped
+
+
+@numba.njit(cache=True)
+def _inverse(T):
+    """``T⁻¹`` of a rigid transform."""
+    inverse = np.zeros((4, 4))
+    for i in range(3):
+        for j in range(3):
+            inverse[i, j] = T[j, i]
+        inverse[i, 3] = -(T[0, i] * T[0, 3] + T[1, i] * T[1, 3] + T[2, i] * T[2, 3])
+    inverse[3, 3] = 1.0
+    return inverse
+
+
+@numba.njit(cache=True)
+def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
+    """:func:`solve_kind` on the robot's joint order (``reverse``: the chain of ``G`` is the
+    robot's run backwards, solved for ``T⁻¹``), each non-empty slot checked by FK: ``(q,
+    status, free, stage, error)``, q wrapped, a slot whose FK misses by more than
+    ``verify_tol`` emptied (stage 4)."""
+    target = _inverse(T) if reverse else T
+    chain_fix = 5 - fix_joint if reverse and fix_joint >= 0 else fix_joint
+    q, status, free, stage = solve_kind(kind, target, G, chain_fix, fix_value, tol)
+    error = np.full(q.shape[0], np.inf)
+    for slot in range(q.shape[0]):
+        if status[slot] == EMPTY:
+            continue
+        error[slot] = fk_error(G, q[slot], target)
+        if error[slot] > verify_tol:
+            status[slot], stage[slot] = EMPTY, 4
+    if reverse:
+        q = q[:, ::-1].copy()
+        for slot in range(q.shape[0]):
+            if free[slot] >= 0:
+                free[slot] = 5 - free[slot]
+    for slot in range(q.shape[0]):
+        for j in range(6):
+            q[slot, j] = _wrap(q[slot, j])
+    return q, status, free, stage, error
+
+
+@numba.njit(cache=True)
+def solve_raw(kind, reverse, T, G, lower, upper, tol, verify_tol, duplicate_tol):
+    """The fast path: every verified solution within ``[lower, upper]`` (each angle moved by
+    the smallest multiple of 2π that brings it into range), duplicates (within
+    ``duplicate_tol`` per joint, modulo 2π) dropped, as a (k, 6) array in slot order, and 0
+    — or 1 when ``T`` is not a finite rigid transform (the caller raises; nothing solved)."""
+    if not _is_pose(T):
+        return np.empty((0, 6)), 1
+    q, status, _, _, _ = solve_slots(kind, reverse, T, G, -1, 0.0, tol, verify_tol)
+    out = np.empty((q.shape[0], 6))
+    count = 0
+    two_pi = 2.0 * math.pi
+    for slot in range(q.shape[0]):
+        if status[slot] == EMPTY:
+            continue
+        inside = True
+        for j in range(6):
+            value = q[slot, j]
+            turns = min(
+                max(np.ceil((lower[j] - value) / two_pi), 0.0),
+                np.floor((upper[j] - value) / two_pi),
+            )
+            shifted = value + two_pi * turns
+            clipped = min(max(shifted, lower[j]), upper[j])
+            if abs(clipped - shifted) > duplicate_tol:
+                inside = False
+                break
+            out[count, j] = clipped
+        if not inside:
+            continue
+        repeated = False
+        for other in range(count):
+            same = True
+            for j in range(6):
+                if abs(_wrap(out[other, j] - out[count, j])) >= duplicate_tol:
+                    same = False
+                    break
+            if same:
+                repeated = True
+                break
+        if not repeated:
+            count += 1
+    return out[:count], 0
+
+
+@numba.njit(cache=True)
+def _is_pose(T):
+    """Whether ``T`` is finite with bottom row (0, 0, 0, 1) and an orthonormal, det +1
+    rotation block (to :data:`redik.analytic._checks.ORTHONORMAL_TOL`)."""
+    for i in range(4):
+        for j in range(4):
+            if not math.isfinite(T[i, j]):
+                return False
+    if T[3, 0] != 0.0 or T[3, 1] != 0.0 or T[3, 2] != 0.0 or T[3, 3] != 1.0:
+        return False
+    for j in range(3):
+        for k in range(j, 3):
+            product = T[0, j] * T[0, k] + T[1, j] * T[1, k] + T[2, j] * T[2, k]
+            if abs(product - (1.0 if j == k else 0.0)) > ORTHONORMAL_TOL:
+                return False
+    c0 = (T[0, 0], T[1, 0], T[2, 0])
+    c1 = (T[0, 1], T[1, 1], T[2, 1])
+    return dot(cross(c0, c1), (T[0, 2], T[1, 2], T[2, 2])) > 0.0
