@@ -49,6 +49,9 @@ from redik.analytic.subproblems import (
 
 EMPTY, REGULAR, SINGULAR = 0, 1, 2
 
+#: Entries of the ``settings`` array of :func:`solve_raw` (one array keeps the call cheap).
+KIND, REVERSE, TOL, VERIFY, DUPLICATE = range(5)
+
 #: Kernel identifiers (``kind`` of :func:`solve_raw`).
 SPHERICAL_TWO_INTERSECTING, SPHERICAL_TWO_PARALLEL, SPHERICAL, THREE_PARALLEL_TWO_INTERSECTING = (
     range(4)
@@ -425,50 +428,50 @@ def solve_kind(kind, T, G, fix_joint, fix_value, tol):
 
 
 @numba.njit(cache=True)
-def _rotation(k, theta):
-    """Rows of ``rot(k, θ)``."""
-    c, s = math.cos(theta), math.sin(theta)
-    v = 1.0 - c
+def _rotate_cs(k, c, s, p):
+    """``rot(k, θ) p`` for ``c = cos θ``, ``s = sin θ``."""
+    kp = dot(k, p) * (1.0 - c)
     return (
-        (c + k[0] * k[0] * v, k[0] * k[1] * v - k[2] * s, k[0] * k[2] * v + k[1] * s),
-        (k[1] * k[0] * v + k[2] * s, c + k[1] * k[1] * v, k[1] * k[2] * v - k[0] * s),
-        (k[2] * k[0] * v - k[1] * s, k[2] * k[1] * v + k[0] * s, c + k[2] * k[2] * v),
+        p[0] * c + (k[1] * p[2] - k[2] * p[1]) * s + k[0] * kp,
+        p[1] * c + (k[2] * p[0] - k[0] * p[2]) * s + k[1] * kp,
+        p[2] * c + (k[0] * p[1] - k[1] * p[0]) * s + k[2] * kp,
     )
 
 
 @numba.njit(cache=True)
 def fk_error(G, q, T):
-    """``max(‖p(q) − p‖, max |R(q) − R|)`` for the chain of ``G``."""
-    r0, r1, r2 = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
-    p = _row(G, 6)
-    for i in range(6):
-        m0, m1, m2 = _rotation(_row(G, i), q[i])
-        c0, c1, c2 = (m0[0], m1[0], m2[0]), (m0[1], m1[1], m2[1]), (m0[2], m1[2], m2[2])
-        r0, r1, r2 = (
-            (dot(r0, c0), dot(r0, c1), dot(r0, c2)),
-            (dot(r1, c0), dot(r1, c1), dot(r1, c2)),
-            (dot(r2, c0), dot(r2, c1), dot(r2, c2)),
-        )
-        following = _row(G, 12) if i == 5 else _row(G, 7 + i)
-        p = add(p, _mul(r0, r1, r2, sub(following, _row(G, 6 + i))))
+    """``max(‖p(q) − p‖, max |R(q) − R| over the first two columns)`` for the chain of ``G``
+    (the third column of a rotation follows from the first two).
+
+    Evaluated from the tip inwards, :math:`p = a_1 + R_1(a_2 - a_1 + R_2(⋯ + R_6(p_M - a_6)))`
+    and :math:`R\,\hat x = R_1(⋯ R_6 (R_M \hat x))`, three vectors rotated per joint.
+    """
+    p = sub(_row(G, 12), _row(G, 11))
+    x = (G[13, 0], G[14, 0], G[15, 0])
+    y = (G[13, 1], G[14, 1], G[15, 1])
+    for i in range(5, -1, -1):
+        k = _row(G, i)
+        c, s = math.cos(q[i]), math.sin(q[i])
+        p = _rotate_cs(k, c, s, p)
+        x = _rotate_cs(k, c, s, x)
+        y = _rotate_cs(k, c, s, y)
+        if i > 0:
+            p = add(p, sub(_row(G, 6 + i), _row(G, 5 + i)))
+    p = add(p, _row(G, 6))
     error = norm(sub(p, (T[0, 3], T[1, 3], T[2, 3])))
-    m = (_row(G, 13), _row(G, 14), _row(G, 15))
-    columns = (
-        (m[0][0], m[1][0], m[2][0]),
-        (m[0][1], m[1][1], m[2][1]),
-        (m[0][2], m[1][2], m[2][2]),
-    )
-    rows = (r0, r1, r2)
     for i in range(3):
-        for j in range(3):
-            error = max(error, abs(dot(rows[i], columns[j]) - T[i, j]))
+        error = max(error, max(abs(x[i] - T[i, 0]), abs(y[i] - T[i, 1])))
     return error
 
 
 @numba.njit(cache=True)
 def _wrap(angle):
-    wrapped = math.pi - ((math.pi - angle) % (2.0 * math.pi))
-    return wrapped + 2.0 * math.pi if wrapped <= -math.pi else wrapped
+    """``angle`` wrapped to (−π, π] (kernel angles are within a few turns of it)."""
+    while angle > math.pi:
+        angle -= 2.0 * math.pi
+    while angle <= -math.pi:
+        angle += 2.0 * math.pi
+    return angle
 
 
 @numba.njit(cache=True)
@@ -511,11 +514,15 @@ def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
 
 
 @numba.njit(cache=True)
-def solve_raw(kind, reverse, T, G, lower, upper, tol, verify_tol, duplicate_tol):
-    """The fast path: every verified solution within ``[lower, upper]`` (each angle moved by
+def solve_raw(T, G, bounds, settings):
+    """The fast path: every verified solution within ``bounds`` = (lower, upper) rows (each
+    angle moved by
     the smallest multiple of 2π that brings it into range), duplicates (within
     ``duplicate_tol`` per joint, modulo 2π) dropped, as a (k, 6) array in slot order, and 0
     — or 1 when ``T`` is not a finite rigid transform (the caller raises; nothing solved)."""
+    kind, reverse = int(settings[KIND]), settings[REVERSE] != 0.0
+    tol, verify_tol, duplicate_tol = settings[TOL], settings[VERIFY], settings[DUPLICATE]
+    lower, upper = bounds[0], bounds[1]
     if not _is_pose(T):
         return np.empty((0, 6)), 1
     q, status, _, _, _ = solve_slots(kind, reverse, T, G, -1, 0.0, tol, verify_tol)

@@ -39,6 +39,7 @@ subproblem leaves a joint arbitrary (a singularity).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -253,18 +254,15 @@ class DecomposedSolver:
         ``(lower, upper)``), duplicates dropped, in slot order. No labels or families."""
         if not (isinstance(T, np.ndarray) and T.shape == (4, 4) and T.dtype == np.float64):
             T = _checks.pose(T, "target")
-        lower, upper = self._limits(limits)
-        q, code = kernels.solve_raw(
-            KINDS.index(self.kind),
-            self.reversed,
-            T,
-            self.geometry,
-            lower,
-            upper,
-            tol,
-            VERIFY_TOL,
-            DUPLICATE_TOL,
-        )
+        if isinstance(limits, str) and limits == "robot":
+            bounds = self._bounds
+        else:
+            bounds = np.array(self._limits(limits))
+        settings = self._settings
+        if tol != DEFAULT_TOL:
+            settings = settings.copy()
+            settings[kernels.TOL] = _checks.length(tol, "tol", allow_zero=True)
+        q, code = kernels.solve_raw(T, self.geometry, bounds, settings)
         if code:
             _checks.pose(T, "target")  # raises the error that names what is wrong
         return q
@@ -290,6 +288,21 @@ class DecomposedSolver:
             return unreachable(6, f"no branch reaches the target: {_STAGES.get(worst, '')}")
         bounded = np.isfinite(lower).any() or np.isfinite(upper).any()
         return finalize(candidates, 6, REVOLUTE, (lower, upper) if bounded else None)
+
+    @cached_property
+    def _bounds(self) -> np.ndarray:
+        """The default limits as the (2, 6) array :func:`._decomposed_kernels.solve_raw` takes."""
+        return np.array([self.lower, self.upper])
+
+    @cached_property
+    def _settings(self) -> np.ndarray:
+        settings = np.zeros(5)
+        settings[kernels.KIND] = KINDS.index(self.kind)
+        settings[kernels.REVERSE] = float(self.reversed)
+        settings[kernels.TOL] = DEFAULT_TOL
+        settings[kernels.VERIFY] = VERIFY_TOL
+        settings[kernels.DUPLICATE] = DUPLICATE_TOL
+        return settings
 
     def _singular(
         self, T: np.ndarray, q: np.ndarray, status: int, free: int, slot: int
