@@ -84,7 +84,11 @@ def _fixed(fix_joint, fix_value, joint):
 def _target(T, G):
     """``(Z rows, p)`` with ``Z = R R_Mᵀ``."""
     m0, m1, m2 = _row(G, 13), _row(G, 14), _row(G, 15)
-    r0, r1, r2 = (T[0, 0], T[0, 1], T[0, 2]), (T[1, 0], T[1, 1], T[1, 2]), (T[2, 0], T[2, 1], T[2, 2])
+    r0, r1, r2 = (
+        (T[0, 0], T[0, 1], T[0, 2]),
+        (T[1, 0], T[1, 1], T[1, 2]),
+        (T[2, 0], T[2, 1], T[2, 2]),
+    )
     return (
         (dot(r0, m0), dot(r0, m1), dot(r0, m2)),
         (dot(r1, m0), dot(r1, m1), dot(r1, m2)),
@@ -198,7 +202,9 @@ def spherical_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free,
             free[slot] = -1 if which == 0 else which - 1
             t1, t2 = (t1a, t2a) if s == 0 else (t1b, t2b)
             pos = _status_of(elbow, shoulder)
-            _wrist(G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free, stage, pos)
+            _wrist(
+                G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free, stage, pos
+            )
             if shoulder == FREE and s == 1:
                 _empty(slot, 2, 0, status, stage, free)
 
@@ -250,7 +256,9 @@ def spherical_two_parallel(T, G, fix_joint, fix_value, tol, q, status, free, sta
                 t2 = _fixed(fix_joint, fix_value, 1)
             free[slot] = 0 if shoulder == FREE else (1 if elbow_free else -1)
             pos = _status_of(shoulder, elbow, 1 if elbow_free else 0)
-            _wrist(G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free, stage, pos)
+            _wrist(
+                G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free, stage, pos
+            )
             if (shoulder == FREE and s == 1) or (elbow == FREE and e == 1):
                 _empty(slot, 2, 0, status, stage, free)
 
@@ -440,7 +448,7 @@ def _rotate_cs(k, c, s, p):
 
 @numba.njit(cache=True)
 def fk_error(G, q, T):
-    """``max(‖p(q) − p‖, max |R(q) − R| over the first two columns)`` for the chain of ``G``
+    r"""``max(‖p(q) − p‖, max |R(q) − R| over the first two columns)`` for the chain of ``G``
     (the third column of a rotation follows from the first two).
 
     Evaluated from the tip inwards, :math:`p = a_1 + R_1(a_2 - a_1 + R_2(⋯ + R_6(p_M - a_6)))`

@@ -173,9 +173,7 @@ def _classify_chain(chain: Chain) -> tuple[int, np.ndarray] | None:
     elbows_parallel = _parallel(chain, 1, 2) and _parallel(chain, 2, 3)
     if elbows_parallel and not (_parallel(chain, 0, 1) or _parallel(chain, 4, 1)):
         wrist = _meeting_point(chain, 4, 5)
-        distinct = all(
-            not _on_axis(chain, i, chain.a[j]) for i, j in ((1, 2), (2, 3))
-        )
+        distinct = all(not _on_axis(chain, i, chain.a[j]) for i, j in ((1, 2), (2, 3)))
         if wrist is not None and distinct:
             points[4:6] = wrist
             return kernels.THREE_PARALLEL_TWO_INTERSECTING, _pack(chain, points, chain.h[1])
@@ -326,7 +324,9 @@ class DecomposedSolver:
     def _limits(self, limits: Any) -> tuple[np.ndarray, np.ndarray]:
         if isinstance(limits, str):
             if limits != "robot":
-                raise InvalidInput(f"limits must be 'robot', None or (lower, upper), got {limits!r}")
+                raise InvalidInput(
+                    f"limits must be 'robot', None or (lower, upper), got {limits!r}"
+                )
             return self.lower, self.upper
         if limits is None:
             return _UNBOUNDED
@@ -410,4 +410,3 @@ def solver_from_robot(robot: Robot) -> DecomposedSolver:
         )
     S, M = screws_of(robot)
     return decomposed_solver(S, M, robot.lower, robot.upper)
-
