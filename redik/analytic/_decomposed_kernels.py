@@ -39,6 +39,7 @@ from redik.analytic.subproblems import (
     dot,
     norm,
     rotate,
+    rotate_cs,
     scale,
     sp1,
     sp2,
@@ -49,8 +50,11 @@ from redik.analytic.subproblems import (
 
 EMPTY, REGULAR, SINGULAR = 0, 1, 2
 
-#: Entries of the ``settings`` array of :func:`solve_raw` (one array keeps the call cheap).
+#: Settings at the end of the ``plan`` array of :func:`solve_raw`.
 KIND, REVERSE, TOL, VERIFY, DUPLICATE = range(5)
+
+#: Entries of the packed geometry at the start of a ``plan`` (17 rows of 3).
+GEOMETRY_SIZE = 51
 
 #: Kernel identifiers (``kind`` of :func:`solve_raw`).
 SPHERICAL_TWO_INTERSECTING, SPHERICAL_TWO_PARALLEL, SPHERICAL, THREE_PARALLEL_TWO_INTERSECTING = (
@@ -121,8 +125,11 @@ def _wrist(G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free
     """
     h1, h2, h3 = _row(G, 0), _row(G, 1), _row(G, 2)
     h4, h5, h6, e = _row(G, 3), _row(G, 4), _row(G, 5), _row(G, 16)
-    zw = rotate(h3, -t3, rotate(h2, -t2, rotate(h1, -t1, z)))
-    yw = rotate(h3, -t3, rotate(h2, -t2, rotate(h1, -t1, y)))
+    c1, s1 = math.cos(t1), -math.sin(t1)
+    c2, s2 = math.cos(t2), -math.sin(t2)
+    c3, s3 = math.cos(t3), -math.sin(t3)
+    zw = rotate_cs(h3, c3, s3, rotate_cs(h2, c2, s2, rotate_cs(h1, c1, s1, z)))
+    yw = rotate_cs(h3, c3, s3, rotate_cs(h2, c2, s2, rotate_cs(h1, c1, s1, y)))
     t4a, t5a, t4b, t5b, result, which = sp2(
         _neg(h4), zw, h5, h6, _fixed(fix_joint, fix_value, 3), 0.0, tol
     )
@@ -371,21 +378,24 @@ def three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, 
             _empty(4 * s, 4, 1, status, stage, free)
             continue
         t1 = t1a if s == 0 else t1b
-        t5a, t5b, result5 = sp4(h, h5, h6, dot(h, rotate(h1, -t1, zh6)), tol)
-        zt = _mul_t(z0, z1, z2, rotate(h1, t1, h))
+        c1, s1 = math.cos(t1), math.sin(t1)
+        t5a, t5b, result5 = sp4(h, h5, h6, dot(h, rotate_cs(h1, c1, -s1, zh6)), tol)
+        zt = _mul_t(z0, z1, z2, rotate_cs(h1, c1, s1, h))
+        arm = sub(rotate_cs(h1, c1, -s1, sub(pw, a1)), sub(a2, a1))
         for wrist in range(2):
             if result5 == OUT:
                 for el in range(2):
                     _empty(4 * s + 2 * el + wrist, 1, 3, status, stage, free)
                 continue
             t5 = t5a if wrist == 0 else t5b
-            t6, reach6 = sp1(h6, zt, rotate(h5, -t5, h))
+            c5, s5 = math.cos(t5), -math.sin(t5)
+            t6, reach6 = sp1(h6, zt, rotate_cs(h5, c5, s5, h))
             wrist_free = reach6 <= tol
             if wrist_free:
                 t6 = _fixed(fix_joint, fix_value, 5)
-            image = rotate(h6, -t6, rotate(h5, -t5, e))
-            t234, _ = sp1(h, e, rotate(h1, -t1, _mul(z0, z1, z2, image)))
-            v = sub(sub(rotate(h1, -t1, sub(pw, a1)), sub(a2, a1)), rotate(h, t234, sub(w, a4)))
+            image = rotate(h6, -t6, rotate_cs(h5, c5, s5, e))
+            t234, _ = sp1(h, e, rotate_cs(h1, c1, -s1, _mul(z0, z1, z2, image)))
+            v = sub(arm, rotate(h, t234, sub(w, a4)))
             t3a, t3b, elbow = sp3(h, sub(a4, a3), sub(a2, a3), norm(v), tol)
             for el in range(2):
                 slot = 4 * s + 2 * el + wrist
@@ -421,9 +431,9 @@ def solve_kind(kind, T, G, fix_joint, fix_value, tol):
     """Run kernel ``kind`` on the 4×4 target ``T``: ``(q, status, free, stage)``."""
     n_slots = 16 if kind == SPHERICAL else 8
     q = np.zeros((n_slots, 6))
-    status = np.zeros(n_slots, np.int64)
-    free = np.full(n_slots, -1, np.int64)
-    stage = np.zeros(n_slots, np.int64)
+    flags = np.zeros((3, n_slots), np.int64)
+    status, free, stage = flags[0], flags[1], flags[2]
+    free[:] = -1
     if kind == SPHERICAL_TWO_INTERSECTING:
         spherical_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free, stage)
     elif kind == SPHERICAL_TWO_PARALLEL:
@@ -436,20 +446,10 @@ def solve_kind(kind, T, G, fix_joint, fix_value, tol):
 
 
 @numba.njit(cache=True)
-def _rotate_cs(k, c, s, p):
-    """``rot(k, θ) p`` for ``c = cos θ``, ``s = sin θ``."""
-    kp = dot(k, p) * (1.0 - c)
-    return (
-        p[0] * c + (k[1] * p[2] - k[2] * p[1]) * s + k[0] * kp,
-        p[1] * c + (k[2] * p[0] - k[0] * p[2]) * s + k[1] * kp,
-        p[2] * c + (k[0] * p[1] - k[1] * p[0]) * s + k[2] * kp,
-    )
-
-
-@numba.njit(cache=True)
-def fk_error(G, q, T):
+def fk_error(G, cosines, sines, T):
     r"""``max(‖p(q) − p‖, max |R(q) − R| over the first two columns)`` for the chain of ``G``
-    (the third column of a rotation follows from the first two).
+    at the joint angles whose cosines and sines are given (the third column of a rotation
+    follows from the first two).
 
     Evaluated from the tip inwards, :math:`p = a_1 + R_1(a_2 - a_1 + R_2(⋯ + R_6(p_M - a_6)))`
     and :math:`R\,\hat x = R_1(⋯ R_6 (R_M \hat x))`, three vectors rotated per joint.
@@ -459,10 +459,10 @@ def fk_error(G, q, T):
     y = (G[13, 1], G[14, 1], G[15, 1])
     for i in range(5, -1, -1):
         k = _row(G, i)
-        c, s = math.cos(q[i]), math.sin(q[i])
-        p = _rotate_cs(k, c, s, p)
-        x = _rotate_cs(k, c, s, x)
-        y = _rotate_cs(k, c, s, y)
+        c, s = cosines[i], sines[i]
+        p = rotate_cs(k, c, s, p)
+        x = rotate_cs(k, c, s, x)
+        y = rotate_cs(k, c, s, y)
         if i > 0:
             p = add(p, sub(_row(G, 6 + i), _row(G, 5 + i)))
     p = add(p, _row(G, 6))
@@ -498,17 +498,23 @@ def _inverse(T):
 def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
     """:func:`solve_kind` on the robot's joint order (``reverse``: the chain of ``G`` is the
     robot's run backwards, solved for ``T⁻¹``), each non-empty slot checked by FK: ``(q,
-    status, free, stage, error)``, q wrapped, a slot whose FK misses by more than
+    status, free, stage)``, q wrapped, a slot whose FK misses by more than
     ``verify_tol`` emptied (stage 4)."""
     target = _inverse(T) if reverse else T
     chain_fix = 5 - fix_joint if reverse and fix_joint >= 0 else fix_joint
     q, status, free, stage = solve_kind(kind, target, G, chain_fix, fix_value, tol)
-    error = np.full(q.shape[0], np.inf)
+    # Slots share joint values (θ1 across a shoulder branch, …): keep each joint's last
+    # cosine and sine.
+    trigonometry = np.full((3, 6), np.nan)
+    angles, cosines, sines = trigonometry[0], trigonometry[1], trigonometry[2]
     for slot in range(q.shape[0]):
         if status[slot] == EMPTY:
             continue
-        error[slot] = fk_error(G, q[slot], target)
-        if error[slot] > verify_tol:
+        for j in range(6):
+            if q[slot, j] != angles[j]:
+                angles[j] = q[slot, j]
+                cosines[j], sines[j] = math.cos(angles[j]), math.sin(angles[j])
+        if fk_error(G, cosines, sines, target) > verify_tol:
             status[slot], stage[slot] = EMPTY, 4
     if reverse:
         q = q[:, ::-1].copy()
@@ -518,23 +524,30 @@ def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
     for slot in range(q.shape[0]):
         for j in range(6):
             q[slot, j] = _wrap(q[slot, j])
-    return q, status, free, stage, error
+    return q, status, free, stage
 
 
 @numba.njit(cache=True)
-def solve_raw(T, G, bounds, settings):
-    """The fast path: every verified solution within ``bounds`` = (lower, upper) rows (each
-    angle moved by
-    the smallest multiple of 2π that brings it into range), duplicates (within
-    ``duplicate_tol`` per joint, modulo 2π) dropped, as a (k, 6) array in slot order, and 0
-    — or 1 when ``T`` is not a finite rigid transform (the caller raises; nothing solved)."""
+def solve_raw(T, plan):
+    """The fast path: every verified solution within the limits (each angle moved by the
+    smallest multiple of 2π that brings it into range), duplicates (within the duplicate
+    tolerance per joint, modulo 2π) dropped, as a (k, 6) array in slot order — or a (0, 0)
+    array when ``T`` is not a finite rigid transform (the caller raises; nothing is solved).
+
+    ``plan`` packs everything but the target into one array (one argument keeps the call
+    cheap): the (17, 3) geometry ``G`` row by row, the lower and upper limits, then the
+    settings (:data:`KIND`, :data:`REVERSE`, :data:`TOL`, :data:`VERIFY`, :data:`DUPLICATE`).
+    """
+    G = plan[:GEOMETRY_SIZE].reshape(17, 3)
+    lower = plan[GEOMETRY_SIZE : GEOMETRY_SIZE + 6]
+    upper = plan[GEOMETRY_SIZE + 6 : GEOMETRY_SIZE + 12]
+    settings = plan[GEOMETRY_SIZE + 12 :]
     kind, reverse = int(settings[KIND]), settings[REVERSE] != 0.0
     tol, verify_tol, duplicate_tol = settings[TOL], settings[VERIFY], settings[DUPLICATE]
-    lower, upper = bounds[0], bounds[1]
     if not _is_pose(T):
-        return np.empty((0, 6)), 1
-    q, status, _, _, _ = solve_slots(kind, reverse, T, G, -1, 0.0, tol, verify_tol)
-    out = np.empty((q.shape[0], 6))
+        return np.empty((0, 0))
+    q, status, _, _ = solve_slots(kind, reverse, T, G, -1, 0.0, tol, verify_tol)
+    out = q  # compacted in place: row ``count`` ≤ ``slot`` is written after ``slot`` is read
     count = 0
     two_pi = 2.0 * math.pi
     for slot in range(q.shape[0]):
@@ -567,7 +580,7 @@ def solve_raw(T, G, bounds, settings):
                 break
         if not repeated:
             count += 1
-    return out[:count], 0
+    return out[:count]
 
 
 @numba.njit(cache=True)

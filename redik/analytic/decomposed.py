@@ -250,18 +250,18 @@ class DecomposedSolver:
         """Every solution as a (k, 6) array, compiled end to end: verified by FK, wrapped to
         (−π, π] (or moved by 2π into the limits), within ``limits`` (``"robot"``, None or
         ``(lower, upper)``), duplicates dropped, in slot order. No labels or families."""
-        if not (isinstance(T, np.ndarray) and T.shape == (4, 4) and T.dtype == np.float64):
+        if T.__class__ is not np.ndarray or T.shape != (4, 4) or T.dtype != np.float64:
             T = _checks.pose(T, "target")
-        if isinstance(limits, str) and limits == "robot":
-            bounds = self._bounds
+        if tol != DEFAULT_TOL or not (limits is None or limits.__class__ is str):
+            plan = self._plan(self._limits(limits), _checks.length(tol, "tol", allow_zero=True))
+        elif limits is None:
+            plan = self._unbounded_plan
+        elif limits == "robot":
+            plan = self._robot_plan
         else:
-            bounds = np.array(self._limits(limits))
-        settings = self._settings
-        if tol != DEFAULT_TOL:
-            settings = settings.copy()
-            settings[kernels.TOL] = _checks.length(tol, "tol", allow_zero=True)
-        q, code = kernels.solve_raw(T, self.geometry, bounds, settings)
-        if code:
+            raise InvalidInput(f"limits must be 'robot', None or (lower, upper), got {limits!r}")
+        q = kernels.solve_raw(T, plan)
+        if q.shape[1] == 0:
             _checks.pose(T, "target")  # raises the error that names what is wrong
         return q
 
@@ -273,7 +273,7 @@ class DecomposedSolver:
         T = _checks.pose(target, "target")
         lower, upper = self._limits(limits)
         kind = KINDS.index(self.kind)
-        q, status, free, stage, _ = kernels.solve_slots(
+        q, status, free, stage = kernels.solve_slots(
             kind, self.reversed, T, self.geometry, -1, 0.0, tol, VERIFY_TOL
         )
         labels = self.labels
@@ -287,20 +287,23 @@ class DecomposedSolver:
         bounded = np.isfinite(lower).any() or np.isfinite(upper).any()
         return finalize(candidates, 6, REVOLUTE, (lower, upper) if bounded else None)
 
-    @cached_property
-    def _bounds(self) -> np.ndarray:
-        """The default limits as the (2, 6) array :func:`._decomposed_kernels.solve_raw` takes."""
-        return np.array([self.lower, self.upper])
-
-    @cached_property
-    def _settings(self) -> np.ndarray:
+    def _plan(self, limits: tuple[np.ndarray, np.ndarray], tol: float) -> np.ndarray:
+        """The ``plan`` array of :func:`._decomposed_kernels.solve_raw`."""
         settings = np.zeros(5)
         settings[kernels.KIND] = KINDS.index(self.kind)
         settings[kernels.REVERSE] = float(self.reversed)
-        settings[kernels.TOL] = DEFAULT_TOL
+        settings[kernels.TOL] = tol
         settings[kernels.VERIFY] = VERIFY_TOL
         settings[kernels.DUPLICATE] = DUPLICATE_TOL
-        return settings
+        return np.concatenate([self.geometry.ravel(), limits[0], limits[1], settings])
+
+    @cached_property
+    def _robot_plan(self) -> np.ndarray:
+        return self._plan((self.lower, self.upper), DEFAULT_TOL)
+
+    @cached_property
+    def _unbounded_plan(self) -> np.ndarray:
+        return self._plan(_UNBOUNDED, DEFAULT_TOL)
 
     def _singular(
         self, T: np.ndarray, q: np.ndarray, status: int, free: int, slot: int

@@ -74,16 +74,20 @@ def perp(k, p):
 
 
 @numba.njit(cache=True)
-def rotate(k, theta, p):
-    """``rot(k, θ) p`` by Rodrigues' formula."""
-    c, s = math.cos(theta), math.sin(theta)
+def rotate_cs(k, c, s, p):
+    """``rot(k, θ) p`` for ``c = cos θ``, ``s = sin θ`` (Rodrigues' formula)."""
     kp = dot(k, p) * (1.0 - c)
-    kxp = cross(k, p)
     return (
-        p[0] * c + kxp[0] * s + k[0] * kp,
-        p[1] * c + kxp[1] * s + k[1] * kp,
-        p[2] * c + kxp[2] * s + k[2] * kp,
+        p[0] * c + (k[1] * p[2] - k[2] * p[1]) * s + k[0] * kp,
+        p[1] * c + (k[2] * p[0] - k[0] * p[2]) * s + k[1] * kp,
+        p[2] * c + (k[0] * p[1] - k[1] * p[0]) * s + k[2] * kp,
     )
+
+
+@numba.njit(cache=True)
+def rotate(k, theta, p):
+    """``rot(k, θ) p``."""
+    return rotate_cs(k, math.cos(theta), math.sin(theta), p)
 
 
 @numba.njit(cache=True)
