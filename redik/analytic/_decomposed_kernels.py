@@ -42,9 +42,12 @@ from redik.analytic.subproblems import (
     rotate_cs,
     scale,
     sp1,
-    sp2,
+    sp1_cs,
+    sp2_cs,
     sp3,
+    sp3_cs,
     sp4,
+    sp4_cs,
     sub,
 )
 
@@ -114,10 +117,11 @@ def _mul_t(z0, z1, z2, v):
 
 
 @numba.njit(cache=True)
-def _wrist(G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free, stage, pos):
+def _wrist(G, z, y, t, cs, fix_joint, fix_value, tol, slot, q, status, free, stage, pos):
     r"""Fill slots ``slot`` (noflip) and ``slot + 1`` (flip) of a spherical wrist after the arm
-    angles ``t1, t2, t3`` (``pos`` = the arm's status: REGULAR or SINGULAR, ``free`` already
-    set for an arm singularity).
+    angles ``t = (θ1, θ2, θ3)`` with cosines and sines ``cs = (c1, s1, c2, s2, c3, s3)``
+    (``pos`` = the arm's status: REGULAR or SINGULAR, ``free`` already set for an arm
+    singularity).
 
     :math:`R_{36} = R_3^\top R_2^\top R_1^\top Z = R_4 R_5 R_6`, so
     ``rot(−h4, θ4) R36 h6 = rot(h5, θ5) h6`` (SP2) and ``rot(h6, θ6) e = R5ᵀ R4ᵀ R36 e`` (SP1)
@@ -125,12 +129,10 @@ def _wrist(G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free
     """
     h1, h2, h3 = _row(G, 0), _row(G, 1), _row(G, 2)
     h4, h5, h6, e = _row(G, 3), _row(G, 4), _row(G, 5), _row(G, 16)
-    c1, s1 = math.cos(t1), -math.sin(t1)
-    c2, s2 = math.cos(t2), -math.sin(t2)
-    c3, s3 = math.cos(t3), -math.sin(t3)
-    zw = rotate_cs(h3, c3, s3, rotate_cs(h2, c2, s2, rotate_cs(h1, c1, s1, z)))
-    yw = rotate_cs(h3, c3, s3, rotate_cs(h2, c2, s2, rotate_cs(h1, c1, s1, y)))
-    t4a, t5a, t4b, t5b, result, which = sp2(
+    c1, s1, c2, s2, c3, s3 = cs
+    zw = rotate_cs(h3, c3, -s3, rotate_cs(h2, c2, -s2, rotate_cs(h1, c1, -s1, z)))
+    yw = rotate_cs(h3, c3, -s3, rotate_cs(h2, c2, -s2, rotate_cs(h1, c1, -s1, y)))
+    t4a, t5a, t4b, t5b, result, which, trig = sp2_cs(
         _neg(h4), zw, h5, h6, _fixed(fix_joint, fix_value, 3), 0.0, tol
     )
     arm_free = free[slot]
@@ -138,8 +140,11 @@ def _wrist(G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free
         index = slot + branch
         t4 = t4a if branch == 0 else t4b
         t5 = t5a if branch == 0 else t5b
-        t6, _ = sp1(h6, e, rotate(h5, -t5, rotate(h4, -t4, yw)))
-        q[index, 0], q[index, 1], q[index, 2] = t1, t2, t3
+        # θ4 is an angle about −h4: R4ᵀ = rot(−h4, θ4).
+        c4, s4 = trig[4 * branch], trig[4 * branch + 1]
+        c5, s5 = trig[4 * branch + 2], trig[4 * branch + 3]
+        t6, _ = sp1(h6, e, rotate_cs(h5, c5, -s5, rotate_cs(h4, c4, -s4, yw)))
+        q[index, 0], q[index, 1], q[index, 2] = t[0], t[1], t[2]
         q[index, 3], q[index, 4], q[index, 5] = t4, t5, t6
         free[index] = arm_free
         if result == OUT:
@@ -184,15 +189,16 @@ def spherical_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free,
     pw = sub(p, _mul(z0, z1, z2, sub(pM, w)))
     z = _mul(z0, z1, z2, _row(G, 5))
     y = _mul(z0, z1, z2, _row(G, 16))
-    t3a, t3b, elbow = sp3(h3, sub(w, a3), sub(o, a3), norm(sub(pw, o)), tol)
+    t3a, t3b, elbow, c3a, s3a, c3b, s3b = sp3_cs(h3, sub(w, a3), sub(o, a3), norm(sub(pw, o)), tol)
     for e in range(2):
-        t3 = t3a if e == 0 else t3b
+        t3, c3, s3 = (t3a, c3a, s3a) if e == 0 else (t3b, c3b, s3b)
         if elbow == OUT:
             _empty(2 * e, 2, 2, status, stage, free)
             _empty(4 + 2 * e, 2, 2, status, stage, free)
             continue
-        u = add(sub(a3, o), rotate(h3, t3, sub(w, a3)))
-        t1a, t2a, t1b, t2b, shoulder, which = sp2(
+        u = add(sub(a3, o), rotate_cs(h3, c3, s3, sub(w, a3)))
+        # θ1 is the angle about −h1 here: rot(−h1, θ1) = R1ᵀ.
+        t1a, t2a, t1b, t2b, shoulder, which, trig = sp2_cs(
             _neg(h1),
             sub(pw, o),
             h2,
@@ -208,9 +214,23 @@ def spherical_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free,
                 continue
             free[slot] = -1 if which == 0 else which - 1
             t1, t2 = (t1a, t2a) if s == 0 else (t1b, t2b)
+            c1, s1, c2, s2 = trig[4 * s], trig[4 * s + 1], trig[4 * s + 2], trig[4 * s + 3]
             pos = _status_of(elbow, shoulder)
             _wrist(
-                G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free, stage, pos
+                G,
+                z,
+                y,
+                (t1, t2, t3),
+                (c1, s1, c2, s2, c3, s3),
+                fix_joint,
+                fix_value,
+                tol,
+                slot,
+                q,
+                status,
+                free,
+                stage,
+                pos,
             )
             if shoulder == FREE and s == 1:
                 _empty(slot, 2, 0, status, stage, free)
@@ -248,23 +268,38 @@ def spherical_two_parallel(T, G, fix_joint, fix_value, tol, q, status, free, sta
             _empty(4 * s, 4, 1, status, stage, free)
             continue
         t1 = t1a if s == 0 else t1b
-        v = sub(rotate(h1, -t1, sub(pw, a1)), sub(a2, a1))
-        t3a, t3b, elbow = sp3(h3, sub(w, a3), sub(a2, a3), norm(v), tol)
+        c1, s1 = math.cos(t1), math.sin(t1)
+        v = sub(rotate_cs(h1, c1, -s1, sub(pw, a1)), sub(a2, a1))
+        t3a, t3b, elbow, c3a, s3a, c3b, s3b = sp3_cs(h3, sub(w, a3), sub(a2, a3), norm(v), tol)
         for e in range(2):
             slot = 4 * s + 2 * e
             if elbow == OUT:
                 _empty(slot, 2, 2, status, stage, free)
                 continue
-            t3 = t3a if e == 0 else t3b
-            u = add(sub(a3, a2), rotate(h3, t3, sub(w, a3)))
-            t2, reach = sp1(h2, u, v)
+            t3, c3, s3 = (t3a, c3a, s3a) if e == 0 else (t3b, c3b, s3b)
+            u = add(sub(a3, a2), rotate_cs(h3, c3, s3, sub(w, a3)))
+            t2, c2, s2, reach = sp1_cs(h2, u, v)
             elbow_free = reach <= tol
             if elbow_free:
                 t2 = _fixed(fix_joint, fix_value, 1)
+                c2, s2 = math.cos(t2), math.sin(t2)
             free[slot] = 0 if shoulder == FREE else (1 if elbow_free else -1)
             pos = _status_of(shoulder, elbow, 1 if elbow_free else 0)
             _wrist(
-                G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free, stage, pos
+                G,
+                z,
+                y,
+                (t1, t2, t3),
+                (c1, s1, c2, s2, c3, s3),
+                fix_joint,
+                fix_value,
+                tol,
+                slot,
+                q,
+                status,
+                free,
+                stage,
+                pos,
             )
             if (shoulder == FREE and s == 1) or (elbow == FREE and e == 1):
                 _empty(slot, 2, 0, status, stage, free)
@@ -345,7 +380,10 @@ def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
         slot = 2 * index
         free[slot] = -1
         pos = _status_of(0 if elbow != BOUNDARY else 1)
-        _wrist(G, z, y, t1, t2, t3, fix_joint, fix_value, tol, slot, q, status, free, stage, pos)
+        cs = (math.cos(t1), math.sin(t1), math.cos(t2), math.sin(t2), math.cos(t3), math.sin(t3))
+        _wrist(
+            G, z, y, (t1, t2, t3), cs, fix_joint, fix_value, tol, slot, q, status, free, stage, pos
+        )
 
 
 @numba.njit(cache=True)
@@ -369,17 +407,23 @@ def three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, 
     h1, h, h5, h6, e = _row(G, 0), _row(G, 1), _row(G, 4), _row(G, 5), _row(G, 16)
     a1, a2, a3, a4, w, pM = _row(G, 6), _row(G, 7), _row(G, 8), _row(G, 9), _row(G, 10), _row(G, 12)
     pw = sub(p, _mul(z0, z1, z2, sub(pM, w)))
-    t1a, t1b, result1 = sp4(h, _neg(h1), sub(pw, a1), dot(h, sub(w, a1)), tol)
+    # Cosines and sines come with each root (sp*_cs), saving a call to cos and sin per use.
+    t1a, t1b, result1, c1a, s1a, c1b, s1b = sp4_cs(
+        h, _neg(h1), sub(pw, a1), dot(h, sub(w, a1)), tol
+    )
     if result1 == FREE:
         t1a = t1b = _fixed(fix_joint, fix_value, 0)
+        c1a = c1b = math.cos(t1a)
+        s1a = s1b = math.sin(t1a)
     zh6 = _mul(z0, z1, z2, h6)
     for s in range(2):
         if result1 == OUT:
             _empty(4 * s, 4, 1, status, stage, free)
             continue
-        t1 = t1a if s == 0 else t1b
-        c1, s1 = math.cos(t1), math.sin(t1)
-        t5a, t5b, result5 = sp4(h, h5, h6, dot(h, rotate_cs(h1, c1, -s1, zh6)), tol)
+        t1, c1, s1 = (t1a, c1a, s1a) if s == 0 else (t1b, c1b, s1b)
+        t5a, t5b, result5, c5a, s5a, c5b, s5b = sp4_cs(
+            h, h5, h6, dot(h, rotate_cs(h1, c1, -s1, zh6)), tol
+        )
         zt = _mul_t(z0, z1, z2, rotate_cs(h1, c1, s1, h))
         arm = sub(rotate_cs(h1, c1, -s1, sub(pw, a1)), sub(a2, a1))
         for wrist in range(2):
@@ -387,23 +431,23 @@ def three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, 
                 for el in range(2):
                     _empty(4 * s + 2 * el + wrist, 1, 3, status, stage, free)
                 continue
-            t5 = t5a if wrist == 0 else t5b
-            c5, s5 = math.cos(t5), -math.sin(t5)
-            t6, reach6 = sp1(h6, zt, rotate_cs(h5, c5, s5, h))
+            t5, c5, s5 = (t5a, c5a, -s5a) if wrist == 0 else (t5b, c5b, -s5b)
+            t6, c6, s6, reach6 = sp1_cs(h6, zt, rotate_cs(h5, c5, s5, h))
             wrist_free = reach6 <= tol
             if wrist_free:
                 t6 = _fixed(fix_joint, fix_value, 5)
-            image = rotate(h6, -t6, rotate_cs(h5, c5, s5, e))
-            t234, _ = sp1(h, e, rotate_cs(h1, c1, -s1, _mul(z0, z1, z2, image)))
-            v = sub(arm, rotate(h, t234, sub(w, a4)))
-            t3a, t3b, elbow = sp3(h, sub(a4, a3), sub(a2, a3), norm(v), tol)
+                c6, s6 = math.cos(t6), math.sin(t6)
+            image = rotate_cs(h6, c6, -s6, rotate_cs(h5, c5, s5, e))
+            t234, c234, s234, _ = sp1_cs(h, e, rotate_cs(h1, c1, -s1, _mul(z0, z1, z2, image)))
+            v = sub(arm, rotate_cs(h, c234, s234, sub(w, a4)))
+            t3a, t3b, elbow, c3a, s3a, c3b, s3b = sp3_cs(h, sub(a4, a3), sub(a2, a3), norm(v), tol)
             for el in range(2):
                 slot = 4 * s + 2 * el + wrist
                 if elbow == OUT:
                     _empty(slot, 1, 2, status, stage, free)
                     continue
-                t3 = t3a if el == 0 else t3b
-                u = add(sub(a3, a2), rotate(h, t3, sub(a4, a3)))
+                t3, c3, s3 = (t3a, c3a, s3a) if el == 0 else (t3b, c3b, s3b)
+                u = add(sub(a3, a2), rotate_cs(h, c3, s3, sub(a4, a3)))
                 t2, reach2 = sp1(h, u, v)
                 elbow_free = reach2 <= tol
                 if elbow_free:

@@ -91,17 +91,43 @@ def rotate(k, theta, p):
 
 
 @numba.njit(cache=True)
-def sp1(k, p1, p2):
-    """SP1: θ with ``rot(k, θ) p1 = p2`` (least squares in the plane ⊥ k), and ``‖a‖``, the
-    length of p1's perpendicular part (θ is arbitrary when it is 0)."""
+def sp1_cs(k, p1, p2):
+    """SP1: θ with ``rot(k, θ) p1 = p2`` (least squares in the plane ⊥ k), its cosine and
+    sine (read off the projections, no trigonometric call) and ``‖a‖``, the length of p1's
+    perpendicular part (θ is arbitrary when it is 0; then cos θ = 1)."""
     a = perp(k, p1)
     b = perp(k, p2)
-    return math.atan2(dot(k, cross(a, b)), dot(a, b)), norm(a)
+    y, x = dot(k, cross(a, b)), dot(a, b)
+    r = math.hypot(x, y)
+    if r == 0.0:
+        return 0.0, 1.0, 0.0, norm(a)
+    return math.atan2(y, x), x / r, y / r, norm(a)
 
 
 @numba.njit(cache=True)
-def sp3(k, p1, p2, d, tol):
-    """SP3: ``(θ+, θ−, status)`` with ``‖rot(k, θ) p1 − p2‖ = d``.
+def sp1(k, p1, p2):
+    """SP1 without the cosine and sine: ``(θ, ‖a‖)`` (see :func:`sp1_cs`)."""
+    theta, _, _, length = sp1_cs(k, p1, p2)
+    return theta, length
+
+
+@numba.njit(cache=True)
+def _roots_cs(cos_phi, sin_phi, cosine):
+    """Cosines and sines of ``φ ± arccos(cosine)`` from those of φ (angle-sum formulas)."""
+    c = min(max(cosine, -1.0), 1.0)
+    s = math.sqrt(1.0 - c * c)
+    return (
+        cos_phi * c - sin_phi * s,
+        sin_phi * c + cos_phi * s,
+        cos_phi * c + sin_phi * s,
+        sin_phi * c - cos_phi * s,
+    )
+
+
+@numba.njit(cache=True)
+def sp3_cs(k, p1, p2, d, tol):
+    """SP3: ``(θ+, θ−, status, cos θ+, sin θ+, cos θ−, sin θ−)`` with
+    ``‖rot(k, θ) p1 − p2‖ = d``.
 
     The reachable distances run from ``√((‖a‖ − ‖b‖)² + δ²)`` to ``√((‖a‖ + ‖b‖)² + δ²)``;
     ``d`` within ``tol`` (m) outside that range is clipped onto it (status BOUNDARY).
@@ -112,8 +138,9 @@ def sp3(k, p1, p2, d, tol):
     delta = dot(k, p1) - dot(k, p2)
     if na * nb <= tol * tol:
         distance = math.sqrt((na - nb) ** 2 + delta * delta)
-        return 0.0, 0.0, (FREE if abs(distance - d) <= tol else OUT)
-    phi = math.atan2(dot(k, cross(a, b)), dot(a, b))
+        return 0.0, 0.0, (FREE if abs(distance - d) <= tol else OUT), 1.0, 0.0, 1.0, 0.0
+    y, x = dot(k, cross(a, b)), dot(a, b)
+    phi = math.atan2(y, x)
     nearest = math.sqrt((na - nb) ** 2 + delta * delta)
     farthest = math.sqrt((na + nb) ** 2 + delta * delta)
     cosine = (na * na + nb * nb + delta * delta - d * d) / (2.0 * na * nb)
@@ -123,20 +150,29 @@ def sp3(k, p1, p2, d, tol):
     elif abs(d - nearest) <= tol or abs(d - farthest) <= tol:
         status = BOUNDARY
     spread = math.acos(min(max(cosine, -1.0), 1.0))
-    return phi + spread, phi - spread, status
+    r = na * nb
+    cp, sp, cm, sm = _roots_cs(x / r, y / r, cosine)
+    return phi + spread, phi - spread, status, cp, sp, cm, sm
 
 
 @numba.njit(cache=True)
-def sp4(h, k, p, d, tol):
-    """SP4: ``(θ+, θ−, status)`` with ``h · rot(k, θ) p = d``; ``C`` within ``tol`` outside
-    ``[−r, r]`` is clipped (status BOUNDARY)."""
+def sp3(k, p1, p2, d, tol):
+    """SP3 without cosines and sines: ``(θ+, θ−, status)`` (see :func:`sp3_cs`)."""
+    plus, minus, status, _, _, _, _ = sp3_cs(k, p1, p2, d, tol)
+    return plus, minus, status
+
+
+@numba.njit(cache=True)
+def sp4_cs(h, k, p, d, tol):
+    """SP4: ``(θ+, θ−, status, cos θ+, sin θ+, cos θ−, sin θ−)`` with ``h · rot(k, θ) p = d``;
+    ``C`` within ``tol`` outside ``[−r, r]`` is clipped (status BOUNDARY)."""
     hk, kp = dot(h, k), dot(k, p)
     A = dot(h, p) - hk * kp
     B = dot(h, cross(k, p))
     C = d - hk * kp
     r = math.hypot(A, B)
     if r <= tol:
-        return 0.0, 0.0, (FREE if abs(C) <= tol else OUT)
+        return 0.0, 0.0, (FREE if abs(C) <= tol else OUT), 1.0, 0.0, 1.0, 0.0
     status = OK
     if abs(C) > r + tol:
         status = OUT
@@ -144,24 +180,35 @@ def sp4(h, k, p, d, tol):
         status = BOUNDARY
     phi = math.atan2(B, A)
     spread = math.acos(min(max(C / r, -1.0), 1.0))
-    return phi + spread, phi - spread, status
+    cp, sp, cm, sm = _roots_cs(A / r, B / r, C / r)
+    return phi + spread, phi - spread, status, cp, sp, cm, sm
 
 
 @numba.njit(cache=True)
-def sp2(k1, p1, k2, p2, fixed1, fixed2, tol):
-    """SP2: ``(θ1+, θ2+, θ1−, θ2−, status, free)`` with ``rot(k1, θ1) p1 = rot(k2, θ2) p2``
-    (k1 ∦ k2, ‖p1‖ = ‖p2‖).
+def sp4(h, k, p, d, tol):
+    """SP4 without cosines and sines: ``(θ+, θ−, status)`` (see :func:`sp4_cs`)."""
+    plus, minus, status, _, _, _, _ = sp4_cs(h, k, p, d, tol)
+    return plus, minus, status
+
+
+@numba.njit(cache=True)
+def sp2_cs(k1, p1, k2, p2, fixed1, fixed2, tol):
+    """SP2: ``(θ1+, θ2+, θ1−, θ2−, status, free, trig)`` with
+    ``rot(k1, θ1) p1 = rot(k2, θ2) p2`` (k1 ∦ k2, ‖p1‖ = ‖p2‖), ``trig`` the cosines and
+    sines ``(c1+, s1+, c2+, s2+, c1−, s1−, c2−, s2−)``.
 
     ``free`` is 0 normally, 1 when p1 lies on k1 (θ1 arbitrary: it takes ``fixed1``), 2 when
     p2 lies on k2 (θ2 takes ``fixed2``); then the two solutions are the same.
     """
     # On its axis a vector does not move: the common image x is that vector itself.
     if norm(perp(k1, p1)) <= tol:
-        t2, _ = sp1(k2, p2, p1)
-        return fixed1, t2, fixed1, t2, FREE, 1
+        t2, c2, s2, _ = sp1_cs(k2, p2, p1)
+        c1, s1 = math.cos(fixed1), math.sin(fixed1)
+        return fixed1, t2, fixed1, t2, FREE, 1, (c1, s1, c2, s2, c1, s1, c2, s2)
     if norm(perp(k2, p2)) <= tol:
-        t1, _ = sp1(k1, p1, p2)
-        return t1, fixed2, t1, fixed2, FREE, 2
+        t1, c1, s1, _ = sp1_cs(k1, p1, p2)
+        c2, s2 = math.cos(fixed2), math.sin(fixed2)
+        return t1, fixed2, t1, fixed2, FREE, 2, (c1, s1, c2, s2, c1, s1, c2, s2)
     c12 = dot(k1, k2)
     u1, u2 = dot(k1, p1), dot(k2, p2)
     w = 1.0 - c12 * c12
@@ -182,8 +229,8 @@ def sp2(k1, p1, k2, p2, fixed1, fixed2, tol):
     base = add(scale(k1, alpha), scale(k2, beta))
     xa = add(base, scale(n, gamma))
     xb = sub(base, scale(n, gamma))
-    t1a, _ = sp1(k1, p1, xa)
-    t2a, _ = sp1(k2, p2, xa)
-    t1b, _ = sp1(k1, p1, xb)
-    t2b, _ = sp1(k2, p2, xb)
-    return t1a, t2a, t1b, t2b, status, 0
+    t1a, c1a, s1a, _ = sp1_cs(k1, p1, xa)
+    t2a, c2a, s2a, _ = sp1_cs(k2, p2, xa)
+    t1b, c1b, s1b, _ = sp1_cs(k1, p1, xb)
+    t2b, c2b, s2b, _ = sp1_cs(k2, p2, xb)
+    return t1a, t2a, t1b, t2b, status, 0, (c1a, s1a, c2a, s2a, c1b, s1b, c2b, s2b)
