@@ -15,7 +15,10 @@ axes meet, the same point), 12 ``p_M``, 13–15 the rows of ``R_M``, 16 a unit v
 perpendicular to the axis of the last SP1 (``h_6`` for a spherical wrist, the parallel axis of
 the three-parallel class).
 
-A kernel fills slots: ``q`` (S, 6) unwrapped, ``status`` (S,) — :data:`EMPTY`,
+A kernel fills slots: ``q`` (S, 18), the six unwrapped angles then their cosines and sines
+(which the subproblems produce with each root, so that the FK check needs no trigonometric
+call: every angle is the ``atan2`` of its cosine and sine, or ``φ ± arccos c`` with both
+formed by the angle-sum formulas, equal to rounding), ``status`` (S,) — :data:`EMPTY`,
 :data:`REGULAR` or :data:`SINGULAR` (a subproblem was at its boundary or free) — ``free``
 (S,), the joint a degenerate subproblem left arbitrary (−1 if none; it takes ``fix_value``
 when ``fix_joint`` names it, else 0), and ``stage`` (S,), the step at which an empty slot
@@ -143,9 +146,14 @@ def _wrist(G, z, y, t, cs, fix_joint, fix_value, tol, slot, q, status, free, sta
         # θ4 is an angle about −h4: R4ᵀ = rot(−h4, θ4).
         c4, s4 = trig[4 * branch], trig[4 * branch + 1]
         c5, s5 = trig[4 * branch + 2], trig[4 * branch + 3]
-        t6, _ = sp1(h6, e, rotate_cs(h5, c5, -s5, rotate_cs(h4, c4, -s4, yw)))
-        q[index, 0], q[index, 1], q[index, 2] = t[0], t[1], t[2]
-        q[index, 3], q[index, 4], q[index, 5] = t4, t5, t6
+        t6, c6, s6, _ = sp1_cs(h6, e, rotate_cs(h5, c5, -s5, rotate_cs(h4, c4, -s4, yw)))
+        _store(
+            q,
+            index,
+            (t[0], t[1], t[2], t4, t5, t6),
+            (c1, c2, c3, c4, c5, c6),
+            (s1, s2, s3, s4, s5, s6),
+        )
         free[index] = arm_free
         if result == OUT:
             status[index], stage[index] = EMPTY, 3
@@ -158,6 +166,15 @@ def _wrist(G, z, y, t, cs, fix_joint, fix_value, tol, slot, q, status, free, sta
             status[index] = SINGULAR
         else:
             status[index] = pos
+
+
+@numba.njit(cache=True)
+def _store(q, slot, angles, cosines, sines):
+    """Write a slot: its six angles, then their cosines, then their sines (a row of 18)."""
+    for j in range(6):
+        q[slot, j] = angles[j]
+        q[slot, 6 + j] = cosines[j]
+        q[slot, 12 + j] = sines[j]
 
 
 @numba.njit(cache=True)
@@ -448,12 +465,21 @@ def three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, 
                     continue
                 t3, c3, s3 = (t3a, c3a, s3a) if el == 0 else (t3b, c3b, s3b)
                 u = add(sub(a3, a2), rotate_cs(h, c3, s3, sub(a4, a3)))
-                t2, reach2 = sp1(h, u, v)
+                t2, c2, s2, reach2 = sp1_cs(h, u, v)
                 elbow_free = reach2 <= tol
                 if elbow_free:
                     t2 = _fixed(fix_joint, fix_value, 1)
-                q[slot, 0], q[slot, 1], q[slot, 2] = t1, t2, t3
-                q[slot, 3], q[slot, 4], q[slot, 5] = t234 - t2 - t3, t5, t6
+                    c2, s2 = math.cos(t2), math.sin(t2)
+                # θ4 = θ234 − (θ2 + θ3), its cosine and sine by the angle-sum formulas.
+                c23, s23 = c2 * c3 - s2 * s3, s2 * c3 + c2 * s3
+                c4, s4 = c234 * c23 + s234 * s23, s234 * c23 - c234 * s23
+                _store(
+                    q,
+                    slot,
+                    (t1, t2, t3, t234 - t2 - t3, t5, t6),
+                    (c1, c2, c3, c4, c5, c6),
+                    (s1, s2, s3, s4, -s5, s6),
+                )
                 stage[slot] = 0
                 free[slot] = (
                     0 if result1 == FREE else (5 if wrist_free else (1 if elbow_free else -1))
@@ -472,9 +498,10 @@ def three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, 
 
 @numba.njit(cache=True)
 def solve_kind(kind, T, G, fix_joint, fix_value, tol):
-    """Run kernel ``kind`` on the 4×4 target ``T``: ``(q, status, free, stage)``."""
+    """Run kernel ``kind`` on the 4×4 target ``T``: ``(q, status, free, stage)``, ``q`` of
+    shape (S, 18) (module docstring)."""
     n_slots = 16 if kind == SPHERICAL else 8
-    q = np.zeros((n_slots, 6))
+    q = np.zeros((n_slots, 18))
     flags = np.zeros((3, n_slots), np.int64)
     status, free, stage = flags[0], flags[1], flags[2]
     free[:] = -1
@@ -541,34 +568,23 @@ def _inverse(T):
 @numba.njit(cache=True)
 def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
     """:func:`solve_kind` on the robot's joint order (``reverse``: the chain of ``G`` is the
-    robot's run backwards, solved for ``T⁻¹``), each non-empty slot checked by FK: ``(q,
-    status, free, stage)``, q wrapped, a slot whose FK misses by more than
-    ``verify_tol`` emptied (stage 4)."""
+    robot's run backwards, solved for ``T⁻¹``), each non-empty slot checked by FK (of the
+    chain, at the cosines and sines that come with the angles): ``(q, status, free, stage)``,
+    ``q`` (S, 6) wrapped to (−π, π], a slot whose FK misses by more than ``verify_tol``
+    emptied (stage 4)."""
     target = _inverse(T) if reverse else T
     chain_fix = 5 - fix_joint if reverse and fix_joint >= 0 else fix_joint
     q, status, free, stage = solve_kind(kind, target, G, chain_fix, fix_value, tol)
-    # Slots share joint values (θ1 across a shoulder branch, …): keep each joint's last
-    # cosine and sine.
-    trigonometry = np.full((3, 6), np.nan)
-    angles, cosines, sines = trigonometry[0], trigonometry[1], trigonometry[2]
     for slot in range(q.shape[0]):
-        if status[slot] == EMPTY:
-            continue
-        for j in range(6):
-            if q[slot, j] != angles[j]:
-                angles[j] = q[slot, j]
-                cosines[j], sines[j] = math.cos(angles[j]), math.sin(angles[j])
-        if fk_error(G, cosines, sines, target) > verify_tol:
+        if status[slot] != EMPTY and fk_error(G, q[slot, 6:12], q[slot, 12:], target) > verify_tol:
             status[slot], stage[slot] = EMPTY, 4
-    if reverse:
-        q = q[:, ::-1].copy()
-        for slot in range(q.shape[0]):
-            if free[slot] >= 0:
-                free[slot] = 5 - free[slot]
+    angles = np.empty((q.shape[0], 6))
     for slot in range(q.shape[0]):
         for j in range(6):
-            q[slot, j] = _wrap(q[slot, j])
-    return q, status, free, stage
+            angles[slot, j] = _wrap(q[slot, 5 - j if reverse else j])
+        if reverse and free[slot] >= 0:
+            free[slot] = 5 - free[slot]
+    return angles, status, free, stage
 
 
 @numba.njit(cache=True)

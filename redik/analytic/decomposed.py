@@ -250,7 +250,7 @@ class DecomposedSolver:
         """Every solution as a (k, 6) array, compiled end to end: verified by FK, wrapped to
         (−π, π] (or moved by 2π into the limits), within ``limits`` (``"robot"``, None or
         ``(lower, upper)``), duplicates dropped, in slot order. No labels or families."""
-        if T.__class__ is not np.ndarray or T.shape != (4, 4) or T.dtype != np.float64:
+        if T.__class__ is not np.ndarray or T.dtype is not _FLOAT64 or T.shape != (4, 4):
             T = _checks.pose(T, "target")
         if tol != DEFAULT_TOL or not (limits is None or limits.__class__ is str):
             plan = self._plan(self._limits(limits), _checks.length(tol, "tol", allow_zero=True))
@@ -339,6 +339,7 @@ class DecomposedSolver:
 
 
 _UNBOUNDED = (np.full(6, -np.inf), np.full(6, np.inf))
+_FLOAT64 = np.dtype(np.float64)
 
 
 def decomposed_solver(
