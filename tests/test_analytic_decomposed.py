@@ -19,7 +19,7 @@ from redik.analytic.puma import dh_rows as puma_rows
 from redik.analytic.ur import UR5E
 from redik.analytic.ur import dh_rows as ur_rows
 from redik.dh import DHRow
-from redik.exceptions import InvalidInput, InvalidPose, ModelError
+from redik.exceptions import InvalidInput, InvalidPose, ModelError, NearRotationWarning
 from redik.pose_ik import solve_all
 
 FULL_TURN = [(-np.pi, np.pi)] * 6
@@ -282,6 +282,22 @@ def test_bad_input_is_refused_with_redik_errors():
         solver.raw(np.eye(3))
     with pytest.raises(InvalidInput):
         solver(np.eye(4), limits="none")
+    with pytest.raises(InvalidInput):
+        solver.raw(np.eye(4), limits="none")
+
+
+def test_a_near_rotation_is_projected_with_a_warning_on_both_paths():
+    robot = redik.load("ur5e")
+    solver = analytic.solver_for(robot, "decomposed")
+    T = robot.fk(robot.random_q(np.random.default_rng(11)))
+    typed = T.copy()
+    typed[:3, :3] = np.round(T[:3, :3], 4)  # a rotation typed with 4 decimals
+    with pytest.warns(NearRotationWarning):
+        raw = solver.raw(typed, limits=None)
+    with pytest.warns(NearRotationWarning):
+        labelled = solver(typed, limits=None)
+    assert len(raw) >= 1 and _same_set(raw, labelled.as_array(), 1e-12)
+    assert all(np.abs(robot.fk(q)[:3, 3] - T[:3, 3]).max() < 1e-3 for q in raw)
 
 
 def test_arms_without_a_decomposition_are_refused():

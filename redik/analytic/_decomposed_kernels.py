@@ -32,7 +32,6 @@ import math
 import numba
 import numpy as np
 
-from redik.analytic._checks import ORTHONORMAL_TOL
 from redik.analytic.subproblems import (
     BOUNDARY,
     FREE,
@@ -53,6 +52,7 @@ from redik.analytic.subproblems import (
     sp4_cs,
     sub,
 )
+from redik.lie import ROTATION_TOLERANCE
 
 EMPTY, REGULAR, SINGULAR = 0, 1, 2
 
@@ -592,7 +592,8 @@ def solve_raw(T, plan):
     """The fast path: every verified solution within the limits (each angle moved by the
     smallest multiple of 2π that brings it into range), duplicates (within the duplicate
     tolerance per joint, modulo 2π) dropped, as a (k, 6) array in slot order — or a (0, 0)
-    array when ``T`` is not a finite rigid transform (the caller raises; nothing is solved).
+    array when ``T`` is not a finite rigid transform to be used as it is (nothing is solved:
+    the caller raises, or projects a near-rotation as :mod:`redik.lie` does and calls again).
 
     ``plan`` packs everything but the target into one array (one argument keeps the call
     cheap): the (17, 3) geometry ``G`` row by row, the lower and upper limits, then the
@@ -646,7 +647,7 @@ def solve_raw(T, plan):
 @numba.njit(cache=True)
 def _is_pose(T):
     """Whether ``T`` is finite with bottom row (0, 0, 0, 1) and an orthonormal, det +1
-    rotation block (to :data:`redik.analytic._checks.ORTHONORMAL_TOL`)."""
+    rotation block as it is (to :data:`redik.lie.ROTATION_TOLERANCE`)."""
     for i in range(4):
         for j in range(4):
             if not math.isfinite(T[i, j]):
@@ -656,7 +657,7 @@ def _is_pose(T):
     for j in range(3):
         for k in range(j, 3):
             product = T[0, j] * T[0, k] + T[1, j] * T[1, k] + T[2, j] * T[2, k]
-            if abs(product - (1.0 if j == k else 0.0)) > ORTHONORMAL_TOL:
+            if abs(product - (1.0 if j == k else 0.0)) > ROTATION_TOLERANCE:
                 return False
     c0 = (T[0, 0], T[1, 0], T[2, 0])
     c1 = (T[0, 1], T[1, 1], T[2, 1])

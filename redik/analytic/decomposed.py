@@ -262,7 +262,9 @@ class DecomposedSolver:
             raise InvalidInput(f"limits must be 'robot', None or (lower, upper), got {limits!r}")
         q = kernels.solve_raw(T, plan)
         if q.shape[1] == 0:
-            _checks.pose(T, "target")  # raises the error that names what is wrong
+            # Raises the error that names what is wrong, or projects a near-rotation (with
+            # redik.lie's warning) that is then solved.
+            q = kernels.solve_raw(_checks.pose(T, "target"), plan)
         return q
 
     def __call__(
