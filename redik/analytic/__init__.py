@@ -21,7 +21,8 @@ against iterative DLS.
 :func:`solver_for` binds a solver to a bundled scene's :class:`redik.Robot`, and to any other
 6R arm whose screw axes fit a subproblem decomposition (:mod:`.decomposed`: spherical wrist or
 shoulder, three parallel axes; IK-Geo's classes), compiled with numba
-(:meth:`DecomposedSolver.raw` returns a plain array in a few microseconds).
+(:meth:`DecomposedSolver.raw` returns a plain array in a few microseconds). :mod:`.srs` gives
+the exact self-motion loops of a 7R arm with a spherical shoulder and wrist by the arm angle.
 """
 
 from redik.analytic._solution import (
