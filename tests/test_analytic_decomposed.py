@@ -318,3 +318,44 @@ def test_ur5e_parameters_reach_eight_solutions():
     robot = _dh_robot(ur_rows(*UR5E), "ur5e_dh")
     counts = [len(s) for _, s in _check_poses(robot, 10, seed=10)]
     assert max(counts) == 8
+
+
+def test_wrist_centre_on_the_first_axis_leaves_theta1_free():
+    base, upper, fore, tool = 0.3, 0.4, 0.35, 0.1
+    centre = (upper + fore, 0, base)
+    axes = [(0, 0, 1), (0, 1, 0), (0, 1, 0), (0, 0, 1), (0, 1, 0), (0, 0, 1)]
+    points = [(0, 0, 0), (0, 0, base), (upper, 0, base), centre, centre, centre]
+    M = np.eye(4)
+    M[:3, 3] = (upper + fore, 0, base + tool)
+    robot = _screw_robot(axes, points, M, "elbow_zyz")
+    T = robot.fk(np.array([0.2, 0.3, 0.9, 0.4, 0.8, -0.3]))
+    T[:3, 3] = np.array([0, 0, base + 0.5]) + T[:3, :3] @ np.array([0, 0, tool])
+    solutions = analytic.solver_for(robot)(T, limits=None)
+    assert len(solutions) == 4 and len(solutions.families) == 4
+    for family in solutions.families:
+        assert family.free == (0,)
+        for t in (-1.0, 0.5, 2.5):
+            member = family.at(t)
+            assert abs(wrap_angle(member[0] - t)) < 1e-12
+            assert np.abs(robot.fk(member) - T).max() <= FK_TOL
+
+
+def test_ur_wrist_singularity_is_polished_and_equals_the_ur_solver():
+    """θ5 = 0 makes SP4 ill-conditioned (θ5 to √ε); the Gauss–Newton polish restores it."""
+    robot = redik.load("ur5e")
+    T = robot.fk(np.array([0.3, -1.0, 1.2, 0.4, 0.0, 0.7]))
+    ours = analytic.solver_for(robot, "decomposed")(T, limits=None)
+    theirs = analytic.solver_for(robot)(T, limits=None)
+    regular = np.array([q.q for q in ours if not q.singular])
+    assert _same_set(regular, np.array([q.q for q in theirs if not q.singular]), 1e-9)
+    # The singular representatives differ (θ6 is arbitrary): each of the UR solver's is the
+    # member of one of our families at its θ6.
+    assert len(ours.families) == 2 == len(theirs.families)
+    for q in (q for q in theirs if q.singular):
+        assert min(_distance(f.at(q[5]), q) for f in ours.families) < 1e-7
+    for family in ours.families:
+        assert family.free == (5,)
+        for t in (-1.0, 2.0):
+            member = family.at(t)
+            assert abs(wrap_angle(member[5] - t)) < 1e-12
+            assert np.abs(robot.fk(member) - T).max() <= FK_TOL

@@ -70,6 +70,11 @@ SPHERICAL_TWO_INTERSECTING, SPHERICAL_TWO_PARALLEL, SPHERICAL, THREE_PARALLEL_TW
 #: Slots per kernel: 8 for the closed forms, 16 for the searched one (up to 8 arm roots).
 SLOTS = (8, 8, 16, 8)
 
+#: FK errors (m / rotation entries) a closed-form slot may have and still be polished by
+#: Gauss–Newton (:func:`_polish`), and the steps taken.
+POLISH_RANGE = 1e-4
+POLISH_STEPS = 3
+
 #: Samples of θ1 on [−π, π) for the 1-D search, and bisection steps per root.
 SEARCH_SAMPLES = 720
 BISECTIONS = 60
@@ -566,6 +571,70 @@ def _inverse(T):
 
 
 @numba.njit(cache=True)
+def _polish(G, row, T, fixed):
+    r"""Gauss–Newton steps on the chain of ``G`` from the slot ``row`` (angles, cosines, sines;
+    updated in place) towards ``T``; returns the final :func:`fk_error`.
+
+    Next to a singularity a subproblem can be ill-conditioned (SP4 with ``C ≈ ±r`` gives θ
+    to only √ε): the closed form is then within :data:`POLISH_RANGE` and these steps,
+    :math:`Δq = J^+ e` with the world Jacobian of the chain and
+    :math:`e = (p_d - p,\; \tfrac12 \sum_j R_{:j} × R_{d,:j})` (least squares, so a singular
+    direction takes no step), bring it back to rounding. Joint ``fixed`` (a family's free
+    joint, or −1) is held.
+    """
+    J = np.empty((6, 6))
+    e = np.empty(6)
+    for _ in range(POLISH_STEPS):
+        R = np.eye(3)
+        P = _row(G, 6)
+        for i in range(6):
+            axis = (
+                R[0, 0] * G[i, 0] + R[0, 1] * G[i, 1] + R[0, 2] * G[i, 2],
+                R[1, 0] * G[i, 0] + R[1, 1] * G[i, 1] + R[1, 2] * G[i, 2],
+                R[2, 0] * G[i, 0] + R[2, 1] * G[i, 1] + R[2, 2] * G[i, 2],
+            )
+            J[0, i], J[1, i], J[2, i] = axis
+            J[3, i], J[4, i], J[5, i] = P  # joint origin for now: J_v = ω × (p − o) below
+            step = np.empty((3, 3))
+            c, s = math.cos(row[i]), math.sin(row[i])
+            for j in range(3):
+                column = rotate_cs(
+                    _row(G, i), c, s, (1.0 * (j == 0), 1.0 * (j == 1), 1.0 * (j == 2))
+                )
+                step[0, j], step[1, j], step[2, j] = column
+            R = R @ step
+            following = _row(G, 12) if i == 5 else _row(G, 7 + i)
+            offset = sub(following, _row(G, 6 + i))
+            P = add(
+                P,
+                (
+                    dot((R[0, 0], R[0, 1], R[0, 2]), offset),
+                    dot((R[1, 0], R[1, 1], R[1, 2]), offset),
+                    dot((R[2, 0], R[2, 1], R[2, 2]), offset),
+                ),
+            )
+        for i in range(6):
+            omega = (J[0, i], J[1, i], J[2, i])
+            linear = cross(omega, sub(P, (J[3, i], J[4, i], J[5, i])))
+            J[3, i], J[4, i], J[5, i] = linear
+        R = R @ G[13:16]  # rows 13–15 hold R_M
+        rotation = (0.0, 0.0, 0.0)
+        for j in range(3):
+            rotation = add(
+                rotation, cross((R[0, j], R[1, j], R[2, j]), (T[0, j], T[1, j], T[2, j]))
+            )
+        e[0], e[1], e[2] = scale(rotation, 0.5)
+        e[3], e[4], e[5] = T[0, 3] - P[0], T[1, 3] - P[1], T[2, 3] - P[2]
+        if fixed >= 0:
+            J[:, fixed] = 0.0
+        step_q = np.linalg.lstsq(J, e, 1e-10)[0]
+        for i in range(6):
+            row[i] += step_q[i]
+            row[6 + i], row[12 + i] = math.cos(row[i]), math.sin(row[i])
+    return fk_error(G, row[6:12], row[12:], T)
+
+
+@numba.njit(cache=True)
 def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
     """:func:`solve_kind` on the robot's joint order (``reverse``: the chain of ``G`` is the
     robot's run backwards, solved for ``T⁻¹``), each non-empty slot checked by FK (of the
@@ -576,7 +645,12 @@ def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
     chain_fix = 5 - fix_joint if reverse and fix_joint >= 0 else fix_joint
     q, status, free, stage = solve_kind(kind, target, G, chain_fix, fix_value, tol)
     for slot in range(q.shape[0]):
-        if status[slot] != EMPTY and fk_error(G, q[slot, 6:12], q[slot, 12:], target) > verify_tol:
+        if status[slot] == EMPTY:
+            continue
+        error = fk_error(G, q[slot, 6:12], q[slot, 12:], target)
+        if verify_tol < error <= POLISH_RANGE:
+            error = _polish(G, q[slot], target, free[slot])
+        if error > verify_tol:
             status[slot], stage[slot] = EMPTY, 4
     angles = np.empty((q.shape[0], 6))
     for slot in range(q.shape[0]):
