@@ -212,10 +212,24 @@ def test_reversed_arms_spherical_shoulder_and_three_parallel_at_the_tool():
         _check_poses(robot, 5, seed=int(rng.integers(1 << 30)))
 
 
-@pytest.mark.parametrize("builder", [_offset_elbow, _general_spherical, _wrist_arm])
+def _reversed_puma(rng: np.random.Generator) -> redik.Robot:
+    return _reversed_robot(_random_puma(rng)[0], "spherical_shoulder")
+
+
+@pytest.mark.parametrize(
+    "builder",
+    [
+        _offset_elbow,
+        _general_spherical,
+        lambda rng: _wrist_arm(rng, "ZYX"),
+        lambda rng: _random_ur(rng)[0],
+        _reversed_puma,
+    ],
+    ids=["offset_elbow", "skew_spherical", "elbow_zyx", "random_ur", "spherical_shoulder"],
+)
 def test_solution_set_equals_many_random_seeded_iterative_solves(builder):
     rng = np.random.default_rng(6)
-    robot = builder(rng, "ZYX") if builder is _wrist_arm else builder(rng)
+    robot = builder(rng)
     solver = analytic.solver_for(robot)
     for index in range(2):
         T = robot.fk(robot.random_q(rng))
