@@ -505,7 +505,7 @@ def three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, 
 def solve_kind(kind, T, G, fix_joint, fix_value, tol):
     """Run kernel ``kind`` on the 4×4 target ``T``: ``(q, status, free, stage)``, ``q`` of
     shape (S, 18) (module docstring)."""
-    n_slots = 16 if kind == SPHERICAL else 8
+    n_slots = SLOTS[kind]
     q = np.zeros((n_slots, 18))
     flags = np.zeros((3, n_slots), np.int64)
     status, free, stage = flags[0], flags[1], flags[2]
