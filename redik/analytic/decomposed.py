@@ -18,7 +18,11 @@ are):
     spherical wrist, any axes 1–3: a 1-D search on θ1 (every sign change of two continuous
     residuals, refined by bisection), then SP3, SP1 and the wrist.
 
-Each class is also recognised with the chain run backwards (a spherical *shoulder*, axes
+Arms outside these classes are refused with :class:`~redik.exceptions.ModelError`: a general
+6R (no three axes meeting or parallel) needs a 2-D search or an elimination to a degree-16
+polynomial (Raghavan & Roth 1993), neither of which is implemented; prismatic joints are not
+decomposed (the Stanford arm, RRPRRR, keeps :func:`redik.analytic.stanford`). Each class is
+also recognised with the chain run backwards (a spherical *shoulder*, axes
 1–3 meeting, solved as the reversed arm's wrist for ``T⁻¹``). The wrist may be any three
 axes through one point with consecutive axes not parallel: ZYZ, ZYX, ZXZ and skew ones.
 
