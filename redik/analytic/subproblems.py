@@ -98,7 +98,7 @@ def sp1_cs(k, p1, p2):
     a = perp(k, p1)
     b = perp(k, p2)
     y, x = dot(k, cross(a, b)), dot(a, b)
-    r = math.hypot(x, y)
+    r = math.sqrt(x * x + y * y)  # (not hypot: a libm call several times slower)
     if r == 0.0:
         return 0.0, 1.0, 0.0, norm(a)
     return math.atan2(y, x), x / r, y / r, norm(a)
@@ -170,7 +170,7 @@ def sp4_cs(h, k, p, d, tol):
     A = dot(h, p) - hk * kp
     B = dot(h, cross(k, p))
     C = d - hk * kp
-    r = math.hypot(A, B)
+    r = math.sqrt(A * A + B * B)
     if r <= tol:
         return 0.0, 0.0, (FREE if abs(C) <= tol else OUT), 1.0, 0.0, 1.0, 0.0
     status = OK
