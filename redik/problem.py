@@ -57,6 +57,9 @@ class Problem:
             active-set solvers out of trouble, changes a converged solution by nothing).
         rank_tol: Relative eigenvalue threshold of the null space between levels.
         backend_options: Settings passed to the back-end.
+        step_damping: Levenberg–Marquardt scale ``μ`` of :meth:`step` (≥ 0; default 0,
+            undamped): level 0's Hessian gets ``λ = μ‖b₀‖²``, ``b₀ = −αWe`` its weighted
+            task error (see :meth:`step`). ``solve`` has its own adaptive ``lm_damping``.
 
     Attributes:
         levels: The priority values, highest first.
@@ -74,6 +77,7 @@ class Problem:
         damping: float = 1e-6,
         rank_tol: float = 1e-10,
         backend_options: dict | None = None,
+        step_damping: float = 0.0,
     ):
         if not isinstance(robot, Robot):
             raise InvalidInput(f"robot must be a redik.Robot, got {type(robot).__name__}")
@@ -85,7 +89,10 @@ class Problem:
                 raise InvalidInput(f"{task!r} is not a task (no compute_qp_objective)")
         if not (np.isfinite(damping) and damping >= 0.0):
             raise InvalidInput(f"damping must be finite and >= 0, got {damping}")
+        if not (np.isfinite(step_damping) and step_damping >= 0.0):
+            raise InvalidInput(f"step_damping must be finite and >= 0, got {step_damping}")
         self.robot = robot
+        self.step_damping = float(step_damping)
         self.tasks = tasks
         self.damping = float(damping)
         self.rank_tol = float(rank_tol)
@@ -135,9 +142,27 @@ class Problem:
     # Online control
 
     def step(self, q: np.ndarray, dt: float | None = None) -> np.ndarray:
-        """The joint step ``Δq`` at ``q`` (``q + Δq`` stays within the position limits).
+        r"""The joint step ``Δq`` at ``q`` (``q + Δq`` stays within the position limits).
 
         ``dt`` (seconds) is needed by velocity limits; divide ``Δq`` by it for a velocity.
+
+        With ``step_damping = μ > 0`` level 0 is solved as damped least squares,
+        :math:`\min ½‖AΔq − b‖² + ½λ‖Δq‖²` with :math:`λ = μ‖b‖²` (Levenberg–Marquardt
+        with Sugihara's error-dependent choice, *Solvability-unconcerned inverse kinematics
+        by the Levenberg–Marquardt method*, IEEE T-RO 2011; :math:`A = WJ`,
+        :math:`b = −αWe` the stacked level-0 rows). Why a tracking loop needs it: when the
+        target leaves the workspace the arm stretches to a fold of its reach, where
+        :math:`J` loses rank in the direction of the error. There the Gauss–Newton step
+        :math:`σ^{-1} u^\top b` along the weakest singular pair :math:`(σ, u, v)` grows
+        without bound as :math:`σ → 0` and jumps across the fold; the velocity box clips it
+        to a vertex and the next tick jumps back — a two-tick cycle at the velocity limit.
+        Damped, that component is :math:`σ/(σ² + λ)\, u^\top b → 0`; in one dimension,
+        with reach :math:`r(θ) ≈ r^* − ½κ(θ − θ^*)²`, the fold is a stable, non-oscillating
+        fixed point once :math:`λ ≥ κ‖e‖` (Gauss–Newton neglects exactly this
+        :math:`Σ e_i ∇² e_i` term: Nocedal & Wright §10.3). On a reachable path the error
+        of one tick is small and :math:`λ = μ‖b‖²` vanishes quadratically: tracking is
+        unchanged. Lower levels still move in the null space of level 0's rows
+        (the λ shift is discounted, :mod:`redik.qp.hierarchy`).
 
         Raises:
             InfeasibleProblem: the limits admit no step (e.g. a joint outside its range
@@ -150,7 +175,7 @@ class Problem:
         if dt is not None and not (np.isfinite(dt) and dt > 0.0):
             raise InvalidInput(f"dt must be a positive number of seconds, got {dt}")
         self._update(q)
-        return self._step(q, dt)
+        return self._step(q, dt, error_damping=self.step_damping)
 
     def _update(self, q: np.ndarray) -> None:
         self._state.update(q)
@@ -163,8 +188,12 @@ class Problem:
         dt: float | None,
         max_step: float | None = None,
         lm_damping: float = 0.0,
+        error_damping: float = 0.0,
     ):
         objectives = self._assembly.objectives(self._state, self._configuration)
+        if error_damping > 0.0:
+            b0 = self._assembly.levels[0].b  # level 0's weighted residual rows, just built
+            lm_damping += error_damping * float(b0 @ b0)
         damping: float | list[float] = self.damping
         if lm_damping > 0.0:
             # Levenberg–Marquardt on level 0 only; the arrays are rebuilt every step.

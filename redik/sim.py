@@ -65,10 +65,14 @@ MuJoCo Menagerie's arms (servos with ``k_p`` = 500–4500, ``k_v = k_p / 10`` or
 ``gravcomp``, ``forcerange`` down to ±12 N·m), from a non-singular start, with the
 inverse-dynamics feed-forward (without it): iiwa14 1.1 mm (24 mm), Panda 1.1 mm (3.6 mm),
 Gen3 1.2 mm (6.7 mm). Started at Menagerie's Panda ``home`` (``q₂ = 0``: axes 1 and 3
-collinear) or Gen3 ``home``, the circle's top is out of the QP's reach at 2 rad/s: the IK
-reference itself leaves it by 39 and 26 mm and chatters against the velocity limits; the
-arms then miss by
-49 and 84 mm (54 and 53 mm without feed-forward) and the warning blames the IK.
+collinear) the circle's top, with the orientation held, is out of the arm's reach: the best
+of 40 ``solve`` starts misses it by 39 mm (elbow stretched, ``q₄ ≈ −0.47``), and the IK
+reference misses it by that much. At that fold the undamped step jumped across the
+singularity every tick at the 2 rad/s box and the arm missed by 49 mm; a single-level
+problem with ``Problem(..., step_damping=10)`` (:meth:`redik.Problem.step`) gives a smooth
+reference and a 38.8 mm miss, the unavoidable one. From Gen3's ``home`` the circle passes
+near a wrist singularity: reference 26 mm, arm 84 mm (23 and 24 mm single-level, damped).
+The warning blames the IK in both.
 ``tests/test_sim.py`` runs Menagerie-like servos built from the bundled iiwa14, the iiwa14
 on torque motors and gymnasium's Pusher arm (torque motors).
 """
