@@ -70,9 +70,12 @@ of 40 ``solve`` starts misses it by 39 mm (elbow stretched, ``q₄ ≈ −0.47``
 reference misses it by that much. At that fold the undamped step jumped across the
 singularity every tick at the 2 rad/s box and the arm missed by 49 mm; a single-level
 problem with ``Problem(..., step_damping=10)`` (:meth:`redik.Problem.step`) gives a smooth
-reference and a 38.8 mm miss, the unavoidable one. From Gen3's ``home`` the circle passes
-near a wrist singularity: reference 26 mm, arm 84 mm (23 and 24 mm single-level, damped).
-The warning blames the IK in both.
+reference and a 38.8 mm miss, the unavoidable one (with the posture task at priority 1 it
+does not: the posture reverses in the turning null space, see :meth:`redik.Problem.step`).
+From Gen3's ``home`` the circle is reachable but passes near a wrist singularity
+(``σ_min`` = 0.04) where the QP's joint speeds reach 4.2 rad/s: at 5 rad/s the reference
+follows it within 0.04 mm, at 2 rad/s it misses by 26 mm and the arm by 84 mm (23 and
+24 mm single-level, damped). The warning blames the IK in both.
 ``tests/test_sim.py`` runs Menagerie-like servos built from the bundled iiwa14, the iiwa14
 on torque motors and gymnasium's Pusher arm (torque motors).
 """
