@@ -56,8 +56,9 @@ Stopping rules, each with its own ``status``
       exactly 0.
     - ``rel_tol``: the relative change :math:`‖f(q_{k+1}) − f(q_k)‖ / ‖e(q_k)‖ ≤ ε`
       (equivalently ``‖e_{k+1} − e_k‖ / ‖e_k‖``) ends the iteration; the status is
-      ``"converged"`` when ``tol`` is met too, else ``"stalled"`` (a small change does
-      not certify a root: it happens at a local minimum of ``‖e‖`` as well).
+      ``"converged"`` when ``tol`` is met too (or ``e`` is exactly 0), else ``"stalled"``
+      (a small change does not certify a root: it happens at a local minimum of ``‖e‖`` as
+      well).
     - ``q_tol``: ``‖Δq‖ ≤ q_tol`` with ``‖e‖ > tol`` → ``"stalled"`` (without moving).
     - ``singular_tol``: ``σ_min(J) ≤ singular_tol`` → ``"singular"`` (without moving),
       checked before each step (the Newton phase only for :func:`hybrid`).
@@ -507,17 +508,29 @@ def _iterate(run: _Run, options: _Options, direction: Direction) -> IKResult:
             return stop
         if run.done():
             return run.result("converged")
-        if options.rel_tol is not None and e_before is not run.e:
-            change = float(np.linalg.norm(run.e - e_before)) / float(np.linalg.norm(e_before))
-            if change <= options.rel_tol:
-                return run.result(
-                    "stalled",
-                    f"relative change ‖e_k+1 − e_k‖/‖e_k‖ = {change:.3g} ≤ rel_tol = "
-                    f"{options.rel_tol:g} with ‖e‖ = {run.norm:.3g} above tol",
-                )
+        if options.rel_tol is not None:
+            stop = _relative_change_stop(run, e_before, options.rel_tol)
+            if stop is not None:
+                return stop
     if run.norm == 0.0:
         return run.result("converged")
     return run.result("max_iterations")
+
+
+def _relative_change_stop(run: _Run, e_before: np.ndarray, rel_tol: float) -> IKResult | None:
+    """Stop when ``‖e_{k+1} − e_k‖ ≤ rel_tol ‖e_k‖`` (multiplied out: at an exact root both
+    sides are 0, and the run ends ``"converged"``, as at the end of a ``tol = 0`` run)."""
+    previous = run.errors[-2]
+    change = float(np.linalg.norm(run.e - e_before))
+    if change > rel_tol * previous:
+        return None
+    if run.norm == 0.0:
+        return run.result("converged")
+    return run.result(
+        "stalled",
+        f"relative change ‖e_k+1 − e_k‖/‖e_k‖ = {change / previous:.3g} ≤ rel_tol = "
+        f"{rel_tol:g} with ‖e‖ = {run.norm:.3g} above tol",
+    )
 
 
 def _singular(run: _Run, J: np.ndarray, singular_tol: float) -> IKResult | None:

@@ -318,6 +318,10 @@ def test_relative_change_stop():
     assert np.linalg.norm(e[1] - e[0]) / np.linalg.norm(e[0]) <= 1e-6
     near = newton(two_link, X_D, [0.2, 1.4], rel_tol=0.5, tol=1e-1, max_iter=100)
     assert near.status == "converged"
+    # tol = 0 on a linear f: Newton lands exactly on the root, where ‖e_k‖ = 0 and the
+    # relative change is 0/0; the iterate is a root, so the run ends "converged".
+    exact = newton(lambda q: q, [1.0], [0.0], tol=0, rel_tol=1e-3, max_iter=5)
+    assert exact.status == "converged" and exact.error == 0.0 and exact.iterations == 2
 
 
 def test_tol_zero_runs_every_iteration():
