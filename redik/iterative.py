@@ -83,7 +83,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .exceptions import InvalidInput
-from .lie import as_vector
+from .lie import as_vector, real_array
 from .result import IKResult
 
 TaskFunction = Callable[[np.ndarray], np.ndarray]
@@ -139,16 +139,14 @@ def finite_difference_jacobian(
     """
     if scheme not in FD_SCHEMES:
         raise InvalidInput(f"scheme must be one of {FD_SCHEMES}, got {scheme!r}")
-    if step is not None and (
-        isinstance(step, bool) or not isinstance(step, (int, float)) or not step > 0
-    ):
-        raise InvalidInput(f"the finite-difference step must be a positive number, got {step!r}")
+    if step is not None:
+        step = _positive(step, "the finite-difference step")
     q = np.array(q, dtype=float)
     if step is None:
         exponent = 1.0 / 3.0 if scheme == "central" else 0.5
         h = np.finfo(float).eps ** exponent * np.maximum(1.0, np.abs(q))
     else:
-        h = np.full(q.size, float(step))
+        h = np.full(q.size, step)
     forward = scheme == "forward"
     if forward and f_q is None:
         f_q = np.asarray(f(q.copy()), dtype=float)
@@ -208,7 +206,8 @@ def newton(
     Raises:
         InvalidInput: a shape mismatch, a non-finite ``x_d``/``q0``, or a bad option.
     """
-    options = _Options.checked(step, tol, q_tol, max_iter, singular_tol, rel_tol, max_growth)
+    step = _step_option(step, "step")
+    options = _Options.checked(tol, q_tol, max_iter, singular_tol, rel_tol, max_growth)
     run = _Run(f, x_d, q0, jac, "newton", options, fd_step, fd_scheme, None)
     return _iterate(run, options, lambda J, e: (_newton_step(J, e), step))
 
@@ -247,7 +246,8 @@ def gradient(
     Returns:
         An :class:`~redik.result.IKResult` (method ``"gradient"``).
     """
-    options = _Options.checked(step, tol, q_tol, max_iter, singular_tol, rel_tol, max_growth)
+    step = _step_option(step, "step")
+    options = _Options.checked(tol, q_tol, max_iter, singular_tol, rel_tol, max_growth)
     run = _Run(f, x_d, q0, jac, "gradient", options, fd_step, fd_scheme, gain)
     return _iterate(run, options, lambda J, e: (J.T @ (run.K @ e), step))
 
@@ -289,8 +289,11 @@ def hybrid(
         An :class:`~redik.result.IKResult` (method ``"hybrid"``).
     """
     switch_error = _positive(switch_error, "switch_error")
-    _Options.checked(newton_step, tol, q_tol, max_iter, singular_tol, rel_tol, max_growth)
-    options = _Options.checked(gradient_step, tol, q_tol, max_iter, None, rel_tol, max_growth)
+    gradient_step = _step_option(gradient_step, "gradient_step")
+    newton_step = _step_option(newton_step, "newton_step")
+    if singular_tol is not None:  # checked by the Newton phase only, not by _iterate
+        singular_tol = _non_negative(singular_tol, "singular_tol")
+    options = _Options.checked(tol, q_tol, max_iter, None, rel_tol, max_growth)
     run = _Run(f, x_d, q0, jac, "hybrid", options, fd_step, fd_scheme, gain)
 
     def direction(J: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, float | str] | IKResult:
@@ -324,7 +327,6 @@ class _Options:
     @classmethod
     def checked(
         cls,
-        step: object,
         tol: object,
         q_tol: object,
         max_iter: object,
@@ -332,10 +334,6 @@ class _Options:
         rel_tol: object,
         max_growth: object,
     ) -> _Options:
-        if step != "armijo" and (
-            isinstance(step, (str, bool)) or not isinstance(step, (int, float)) or not step > 0
-        ):
-            raise InvalidInput(f"step must be a positive number or 'armijo', got {step!r}")
         pose_tol = None
         if isinstance(tol, (tuple, list, np.ndarray)):
             pair = [_non_negative(value, "tol") for value in tol]
@@ -359,7 +357,7 @@ class _Options:
             if singular_tol is None
             else _non_negative(singular_tol, "singular_tol"),
             rel_tol=None if rel_tol is None else _non_negative(rel_tol, "rel_tol"),
-            max_growth=_positive(max_growth, "max_growth"),
+            max_growth=_positive(max_growth, "max_growth", allow_inf=True),
         )
 
 
@@ -603,7 +601,7 @@ def _gain(gain: np.ndarray | float | None, r: int) -> np.ndarray:
     """``K`` as an ``r × r`` symmetric positive-definite matrix."""
     if gain is None:
         return np.eye(r)
-    K = np.asarray(gain, dtype=float)
+    K = real_array(gain, "gain")
     if K.ndim == 0:
         K = K * np.eye(r)
     elif K.ndim == 1 and K.shape == (r,):
@@ -630,9 +628,25 @@ def _finite_vector(x: np.ndarray, name: str) -> np.ndarray:
     return as_vector(x, x.size, name)
 
 
-def _positive(value: object, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)) or not value > 0:
-        raise InvalidInput(f"{name} must be a positive number, got {value!r}")
+def _step_option(step: object, name: str) -> float | str:
+    """A step: ``"armijo"`` or a finite ``λ > 0``."""
+    if isinstance(step, str) and step == "armijo":
+        return step
+    if isinstance(step, str):
+        raise InvalidInput(f"{name} must be a positive number or 'armijo', got {step!r}")
+    return _positive(step, name)
+
+
+def _positive(value: object, name: str, *, allow_inf: bool = False) -> float:
+    """``value`` as a float ``> 0``, finite unless ``allow_inf``."""
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, (int, float, np.floating, np.integer))
+        or not value > 0
+        or not (allow_inf or math.isfinite(value))
+    ):
+        finite = "" if allow_inf else "finite "
+        raise InvalidInput(f"{name} must be a {finite}positive number, got {value!r}")
     return float(value)
 
 

@@ -148,6 +148,9 @@ def test_non_finite_values_never_leave_the_solver():
         {"tol": -1e-3},
         {"tol": (1e-3, 1e-3)},  # a pair needs a pose residual of length 6
         {"step": -1.0},
+        {"step": np.inf},
+        {"fd_step": np.inf},
+        {"fd_step": "0.1"},
         {"max_iter": -1},
         {"jac": lambda q: np.eye(3)},
         {"f": "not callable"},
@@ -248,6 +251,8 @@ def test_gain_matrix_weighs_the_transpose_step():
         (np.diag([1.0, -1.0]), "positive definite"),
         (np.ones(3), "length-2 vector"),
         (0.0, "positive definite"),
+        ("fast", "real numbers"),
+        ([[1.0, 0.0], [0.0]], "real numbers"),
     ],
 )
 def test_bad_gains_are_refused(gain, match):
@@ -275,6 +280,20 @@ def test_hybrid_checks_singularity_only_in_its_newton_phase():
     assert result.status == "converged"
     newton_only = newton(two_link, X_D, [0.3, 0.0], jac=two_link_jacobian, singular_tol=1e-6)
     assert newton_only.status == "singular"
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"gradient_step": -1.0}, "gradient_step"),
+        ({"newton_step": "wolfe"}, "newton_step"),
+        ({"switch_error": 0.0}, "switch_error"),
+        ({"singular_tol": -1.0}, "singular_tol"),
+    ],
+)
+def test_hybrid_names_the_bad_option(kwargs, match):
+    with pytest.raises(InvalidInput, match=match):
+        hybrid(two_link, X_D, [0.2, 1.4], **kwargs)
 
 
 def test_gradient_singularity_check():
