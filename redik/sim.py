@@ -76,14 +76,13 @@ on torque motors and gymnasium's Pusher arm (torque motors).
 from __future__ import annotations
 
 import dataclasses
-import warnings
 from collections.abc import Callable
 from pathlib import Path
 
 import mujoco
 import numpy as np
 
-from .exceptions import InvalidInput, ModelError
+from .exceptions import InvalidInput, ModelError, TrackingWarning, warn
 from .lie import pose_errors
 from .plot import new_figure, save_figure
 from .robot import Robot
@@ -93,10 +92,6 @@ COMMANDS = ("position", "integrate")
 
 DEFAULT_ERROR_BOUND = (5e-3, 5e-2)
 """Tracking error (m, rad) above which :func:`simulate` warns, unless told otherwise."""
-
-
-class TrackingWarning(UserWarning):
-    """A closed-loop run left the reference by more than the bound it was given."""
 
 
 @dataclasses.dataclass
@@ -570,7 +565,7 @@ def simulate(
         error_bound=error_bound,
     )
     if not result.within_bound:
-        warnings.warn(TrackingWarning(_diagnosis(robot.name, result)), stacklevel=2)
+        warn(_diagnosis(robot.name, result), TrackingWarning)
     return result
 
 

@@ -188,6 +188,9 @@ def test_exceeding_the_bound_warns_and_says_why():
             error_bound=(3e-3, 0.05),
         )  # fmt: skip
     assert "IK reference alone" in str(caught[0].message)
+    # One root for redik's warnings, attributed to the caller's line (exceptions.warn).
+    assert issubclass(caught[0].category, redik.RedikWarning)
+    assert caught[0].filename == __file__
     assert not result.within_bound and result.max_position_error > 3e-3
     with warnings.catch_warnings():
         warnings.simplefilter("error")
