@@ -82,6 +82,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._validate import non_negative, positive
 from .exceptions import InvalidInput
 from .lie import as_vector, real_array
 from .result import IKResult
@@ -140,7 +141,7 @@ def finite_difference_jacobian(
     if scheme not in FD_SCHEMES:
         raise InvalidInput(f"scheme must be one of {FD_SCHEMES}, got {scheme!r}")
     if step is not None:
-        step = _positive(step, "the finite-difference step")
+        step = positive(step, "the finite-difference step")
     q = np.array(q, dtype=float)
     if step is None:
         exponent = 1.0 / 3.0 if scheme == "central" else 0.5
@@ -288,11 +289,11 @@ def hybrid(
     Returns:
         An :class:`~redik.result.IKResult` (method ``"hybrid"``).
     """
-    switch_error = _positive(switch_error, "switch_error")
+    switch_error = positive(switch_error, "switch_error")
     gradient_step = _step_option(gradient_step, "gradient_step")
     newton_step = _step_option(newton_step, "newton_step")
     if singular_tol is not None:  # checked by the Newton phase only, not by _iterate
-        singular_tol = _non_negative(singular_tol, "singular_tol")
+        singular_tol = non_negative(singular_tol, "singular_tol")
     options = _Options.checked(tol, q_tol, max_iter, None, rel_tol, max_growth)
     run = _Run(f, x_d, q0, jac, "hybrid", options, fd_step, fd_scheme, gain)
 
@@ -336,12 +337,12 @@ class _Options:
     ) -> _Options:
         pose_tol = None
         if isinstance(tol, (tuple, list, np.ndarray)):
-            pair = [_non_negative(value, "tol") for value in tol]
+            pair = [non_negative(value, "tol") for value in tol]
             if len(pair) != 2:
                 raise InvalidInput(f"tol must be a number or a pair (ε_p, ε_R), got {tol!r}")
             pose_tol = (pair[0], pair[1])
             tol = 0.0
-        tol = _non_negative(tol, "tol")
+        tol = non_negative(tol, "tol")
         if (
             isinstance(max_iter, bool)
             or not isinstance(max_iter, (int, np.integer))
@@ -351,13 +352,13 @@ class _Options:
         return cls(
             tol=tol,
             pose_tol=pose_tol,
-            q_tol=None if q_tol is None else _non_negative(q_tol, "q_tol"),
+            q_tol=None if q_tol is None else non_negative(q_tol, "q_tol"),
             max_iter=int(max_iter),
             singular_tol=None
             if singular_tol is None
-            else _non_negative(singular_tol, "singular_tol"),
-            rel_tol=None if rel_tol is None else _non_negative(rel_tol, "rel_tol"),
-            max_growth=_positive(max_growth, "max_growth", allow_inf=True),
+            else non_negative(singular_tol, "singular_tol"),
+            rel_tol=None if rel_tol is None else non_negative(rel_tol, "rel_tol"),
+            max_growth=positive(max_growth, "max_growth", allow_inf=True),
         )
 
 
@@ -383,7 +384,7 @@ class _Run:
         if fd_scheme not in FD_SCHEMES:
             raise InvalidInput(f"fd_scheme must be one of {FD_SCHEMES}, got {fd_scheme!r}")
         if fd_step is not None:
-            _positive(fd_step, "fd_step")
+            positive(fd_step, "fd_step")
         self.x_d = _finite_vector(x_d, "x_d")
         self.q = _finite_vector(q0, "q0").copy()
         self.f = f
@@ -634,28 +635,4 @@ def _step_option(step: object, name: str) -> float | str:
         return step
     if isinstance(step, str):
         raise InvalidInput(f"{name} must be a positive number or 'armijo', got {step!r}")
-    return _positive(step, name)
-
-
-def _positive(value: object, name: str, *, allow_inf: bool = False) -> float:
-    """``value`` as a float ``> 0``, finite unless ``allow_inf``."""
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, (int, float, np.floating, np.integer))
-        or not value > 0
-        or not (allow_inf or math.isfinite(value))
-    ):
-        finite = "" if allow_inf else "finite "
-        raise InvalidInput(f"{name} must be a {finite}positive number, got {value!r}")
-    return float(value)
-
-
-def _non_negative(value: object, name: str) -> float:
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, (int, float, np.floating, np.integer))
-        or not value >= 0
-        or not math.isfinite(value)
-    ):
-        raise InvalidInput(f"{name} must be a finite number ≥ 0, got {value!r}")
-    return float(value)
+    return positive(step, name)

@@ -54,6 +54,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from ._validate import flag
 from .exceptions import InvalidInput, ModelError, ModelWarning, UnknownFrame, warn
 
 # Mesh formats MuJoCo decodes without a plugin; other extensions are probed once per run.
@@ -338,20 +339,12 @@ def _options(
     floating_base: bool,
     keep_fixed_links: bool,
 ) -> _Options:
-    for label, value in (
-        ("meshes", meshes),
-        ("visual", visual),
-        ("floating_base", floating_base),
-        ("keep_fixed_links", keep_fixed_links),
-    ):
-        if not isinstance(value, bool):
-            raise InvalidInput(f"{label} must be True or False, got {value!r}")
     return _Options(
-        meshes=meshes,
-        visual=visual,
+        meshes=flag(meshes, "meshes"),
+        visual=flag(visual, "visual"),
         package_paths=tuple(Path(p).expanduser() for p in _as_paths(package_paths)),
-        floating_base=floating_base,
-        keep_fixed_links=keep_fixed_links,
+        floating_base=flag(floating_base, "floating_base"),
+        keep_fixed_links=flag(keep_fixed_links, "keep_fixed_links"),
     )
 
 
