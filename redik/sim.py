@@ -82,6 +82,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from ._validate import flag, positive
 from .exceptions import InvalidInput, ModelError, TrackingWarning, warn
 from .lie import pose_errors
 from .plot import new_figure, save_figure
@@ -477,19 +478,22 @@ def simulate(
         pose_at, start = reference, 0.0
     else:
         raise InvalidInput(f"reference must be a trajectory.Path or t -> T, got {reference!r}")
-    if duration is None or not duration > 0.0:
-        raise InvalidInput(f"duration must be a positive number of seconds, got {duration!r}")
-    if not control_rate > 0.0:
-        raise InvalidInput(f"control_rate must be positive (Hz), got {control_rate!r}")
-    if not (np.isfinite(motor_bandwidth) and motor_bandwidth > 0.0):
-        raise InvalidInput(f"motor_bandwidth must be positive (rad/s), got {motor_bandwidth!r}")
+    duration = positive(duration, "duration", unit="s")
+    control_rate = positive(control_rate, "control_rate", unit="Hz")
+    motor_bandwidth = positive(motor_bandwidth, "motor_bandwidth", unit="rad/s")
+    feedforward = flag(feedforward, "feedforward")
     if error_bound is not None:
-        error_bound = tuple(float(b) for b in error_bound)
-        if len(error_bound) != 2 or not all(b > 0.0 for b in error_bound):
+        if not isinstance(error_bound, (tuple, list)) or len(error_bound) != 2:
             raise InvalidInput(
                 f"error_bound must be (position m, rotation rad), both positive, or None; "
                 f"got {error_bound!r}"
             )
+        error_bound = (
+            positive(error_bound[0], "error_bound[0]", allow_inf=True, unit="m"),
+            positive(error_bound[1], "error_bound[1]", allow_inf=True, unit="rad"),
+        )
+    if on_tick is not None and not callable(on_tick):
+        raise InvalidInput(f"on_tick must be callable or None, got {on_tick!r}")
     dt = 1.0 / control_rate
     substeps = dt / robot.model.opt.timestep
     if abs(substeps - round(substeps)) > 1e-6 or round(substeps) < 1:

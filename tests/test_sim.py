@@ -126,6 +126,19 @@ def test_bad_arguments_are_rejected():
         simulate(robot, problem, task, lambda t: T, 1.0, error_bound=(0.0, 1.0))
     with pytest.raises(redik.InvalidInput, match="motor_bandwidth"):
         simulate(robot, problem, task, lambda t: T, 1.0, motor_bandwidth=-1.0)
+    # Wrong types are refused by name, never a raw TypeError (nor a truthy string obeyed).
+    for options, match in [
+        ({"motor_bandwidth": "fast"}, "motor_bandwidth"),
+        ({"control_rate": "100"}, "control_rate"),
+        ({"error_bound": 5e-3}, "error_bound"),
+        ({"error_bound": ("1 mm", 0.05)}, r"error_bound\[0\]"),
+        ({"feedforward": "no"}, "feedforward"),
+        ({"on_tick": 5}, "on_tick"),
+    ]:
+        with pytest.raises(redik.InvalidInput, match=match):
+            simulate(robot, problem, task, lambda t: T, 1.0, **options)
+    with pytest.raises(redik.InvalidInput, match="duration"):
+        simulate(robot, problem, task, lambda t: T, "1 s")
 
 
 def test_a_joint_without_actuator_is_reported():
