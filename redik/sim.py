@@ -208,6 +208,12 @@ class JointDrives:
     def servo(self) -> np.ndarray:
         return np.array([kind == "position" for kind in self.kinds], dtype=bool)
 
+    @property
+    def lead(self) -> np.ndarray:
+        """``k_v / k_p`` of each servo (seconds; 0 for a motor): a servo following a ramp
+        ``q̂ = v t`` settles ``(k_v / k_p) v`` behind, so its setpoint is led by that much."""
+        return self.kv / self.gain
+
 
 def _actuator_name(model: mujoco.MjModel, a: int) -> str:
     return mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_ACTUATOR, a) or f"#{a}"
@@ -306,19 +312,6 @@ def actuator_indices(robot: Robot) -> np.ndarray:
     return joint_drives(robot).actuators
 
 
-def servo_lead(model: mujoco.MjModel, actuators: np.ndarray) -> np.ndarray:
-    """``kv / kp`` of each position servo (seconds): how far it lags a ramp at steady state.
-
-    A MuJoCo position actuator applies ``kp (ctrl − q) − kv q̇`` (``gainprm[0] = kp``,
-    ``biasprm[1] = −kp``, ``biasprm[2] = −kv``); following ``q_ref(t) = v t`` it settles
-    ``(kv / kp) v`` behind. Actuators of another form get 0 (no feed-forward).
-    """
-    kp = model.actuator_gainprm[actuators, 0]
-    kv = -model.actuator_biasprm[actuators, 2]
-    is_servo = (kp > 0.0) & np.isclose(model.actuator_biasprm[actuators, 1], -kp) & (kv >= 0.0)
-    return np.where(is_servo, kv / np.where(kp > 0.0, kp, 1.0), 0.0)
-
-
 class _Controller:
     """Turns a joint reference ``(q̂, \\dot{\\hat q}, \\ddot{\\hat q})`` into actuator controls by
     the laws of the module docstring, from the measured state; notes saturation."""
@@ -332,6 +325,9 @@ class _Controller:
         self.qpos_adr = np.asarray(robot.qpos_indices)
         self.scratch = mujoco.MjData(model)
         self.servo = drives.servo
+        self.any_servo, self.all_servo = bool(self.servo.any()), bool(self.servo.all())
+        self.lead = drives.lead
+        self.accel_full, self.inertial_full = np.zeros(model.nv), np.zeros(model.nv)
         self.kp_motor, self.kd_motor = motor_bandwidth**2, 2.0 * motor_bandwidth
         a = drives.actuators
         self.ctrl_low = np.where(
@@ -373,16 +369,14 @@ class _Controller:
         the actuator and take away the feedback and gravity terms that keep the arm on the
         path. So the inertial term is scaled down first, per joint, to fit the range.
         """
-        full = np.zeros(self.model.nv)
-        full[self.dofs] = accel
-        inertial = np.zeros(self.model.nv)
-        mujoco.mj_mulM(self.model, self.scratch, inertial, full)
-        inertial = inertial[self.dofs]
+        self.accel_full[self.dofs] = accel
+        mujoco.mj_mulM(self.model, self.scratch, self.inertial_full, self.accel_full)
+        inertial = self.inertial_full[self.dofs]
         excess = np.maximum(torque - self.torque_high, 0.0) + np.minimum(
             torque - self.torque_low, 0.0
         )
         ratio = np.divide(excess, inertial, out=np.zeros_like(excess), where=inertial != 0.0)
-        return (1.0 - np.clip(1.0 - ratio, 0.0, 1.0)) * inertial
+        return np.clip(ratio, 0.0, 1.0) * inertial
 
     def controls(
         self,
@@ -396,18 +390,17 @@ class _Controller:
         q, qdot = data.qpos[self.qpos_adr], data.qvel[self.dofs]
         g = drives.gear
         u = np.empty(len(g))
-        if np.any(servo):
+        if self.any_servo:
             # servo torque g·kp·u − g²kp·q − g²kv·q̇ = g²kp (q̂ − q) + g²kv (q̂' − q̇) + τ_ff
             kp, kv = drives.gain, drives.kv
-            tau = 0.0 * q
+            servo_u = g * (q_ref + self.lead * velocity_ref)
             if self.feedforward:
                 tau = self.inverse_dynamics(data, accel_ref)
                 feedback = g * g * (kp * (q_ref - q) + kv * (velocity_ref - qdot))
                 tau -= self._unreachable_inertia(feedback + tau, accel_ref)
-            lead = kv / np.where(servo, kp, 1.0)
-            servo_u = g * (q_ref + lead * velocity_ref) + tau / (g * np.where(servo, kp, 1.0))
+                servo_u += tau / (g * kp)
             u[servo] = servo_u[servo]
-        if not np.all(servo):
+        if not self.all_servo:
             qacc = accel_ref + self.kd_motor * (velocity_ref - qdot) + self.kp_motor * (q_ref - q)
             tau = self.inverse_dynamics(data, qacc)
             motor_u = tau / (g * drives.gain)

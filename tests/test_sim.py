@@ -22,7 +22,6 @@ from redik.sim import (
     actuator_indices,
     joint_drives,
     plot_tracking,
-    servo_lead,
     simulate,
 )
 from redik.tasks import PoseTask, PostureTask
@@ -99,11 +98,11 @@ def test_feedforward_beats_plain_position_commands():
 
 def test_servo_lead_reads_kv_over_kp():
     robot = redik.load("panda")
-    actuators = actuator_indices(robot)
-    lead = servo_lead(robot.model, actuators)
-    kp = robot.model.actuator_gainprm[actuators, 0]
-    kv = -robot.model.actuator_biasprm[actuators, 2]
-    assert np.allclose(lead, kv / kp) and np.all(lead > 0.0)
+    drives = joint_drives(robot)
+    kp = robot.model.actuator_gainprm[drives.actuators, 0]
+    kv = -robot.model.actuator_biasprm[drives.actuators, 2]
+    assert np.allclose(drives.lead, kv / kp) and np.all(drives.lead > 0.0)
+    assert np.all(joint_drives(torque_iiwa14()).lead == 0.0)  # a motor has no lag to lead
 
 
 def test_tracking_plot_is_written(iiwa_circle, tmp_path):
