@@ -520,7 +520,9 @@ def simulate(
     for k, t in enumerate(times):
         q_measured = data.qpos[qpos_adr].copy()
         # Aim at where the reference will be when this command has been applied.
-        task.set_target(pose_at(t))
+        T_d = pose_at(t)  # once a tick: a user's t -> T may be costly
+        task.set_target(T_d)
+        targets[k] = T_d
         if command == "position":
             q_command = q_measured + problem.step(q_measured.copy(), dt)
             ctrl, clipped = controller.controls(data, q_command, still, still)
@@ -536,8 +538,6 @@ def simulate(
         mujoco.mj_step(robot.model, data, nstep=substeps)
         saturated[k] = clipped or controller.force_saturated(data)
         mujoco.mj_kinematics(robot.model, data)  # mj_step leaves poses of the previous state
-
-        targets[k] = pose_at(t)
         _site_pose(data, ee, T)
         position_error[k], rotation_error[k] = pose_errors(T, targets[k])
         reference_error[k] = pose_errors(robot.fk(q_command, ee), targets[k])
