@@ -8,7 +8,9 @@ numpy or MuJoCo as a raw ``TypeError``.
 from __future__ import annotations
 
 import math
+import os
 from numbers import Real
+from pathlib import Path
 
 from .exceptions import InvalidInput
 
@@ -44,3 +46,10 @@ def flag(value: object, name: str) -> bool:
     if not isinstance(value, bool):
         raise InvalidInput(f"{name} must be True or False, got {value!r}")
     return value
+
+
+def path(value: object, name: str) -> Path:
+    """``value`` as a :class:`~pathlib.Path` when it is a ``str`` or path-like object."""
+    if not isinstance(value, (str, os.PathLike)):
+        raise InvalidInput(f"{name} must be a path (str or os.PathLike), got {value!r}")
+    return Path(value)

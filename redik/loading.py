@@ -56,6 +56,7 @@ import mujoco
 import numpy as np
 
 from ._validate import flag
+from ._validate import path as checked_path
 from .exceptions import InvalidInput, ModelError, ModelWarning, UnknownFrame, warn
 
 # Mesh formats MuJoCo decodes without a plugin; other extensions are probed once per run.
@@ -111,7 +112,7 @@ def load_spec(
             ``floating_base`` cannot be applied.
     """
     options = _options(meshes, visual, package_paths, floating_base, keep_fixed_links)
-    path = Path(source)
+    path = checked_path(source, "source")
     if not path.is_file():
         raise ModelError(f"robot file not found: {str(path)!r}")
     try:
@@ -148,7 +149,7 @@ def load_spec_from_string(
     urdf = _root_tag(xml) == "robot"
     edited = _edit_urdf(xml, options) if urdf else None
     spec = _parse(xml if edited is None else edited, xml, "the model string")
-    base = Path(directory).resolve() if directory is not None else Path.cwd()
+    base = checked_path(directory, "directory").resolve() if directory is not None else Path.cwd()
     # Assets are then named relative to ``directory``, as they would be for a file there.
     spec.modelfiledir = str(base) + os.sep
     _prepare(spec, urdf, base, "the model string", options)
@@ -190,7 +191,7 @@ def search_folders(
     (folders holding a ``package.xml``) up to :data:`PACKAGE_DEPTH` levels below it, as
     ``rospack`` finds the packages of a workspace's ``src``.
     """
-    explicit = [Path(p).expanduser() for p in _as_paths(package_paths)]
+    explicit = [p.expanduser() for p in _as_paths(package_paths)]
     explicit += [Path(p) for p in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if p]
     folders: list[Path] = []
     for folder in explicit:
@@ -347,18 +348,21 @@ def _options(
     return _Options(
         meshes=flag(meshes, "meshes"),
         visual=flag(visual, "visual"),
-        package_paths=tuple(Path(p).expanduser() for p in _as_paths(package_paths)),
+        package_paths=tuple(p.expanduser() for p in _as_paths(package_paths)),
         floating_base=flag(floating_base, "floating_base"),
         keep_fixed_links=flag(keep_fixed_links, "keep_fixed_links"),
     )
 
 
-def _as_paths(paths: Sequence[str | Path] | str | Path | None) -> list[str | Path]:
+def _as_paths(paths: Sequence[str | Path] | str | Path | None) -> list[Path]:
+    """``package_paths`` as a list of paths: None, one path, or a sequence of paths."""
     if paths is None:
         return []
-    if isinstance(paths, (str, Path)):
-        return [paths]
-    return list(paths)
+    if isinstance(paths, (str, os.PathLike)):
+        return [checked_path(paths, "package_paths")]
+    if not isinstance(paths, Iterable):
+        raise InvalidInput(f"package_paths must be a path or a list of paths, got {paths!r}")
+    return [checked_path(p, f"package_paths[{i}]") for i, p in enumerate(paths)]
 
 
 def _parse(xml: str | None, text: str, source: str) -> mujoco.MjSpec:

@@ -655,6 +655,17 @@ def test_bad_options_and_files(tmp_path):
         loading.load_spec(models.pybullet_data("kuka_iiwa/model.sdf"))
     with pytest.raises(redik.ModelError, match="not found"):
         loading.load_spec("/nonexistent/robot.urdf")
+    # A path of the wrong type is an InvalidInput naming the argument, not a raw TypeError.
+    for call, match in [
+        (lambda: loading.load_spec(None), "source"),
+        (lambda: loading.load_spec(path, package_paths=5), "package_paths"),
+        (lambda: loading.load_spec(path, package_paths=[tmp_path, None]), r"package_paths\[1\]"),
+        (lambda: loading.load_spec_from_string("<mujoco/>", directory=3), "directory"),
+        (lambda: loading.search_folders(5), "package_paths"),
+        (lambda: redik.load(None), "scene name"),
+    ]:
+        with pytest.raises(redik.InvalidInput, match=match):
+            call()
     xml = """<mujoco><worldbody><body name="a"/><body name="b"/></worldbody></mujoco>"""
     with pytest.raises(redik.ModelError, match="exactly one body"):
         loading.load_spec_from_string(xml, floating_base=True)
