@@ -120,13 +120,7 @@ def load_spec(
     except OSError as error:
         raise ModelError(f"cannot read {str(path)!r}: {error}") from None
     urdf = path.suffix.lower() == ".urdf" or _root_tag(text) == "robot"
-    directory = path.resolve().parent
-    edited = _edit_urdf(text, options) if urdf else None
-    spec = _parse(edited, text, str(path))
-    if edited is not None:
-        spec.modelfiledir = str(directory) + os.sep
-    _prepare(spec, urdf, directory, str(path), options)
-    return spec
+    return _load(text, urdf, path.resolve().parent, str(path), options, from_file=True)
 
 
 def load_spec_from_string(
@@ -146,14 +140,9 @@ def load_spec_from_string(
     options = _options(meshes, visual, package_paths, floating_base, keep_fixed_links)
     if not isinstance(xml, str):
         raise InvalidInput(f"the model must be an XML string, got {type(xml).__name__}")
-    urdf = _root_tag(xml) == "robot"
-    edited = _edit_urdf(xml, options) if urdf else None
-    spec = _parse(xml if edited is None else edited, xml, "the model string")
     base = checked_path(directory, "directory").resolve() if directory is not None else Path.cwd()
-    # Assets are then named relative to ``directory``, as they would be for a file there.
-    spec.modelfiledir = str(base) + os.sep
-    _prepare(spec, urdf, base, "the model string", options)
-    return spec
+    urdf = _root_tag(xml) == "robot"
+    return _load(xml, urdf, base, "the model string", options, from_file=False)
 
 
 def load_model(source: str | Path, **options) -> mujoco.MjModel:
@@ -363,6 +352,25 @@ def _as_paths(paths: Sequence[str | Path] | str | Path | None) -> list[Path]:
     if not isinstance(paths, Iterable):
         raise InvalidInput(f"package_paths must be a path or a list of paths, got {paths!r}")
     return [checked_path(p, f"package_paths[{i}]") for i, p in enumerate(paths)]
+
+
+def _load(
+    text: str, urdf: bool, directory: Path, source: str, options: _Options, *, from_file: bool
+) -> mujoco.MjSpec:
+    """Parse the model (a URDF edited first, :func:`_edit_urdf`) and :func:`_prepare` it.
+
+    An unedited file is read by MuJoCo from its path, so that its includes and assets resolve
+    as MuJoCo resolves them; text is parsed from the string, with ``directory`` as the model
+    file's folder, so relative paths name the same files as for a file there.
+    """
+    edited = _edit_urdf(text, options) if urdf else None
+    if from_file and edited is None:
+        spec = _parse(None, text, source)
+    else:
+        spec = _parse(text if edited is None else edited, text, source)
+        spec.modelfiledir = str(directory) + os.sep
+    _prepare(spec, urdf, directory, source, options)
+    return spec
 
 
 def _parse(xml: str | None, text: str, source: str) -> mujoco.MjSpec:
