@@ -201,6 +201,18 @@ def _body_pose(data: mujoco.MjData, body: int) -> np.ndarray:
     return T
 
 
+def _assert_link_poses(model, data, expected: dict, root: str, bullet) -> None:
+    """Every body named in ``expected`` sits at its URDF pose (1e-9) and, but for the root
+    (pybullet's base, not a link), at pybullet's (its precision)."""
+    for link, T in expected.items():
+        actual = _body_pose(data, model.body(link).id)
+        np.testing.assert_allclose(actual, T, rtol=0, atol=EXACT_TOL, err_msg=link)
+        if link != root:
+            np.testing.assert_allclose(
+                actual, bullet.link_pose(link), rtol=0, atol=PYBULLET_TOL, err_msg=link
+            )
+
+
 # --------------------------------------------------------------------------------------
 # Third-party models
 
@@ -259,13 +271,7 @@ def test_third_party_fk_matches_independent_fk(key, tmp_path):
             bullet.set(values)
             expected = urdf.link_poses(values)
             assert set(expected) == set(bullet.links) | {urdf.root}
-            for link, T in expected.items():
-                actual = _body_pose(data, model.body(link).id)
-                np.testing.assert_allclose(actual, T, rtol=0, atol=EXACT_TOL, err_msg=link)
-                if link != urdf.root:
-                    np.testing.assert_allclose(
-                        actual, bullet.link_pose(link), rtol=0, atol=PYBULLET_TOL, err_msg=link
-                    )
+            _assert_link_poses(model, data, expected, urdf.root, bullet)
         for frame in frames:
             robot = _load_robot(path, ee=frame, meshes=False)
             for _ in range(3):
@@ -309,13 +315,7 @@ def test_floating_base_matches_independent_fk(tmp_path):
             base[:3, :3] = Rotation.from_quat(quat, scalar_first=True).as_matrix()
             base[:3, 3] = position
             bullet.set(values, base=base)
-            for link, T in urdf.link_poses(values, base).items():
-                actual = _body_pose(data, model.body(link).id)
-                np.testing.assert_allclose(actual, T, rtol=0, atol=EXACT_TOL, err_msg=link)
-                if link != urdf.root:
-                    np.testing.assert_allclose(
-                        actual, bullet.link_pose(link), rtol=0, atol=PYBULLET_TOL, err_msg=link
-                    )
+            _assert_link_poses(model, data, urdf.link_poses(values, base), urdf.root, bullet)
     finally:
         bullet.close()
 
