@@ -21,6 +21,7 @@ import numpy as np
 
 from redik.analytic._solution import IKSolutions, JointSolution, SolutionFamily
 from redik.exceptions import InvalidInput
+from redik.lie import real_array
 
 
 @dataclass(frozen=True)
@@ -50,7 +51,7 @@ class AngleConvention:
             )
         if any(sign not in (1, -1) for sign in self.signs):
             raise InvalidInput(f"signs must be +1 or -1, got {self.signs}")
-        if not np.all(np.isfinite(self.offsets)):
+        if not np.all(np.isfinite(real_array(self.offsets, "offsets"))):
             raise InvalidInput(f"offsets must be finite, got {self.offsets}")
 
     @property
@@ -115,12 +116,14 @@ class AngleConvention:
         return generator
 
     def _checked(self, values: np.ndarray, name: str) -> np.ndarray:
-        array = np.asarray(values, dtype=float)
+        array = real_array(values, name)
         if array.shape[-1:] != (self.n_joints,):
             raise InvalidInput(
                 f"{name} must end in {self.n_joints} values ({', '.join(self.symbols)}) for "
                 f"the {self.name!r} convention, got shape {array.shape}"
             )
+        if np.isnan(array).any():  # ±inf stays: an open bound of limits_to_joints
+            raise InvalidInput(f"{name} holds NaN: {np.array2string(array)}")
         return array
 
 
