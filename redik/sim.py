@@ -236,6 +236,8 @@ def _actuator_kind(model: mujoco.MjModel, a: int) -> str:
         )
     if gain != mujoco.mjtGain.mjGAIN_FIXED or gainprm[0] == 0.0:
         raise ModelError(f"actuator {name!r} has no fixed gain; simulate() cannot drive it")
+    if model.actuator_gear[a, 0] == 0.0:
+        raise ModelError(f"actuator {name!r} has gear 0: it applies no torque to its joint")
     if bias == mujoco.mjtBias.mjBIAS_NONE:
         return "motor"
     kp, kv = gainprm[0], -biasprm[2]

@@ -301,6 +301,11 @@ def test_actuators_simulate_cannot_drive_are_refused_by_name():
         joint_drives(redik.Robot(spec.compile()))
 
     spec = iiwa14_spec()
+    spec.actuators[1].gear[0] = 0.0  # its controls would be divided by 0
+    with pytest.raises(redik.ModelError, match="'actuator2' has gear 0"):
+        joint_drives(redik.Robot(spec.compile()))
+
+    spec = iiwa14_spec()
     extra = spec.add_actuator(name="joint4_damper", target="joint4")
     extra.trntype = mujoco.mjtTrn.mjTRN_JOINT
     extra.set_to_velocity(kv=5.0)
