@@ -140,9 +140,19 @@ def finite_difference_jacobian(
     """
     if scheme not in FD_SCHEMES:
         raise InvalidInput(f"scheme must be one of {FD_SCHEMES}, got {scheme!r}")
+    if not callable(f):
+        raise InvalidInput(f"f must be callable, got {f!r}")
     if step is not None:
         step = positive(step, "the finite-difference step")
-    q = np.array(q, dtype=float)
+    return _difference_jacobian(f, _finite_vector(q, "q"), step, scheme, f_q)
+
+
+def _difference_jacobian(
+    f: TaskFunction, q: np.ndarray, step: float | None, scheme: str, f_q: np.ndarray | None
+) -> np.ndarray:
+    """:func:`finite_difference_jacobian` on checked arguments: the solvers call it every
+    iteration, after :class:`_Run` checked ``f``, ``fd_step`` and ``fd_scheme`` once."""
+    q = q.copy()
     if step is None:
         exponent = 1.0 / 3.0 if scheme == "central" else 0.5
         h = np.finfo(float).eps ** exponent * np.maximum(1.0, np.abs(q))
@@ -384,7 +394,7 @@ class _Run:
         if fd_scheme not in FD_SCHEMES:
             raise InvalidInput(f"fd_scheme must be one of {FD_SCHEMES}, got {fd_scheme!r}")
         if fd_step is not None:
-            positive(fd_step, "fd_step")
+            fd_step = positive(fd_step, "fd_step")
         self.x_d = _finite_vector(x_d, "x_d")
         self.q = _finite_vector(q0, "q0").copy()
         self.f = f
@@ -441,7 +451,7 @@ class _Run:
         if self._J0 is not None:
             J, self._J0 = self._J0, None
         elif self.jac is None:
-            J = finite_difference_jacobian(self.f, self.q, self.fd_step, self.fd_scheme, self.x)
+            J = _difference_jacobian(self.f, self.q, self.fd_step, self.fd_scheme, self.x)
         else:
             J = np.asarray(self.jac(self.q.copy()), dtype=float)
         return J if np.all(np.isfinite(J)) else None
@@ -623,7 +633,7 @@ def _gain(gain: np.ndarray | float | None, r: int) -> np.ndarray:
 
 
 def _finite_vector(x: np.ndarray, name: str) -> np.ndarray:
-    x = np.atleast_1d(np.asarray(x, dtype=float))
+    x = np.atleast_1d(real_array(x, name))
     if x.ndim != 1:
         raise InvalidInput(f"{name} must be a vector, got shape {x.shape}")
     return as_vector(x, x.size, name)

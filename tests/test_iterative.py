@@ -142,6 +142,7 @@ def test_non_finite_values_never_leave_the_solver():
     "kwargs",
     [
         {"x_d": [np.nan, 0.0]},
+        {"x_d": ["a", "b"]},
         {"x_d": [1.0, 2.0, 3.0]},
         {"q0": [np.inf, 0.0]},
         {"q0": [[0.0, 1.0]]},
@@ -361,6 +362,12 @@ def test_forward_differences_default_step_is_accurate():
     np.testing.assert_allclose(J, two_link_jacobian(q), atol=1e-7)
     with pytest.raises(InvalidInput, match="scheme"):
         finite_difference_jacobian(two_link, q, scheme="backward")
+    with pytest.raises(InvalidInput, match="q must hold real numbers"):
+        finite_difference_jacobian(two_link, ["a", "b"])
+    with pytest.raises(InvalidInput, match="NaN"):
+        finite_difference_jacobian(two_link, [np.nan, 0.0])
+    with pytest.raises(InvalidInput, match="callable"):
+        finite_difference_jacobian("two_link", q)
     with pytest.raises(InvalidInput, match="step"):
         finite_difference_jacobian(two_link, q, step=0.0)
     with pytest.raises(InvalidInput, match="fd_scheme"):
