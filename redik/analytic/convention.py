@@ -14,6 +14,7 @@ angles (:data:`redik.analytic.hexapod.SERVO`) and the Stanford arm's course angl
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -86,24 +87,13 @@ class AngleConvention:
         for solution in solutions:
             family = solution.family
             if family is not None:
-                family = SolutionFamily(
-                    family.free,
-                    family.description,
-                    self._mapped_generator(family),
-                    dict(family.invariants),
-                )
+                family = dataclasses.replace(family, generator=self._mapped_generator(family))
             mapped.append(
                 JointSolution(
                     self.from_joints(solution.q), solution.label, solution.singular, family
                 )
             )
-        return IKSolutions(
-            tuple(mapped),
-            solutions.n_joints,
-            solutions.reachable,
-            solutions.reason,
-            solutions.preferred,
-        )
+        return dataclasses.replace(solutions, solutions=tuple(mapped))
 
     def _mapped_generator(self, family: SolutionFamily) -> Callable[..., np.ndarray]:
         """``at(*t)`` with the free joints' values ``t`` in this convention too."""
