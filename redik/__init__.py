@@ -33,6 +33,7 @@ from .exceptions import (
     NearRotationWarning,
     RedikError,
     RedikWarning,
+    TrackingWarning,
     UnknownFrame,
 )
 from .iterative import finite_difference_jacobian, gradient, hybrid, newton
@@ -89,6 +90,7 @@ __all__ = [
     "RedikWarning",
     "Robot",
     "SelfMotion",
+    "TrackingWarning",
     "UnknownFrame",
     "VelocityLimit",
     "analytic",

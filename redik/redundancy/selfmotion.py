@@ -156,7 +156,7 @@ class SelfMotion:
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
-            raise ValueError(f"status must be one of {STATUSES}, got {self.status!r}")
+            raise InvalidInput(f"status must be one of {STATUSES}, got {self.status!r}")
 
     @property
     def success(self) -> bool:
