@@ -45,7 +45,8 @@ class Problem:
     """Differential IK as a (hierarchical) QP over the chain joints of ``robot``.
 
     Args:
-        robot: The robot; ``Δq`` has ``robot.dof`` entries (its chain joints).
+        robot: The robot; ``Δq`` has ``robot.dof`` entries (its tangent coordinates), a
+            configuration ``q`` has ``robot.nq`` (see :mod:`redik.robot`).
         tasks: redik tasks and/or mink tasks (``mink.FrameTask``, ``mink.ComTask``…). Tasks
             of equal ``priority`` are weighted and summed; priorities are strict.
         limits: redik or mink limits; None is ``[PositionLimit()]``, ``[]`` is none.
@@ -115,7 +116,7 @@ class Problem:
         self._bounded = bool(self._boxes)
 
         self.stats: dict[str, int] = {}
-        self._shape = (robot.dof,)
+        self._shape = (robot.nq,)
         self._state = KinematicState.for_robot(robot)
         self._configuration = None
         if self._assembly.needs_configuration or any(r.needs_configuration for r in self._rows):
@@ -135,9 +136,11 @@ class Problem:
     # Online control
 
     def step(self, q: np.ndarray, dt: float | None = None) -> np.ndarray:
-        """The joint step ``Δq`` at ``q`` (``q + Δq`` stays within the position limits).
+        """The joint step ``Δq`` at ``q`` (``q ⊕ Δq`` stays within the position limits).
 
-        ``dt`` (seconds) is needed by velocity limits; divide ``Δq`` by it for a velocity.
+        ``Δq`` is a tangent vector (``robot.dof``,): apply it with
+        ``robot.integrate(q, Δq)`` (``q + Δq`` when ``robot.flat``). ``dt`` (seconds) is
+        needed by velocity limits; divide ``Δq`` by it for a velocity.
 
         Raises:
             InfeasibleProblem: the limits admit no step (e.g. a joint outside its range
@@ -173,20 +176,21 @@ class Problem:
             damping = [self.damping + lm_damping] + [self.damping] * (len(objectives) - 1)
         lb, ub = self._lb, self._ub
         if self._boxes:
-            self._boxes[0].set_bounds(q, dt, lb, ub)
+            q_box = self.robot.scalar_values(q)
+            self._boxes[0].set_bounds(q_box, dt, lb, ub)
             for limit in self._boxes[1:]:
-                limit.bounds_into(q, dt, lb, ub)
+                limit.bounds_into(q_box, dt, lb, ub)
         if max_step is not None:
             np.maximum(lb, -max_step, out=lb)
             np.minimum(ub, max_step, out=ub)
         # One position box is never empty (bind shrinks it by at most a quarter range).
         if len(self._boxes) > 1 and (lb > ub).any():
             bad = np.flatnonzero(lb > ub)
-            names = [self.robot.joint_names[i] for i in bad]
+            names = [self.robot.dof_names[i] for i in bad]
             raise InfeasibleProblem(
                 f"the limits admit no step for joints {names}: lower bounds "
                 f"{lb[bad].tolist()} exceed upper bounds {ub[bad].tolist()} at q = "
-                f"{q[bad].tolist()} (dt = {dt})"
+                f"{q_box[bad].tolist()} (dt = {dt})"
             )
         C = low = up = None
         if self._rows:
@@ -277,7 +281,7 @@ class Problem:
         if not (np.isfinite(lm_damping) and lm_damping >= 0.0):
             raise InvalidInput(f"lm_damping must be finite and >= 0, got {lm_damping}")
         if self._clip:
-            q = np.clip(q, self.robot.lower, self.robot.upper)
+            q = self.robot.clip(q)
         history = [q.copy()]
         self._update(q)
         converged, error, position_error, rotation_error = self._level0_errors(pos_tol, rot_tol)
@@ -293,7 +297,7 @@ class Problem:
             # box for α ≤ 1. Without a level-0 target there is nothing to backtrack on.
             alpha = 1.0
             while True:
-                trial = q + alpha * dq
+                trial = self.robot.integrate(q, alpha * dq)
                 self._update(trial)
                 result = self._level0_errors(pos_tol, rot_tol)
                 if not self._targets or result[1] < error or result[0]:

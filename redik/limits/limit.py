@@ -42,7 +42,11 @@ class BoxLimit(Limit, abc.ABC):
     def bounds_into(
         self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
     ) -> None:
-        """Intersect this box with ``[lower, upper]`` in place (``lower = max(lower, l)``…)."""
+        """Intersect this box with ``[lower, upper]`` in place (``lower = max(lower, l)``…).
+
+        ``q`` is per tangent coordinate, ``robot.scalar_values(q)``: the hinge and slide
+        values (0 on ball and free joints, which have no position box).
+        """
 
     def set_bounds(
         self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray

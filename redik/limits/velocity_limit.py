@@ -35,7 +35,8 @@ class VelocityLimit(BoxLimit):
                 raise InvalidInput(
                     f"VelocityLimit names joints {unknown} not on the chain {robot.joint_names}"
                 )
-            limit = np.array([float(spec.get(name, np.inf)) for name in robot.joint_names])
+            # A ball or free joint's bound applies to each of its tangent coordinates.
+            limit = np.array([float(spec.get(name, np.inf)) for name in robot.dof_joints])
         else:
             limit = np.atleast_1d(np.asarray(spec, dtype=float))
             if limit.shape not in ((1,), (robot.dof,)):

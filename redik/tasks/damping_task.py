@@ -31,7 +31,8 @@ class DampingTask(JointSpaceTask):
     def bind(self, robot: Robot) -> DampingTask:
         super().bind(robot)
         self.jacobian_diagonal = np.ones(robot.dof)
-        self.reference = np.zeros(robot.dof)
+        # No reference (the gain is 0); a configuration, so that q ⊖ r is defined.
+        self.reference = np.zeros(robot.dof) if robot.flat else robot.home.copy()
         return self
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:

@@ -20,7 +20,7 @@ import mujoco
 import numpy as np
 
 from ..exceptions import InvalidInput
-from ..robot import Frame, Robot
+from ..robot import Frame, Robot, frame_jacobian, frame_pose_views
 
 
 class KinematicState:
@@ -28,7 +28,7 @@ class KinematicState:
 
     Attributes:
         robot: The robot whose chain defines ``q`` and the frames.
-        q: The chain joint values (``robot.dof``,) of the current configuration.
+        q: The robot's configuration (``robot.nq``,) (on a chain, its joint values).
         n_columns: Number of Jacobian columns (``robot.dof`` or ``model.nv``).
         chain_columns: Column of each chain joint among the ``n_columns``.
     """
@@ -40,7 +40,7 @@ class KinematicState:
         self._full = full
         self.n_columns = model.nv if full else robot.dof
         self.chain_columns = robot.dof_indices if full else np.arange(robot.dof)
-        self.q = np.zeros(robot.dof)
+        self.q = np.zeros(robot.nq)
         self._jacobians: dict[Frame, np.ndarray] = {}
         self._fresh: set[Frame] = set()
         # Views into data (its arrays never move), so reading a pose allocates nothing.
@@ -67,7 +67,7 @@ class KinematicState:
         return state
 
     def update(self, q: np.ndarray) -> None:
-        """Run forward kinematics at the chain values ``q`` (robot path only; no checks)."""
+        """Run forward kinematics at ``q`` (robot path only; no checks)."""
         self.robot.update(q)
         self.q[:] = q
         self._fresh.clear()
@@ -76,11 +76,7 @@ class KinematicState:
         """Views ``(R, p)`` of the frame's world rotation (3 × 3) and position (3,)."""
         views = self._views.get(frame)
         if views is None:
-            if frame.kind == "site":
-                xmat, xpos = self.data.site_xmat, self.data.site_xpos
-            else:
-                xmat, xpos = self.data.xmat, self.data.xpos
-            views = self._views[frame] = (xmat[frame.id].reshape(3, 3), xpos[frame.id])
+            views = self._views[frame] = frame_pose_views(self.data, frame)
         return views
 
     def jacobian(self, frame: Frame) -> np.ndarray:
@@ -93,8 +89,7 @@ class KinematicState:
         if not self._full:
             self.robot.world_jacobian_into(frame, J)
         else:
-            jac = mujoco.mj_jacSite if frame.kind == "site" else mujoco.mj_jacBody
-            jac(self.model, self.data, self._jacp, self._jacr, frame.id)
+            frame_jacobian(self.model, self.data, frame, self._jacp, self._jacr)
             J[:3] = self._jacp
             J[3:] = self._jacr
         self._fresh.add(frame)
