@@ -160,6 +160,12 @@ def solve_pose(
         UnknownFrame: ``frame`` names no site or body.
     """
     T_target = as_pose(T_target, "T_target")
+    if not robot.is_chain:
+        return _solve_on_chain(
+            robot, T_target, q0, method=method, pos_tol=pos_tol, rot_tol=rot_tol,
+            max_iter=max_iter, restarts=restarts, respect_limits=respect_limits, seed=seed,
+            frame=frame, **method_options,
+        )  # fmt: skip
     q_start = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
     if method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
@@ -207,6 +213,20 @@ def solve_pose(
             if attempts[-1].status == "converged":
                 break
     return _finish(problem, _Outcome.of(attempts, robot.lower, robot.upper), method, reach)
+
+
+def _solve_on_chain(
+    robot: Robot, T_target: np.ndarray, q0: np.ndarray | None, frame, **options
+) -> IKResult:
+    """:func:`solve_pose` for a whole-model robot: on its chain to ``frame``, the other
+    joints held at ``q0`` (default ``home``); ``q`` and ``history`` are the robot's."""
+    q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
+    chain = robot.chain(robot.frame(frame), q_whole)
+    q_chain = chain.data.qpos[chain.qpos_indices]
+    result = solve_pose(chain, T_target, q_chain, **options)
+    result.q = robot.embed(chain, result.q, q_whole)
+    result.history = np.array([robot.embed(chain, row, q_whole) for row in result.history])
+    return result
 
 
 def solve_all(

@@ -357,6 +357,10 @@ class Robot:
         names = (mujoco.mj_id2name(self.model, _FRAME_OBJECTS[kind], i) for i in range(count[kind]))
         return [n for n in names if n]
 
+    def body_of(self, frame: str | Frame) -> int:
+        """Id of the body ``frame`` is attached to (itself for a body)."""
+        return self._body_of(self.frame(frame))
+
     def _body_of(self, frame: Frame) -> int:
         if frame.kind == "site":
             return int(self.model.site_bodyid[frame.id])
