@@ -32,6 +32,10 @@ class ModelError(RedikError):
     """A robot model cannot be loaded or built (missing file, bad MJCF/URDF, bad table)."""
 
 
+class ModelWarning(UserWarning):
+    """A model loaded, but with a part left out (e.g. a mesh in a format MuJoCo cannot read)."""
+
+
 class UnknownFrame(RedikError, KeyError):
     """A frame name names no site or body of the model."""
 
