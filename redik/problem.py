@@ -295,17 +295,20 @@ class Problem:
             # step overshoots (into the limits, or into a two-point cycle). Scaling the
             # whole lexicographic Δq keeps every level's direction; q + αΔq stays in the
             # box for α ≤ 1. Without a level-0 target there is nothing to backtrack on.
+            # Limits linearised at q (collision distances) also reject a step that breaks
+            # them at its end (redik.limits.limit.InequalityLimit.admits).
             alpha = 1.0
             while True:
                 trial = self.robot.integrate(q, alpha * dq)
                 self._update(trial)
                 result = self._level0_errors(pos_tol, rot_tol)
-                if not self._targets or result[1] < error or result[0]:
+                admitted = all(limit.admits() for limit in self._rows)
+                if admitted and (not self._targets or result[1] < error or result[0]):
                     break
                 if alpha <= _MIN_STEP_FRACTION:
                     break
                 alpha *= 0.5
-            if self._targets and not (result[1] < error or result[0]):
+            if not admitted or (self._targets and not (result[1] < error or result[0])):
                 self._update(q)  # no descent along Δq: q is a (constrained) stationary point
                 status = "stalled"
                 break

@@ -31,6 +31,14 @@ kinematics; only the robot's moved joints get columns (:mod:`redik.robot`).
 The rows are hard: a :class:`redik.Problem` imposes them while solving every priority
 level, so no lower level (a posture, a second hand) can buy its objective with a
 collision.
+
+**Long steps.** The rows are first order and exist only for pairs closer than
+:math:`d_i`, so one long step (an iterative solve far from its target) could carry a
+geom through another. :meth:`CollisionAvoidanceLimit.admits` therefore checks the true
+distances of a trial configuration, and :meth:`redik.Problem.solve` halves the step until
+no pair ends closer than :math:`d_s` (or, for a pair already inside the margin, closer
+than it was): every iterate ``solve`` returns keeps the margin. ``Problem.step`` returns
+the damped step only, as mink does; at a control rate the steps are short.
 """
 
 from __future__ import annotations
@@ -125,6 +133,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         self._bounded = (rbound[self.pairs[:, 0]] > 0.0) & (rbound[self.pairs[:, 1]] > 0.0)
         self._radii = rbound[self.pairs[:, 0]] + rbound[self.pairs[:, 1]]
         self._fromto = np.zeros(6)
+        self._floor = np.full(len(self.pairs), self.minimum_distance)
         self._jac1 = np.zeros((3, model.nv))
         self._jac2 = np.zeros((3, model.nv))
         return super().bind(robot, tolerance)
@@ -164,11 +173,13 @@ class CollisionAvoidanceLimit(InequalityLimit):
         rows, bounds = [], []
         fromto, jac1, jac2 = self._fromto, self._jac1, self._jac2
         columns = robot.dof_indices
+        self._floor.fill(self.minimum_distance)
         for i in self._candidates(data, self.detection_distance):
             a, b = self.pairs[i]
             d = mujoco.mj_geomDistance(model, data, a, b, self.detection_distance, fromto)
             if d >= self.detection_distance:
                 continue
+            self._floor[i] = min(self.minimum_distance, d)
             normal = fromto[3:] - fromto[:3]
             length = float(np.linalg.norm(normal))
             if length < 1e-12:  # touching: separate the geom centres instead
@@ -189,6 +200,19 @@ class CollisionAvoidanceLimit(InequalityLimit):
         if not rows:
             return None
         return np.array(rows), np.array(bounds)
+
+    def admits(self) -> bool:
+        """No pair closer than ``minimum_distance`` at the current state, unless it was
+        already closer at the last linearisation and has not come closer still."""
+        robot = self.robot
+        model, data = robot.model, robot.data
+        tolerance = 1e-9
+        for i in self._candidates(data, self.minimum_distance):
+            a, b = self.pairs[i]
+            d = mujoco.mj_geomDistance(model, data, a, b, self.minimum_distance, self._fromto)
+            if d < self._floor[i] - tolerance:
+                return False
+        return True
 
     def _require_bound(self) -> None:
         if self.robot is None:

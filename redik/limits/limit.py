@@ -66,3 +66,13 @@ class InequalityLimit(Limit, abc.ABC):
     @abc.abstractmethod
     def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
         """``(G, h)`` with ``G`` of shape (m, ``robot.dof``), or None when inactive."""
+
+    def admits(self) -> bool:
+        """Whether the robot's current state (a trial ``q ⊕ αΔq``, after forward kinematics)
+        respects the limit itself, not only its linearisation at ``q``.
+
+        :meth:`redik.Problem.solve` shortens (backtracks) a step until every limit admits
+        it. Rows linear in ``Δq`` are exact (True); a limit linearised at ``q`` — a distance
+        — checks the nonlinear quantity here.
+        """
+        return True
