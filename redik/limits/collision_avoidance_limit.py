@@ -43,6 +43,7 @@ the damped step only, as mink does; at a control rate the steps are short.
 
 from __future__ import annotations
 
+import fnmatch
 import itertools
 from collections.abc import Sequence
 
@@ -54,19 +55,24 @@ from ..robot import Robot
 from .limit import InequalityLimit
 
 GeomGroup = Sequence[str]
-"""Geom names, or body names standing for all of the body's geoms."""
+"""Geom names, or body names standing for all of the body's geoms; ``fnmatch`` patterns
+(``"left_*"``) match geom and body names."""
 
 
 class CollisionAvoidanceLimit(InequalityLimit):
     """Keep geom pairs at least ``minimum_distance`` apart.
 
     Args:
-        geom_pairs: Pairs ``(group_a, group_b)`` of geom groups (geom or body names); every
+        geom_pairs: Pairs ``(group_a, group_b)`` of geom groups (geom or body names, or
+            patterns such as ``"left_*"``); every
             geom of ``group_a`` is kept away from every geom of ``group_b`` (a group paired
             with itself: self-collision within it). None: every pair of geoms that may
             collide — passing MuJoCo's ``contype``/``conaffinity`` test, not on the same
             or welded bodies, not on a parent and child body — of which at least one is
-            moved by the robot (self-collision and obstacles from the model's geoms).
+            moved by the robot (self-collision and obstacles from the model's geoms),
+            less the pairs already closer than ``minimum_distance`` at the robot's
+            ``home`` (overlapping collision shapes of neighbouring links, which a URDF
+            often has: the "collide by default" pairs MoveIt's setup assistant disables).
         minimum_distance: ``d_s`` (m), the distance to keep; ≥ 0.
         detection_distance: ``d_i`` (m), the distance under which a pair is constrained;
             > ``minimum_distance``.
@@ -105,15 +111,16 @@ class CollisionAvoidanceLimit(InequalityLimit):
 
     def bind(self, robot: Robot, tolerance: float = 0.0) -> CollisionAvoidanceLimit:
         model = robot.model
-        moved = _moved_bodies(robot)
+        mover = _moving_ancestor(robot)
         if self.geom_pairs is None:
             candidates = itertools.combinations(range(model.ngeom), 2)
             pairs = [
                 (a, b)
                 for a, b in candidates
-                if (moved[model.geom_bodyid[a]] or moved[model.geom_bodyid[b]])
+                if mover[model.geom_bodyid[a]] != mover[model.geom_bodyid[b]]
                 and _may_collide(model, a, b)
             ]
+            pairs = _apart_at_home(robot, pairs, self.minimum_distance)
         else:
             pairs = []
             for index, pair in enumerate(self.geom_pairs):
@@ -124,7 +131,8 @@ class CollisionAvoidanceLimit(InequalityLimit):
                 group_a = _geom_ids(robot, pair[0], f"geom_pairs[{index}][0]")
                 group_b = _geom_ids(robot, pair[1], f"geom_pairs[{index}][1]")
                 for a, b in itertools.product(group_a, group_b):
-                    if a == b or _welded(model, a, b):
+                    # Geoms that no joint of the robot moves apart keep their distance.
+                    if mover[model.geom_bodyid[a]] == mover[model.geom_bodyid[b]]:
                         continue
                     pairs.append((min(a, b), max(a, b)))
             pairs = sorted(set(pairs))
@@ -193,8 +201,6 @@ class CollisionAvoidanceLimit(InequalityLimit):
             mujoco.mj_jac(model, data, jac1, None, fromto[:3], model.geom_bodyid[a])
             mujoco.mj_jac(model, data, jac2, None, fromto[3:], model.geom_bodyid[b])
             row = -(normal @ (jac2 - jac1))[columns]
-            if not row.any():
-                continue  # neither geom moves with the robot's joints
             rows.append(row)
             bounds.append(self.gain * (d - self.minimum_distance))
         if not rows:
@@ -206,7 +212,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         already closer at the last linearisation and has not come closer still."""
         robot = self.robot
         model, data = robot.model, robot.data
-        tolerance = 1e-9
+        tolerance = 1e-6  # 1 µm: what a distance query resolves on meshes
         for i in self._candidates(data, self.minimum_distance):
             a, b = self.pairs[i]
             d = mujoco.mj_geomDistance(model, data, a, b, self.minimum_distance, self._fromto)
@@ -223,17 +229,38 @@ class CollisionAvoidanceLimit(InequalityLimit):
 
 
 def _geom_name(model: mujoco.MjModel, geom: int) -> str:
-    return mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, geom) or f"geom{geom}"
+    """The geom's name, else ``"<body>#<id>"`` (URDF collision geoms have no name)."""
+    name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, geom)
+    if name:
+        return name
+    body = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, model.geom_bodyid[geom])
+    return f"{body or 'world'}#{geom}"
 
 
-def _moved_bodies(robot: Robot) -> np.ndarray:
-    """Per body: True when one of the robot's joints moves it."""
+def _moving_ancestor(robot: Robot) -> np.ndarray:
+    """Per body: the nearest body (itself or an ancestor) with a joint of the robot, 0 if
+    none. Two bodies with the same one move as one rigid body under the robot's joints."""
     model = robot.model
     joint_body = set(int(model.jnt_bodyid[j]) for j in robot.joint_ids)
-    moved = np.zeros(model.nbody, dtype=bool)
+    mover = np.zeros(model.nbody, dtype=int)
     for body in range(1, model.nbody):  # parents come before children in MuJoCo
-        moved[body] = body in joint_body or moved[model.body_parentid[body]]
-    return moved
+        mover[body] = body if body in joint_body else mover[model.body_parentid[body]]
+    return mover
+
+
+def _apart_at_home(
+    robot: Robot, pairs: list[tuple[int, int]], distance: float
+) -> list[tuple[int, int]]:
+    """The pairs at least ``distance`` apart at ``robot.home`` (held joints as held)."""
+    data = mujoco.MjData(robot.model)
+    data.qpos[:] = robot.full_qpos(robot.home)
+    mujoco.mj_kinematics(robot.model, data)
+    fromto = np.zeros(6)
+    return [
+        (a, b)
+        for a, b in pairs
+        if mujoco.mj_geomDistance(robot.model, data, a, b, distance + 1e-6, fromto) >= distance
+    ]
 
 
 def _welded(model: mujoco.MjModel, a: int, b: int) -> bool:
@@ -264,6 +291,24 @@ def _geom_ids(robot: Robot, group: GeomGroup, where: str) -> list[int]:
     model = robot.model
     ids: list[int] = []
     for name in group:
+        if not isinstance(name, str):
+            raise InvalidInput(f"{where}: a geom group holds names, got {name!r}")
+        if any(char in name for char in "*?["):
+            matched = [
+                g
+                for g in range(model.ngeom)
+                if fnmatch.fnmatchcase(
+                    mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or "", name
+                )
+                or fnmatch.fnmatchcase(
+                    mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, model.geom_bodyid[g]) or "",
+                    name,
+                )
+            ]
+            if not matched:
+                raise ModelError(f"{where}: no geom or body matches {name!r} in {robot.name!r}")
+            ids.extend(matched)
+            continue
         geom = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name)
         if geom >= 0:
             ids.append(geom)
