@@ -42,6 +42,19 @@ distance, pair = collisions.minimum_distance_at(result.q)
 print(f"closest geoms {pair}: {distance * 1000:.1f} mm apart ({len(collisions.pairs)} pairs)")
 print("within joint limits:", robot.within_limits(result.q))
 
+# Hands 10 cm apart: without the limit the forearms collide; with it they keep 1 cm and the
+# grippers stop short of their targets (the limit outranks every task).
+close = [
+    redik.PoseTask(make_pose(down, [0.75, y, 0.0]), frame=f"{side}_gripper", priority=0)
+    for side, y in (("left", 0.05), ("right", -0.05))
+]
+for limits in ([redik.PositionLimit()], [redik.PositionLimit(), collisions]):
+    q = redik.Problem(robot, [*close, redik.PostureTask(priority=1)], limits).solve(robot.home).q
+    errors = [pose_errors(robot.fk(q, task.frame_name), task.target)[0] for task in close]
+    closest = collisions.minimum_distance_at(q)[0]
+    print(f"{len(limits) - 1} collision limit: closest {closest * 1000:+.1f} mm, ", end="")
+    print(f"hand position errors {np.round(errors, 3)} m")
+
 # The left arm alone, the right arm held where it is: compiled damped least squares.
 left = robot.chain("left_gripper", result.q)
 T = make_pose(np.eye(3), [0.0, 0.0, 0.1]) @ targets["left_gripper"]  # 10 cm higher

@@ -66,7 +66,9 @@ class CollisionAvoidanceLimit(InequalityLimit):
         geom_pairs: Pairs ``(group_a, group_b)`` of geom groups (geom or body names, or
             patterns such as ``"left_*"``); every
             geom of ``group_a`` is kept away from every geom of ``group_b`` (a group paired
-            with itself: self-collision within it). None: every pair of geoms that may
+            with itself: self-collision within it); pairs MuJoCo would not collide
+            (``contype``/``conaffinity``, welded, parent and child) are dropped. None:
+            every pair of geoms that may
             collide — passing MuJoCo's ``contype``/``conaffinity`` test, not on the same
             or welded bodies, not on a parent and child body — of which at least one is
             moved by the robot (self-collision and obstacles from the model's geoms),
@@ -131,8 +133,11 @@ class CollisionAvoidanceLimit(InequalityLimit):
                 group_a = _geom_ids(robot, pair[0], f"geom_pairs[{index}][0]")
                 group_b = _geom_ids(robot, pair[1], f"geom_pairs[{index}][1]")
                 for a, b in itertools.product(group_a, group_b):
-                    # Geoms that no joint of the robot moves apart keep their distance.
+                    # Geoms that no joint of the robot moves apart keep their distance;
+                    # MuJoCo's filters (as mink applies them) drop the rest.
                     if mover[model.geom_bodyid[a]] == mover[model.geom_bodyid[b]]:
+                        continue
+                    if not _may_collide(model, a, b):
                         continue
                     pairs.append((min(a, b), max(a, b)))
             pairs = sorted(set(pairs))
