@@ -289,3 +289,29 @@ def test_collision_limit_default_pairs_and_bad_input(model):
         redik.CollisionAvoidanceLimit(minimum_distance=0.1, detection_distance=0.05)
     with pytest.raises(InvalidInput, match="gain"):
         redik.CollisionAvoidanceLimit(gain=0.0)
+
+
+def test_mink_tasks_and_mink_interop_on_a_floating_base(whole):
+    import mink
+
+    rng = np.random.default_rng(6)
+    T_left, T_right = _reachable_poses(whole, ["left_ee", "right_ee"], rng)
+    left = mink.FrameTask("left_ee", "site", position_cost=1.0, orientation_cost=1.0)
+    left.set_target(mink.SE3.from_matrix(T_left))
+    tasks = [left, redik.PoseTask(T_right, frame="right_ee"), redik.PostureTask(priority=1)]
+    result = redik.Problem(whole, tasks).solve(whole.home, max_iter=200)
+    assert result.success, result.message
+    assert pose_errors(whole.fk(result.q, "left_ee"), T_left)[0] < 1e-6
+
+    # A redik posture inside mink: the same error as mink's own PostureTask (tangent space),
+    # which leaves the free joint out (redik's keeps it; weight 0 there does as mink).
+    configuration = mink.Configuration(whole.model)
+    configuration.update(whole.full_qpos(whole.random_q(rng)))
+    ours = redik.PostureTask(whole.home).bind(whole)
+    theirs = mink.PostureTask(whole.model, cost=1.0)
+    theirs.set_target(whole.full_qpos(whole.home))
+    e_ours, e_theirs = ours.compute_error(configuration), theirs.compute_error(configuration)
+    np.testing.assert_allclose(e_ours[6:], e_theirs[6:], atol=1e-12)
+    assert np.abs(e_ours[:6]).max() > 0.1 and not e_theirs[:6].any()
+    J_ours, J_theirs = ours.compute_jacobian(configuration), theirs.compute_jacobian(configuration)
+    np.testing.assert_allclose(J_ours[6:], J_theirs[6:], atol=1e-12)
