@@ -255,6 +255,18 @@ def solve_all(
         The successful results, one per cluster (the most accurate), ordered by
         ``‖log(T⁻¹ T_d)‖`` — empty when no start converged.
     """
+    if not robot.is_chain:  # the chain to the frame, the other joints at home
+        chain = robot.chain(robot.frame(frame), robot.home)
+        results = solve_all(
+            chain, T_target, n_starts, seed, method, pos_tol, rot_tol, max_iter,
+            respect_limits, None, cluster_tol, **method_options,
+        )  # fmt: skip
+        for result in results:
+            result.q = robot.embed(chain, result.q, robot.home)
+            result.history = np.array(
+                [robot.embed(chain, row, robot.home) for row in result.history]
+            )
+        return results
     n_starts = _count(n_starts, "n_starts", 1)
     if not (isinstance(cluster_tol, (int, float)) and cluster_tol > 0):
         raise InvalidInput(f"cluster_tol must be a positive number, got {cluster_tol!r}")

@@ -315,3 +315,14 @@ def test_mink_tasks_and_mink_interop_on_a_floating_base(whole):
     assert np.abs(e_ours[:6]).max() > 0.1 and not e_theirs[:6].any()
     J_ours, J_theirs = ours.compute_jacobian(configuration), theirs.compute_jacobian(configuration)
     np.testing.assert_allclose(J_ours[6:], J_theirs[6:], atol=1e-12)
+
+
+def test_solve_all_on_a_whole_model_returns_whole_configurations(whole):
+    chain = whole.chain("right_ee", whole.home)
+    T = chain.fk(chain.clip(chain.home + 0.4))
+    results = redik.solve_all(whole, T, n_starts=6, seed=0, frame="right_ee")
+    assert results
+    for result in results:
+        assert result.q.shape == (whole.nq,)
+        assert pose_errors(whole.fk(result.q, "right_ee"), T)[0] < 1e-6
+        np.testing.assert_array_equal(result.q[:7], whole.home[:7])  # the base held
