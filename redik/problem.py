@@ -257,8 +257,10 @@ class Problem:
         and every other level-0 task that has a target (a mink task, say) with
         ``‖e‖ ≤ pos_tol``. Joint-space regularisers (posture, joint-limit avoidance,
         damping) and gradient tasks have no target and are not waited for, nor are
-        lower levels: they shape the solution. With no target at level 0, the solve
-        converges when the step taken vanishes (``‖αΔq‖ < q_tol``).
+        lower levels: they shape the solution. With frame tasks on several frames (two
+        hands, the feet) the reported position and rotation errors are the largest. With
+        no target at level 0, the solve converges when the step taken vanishes
+        (``‖αΔq‖ < q_tol``).
 
         Args:
             q0: Initial chain configuration.
@@ -353,10 +355,10 @@ class Problem:
                 p_err, r_err = task.pose_errors(self._state)
                 if p_err is not None:
                     converged &= p_err <= pos_tol
-                    position_error = p_err if position_error is None else position_error
+                    position_error = p_err if position_error is None else max(position_error, p_err)
                 if r_err is not None:
                     converged &= r_err <= rot_tol
-                    rotation_error = r_err if rotation_error is None else rotation_error
+                    rotation_error = r_err if rotation_error is None else max(rotation_error, r_err)
             else:
                 converged &= float(np.linalg.norm(e)) <= pos_tol
         return bool(converged), float(np.sqrt(squared)), position_error, rotation_error
