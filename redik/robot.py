@@ -456,8 +456,8 @@ class Robot:
     def scalar_values(self, q: np.ndarray) -> np.ndarray:
         """Per tangent coordinate: the hinge and slide values of ``q``, 0 on ball/free dofs.
 
-        What a joint position limit (per tangent coordinate) compares with; ``q`` itself on
-        a flat robot.
+        What a joint position limit (per tangent coordinate) compares with; ``q`` itself
+        (not a copy) on a flat robot.
         """
         if self.flat:
             return q

@@ -20,10 +20,11 @@ DOWN = np.diag([1.0, -1.0, -1.0])
 ARM_BODIES = ["left_*", "right_*"]
 
 
-def _load(name: str, **options):
+def _load(name, **options):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # Baxter's .DAE meshes are dropped with a warning
-        return redik.loading.load_model(redik.models.example_robot_data(name), **options)
+        path = name if "/" in str(name) else redik.models.example_robot_data(name)
+        return redik.loading.load_model(path, **options)
 
 
 @pytest.fixture(scope="module")
@@ -195,3 +196,60 @@ def test_g1_hand_chain_runs_compiled_dls(g1):
     T = chain.fk(chain.clip(chain.home + 0.3))
     result = redik.solve_pose(chain, T, seed=0)
     assert result.success and result.method == "dls"
+
+
+# (source, name, floating base, joints, fixed, frames): arms with fingers, a bimanual
+# mobile manipulator, a humanoid; the frames get pose tasks at priority 0.
+MODELS = [
+    ("pybullet_data", "franka_panda", False, "all", ["*finger*"], ["panda_grasptarget"]),
+    ("pybullet_data", "kuka_iiwa", False, "all", None, ["lbr_iiwa_link_7"]),
+    ("example_robot_data", "ur5", False, "all", None, ["tool0"]),
+    ("example_robot_data", "panda", False, "all", ["*finger*"], ["panda_hand_tcp"]),
+    (
+        "example_robot_data", "pr2", False,
+        ["torso_lift_joint", "[rl]_shoulder_*", "[rl]_upper_arm*", "[rl]_elbow*",
+         "[rl]_forearm_roll*", "[rl]_wrist_*"],
+        None, ["r_gripper_tool_frame", "l_gripper_tool_frame"],
+    ),
+    (
+        "example_robot_data", "talos_box", True, "all", ["gripper_*", "head_*"],
+        ["gripper_left_base_link", "gripper_right_base_link", "left_sole_link",
+         "right_sole_link"],
+    ),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("spec", MODELS, ids=[spec[1] for spec in MODELS])
+def test_third_party_model_stack_and_chain(spec):
+    source, name, floating, joints, fixed, frames = spec
+    path = getattr(redik.models, source)(name)
+    robot = redik.Robot(
+        _load(str(path), meshes=False, floating_base=floating), joints=joints, fixed=fixed
+    )
+    assert (robot.nq == robot.dof + 1) if floating else robot.flat
+    rng = np.random.default_rng(0)
+    q_target = robot.integrate(robot.home, 0.3 * rng.standard_normal(robot.dof))
+    # Strictly inside the limits (these URDFs' zero home sits on some of them).
+    values = robot.scalar_values(q_target)
+    span = robot.upper - robot.lower
+    limited = np.isfinite(span)
+    values[limited] = np.clip(
+        values[limited],
+        robot.lower[limited] + 0.1 * span[limited],
+        robot.upper[limited] - 0.1 * span[limited],
+    )
+    q_target = robot.with_scalar_values(q_target, values)
+    targets = {frame: robot.fk(q_target, frame) for frame in frames}
+    tasks = [redik.PoseTask(T, frame=frame) for frame, T in targets.items()]
+    result = redik.Problem(robot, [*tasks, redik.PostureTask(priority=1)]).solve(
+        robot.home, max_iter=200
+    )
+    assert result.success, result.message
+    assert robot.within_limits(result.q)
+    for frame, T in targets.items():
+        p_err, r_err = pose_errors(robot.fk(result.q, frame), T)
+        assert p_err < 1e-6 and r_err < 1e-5
+    # The first frame's chain, the rest held at the solution: compiled DLS.
+    chain = robot.chain(frames[0], result.q)
+    T = chain.fk(chain.clip(chain.data.qpos[chain.qpos_indices] + 0.2))
+    assert redik.solve_pose(chain, T, seed=0).success

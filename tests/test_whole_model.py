@@ -326,3 +326,54 @@ def test_solve_all_on_a_whole_model_returns_whole_configurations(whole):
         assert result.q.shape == (whole.nq,)
         assert pose_errors(whole.fk(result.q, "right_ee"), T)[0] < 1e-6
         np.testing.assert_array_equal(result.q[:7], whole.home[:7])  # the base held
+
+
+BALL_ARM_XML = """
+<mujoco model="ball_arm">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="l1" pos="0 0 0.1">
+      <joint name="j1" axis="0 0 1" range="-3 3"/>
+      <geom type="capsule" fromto="0 0 0 0 0 0.3" size="0.03"/>
+      <body name="l2" pos="0 0 0.3">
+        <joint name="j2" axis="0 1 0" range="-2 2"/>
+        <joint name="wrist_ball" type="ball"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+        <body name="l3" pos="0.3 0 0">
+          <joint name="j3" axis="0 1 0" range="-2 2"/>
+          <joint name="j4" axis="1 0 0" range="-2 2"/>
+          <joint name="j5" axis="0 1 0" range="-2 2"/>
+          <joint name="j6" axis="0 0 1" range="-2 2"/>
+          <joint name="j7" axis="1 0 0" range="-2 2"/>
+          <geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.03"/>
+          <site name="ee" pos="0.2 0 0"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@pytest.mark.filterwarnings("ignore:Inertia matrix is too close to singular")
+def test_explore_cli_holds_a_ball_joint_only_when_asked(tmp_path, capsys):
+    from redik.cli import main
+
+    path = tmp_path / "ball_arm.xml"
+    path.write_text(BALL_ARM_XML)
+    out = tmp_path / "out"
+    common = [str(path), "--frames", "0", "--starts", "8", "--out", str(out)]
+    assert main(["explore", *common]) == 2
+    assert "ball joint 'wrist_ball'" in capsys.readouterr().err
+    assert main(["explore", *common, "--fixed", "wrist_ball"]) == 0
+    assert "dimension 1" in capsys.readouterr().out
+    assert (out / "samples.npz").is_file()
+
+
+def test_explore_self_motion_on_a_whole_model_uses_the_chain(model):
+    from redik.redundancy import explore_self_motion
+
+    ball = redik.Robot(mujoco.MjModel.from_xml_string(BALL_ARM_XML), joints="all")
+    T = ball.fk(ball.home, "ee")
+    motion = explore_self_motion(ball, T, frame="ee", seed=0, n_starts=8, max_samples=200)
+    assert "wrist_ball" not in motion.joint_names and len(motion) > 0
