@@ -30,10 +30,12 @@ from .exceptions import (
     InvalidRotation,
     ModelError,
     ModelWarning,
+    NearRotationWarning,
     RedikError,
+    RedikWarning,
     UnknownFrame,
 )
-from .iterative import finite_difference_jacobian, gradient, newton
+from .iterative import finite_difference_jacobian, gradient, hybrid, newton
 from .limits import CollisionAvoidanceLimit, MinkLimit, PositionLimit, VelocityLimit
 from .model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
 from .pose_ik import solve_all, solve_pose
@@ -77,6 +79,7 @@ __all__ = [
     "MinkLimit",
     "ModelError",
     "ModelWarning",
+    "NearRotationWarning",
     "OrientationTask",
     "PoseTask",
     "PositionLimit",
@@ -84,6 +87,7 @@ __all__ = [
     "PostureTask",
     "Problem",
     "RedikError",
+    "RedikWarning",
     "Robot",
     "SelfMotion",
     "UnknownFrame",
@@ -97,6 +101,7 @@ __all__ = [
     "finite_difference_jacobian",
     "follow_path",
     "gradient",
+    "hybrid",
     "lie",
     "limits",
     "list_scenes",

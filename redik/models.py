@@ -123,7 +123,6 @@ PYBULLET_DATA: dict[str, ThirdPartyModel] = {
     "a1": _entry("a1/a1.urdf", True),
     "aliengo": _entry("aliengo/aliengo.urdf", True),
     "franka_panda": _entry("franka_panda/panda.urdf"),
-    "husky": _entry("husky/husky.urdf", True),
     "kuka_iiwa": _entry("kuka_iiwa/model.urdf"),
     "laikago": _entry("laikago/laikago_toes.urdf", True),
     "mini_cheetah": _entry("mini_cheetah/mini_cheetah.urdf", True),

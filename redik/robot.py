@@ -241,9 +241,9 @@ class Robot:
         """Load an MJCF (``.xml``) or URDF (``.urdf``) file.
 
         ``options`` go to :func:`redik.loading.load_spec`: ``meshes=False`` for a
-        kinematics-only model, ``package_paths`` for ``package://`` meshes, ``floating_base``,
-        ``keep_fixed_links``. Fixed URDF links stay bodies, so ``tool0`` or ``panda_hand`` can
-        be the end-effector.
+        kinematics-only model, ``visual``, ``package_paths`` for ``package://`` meshes,
+        ``floating_base``, ``keep_fixed_links``. Fixed URDF links stay bodies, so ``tool0`` or
+        ``panda_hand`` can be the end-effector.
 
         Raises:
             ModelError: the file or a mesh is missing, or MuJoCo cannot compile the model.
@@ -343,7 +343,7 @@ class Robot:
                 resolved = Frame(name, candidate, index)
                 break
         else:
-            raise loading.unknown_frame(self.model, name, f"model {self.name!r}")
+            raise loading.unknown_frame(self.model, name, f"model {self.name!r}", ("site", "body"))
         self._frames[name] = resolved
         return resolved
 

@@ -57,8 +57,8 @@ def load(name: str | Path, ee: str | None = None, **options) -> Robot:
     """Load a bundled scene by name (``redik.load("panda")``) or any MJCF/URDF file by path.
 
     ``name`` is anything :func:`scene_path` accepts; ``options`` go to
-    :func:`redik.loading.load_spec` (``meshes=False`` for kinematics only, ``package_paths``,
-    ``floating_base``, ``keep_fixed_links``)::
+    :func:`redik.loading.load_spec` (``meshes=False`` for kinematics only, ``visual``,
+    ``package_paths``, ``floating_base``, ``keep_fixed_links``)::
 
         redik.load("example-robot-data:ur5", ee="tool0", meshes=False)
     """

@@ -31,7 +31,7 @@ import numba
 import numpy as np
 
 from ..exceptions import InvalidInput
-from ..lie import ROTATION_TOLERANCE
+from ..lie import ROTATION_TOLERANCE, check_rotations, real_array
 from ..robot import Robot
 from . import kernel
 from .chain import Chain
@@ -180,30 +180,30 @@ class BatchResult:
 # Boundary checks
 
 
-def check_targets(T_targets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def check_targets(T_targets: np.ndarray, strict: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """``(T, valid)``: the targets as a float ``B × 4 × 4`` array and a per-target mask.
 
     A target is valid when it is finite, ends with ``[0, 0, 0, 1]`` and has a rotation block
-    (orthonormal, det +1) within :data:`redik.lie.ROTATION_TOLERANCE`, as :func:`redik.lie.as_pose`
-    checks one pose. Malformed targets are reported, not raised.
+    accepted by :mod:`redik.lie`'s tolerance policy, as :func:`redik.lie.as_pose` checks one
+    pose: near-rotations come back projected onto SO(3) (one warning), or invalid when
+    ``strict``. Malformed targets are reported, not raised.
 
     Raises:
-        InvalidInput: the array is not ``B × 4 × 4``.
+        InvalidInput: the array is not ``B × 4 × 4`` real numbers.
     """
-    T = np.asarray(T_targets, dtype=float)
+    T = real_array(T_targets, "T_targets")
     if T.ndim != 3 or T.shape[1:] != (4, 4):
         raise InvalidInput(f"T_targets must have shape (B, 4, 4), got {T.shape}")
     with np.errstate(invalid="ignore"):
         finite = np.isfinite(T).all(axis=(1, 2))
-        R = np.where(finite[:, None, None], T[:, :3, :3], np.eye(3))
-        gram = np.einsum("bki,bkj->bij", R, R) - np.eye(3)
-        valid = (
-            finite
-            & (np.abs(T[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1) <= ROTATION_TOLERANCE)
-            & (np.abs(gram).max(axis=(1, 2)) <= ROTATION_TOLERANCE)
-            & (np.abs(np.linalg.det(R) - 1.0) <= ROTATION_TOLERANCE)
-        )
-    return T, valid
+        bottom = np.abs(T[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1, initial=0.0)
+        well_formed = finite & (bottom <= ROTATION_TOLERANCE)
+    block = np.where(well_formed[:, None, None], T[:, :3, :3], np.eye(3))
+    R, accepted = check_rotations(block, "T_targets[:, :3, :3]", strict=strict)
+    if R is not block:
+        T = T.copy()
+        T[:, :3, :3] = np.where(well_formed[:, None, None], R, T[:, :3, :3])
+    return T, well_formed & accepted
 
 
 def check_seeds(chain: Chain, q0: np.ndarray | None, size: int) -> np.ndarray:
@@ -364,6 +364,7 @@ def solve_batch(
     chunk_size: int | None = None,
     max_iterations: int = 60,
     progress: Callable[[int], None] | None = None,
+    strict: bool = False,
 ) -> BatchResult:
     """Solve ``B`` pose targets at once; strict success per target (see the module docstring).
 
@@ -388,6 +389,8 @@ def solve_batch(
             depend on it.
         max_iterations: Iterations per attempt.
         progress: Called with the number of targets in each finished chunk.
+        strict: Report near-rotation targets as ``"invalid"`` instead of projecting them
+            onto SO(3) with a warning (:mod:`redik.lie`'s tolerance policy).
 
     Returns:
         A :class:`BatchResult` with one row per target.
@@ -404,9 +407,8 @@ def solve_batch(
     options = BatchOptions(
         pos_tol=pos_tol, rot_tol=rot_tol, restarts=restarts, max_iterations=max_iterations
     )
-    T = np.asarray(T_targets, dtype=float)
-    if T.ndim != 3 or T.shape[1:] != (4, 4):
-        raise InvalidInput(f"T_targets must have shape (B, 4, 4), got {T.shape}")
+    T, valid = check_targets(T_targets, strict)  # once here: one warning, not one per chunk
+    T = np.where(valid[:, None, None], T, np.nan)  # each chunk sees the refused as invalid
     size = len(T)
     seeds = check_seeds(chain, q0, size)
     if chunk_size is None:
