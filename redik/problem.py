@@ -11,6 +11,13 @@ lexicographically (:mod:`redik.qp.hierarchy`) with the chosen back-end
 :math:`q + Δq` is then clipped into the joint limits, so every configuration ``step`` leads
 to and ``solve`` returns lies within them (:mod:`redik.limits.position_limit`).
 
+**Whole models.** On a robot with ball or free joints (a floating base), ``q`` has
+``robot.nq`` entries and ``Δq`` ``robot.dof`` (the tangent space): ``solve`` steps by
+``robot.integrate(q, αΔq)`` (``mj_integratePos``) and joint-space tasks measure
+``q ⊖ r`` by ``mj_differentiatePos``; pose tasks on several frames (two hands, the feet)
+at any priorities (:mod:`redik.robot`). Limits linearised at ``q`` (collision distances)
+are re-checked at the end of a step, which ``solve`` shortens until they hold.
+
 mink tasks and limits may be mixed in; a ``mink.Configuration`` is then kept in sync with
 ``q`` (one more forward kinematics per step, paid only when one is present).
 """
@@ -42,7 +49,7 @@ _MU_MIN, _MU_MAX = 1e-9, 1e6
 
 
 class Problem:
-    """Differential IK as a (hierarchical) QP over the chain joints of ``robot``.
+    """Differential IK as a (hierarchical) QP over the joints ``robot`` moves.
 
     Args:
         robot: The robot; ``Δq`` has ``robot.dof`` entries (its tangent coordinates), a

@@ -1,6 +1,6 @@
 r"""The limit contract: hard inequalities on the joint step ``Δq``.
 
-A limit restricts the step of the chain joints (``robot.dof`` of them) to
+A limit restricts the joint step (``robot.dof`` tangent coordinates, :mod:`redik.robot`) to
 
 .. math::
 
@@ -25,7 +25,7 @@ from ..robot import Robot
 
 
 class Limit:
-    """Base class of hard limits on the chain's joint step."""
+    """Base class of hard limits on the robot's joint step."""
 
     robot: Robot | None = None
 
@@ -58,7 +58,7 @@ class BoxLimit(Limit, abc.ABC):
 
 
 class InequalityLimit(Limit, abc.ABC):
-    """A limit of general rows ``G Δq ≤ h`` over the chain joints."""
+    """A limit of general rows ``G Δq ≤ h`` over the robot's tangent coordinates."""
 
     needs_configuration = False
     """True when the rows are computed from a ``mink.Configuration`` kept in sync."""

@@ -1,6 +1,6 @@
 r"""Penalise the step itself: :math:`\tfrac12 \|W Δq\|^2` (:math:`e = 0`, :math:`J = I`).
 
-A Levenberg–Marquardt / minimum-norm regulariser on the chain joints: at the lowest
+A Levenberg–Marquardt / minimum-norm regulariser on the joint step: at the lowest
 priority it selects the smallest step among those the higher levels leave equally good;
 at the same priority as a pose task it trades accuracy per step for smoothness near
 singularities (damped least squares, Nakamura & Hanafusa 1986; Wampler 1986). A

@@ -1,13 +1,13 @@
-"""The kinematic snapshot a task reads: frame poses, world Jacobians and the chain's ``q``.
+"""The kinematic snapshot a task reads: frame poses, world Jacobians and the robot's ``q``.
 
 A redik task is evaluated in two settings, and both hand it a :class:`KinematicState`:
 
 - inside a :class:`redik.Problem` (the hot path), the state wraps the robot's own
   ``MjData`` after **one** ``robot.update(q)`` per step, and Jacobians have one column per
-  chain joint (``robot.dof`` columns);
+  tangent coordinate of the robot's joints (``robot.dof`` columns, :mod:`redik.robot`);
 - inside ``mink.solve_ik`` (interoperability), the state wraps the ``mink.Configuration``'s
   data, and Jacobians have one column per degree of freedom of the model (``model.nv``),
-  the chain joints sitting at ``robot.dof_indices``.
+  the robot's sitting at ``robot.dof_indices``.
 
 Jacobians are MuJoCo's ``"world"`` Jacobians of :mod:`redik.conventions` (origin velocity
 and angular velocity in world axes, ``(v, ω)`` order). They are computed at most once per
@@ -30,7 +30,8 @@ class KinematicState:
         robot: The robot whose chain defines ``q`` and the frames.
         q: The robot's configuration (``robot.nq``,) (on a chain, its joint values).
         n_columns: Number of Jacobian columns (``robot.dof`` or ``model.nv``).
-        chain_columns: Column of each chain joint among the ``n_columns``.
+        chain_columns: Column of each of the robot's tangent coordinates among the
+            ``n_columns``.
     """
 
     def __init__(self, robot: Robot, model: mujoco.MjModel, data: mujoco.MjData, full: bool):

@@ -16,7 +16,7 @@ from .joint_space_task import JointSpaceTask
 
 
 class PostureTask(JointSpaceTask):
-    """Drive the chain joints towards ``q_nominal``.
+    """Drive the robot's joints towards ``q_nominal`` (across ball and free joints too).
 
     Args:
         q_nominal: The nominal configuration (``robot.nq``,); None is the robot's ``home``,
