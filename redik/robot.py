@@ -715,6 +715,11 @@ def _match_joints(
     """
     if isinstance(patterns, str):
         patterns = [patterns]
+    if not isinstance(patterns, (list, tuple, set, frozenset)):
+        raise InvalidInput(
+            f"{argument} must be 'all', a joint name or pattern, or a list of them; got "
+            f"{patterns!r}"
+        )
     names = [_joint_name(model, j) for j in range(model.njnt)]
     selected: list[int] = []
     for pattern in patterns:

@@ -96,6 +96,12 @@ def test_joint_subsets_by_pattern(model):
         redik.Robot(model, joints=["elbow"])
     with pytest.raises(ModelError, match="no joint left to move"):
         redik.Robot(model, joints=["left_*"], fixed=["left_*"])
+    with pytest.raises(InvalidInput, match="joints must be 'all'"):
+        redik.Robot(model, joints=5)
+    with pytest.raises(ModelError, match="fixed: no joint .* matches 'nek'"):
+        redik.Robot(model, joints="all", fixed=["nek"])
+    with pytest.raises(UnknownFrame):
+        redik.Robot(model, joints="all").chain("nowhere")
 
 
 def test_a_ball_joint_on_a_chain_is_an_error_not_frozen(model):
@@ -377,3 +383,29 @@ def test_explore_self_motion_on_a_whole_model_uses_the_chain(model):
     T = ball.fk(ball.home, "ee")
     motion = explore_self_motion(ball, T, frame="ee", seed=0, n_starts=8, max_samples=200)
     assert "wrist_ball" not in motion.joint_names and len(motion) > 0
+
+
+def test_collision_rows_are_the_distance_gradient(whole):
+    """Row k is −∂d/∂Δq of its pair, checked by finite differences through q ⊕ Δq."""
+    limit = redik.CollisionAvoidanceLimit(
+        [(["left_hand_geom"], ["table"])], minimum_distance=0.0, detection_distance=0.5, gain=1.0
+    ).bind(whole)
+    rng = np.random.default_rng(8)
+    checked = 0
+    for _ in range(20):
+        q = whole.clip(whole.integrate(whole.home, 0.3 * rng.standard_normal(whole.dof)))
+        whole.update(q)
+        rows = limit.inequalities(None, None)
+        if rows is None:
+            continue
+        G, h = rows
+        d = limit.distances()[0]
+        assert G.shape == (1, whole.dof) and h[0] == pytest.approx(d)
+        step = 1e-6
+        gradient = []
+        for i in range(whole.dof):
+            whole.update(whole.integrate(q, step * np.eye(whole.dof)[i]))
+            gradient.append((limit.distances()[0] - d) / step)
+        np.testing.assert_allclose(-G[0], gradient, atol=1e-4)
+        checked += 1
+    assert checked >= 3
