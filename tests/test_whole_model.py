@@ -98,7 +98,7 @@ def test_joint_subsets_by_pattern(model):
         redik.Robot(model, joints=["left_*"], fixed=["left_*"])
     with pytest.raises(InvalidInput, match="joints must be 'all'"):
         redik.Robot(model, joints=5)
-    with pytest.raises(ModelError, match="fixed: no joint .* matches 'nek'"):
+    with pytest.raises(ModelError, match=r"fixed: no joint .* matches 'nek'"):
         redik.Robot(model, joints="all", fixed=["nek"])
     with pytest.raises(UnknownFrame):
         redik.Robot(model, joints="all").chain("nowhere")
