@@ -13,10 +13,7 @@ import numpy as np
 import redik
 from redik.lie import make_pose, pose_errors
 
-model = redik.loading.load_model(
-    redik.models.example_robot_data("g1"), meshes=True, floating_base=True
-)
-robot = redik.Robot(model, joints="all")
+robot = redik.load("example-robot-data:g1", joints="all", floating_base=True)
 print(robot)
 
 q0 = robot.home
@@ -46,3 +43,8 @@ print("pelvis moved to", np.round(base[:3], 3), "quaternion", np.round(base[3:],
 distance, pair = collisions.minimum_distance_at(result.q)
 print(f"closest geoms {pair}: {distance * 1000:.1f} mm apart ({len(collisions.pairs)} pairs)")
 print("within joint limits:", robot.within_limits(result.q))
+
+# The same stack without the collision limit reaches the hands too, with an arm in the torso.
+free = redik.Problem(robot, tasks).solve(q0, max_iter=200)
+distance, pair = collisions.minimum_distance_at(free.q)
+print(f"without the limit: {free.summary()}; closest geoms {pair}: {distance * 1000:.1f} mm")

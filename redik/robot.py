@@ -236,9 +236,19 @@ class Robot:
 
     @classmethod
     def from_file(
-        cls, path: str | Path, ee: str | None = None, *, name: str | None = None, **options
+        cls,
+        path: str | Path,
+        ee: str | None = None,
+        *,
+        name: str | None = None,
+        joints: str | Sequence[str] | None = None,
+        fixed: Sequence[str] | None = None,
+        **options,
     ) -> Robot:
         """Load an MJCF (``.xml``) or URDF (``.urdf``) file.
+
+        ``joints`` and ``fixed`` choose what moves (the class docstring):
+        ``Robot.from_file(path, joints="all", floating_base=True)`` is a whole humanoid.
 
         ``options`` go to :func:`redik.loading.load_spec`: ``meshes=False`` for a
         kinematics-only model, ``visual``, ``package_paths`` for ``package://`` meshes,
@@ -249,19 +259,28 @@ class Robot:
             ModelError: the file or a mesh is missing, or MuJoCo cannot compile the model.
         """
         model = loading.compile_spec(loading.load_spec(path, **options), str(path))
-        return cls(model, ee=ee, name=name or Path(path).stem)
+        return cls(model, ee=ee, name=name or Path(path).stem, joints=joints, fixed=fixed)
 
     @classmethod
     def from_xml_string(
-        cls, xml: str, ee: str | None = None, name: str | None = None, **options
+        cls,
+        xml: str,
+        ee: str | None = None,
+        name: str | None = None,
+        *,
+        joints: str | Sequence[str] | None = None,
+        fixed: Sequence[str] | None = None,
+        **options,
     ) -> Robot:
-        """Build from an MJCF or URDF string (``options`` as for :func:`load_spec_from_string`).
+        """Build from an MJCF or URDF string (``options`` as for :func:`load_spec_from_string`;
+        ``joints``, ``fixed`` as for the class).
 
         Raises:
             ModelError: MuJoCo cannot compile the string.
         """
         spec = loading.load_spec_from_string(xml, **options)
-        return cls(loading.compile_spec(spec, "the model string"), ee=ee, name=name)
+        model = loading.compile_spec(spec, "the model string")
+        return cls(model, ee=ee, name=name, joints=joints, fixed=fixed)
 
     @classmethod
     def from_dh(

@@ -35,7 +35,7 @@ def baxter():
 
 @pytest.fixture(scope="module")
 def g1():
-    return redik.Robot(_load("g1", meshes=True, floating_base=True), joints="all")
+    return redik.load("example-robot-data:g1", joints="all", floating_base=True)
 
 
 def _arm_collisions(**options):
@@ -174,6 +174,8 @@ def test_g1_two_hands_with_feet_held_and_no_collision(g1):
     np.testing.assert_allclose(np.linalg.norm(result.q[3:7]), 1.0, atol=1e-12)
     assert g1.within_limits(result.q)
     assert collisions.minimum_distance_at(result.q)[0] >= 0.01 - 1e-6
+    free = redik.Problem(g1, [*tasks, redik.PostureTask(priority=1)]).solve(g1.home)
+    assert free.success and collisions.minimum_distance_at(free.q)[0] < 0.0  # arm in torso
 
     # A path: both hands rise 10 cm, the feet still held; warm-started QP solves.
     up = make_pose(np.eye(3), [0.0, 0.0, 0.1])
