@@ -409,3 +409,23 @@ def test_collision_rows_are_the_distance_gradient(whole):
         np.testing.assert_allclose(-G[0], gradient, atol=1e-4)
         checked += 1
     assert checked >= 3
+
+
+def test_online_control_of_a_floating_robot_respects_velocity_and_position_limits(whole):
+    rng = np.random.default_rng(9)
+    T_left, T_right = _reachable_poses(whole, ["left_ee", "right_ee"], rng)
+    tasks = [
+        redik.PoseTask(T_left, frame="left_ee", gain=0.5),
+        redik.PoseTask(T_right, frame="right_ee", gain=0.5),
+        redik.PostureTask(priority=1),
+    ]
+    dt, speed = 0.01, 2.0
+    problem = redik.Problem(whole, tasks, [redik.PositionLimit(), redik.VelocityLimit(speed)])
+    q = whole.home.copy()
+    for _ in range(400):
+        dq = problem.step(q, dt)
+        assert np.abs(dq).max() <= speed * dt + 1e-9
+        q = whole.integrate(q, dq)
+        assert whole.within_limits(q)
+    for frame, T in (("left_ee", T_left), ("right_ee", T_right)):
+        assert pose_errors(whole.fk(q, frame), T)[0] < 1e-4
