@@ -145,7 +145,9 @@ def solve_pose(
     """Joint values that put ``frame`` at ``T_target`` (see the module docstring).
 
     Args:
-        robot: The robot.
+        robot: The robot. A whole-model robot (:mod:`redik.robot`) is solved on its chain
+            to ``frame`` (``robot.chain``), every other joint held at its value in ``q0``;
+            ``q`` and ``history`` are then the whole robot's.
         T_target: Desired pose ``T_sd`` of ``frame`` in the world (4 × 4).
         q0: First initial guess; default ``robot.home``.
         method: One of :data:`METHODS`.
