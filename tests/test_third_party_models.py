@@ -255,3 +255,31 @@ def test_third_party_model_stack_and_chain(spec):
     chain = robot.chain(frames[0], result.q)
     T = chain.fk(chain.clip(chain.data.qpos[chain.qpos_indices] + 0.2))
     assert redik.solve_pose(chain, T, seed=0).success
+
+
+def test_explore_cli_on_one_arm_of_baxter(tmp_path, capsys):
+    from redik.cli import main
+
+    out = tmp_path / "explore"
+    argv = ["explore", "example-robot-data:baxter", "--ee", "left_gripper", "--frames", "0"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert (
+            main(
+                [
+                    *argv,
+                    "--starts",
+                    "8",
+                    "--spacing",
+                    "0.3",
+                    "--out",
+                    str(out),
+                    "--fixed",
+                    "head_pan",
+                ]
+            )
+            == 0
+        )
+    assert "dimension 1" in capsys.readouterr().out
+    summary = (out / "summary.json").read_text()
+    assert "left_s0" in summary and "right_s0" not in summary
