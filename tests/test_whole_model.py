@@ -368,7 +368,7 @@ def test_explore_cli_holds_a_ball_joint_only_when_asked(tmp_path, capsys):
     path = tmp_path / "ball_arm.xml"
     path.write_text(BALL_ARM_XML)
     out = tmp_path / "out"
-    common = [str(path), "--frames", "0", "--starts", "8", "--out", str(out)]
+    common = [str(path), "--frames", "0", "--starts", "8", "--spacing", "0.3", "--out", str(out)]
     assert main(["explore", *common]) == 2
     assert "ball joint 'wrist_ball'" in capsys.readouterr().err
     assert main(["explore", *common, "--fixed", "wrist_ball"]) == 0
