@@ -414,7 +414,7 @@ class Robot:
         resolved = self.frame(frame)
         moved = set(self._joint_ids.tolist())
         fixed = [
-            _joint_name(self.model, j)
+            _literal(_joint_name(self.model, j))
             for j in range(self.model.njnt)
             if j not in moved or int(self.model.jnt_type[j]) == _BALL
         ]
@@ -721,6 +721,11 @@ def _has_name(model: mujoco.MjModel, obj: mujoco.mjtObj, name: str) -> bool:
 
 def _joint_name(model: mujoco.MjModel, joint: int) -> str:
     return mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, joint) or f"joint{joint}"
+
+
+def _literal(name: str) -> str:
+    """An ``fnmatch`` pattern matching exactly ``name`` (``*``, ``?``, ``[`` escaped)."""
+    return "".join(f"[{char}]" if char in "*?[" else char for char in name)
 
 
 def _match_joints(

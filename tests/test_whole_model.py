@@ -429,3 +429,13 @@ def test_online_control_of_a_floating_robot_respects_velocity_and_position_limit
         assert whole.within_limits(q)
     for frame, T in (("left_ee", T_left), ("right_ee", T_right)):
         assert pose_errors(whole.fk(q, frame), T)[0] < 1e-4
+
+
+def test_chain_of_a_model_with_unnamed_and_bracketed_joints():
+    xml = TORSO_XML.replace('<freejoint name="base"/>', "<freejoint/>").replace(
+        'name="right_elbow"', 'name="right_elbow[1]"'
+    )
+    robot = redik.Robot(mujoco.MjModel.from_xml_string(xml), joints="all")
+    assert robot.joint_names[0] == "joint0"
+    chain = robot.chain("right_ee")
+    assert "right_elbow[1]" in chain.joint_names and chain.dof == 6
