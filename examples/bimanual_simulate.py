@@ -1,11 +1,12 @@
 """Closed-loop headless simulation of Baxter: the left gripper draws a circle, the right holds.
 
 URDFs carry no actuators, so this script adds a position servo to each of the 14 arm joints
-(and gravity compensation on the links) with ``MjSpec`` before compiling; physics contacts
-are off because Baxter's URDF collision shapes overlap at rest (the QP's collision limit
-still keeps the arms and head apart). Each 10 ms tick the QP — both gripper poses at
-priority 0, a posture at priority 1, joint position, velocity and collision limits — gives
-the joint step; MuJoCo steps the physics.
+(and gravity compensation on the links) with ``MjSpec`` before compiling, and steps with
+the ``implicitfast`` integrator (the servos' damping on the light wrist links is stiff for
+explicit Euler). Physics contacts are off because Baxter's URDF collision shapes overlap at
+rest; the QP's collision limit still keeps the arms and the head apart. Each 10 ms tick the
+QP (both gripper poses at priority 0, a posture at priority 1; joint position, velocity and
+collision limits) gives the joint step, and MuJoCo steps the physics.
 Needs ``pip install "redik[models]"``. Run: python examples/bimanual_simulate.py
 """
 
@@ -25,6 +26,8 @@ for name in arms:
 for body in spec.bodies:
     body.gravcomp = 1.0
 spec.option.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
+# The URDF's light wrist links make the servos' damping stiff for explicit Euler.
+spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
 robot = redik.Robot(spec.compile(), joints=arms)
 print(robot, f"with {robot.model.nu} position servos")
 
