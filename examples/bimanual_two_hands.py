@@ -58,5 +58,5 @@ for limits in ([redik.PositionLimit()], [redik.PositionLimit(), collisions]):
 # The left arm alone, the right arm held where it is: compiled damped least squares.
 left = robot.chain("left_gripper", result.q)
 T = make_pose(np.eye(3), [0.0, 0.0, 0.1]) @ targets["left_gripper"]  # 10 cm higher
-arm = redik.solve_pose(left, T, left.data.qpos[left.qpos_indices], seed=0)
+arm = redik.solve_pose(left, T, left.q_of(), seed=0)
 print("left chain", left.joint_names, "->", arm.summary())

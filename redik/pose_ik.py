@@ -241,7 +241,7 @@ def _solve_on_chain(
     joints held at ``q0`` (default ``home``); ``q`` and ``history`` are the robot's."""
     q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
     chain = robot.chain(robot.frame(frame), q_whole)
-    q_chain = chain.data.qpos[chain.qpos_indices]
+    q_chain = chain.q_of()
     result = solve_pose(chain, T_target, q_chain, **options)
     result.q = robot.embed(chain, result.q, q_whole)
     result.history = np.array([robot.embed(chain, row, q_whole) for row in result.history])

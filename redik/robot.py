@@ -437,8 +437,6 @@ class Robot:
 
     # ----------------------------------------------------------------------------------
     # Joint vectors
-    # ----------------------------------------------------------------------------------
-    # Joint vectors
 
     def check_q(self, q: np.ndarray, name: str = "q") -> np.ndarray:
         """``q`` as a float vector of length ``nq``, or raise :class:`InvalidConfiguration`."""
@@ -674,6 +672,17 @@ class Robot:
     def joint_ids(self) -> np.ndarray:
         """MuJoCo ids of the moved joints."""
         return self._joint_ids
+
+    def q_of(self, qpos: np.ndarray | None = None) -> np.ndarray:
+        """This robot's ``q`` read from a full ``qpos``; default its own ``data.qpos``: the
+        last forward kinematics' configuration or, for a fresh chain of :meth:`chain`, the
+        values it was cut at."""
+        qpos = self.data.qpos if qpos is None else np.asarray(qpos, dtype=float)
+        if qpos.shape != (self.model.nq,):
+            raise InvalidConfiguration(
+                f"qpos must have shape ({self.model.nq},) (model.nq), got {qpos.shape}"
+            )
+        return qpos[self._qpos_adr].copy()
 
     def full_qpos(self, q: np.ndarray) -> np.ndarray:
         """The model's full ``qpos`` with the robot's joints set to ``q``, the rest as held."""

@@ -253,7 +253,7 @@ def test_third_party_model_stack_and_chain(spec):
         assert p_err < 1e-6 and r_err < 1e-5
     # The first frame's chain, the rest held at the solution: compiled DLS.
     chain = robot.chain(frames[0], result.q)
-    T = chain.fk(chain.clip(chain.data.qpos[chain.qpos_indices] + 0.2))
+    T = chain.fk(chain.clip(chain.q_of() + 0.2))
     assert redik.solve_pose(chain, T, seed=0).success
 
 

@@ -235,15 +235,17 @@ def test_chain_of_a_whole_model_runs_the_fast_paths(whole):
     chain = whole.chain("right_ee", q)
     assert chain.is_chain and chain.dof == 6
     # The held joints (base, neck, left arm) stay at q's values in the chain's model state.
-    np.testing.assert_allclose(
-        whole.fk(q, "right_ee"), chain.fk(chain.data.qpos[chain.qpos_indices])
-    )
+    np.testing.assert_allclose(whole.fk(q, "right_ee"), chain.fk(chain.q_of()))
     targets = np.array([chain.fk(chain.clip(chain.random_q(rng))) for _ in range(4)])
     batch = redik.solve_batch(chain, targets, seed=0, engine="local", workers=1)
     assert batch.success_rate == 1.0
     with pytest.raises(InvalidInput, match="whole-model"):
         redik.solve_batch(whole, targets)
     np.testing.assert_allclose(whole.embed(chain, batch.q[0], q)[:7], q[:7])
+    qpos = whole.full_qpos(q)
+    np.testing.assert_array_equal(chain.q_of(qpos), qpos[chain.qpos_indices])
+    with pytest.raises(redik.InvalidConfiguration, match=r"model\.nq"):
+        chain.q_of(q)
 
 
 def _collision_problem(model, with_limit: bool, minimum_distance: float = 0.01):
