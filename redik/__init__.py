@@ -37,7 +37,7 @@ from .exceptions import (
     UnknownFrame,
 )
 from .iterative import finite_difference_jacobian, gradient, hybrid, newton
-from .limits import MinkLimit, PositionLimit, VelocityLimit
+from .limits import CollisionAvoidanceLimit, MinkLimit, PositionLimit, VelocityLimit
 from .model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
 from .pose_ik import solve_all, solve_pose
 from .problem import Problem
@@ -65,6 +65,7 @@ __all__ = [
     "BatchResult",
     "CartesianPath",
     "CircularPath",
+    "CollisionAvoidanceLimit",
     "DampingTask",
     "Frame",
     "IKResult",

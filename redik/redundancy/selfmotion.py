@@ -308,7 +308,10 @@ def explore_self_motion(
     See the module docstring for the method.
 
     Args:
-        robot: The arm; its joint limits bound the manifold.
+        robot: The arm; its joint limits bound the manifold. A whole-model robot
+            (:mod:`redik.robot`) is explored on its chain to ``frame``, the other joints
+            held at their current values (``robot.chain(frame)``); the samples are the
+            chain's joint values.
         T_target: The pose (4 × 4, world frame).
         frame: Site or body to place; default the end-effector.
         spacing: Largest joint-space distance between neighbouring samples; default
@@ -333,6 +336,8 @@ def explore_self_motion(
         InvalidInput: the manifold would have more than two dimensions, or a bad argument.
     """
     started = time.perf_counter()
+    if not robot.is_chain:
+        robot, frame = robot.chain(frame), None
     T_target = as_pose(T_target, "T_target")
     resolved = robot.frame(frame)
     dimension = max(robot.dof - 6, 0)
