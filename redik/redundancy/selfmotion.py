@@ -156,7 +156,7 @@ class SelfMotion:
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
-            raise ValueError(f"status must be one of {STATUSES}, got {self.status!r}")
+            raise InvalidInput(f"status must be one of {STATUSES}, got {self.status!r}")
 
     @property
     def success(self) -> bool:
@@ -309,7 +309,10 @@ def explore_self_motion(
     See the module docstring for the method.
 
     Args:
-        robot: The arm; its joint limits bound the manifold.
+        robot: The arm; its joint limits bound the manifold. A whole-model robot
+            (:mod:`redik.robot`) is explored on its chain to ``frame``, the other joints
+            held at their current values (``robot.chain(frame)``); the samples are the
+            chain's joint values.
         T_target: The pose (4 × 4, world frame).
         frame: Site or body to place; default the end-effector.
         spacing: Largest joint-space distance between neighbouring samples; default
@@ -340,6 +343,8 @@ def explore_self_motion(
             wrist.
     """
     started = time.perf_counter()
+    if not robot.is_chain:
+        robot, frame = robot.chain(frame), None
     T_target = as_pose(T_target, "T_target")
     resolved = robot.frame(frame)
     dimension = max(robot.dof - 6, 0)
