@@ -112,7 +112,8 @@ class LevelAssembly:
             hessian, factor = task.diagonal_terms()
             self._joint_hessian += hessian
             self._joint_factor += factor
-            self._joint_offset += factor * task.reference
+            if task.reference.shape == factor.shape:  # else a configuration (not flat)
+                self._joint_offset += factor * task.reference
         self._joint_versions = versions
         self._joint_ready = True
         return True
@@ -124,7 +125,6 @@ class LevelAssembly:
         """
         H, c = self.H, self.c
         changed = self._refresh_joint_terms()
-        # Joint-space tasks: H += diag(Σ w²d²), c += Σ α w²d² ⊙ (q − r).
         if self._blocks:
             for task, A, b in self._blocks:
                 task.weighted_residual_into(state, A, b)
@@ -133,23 +133,38 @@ class LevelAssembly:
             np.dot(At, self.b, out=c)
             np.negative(c, out=c)
             self._diagonal += self._joint_hessian
-            if self.joint_tasks:
+            self._joint_gradient(state, c, fresh=False)
+        else:
+            # No residual rows: H is the diagonal alone, which does not depend on q —
+            # rebuilt only when a task changed (a posture level then costs two vector
+            # operations).
+            if changed or self.other_tasks:
+                H.fill(0.0)
+                self._diagonal += self._joint_hessian
+            self._joint_gradient(state, c, fresh=True)
+        self._add_other_tasks(state, configuration, columns)
+
+    def _joint_gradient(self, state: KinematicState, c: np.ndarray, fresh: bool) -> None:
+        """Joint-space tasks: ``c += Σ α w²d² ⊙ (q ⊖ r)`` (``c =`` when ``fresh``)."""
+        if not self.joint_tasks:
+            if fresh:
+                c.fill(0.0)
+            return
+        if state.robot.flat:
+            if fresh:
+                np.multiply(self._joint_factor, state.q, out=c)
+            else:
                 np.multiply(self._joint_factor, state.q, out=self._joint_buffer)
                 c += self._joint_buffer
-                c -= self._joint_offset
-            self._add_other_tasks(state, configuration, columns)
-            return
-        # No residual rows: H is the diagonal alone, which does not depend on q — rebuilt
-        # only when a task changed (a posture level then costs two vector operations).
-        if changed or self.other_tasks:
-            H.fill(0.0)
-            self._diagonal += self._joint_hessian
-        if self.joint_tasks:
-            np.multiply(self._joint_factor, state.q, out=c)
             c -= self._joint_offset
-        else:
+            return
+        # Across ball and free joints q ⊖ r is no difference of vectors: one per task.
+        if fresh:
             c.fill(0.0)
-        self._add_other_tasks(state, configuration, columns)
+        for task in self.joint_tasks:
+            _, factor = task.diagonal_terms()
+            if factor.any():
+                c += factor * state.robot.difference(task.reference, state.q)
 
     def _add_other_tasks(self, state: KinematicState, configuration, columns: np.ndarray):
         H, c = self.H, self.c
