@@ -54,6 +54,10 @@ class Robot:
         lower, upper: Joint limits (``±inf`` where a joint has no range).
         revolute: Boolean mask, True for hinge joints.
         home: The ``home`` keyframe's chain values (else ``qpos0``), clipped into the limits.
+        solver_cache: What solvers compile once per robot and frame (e.g. the chain of
+            :func:`redik.solve_pose`'s ``"dls"`` kernel), kept here so it lives and dies
+            with the robot. Like :attr:`data`, it makes a robot unsafe to share between
+            threads.
     """
 
     def __init__(self, model: mujoco.MjModel, ee: str | None = None, *, name: str | None = None):
@@ -101,6 +105,7 @@ class Robot:
             self._dof_adr, np.arange(self.dof)
         )
         self._views: dict[Frame, tuple[np.ndarray, np.ndarray]] = {}
+        self.solver_cache: dict[object, object] = {}
 
     # ----------------------------------------------------------------------------------
     # Construction

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import reprlib
 
 import numpy as np
 import pytest
@@ -184,6 +185,41 @@ def test_bad_targets_raise(arm, T_target):
         solve_pose(arm, T_target)
     with pytest.raises(InvalidPose):
         solve_all(arm, T_target, n_starts=1)
+
+
+@pytest.mark.parametrize(
+    "T_target",
+    ["abc", None, [[1.0, 0.0], "x"], {"p": 1.0}, np.eye(4, dtype=complex), object()],
+    ids=["string", "none", "ragged", "dict", "complex", "object"],
+)
+def test_targets_that_are_not_numeric_matrices_name_the_value(arm, T_target):
+    """Issue 11: ``solve_pose(robot, "abc")`` raised numpy's raw ValueError."""
+    for method in ("dls", "newton"):
+        with pytest.raises(InvalidPose, match="T_target") as raised:
+            solve_pose(arm, T_target, method=method)
+        assert type(T_target).__name__ in str(raised.value)
+        assert reprlib.repr(T_target)[:10] in str(raised.value)
+
+
+@pytest.mark.parametrize("method", ["dls", "newton", "hybrid", "transpose"])
+def test_a_frame_no_joint_moves_is_refused(method):
+    """Issue 11: ``frame="world"`` ran 1608 iterations instead of saying it cannot move."""
+    robot = redik.load("panda")
+    with pytest.raises(InvalidInput, match="world") as raised:
+        solve_pose(robot, np.eye(4), frame="world", method=method)
+    assert "no joint" in str(raised.value)
+    with pytest.raises(InvalidInput, match="world"):
+        solve_all(robot, np.eye(4), frame="world", n_starts=1)
+
+
+def test_a_frame_some_joints_move_is_solved_with_those_joints():
+    robot = redik.load("panda")
+    q_goal = robot.random_q(np.random.default_rng(2))
+    T_target = robot.fk(q_goal, "link3")
+    result = solve_pose(robot, T_target, frame="link3", seed=0)
+    assert result.success, result.message
+    assert np.allclose(robot.fk(result.q, "link3"), T_target, atol=1e-5)
+    assert np.array_equal(result.q[3:], robot.home[3:])  # joints 4-7 do not move link3
 
 
 @pytest.mark.parametrize(

@@ -447,25 +447,32 @@ def _solve_target(chain, Rd, pd, q0, state, settings, counts, ws, out, history, 
 
 @numba.njit(cache=True)
 def solve_one(chain, T, q0, key, settings, counts, out, history, errors, e):
-    """:func:`_solve_target` for one target ``T`` (4 × 4), recording the best attempt's
-    history into ``history[1]`` and ``errors[1]`` (``history`` is 2 × (max_iter + 1) × n).
+    """:func:`_solve_target` for one target ``T`` (4 × 4) from ``q0`` (clipped into the limits
+    when they are respected), recording the best attempt's history into ``history[1]`` and
+    ``errors[1]`` (``history`` is 2 × (at least max_iter + 1) × n).
 
     A fresh FK of the returned ``q`` fills ``e`` with the world error there; its position
-    and rotation errors are appended to the summary.
+    and rotation errors, and whether ``q`` is inside the limits, are appended to the summary.
     """
-    base, links, revolute = chain[0], chain[1], chain[2]
+    base, links, revolute, lower, upper = chain[0], chain[1], chain[2], chain[3], chain[4]
     n = revolute.shape[0]
     ws = _workspace(n)
     state = np.empty(1, dtype=np.uint64)
     state[0] = key
     Rd, pd = T[:3, :3], T[:3, 3]
+    start = np.empty(n)
+    for j in range(n):
+        start[j] = min(max(q0[j], lower[j]), upper[j]) if counts[BOUNDED] != 0 else q0[j]
     status, total, used, length, summary = _solve_target(
-        chain, Rd, pd, q0, state, settings, counts, ws, out, history, errors, True
+        chain, Rd, pd, start, state, settings, counts, ws, out, history, errors, True
     )
     R, p, axes, origins = ws[0][0], ws[1][0], ws[2][0], ws[3][0]
     chain_kinematics(base, links, revolute, out, R, p, axes, origins)
     position, angle = pose_error(Rd, pd, R, p, e)
-    return status, total, used, length, (*summary, position, angle)
+    inside = True
+    for j in range(n):
+        inside = inside and lower[j] <= out[j] <= upper[j]
+    return status, total, used, length, (*summary, position, angle, inside)
 
 
 @numba.njit(cache=True)
