@@ -99,8 +99,10 @@ class BatchOptions:
 
     def kernel_settings(self, bounded: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """The float and integer settings arrays of :mod:`redik.batch.kernel` (the reach
-        excess ``REACH`` starts at 0: :func:`redik.solve_pose` sets it per target)."""
-        settings = np.empty(7)
+        excess ``REACH`` starts at 0: :func:`redik.solve_pose` sets it per target; a target
+        is valid within :data:`redik.lie.ROTATION_TOLERANCE`, as :func:`redik.lie.as_pose`
+        checks one pose)."""
+        settings = np.empty(8)
         settings[kernel.POS_TOL] = self.pos_tol
         settings[kernel.ROT_TOL] = self.rot_tol
         settings[kernel.DAMPING] = self.damping
@@ -108,6 +110,7 @@ class BatchOptions:
         settings[kernel.MAX_DAMPING] = self.max_damping
         settings[kernel.REQUIRED] = math.sqrt(1.0 - min(self.progress, 1.0))
         settings[kernel.REACH] = 0.0
+        settings[kernel.TARGET_TOL] = ROTATION_TOLERANCE
         counts = np.empty(5, dtype=np.int64)
         counts[kernel.CANDIDATES] = self.candidates
         counts[kernel.MAX_ITER] = self.max_iterations
@@ -178,32 +181,6 @@ class BatchResult:
 
 # --------------------------------------------------------------------------------------
 # Boundary checks
-
-
-def check_targets(T_targets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(T, valid)``: the targets as a float ``B × 4 × 4`` array and a per-target mask.
-
-    A target is valid when it is finite, ends with ``[0, 0, 0, 1]`` and has a rotation block
-    (orthonormal, det +1) within :data:`redik.lie.ROTATION_TOLERANCE`, as :func:`redik.lie.as_pose`
-    checks one pose. Malformed targets are reported, not raised.
-
-    Raises:
-        InvalidInput: the array is not ``B × 4 × 4``.
-    """
-    T = np.asarray(T_targets, dtype=float)
-    if T.ndim != 3 or T.shape[1:] != (4, 4):
-        raise InvalidInput(f"T_targets must have shape (B, 4, 4), got {T.shape}")
-    with np.errstate(invalid="ignore"):
-        finite = np.isfinite(T).all(axis=(1, 2))
-        R = np.where(finite[:, None, None], T[:, :3, :3], np.eye(3))
-        gram = np.einsum("bki,bkj->bij", R, R) - np.eye(3)
-        valid = (
-            finite
-            & (np.abs(T[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1) <= ROTATION_TOLERANCE)
-            & (np.abs(gram).max(axis=(1, 2)) <= ROTATION_TOLERANCE)
-            & (np.abs(np.linalg.det(R) - 1.0) <= ROTATION_TOLERANCE)
-        )
-    return T, valid
 
 
 def check_seeds(chain: Chain, q0: np.ndarray | None, size: int) -> np.ndarray:
@@ -316,13 +293,14 @@ def solve_chunk(
 ) -> BatchResult:
     """Solve one chunk in this process: the unit of work of every engine.
 
-    ``T_targets`` is ``B × 4 × 4`` (invalid targets allowed), ``q0`` ``B × n`` within limits,
-    the targets ``first … first + B − 1`` of the batch; their random re-seeds depend on
-    ``key`` and those indices alone. ``parallel`` spreads the targets over numba's threads.
+    ``T_targets`` is ``B × 4 × 4``, ``q0`` ``B × n`` within limits, the targets ``first …
+    first + B − 1`` of the batch; their random re-seeds depend on ``key`` and those indices
+    alone. ``parallel`` spreads the targets over numba's threads. A target that is not a
+    finite rigid transform (:func:`redik.batch.kernel.valid_target`, checked in the
+    compiled code beside the solve) gets status ``"invalid"``.
     """
-    T, valid = check_targets(T_targets)
+    T = np.ascontiguousarray(T_targets, dtype=float)
     size = len(T)
-    T = np.ascontiguousarray(np.where(valid[:, None, None], T, np.eye(4)))
     results = (
         np.empty((size, chain.dof)),
         np.empty(size, dtype=np.int8),
@@ -334,7 +312,7 @@ def solve_chunk(
     settings, counts = options.kernel_settings()
     solve = kernel.solve_parallel if parallel else kernel.solve_serial
     solve(
-        chain.kernel_arrays(), T, valid, np.ascontiguousarray(q0, dtype=float),
+        chain.kernel_arrays(), T, np.ascontiguousarray(q0, dtype=float),
         np.int64(first), np.uint64(key), settings, counts, results,
     )  # fmt: skip
     q, status, iterations, restarts, position, rotation = results
