@@ -49,6 +49,11 @@ CONVERGED, STALLED, MAX_ITERATIONS, INVALID, DIVERGED = range(5)
 POS_TOL, ROT_TOL, DAMPING, MIN_DAMPING, MAX_DAMPING, REQUIRED, REACH, TARGET_TOL = range(8)
 MAX_ITER, RESTARTS, PATIENCE, BOUNDED, CANDIDATES = range(5)
 
+_COMPILE = {"cache": True, "error_model": "numpy", "fastmath": {"contract"}}
+"""Compiled once per machine; a division by zero gives inf or NaN as in numpy (every such
+result is caught as a non-finite step), not a Python exception, so divisions carry no
+checks; fused multiply-adds are allowed (no reassociation: results stay reproducible)."""
+
 _BLOCK = 16
 """Targets per parallel work item: small enough to balance the threads on hard tails."""
 
@@ -59,7 +64,7 @@ _STREAM = np.uint64(0xD1B54A32D192ED03)
 _TWO_TO_MINUS_53 = 2.0**-53
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def _next_uniform(state: np.ndarray) -> float:
     """A double in [0, 1) from the splitmix64 generator whose state is ``state[0]``."""
     state[0] += _GAMMA
@@ -70,7 +75,7 @@ def _next_uniform(state: np.ndarray) -> float:
     return float(z >> np.uint64(11)) * _TWO_TO_MINUS_53
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def valid_target(T, tol):
     """True when ``T`` is a finite rigid transform: last row ``[0, 0, 0, 1]``, ``RᵀR = I``
     and ``det R = 1``, each within ``tol`` (the checks of :func:`redik.lie.as_pose`)."""
@@ -78,12 +83,7 @@ def valid_target(T, tol):
         for b in range(4):
             if not math.isfinite(T[a, b]):
                 return False
-    if (
-        abs(T[3, 0]) > tol
-        or abs(T[3, 1]) > tol
-        or abs(T[3, 2]) > tol
-        or abs(T[3, 3] - 1.0) > tol
-    ):
+    if abs(T[3, 0]) > tol or abs(T[3, 1]) > tol or abs(T[3, 2]) > tol or abs(T[3, 3] - 1.0) > tol:
         return False
     for a in range(3):
         for b in range(a + 1):
@@ -98,7 +98,7 @@ def valid_target(T, tol):
     return abs(det - 1.0) <= tol
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def chain_kinematics(base, links, revolute, q, R, p, axes, origins):
     """FK of the chain at ``q`` into ``R`` (3 × 3) and ``p``, with each joint's world axis
     and origin into ``axes`` and ``origins`` (n × 3)."""
@@ -126,7 +126,7 @@ def chain_kinematics(base, links, revolute, q, R, p, axes, origins):
                 R[a, b] = r0 * links[i, 0, b] + r1 * links[i, 1, b] + r2 * links[i, 2, b]
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def world_jacobian(revolute, p, axes, origins, J):
     """The world Jacobian (6 × n) from :func:`chain_kinematics`' axes and origins."""
     for i in range(revolute.shape[0]):
@@ -142,7 +142,7 @@ def world_jacobian(revolute, p, axes, origins, J):
             J[3, i] = J[4, i] = J[5, i] = 0.0
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def pose_error(Rd, pd, R, p, e):
     r"""Fill ``e = (p_d − p, log(R_d Rᵀ)^∨)``; return ``(‖p_d − p‖, rotation angle)``.
 
@@ -184,7 +184,7 @@ def pose_error(Rd, pd, R, p, e):
     return position, angle
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def gram(J, G):
     """The lower triangle of ``G = J Jᵀ`` (6 × 6) when ``n ≥ 6``, else of ``JᵀJ`` (n × n).
 
@@ -208,7 +208,7 @@ def gram(J, G):
                 G[i, j] = total
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def damped_solve_gram(J, G, free, e, damping, A, y, dq):
     r"""``dq = J_fᵀ (J_f J_fᵀ + λI)⁻¹ e`` (``n ≥ 6``) or ``(J_fᵀJ_f + λI)⁻¹ J_fᵀ e``, where
     ``J_f`` is ``J`` with the columns not ``free`` zeroed (their ``dq`` is 0), from the Gram
@@ -272,7 +272,7 @@ def damped_solve_gram(J, G, free, e, damping, A, y, dq):
             dq[k] = y[k]
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def damped_solve(J, free, e, damping, A, y, dq):
     r"""``dq = J_fᵀ (J_f J_fᵀ + λI)⁻¹ e`` (``n ≥ 6``) or ``(J_fᵀJ_f + λI)⁻¹ J_fᵀ e``, where
     ``J_f`` is ``J`` with the columns not ``free`` zeroed (their ``dq`` is 0)."""
@@ -281,7 +281,7 @@ def damped_solve(J, free, e, damping, A, y, dq):
     damped_solve_gram(J, G, free, e, damping, A, y, dq)
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def _workspace(n):
     m = 6 if n >= 6 else n
     return (
@@ -302,7 +302,7 @@ def _workspace(n):
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
     """One attempt from ``ws`` q[0]; returns ``(status, iterations, ‖e‖², ‖Jᵀe‖ at the
     end without components pushing against a limit)``. ``errors[k]`` is ``‖e‖`` after
@@ -402,7 +402,7 @@ def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
     return status, iterations, E, math.sqrt(gradient)
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def _clamp(J, e, damping, q, qt, lower, upper, ws):
     """Joints that would leave their range stop at the limit; the others re-solve.
 
@@ -433,7 +433,7 @@ def _clamp(J, e, damping, q, qt, lower, upper, ws):
             qt[j] = q[j] + dq[j] if free[j] else limit_value[j]
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def _restart_seed(chain, Rd, pd, state, candidates, bounded, ws):
     """Into ``ws`` q[0]: the nearest in pose of ``candidates`` random configurations.
 
@@ -465,7 +465,7 @@ def _restart_seed(chain, Rd, pd, state, candidates, bounded, ws):
             q[0] = q[1]
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def _solve_target(chain, Rd, pd, q0, state, settings, counts, ws, out, history, errors, record):
     """Attempts from ``q0`` then from random configurations until one converges.
 
@@ -509,7 +509,7 @@ def _solve_target(chain, Rd, pd, q0, state, settings, counts, ws, out, history, 
     return best_status, total, attempts - 1, best_length, summary
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def solve_one(chain, T, q0, key, settings, counts, out, history, errors, e):
     """:func:`_solve_target` for one target ``T`` (4 × 4) from ``q0`` (clipped into the limits
     when they are respected), recording the best attempt's history into ``history[1]`` and
@@ -539,7 +539,7 @@ def solve_one(chain, T, q0, key, settings, counts, out, history, errors, e):
     return status, total, used, length, (*summary, position, angle, inside)
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def _solve_range(chain, T, q0, first, key, settings, counts, start, stop, results):
     q_out, status, iterations, restarts, position_error, rotation_error = results
     base, links, revolute, lower, upper = chain[0], chain[1], chain[2], chain[3], chain[4]
@@ -579,13 +579,13 @@ def _solve_range(chain, T, q0, first, key, settings, counts, start, stop, result
         position_error[t], rotation_error[t] = position, angle
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def solve_serial(chain, T, q0, first, key, settings, counts, results):
     """Solve every target of a chunk on this thread (see :func:`solve_parallel`)."""
     _solve_range(chain, T, q0, first, key, settings, counts, 0, T.shape[0], results)
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(parallel=True, **_COMPILE)
 def solve_parallel(chain, T, q0, first, key, settings, counts, results):
     """Solve every target of a chunk, blocks of targets spread over numba's threads.
 

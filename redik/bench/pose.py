@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import time
 from collections.abc import Callable
 
@@ -40,6 +39,7 @@ import numpy as np
 from .. import lie
 from ..pose_ik import METHODS, solve_pose
 from ..robot import Robot
+from . import load_average
 
 ROBOTS = ("panda", "iiwa14", "ur5e")
 POS_TOL = 1e-6
@@ -82,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
         f"redik bench pose: {n} targets per robot and seed mode; success = pos ≤ {POS_TOL:g} m, "
         f"rot ≤ {ROT_TOL:g} rad, inside the limits, scored by MuJoCo FK of the returned q"
     )
-    print(_load_text("load average at start"))
+    print(load_average("load average at start"))
     rows = []
     for name in args.robots:
         robot = _load(name)
@@ -92,7 +92,7 @@ def run(args: argparse.Namespace) -> int:
         solvers = {label: solver for label, solver in solvers.items() if solver is not None}
         rows += _measure(robot, solvers, n, args.seed)
     _print_table(rows)
-    print(_load_text("load average at end"))
+    print(load_average("load average at end"))
     return 0
 
 
@@ -104,11 +104,6 @@ def _load(name: str) -> Robot:
     from ..scenes import load
 
     return load(name)
-
-
-def _load_text(label: str) -> str:
-    one, five, fifteen = os.getloadavg()
-    return f"{label}: {one:.2f} {five:.2f} {fifteen:.2f} ({os.cpu_count()} CPUs)"
 
 
 class Score:
