@@ -290,3 +290,19 @@ def test_solve_all_compares_unlimited_angles_modulo_two_pi():
 def test_solve_all_rejects_bad_counts(arm):
     with pytest.raises(InvalidInput):
         solve_all(arm, arm.fk(arm.home), n_starts=0)
+
+
+def test_dls_results_own_their_arrays_though_the_solver_state_is_reused(rng):
+    """The compiled chain and buffers live on the robot; no result aliases them."""
+    robot = redik.load("panda")
+    first_target, second_target = (robot.fk(robot.random_q(rng)) for _ in range(2))
+    first = solve_pose(robot, first_target, seed=0)
+    q, history, errors = first.q.copy(), first.history.copy(), first.error_history.copy()
+    assert len(robot.solver_cache) == 1
+    second = solve_pose(robot, second_target, robot.random_q(rng), seed=1)
+    assert first.success and second.success
+    np.testing.assert_array_equal(first.q, q)
+    np.testing.assert_array_equal(first.history, history)
+    np.testing.assert_array_equal(first.error_history, errors)
+    assert len(robot.solver_cache) == 1  # the same frame reuses its solver
+    assert not redik.load("panda").solver_cache  # another robot owns its own
