@@ -9,7 +9,9 @@ from . import (
     dh,
     lie,
     limits,
+    loading,
     model_builder,
+    models,
     plot,
     qp,
     redundancy,
@@ -27,10 +29,13 @@ from .exceptions import (
     InvalidPose,
     InvalidRotation,
     ModelError,
+    ModelWarning,
+    NearRotationWarning,
     RedikError,
+    RedikWarning,
     UnknownFrame,
 )
-from .iterative import finite_difference_jacobian, gradient, newton
+from .iterative import finite_difference_jacobian, gradient, hybrid, newton
 from .limits import MinkLimit, PositionLimit, VelocityLimit
 from .model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
 from .pose_ik import solve_all, solve_pose
@@ -72,6 +77,8 @@ __all__ = [
     "ManipulabilityTask",
     "MinkLimit",
     "ModelError",
+    "ModelWarning",
+    "NearRotationWarning",
     "OrientationTask",
     "PoseTask",
     "PositionLimit",
@@ -79,6 +86,7 @@ __all__ = [
     "PostureTask",
     "Problem",
     "RedikError",
+    "RedikWarning",
     "Robot",
     "SelfMotion",
     "UnknownFrame",
@@ -92,12 +100,15 @@ __all__ = [
     "finite_difference_jacobian",
     "follow_path",
     "gradient",
+    "hybrid",
     "lie",
     "limits",
     "list_scenes",
     "load",
+    "loading",
     "make_backend",
     "model_builder",
+    "models",
     "newton",
     "nullspace_velocity",
     "plot",

@@ -2,10 +2,19 @@
 
 Every error redik raises on misuse derives from :class:`RedikError`. Ordinary failures of a
 solver (a target out of reach, an iteration limit) are *not* exceptions: they come back as
-a result with ``success=False`` and a ``status``.
+a result with ``success=False`` and a ``status``. Input that redik can repair without changing
+its meaning beyond a stated tolerance (a rotation typed with three decimals) is repaired with a
+:class:`RedikWarning`, never silently.
 """
 
 from __future__ import annotations
+
+import os
+import sys
+import warnings
+from pathlib import Path
+
+_PACKAGE = str(Path(__file__).resolve().parent) + os.sep
 
 
 class RedikError(Exception):
@@ -45,3 +54,26 @@ class BackendError(RedikError):
 
 class InfeasibleProblem(RedikError):
     """The hard constraints of a problem admit no solution."""
+
+
+class RedikWarning(UserWarning):
+    """Root of every warning redik issues: the input was used after a documented repair."""
+
+
+class ModelWarning(RedikWarning):
+    """A model loaded after a stated repair: a part left out (a mesh in a format MuJoCo cannot
+    read) or replaced (an indefinite inertia tensor); see :mod:`redik.loading`."""
+
+
+class NearRotationWarning(RedikWarning):
+    """A matrix close to a rotation was replaced by the closest rotation
+    (:func:`redik.lie.closest_rotation`); see :mod:`redik.lie` for the tolerance policy."""
+
+
+def warn(message: str, category: type[RedikWarning] = RedikWarning) -> None:
+    """Issue ``message`` attributed to the first caller outside redik, so that the warning
+    names the user's line (and filters by module work) however deep the check sits."""
+    frame, level = sys._getframe(1), 2  # stacklevel 2 is the caller of warn()
+    while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(message, category, stacklevel=level)

@@ -18,6 +18,21 @@ Formulas follow Lynch & Park, *Modern Robotics* (2017), §3.2.3 (SO(3) exp/log),
     V(ω) = I + \frac{1 - \cos θ}{θ^2}[ω] + \frac{θ - \sin θ}{θ^3}[ω]^2
 
     \mathrm{Ad}_T = \begin{pmatrix} R & [p] R \\ 0 & R \end{pmatrix}
+
+Rotation tolerance — one policy for every entry point that takes a rotation or a pose
+(:func:`as_rotation`, :func:`as_pose`, :func:`check_rotations`, and through them
+``solve_pose``, the tasks' ``set_target``, the closed-form solvers and ``solve_batch``). For a
+matrix ``M`` with ``d = max|MᵀM − I|``:
+
+* ``d ≤`` :data:`ROTATION_TOLERANCE` (1e-6) and ``|det M − 1| ≤`` 1e-6: used as it is;
+* ``d ≤`` :data:`NEAR_ROTATION_TOLERANCE` (2e-3) and ``det M > 0``: replaced by
+  :func:`closest_rotation` (the SVD projection onto SO(3)) with a
+  :class:`~redik.exceptions.NearRotationWarning` — a rotation typed with three or more
+  decimals; with ``strict=True`` it is refused instead;
+* anything else (NaN/inf, a reflection, a scaled or sheared matrix): refused with
+  :class:`~redik.exceptions.InvalidRotation` or :class:`~redik.exceptions.InvalidPose`.
+
+The bottom row of a pose must be ``[0, 0, 0, 1]`` within 1e-6 in both modes.
 """
 
 from __future__ import annotations
@@ -27,16 +42,26 @@ import math
 import mujoco
 import numpy as np
 
-from .exceptions import InvalidInput, InvalidPose, InvalidRotation
+from .exceptions import InvalidInput, InvalidPose, InvalidRotation, NearRotationWarning, warn
 
 ROTATION_TOLERANCE = 1e-6
-"""Largest ``‖RᵀR − I‖_max`` and ``|det R − 1|`` accepted for a rotation matrix."""
+"""Largest ``max|RᵀR − I|`` and ``|det R − 1|`` of a matrix used as a rotation as it is: what
+floating-point products of rotations and MuJoCo's ``xmat`` stay well within. The only
+tolerance of ``strict=True``."""
+
+NEAR_ROTATION_TOLERANCE = 2e-3
+"""Largest ``max|RᵀR − I|`` of a matrix (with ``det R > 0``) accepted by the pose entry points
+after projection onto SO(3), with a :class:`~redik.exceptions.NearRotationWarning`: any
+rotation typed from a book with three or more decimals. Rounding each entry by ``|ε| ≤ 5e-4``
+moves an entry of ``RᵀR`` by at most ``2 ‖column‖ ‖ε‖ ≤ 2√3 · 5e-4 ≈ 1.7e-3`` (Modern
+Robotics' IKinBody quiz target has 5.4e-5; four decimals give at most 1.7e-4), while two
+decimals give up to 1.7e-2 and are refused. A reflection is refused whatever its defect."""
 
 _SMALL_ANGLE = 1e-6
 
 
 # --------------------------------------------------------------------------------------
-# Validation at the boundary
+# Validation at the boundary (the tolerance policy is in the module docstring)
 
 
 def _rotation_defect(R: np.ndarray) -> tuple[float, float]:
@@ -55,52 +80,155 @@ def _rotation_defect(R: np.ndarray) -> tuple[float, float]:
     return defect, det
 
 
-def as_rotation(R: np.ndarray, name: str = "R", tol: float = ROTATION_TOLERANCE) -> np.ndarray:
-    """Return ``R`` as a float (3, 3) array after checking it is a rotation matrix.
-
-    Raises:
-        InvalidRotation: wrong shape, non-finite entries, not orthonormal, or det ≠ +1.
-    """
+def rotation_defect(R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(max|RᵀR − I|, det R)`` of a (..., 3, 3) stack, each of shape (...): how far each
+    matrix is from SO(3), as the tolerance policy above measures it."""
     R = np.asarray(R, dtype=float)
-    if R.shape != (3, 3):
-        raise InvalidRotation(f"{name} must be a (3, 3) rotation matrix, got shape {R.shape}")
-    _check_rotation_block(R, name, tol, InvalidRotation)
-    return R
+    with np.errstate(invalid="ignore", over="ignore"):
+        gram = np.einsum("...ki,...kj->...ij", R, R) - np.eye(3)
+        return np.abs(gram).max(axis=(-2, -1)), np.linalg.det(R)
 
 
-def _check_rotation_block(R: np.ndarray, name: str, tol: float, error: type) -> None:
+def closest_rotation(R: np.ndarray) -> np.ndarray:
+    r"""The rotation nearest to ``R`` in the Frobenius norm, for one (3, 3) or a (..., 3, 3) stack.
+
+    With the SVD ``R = U Σ Vᵀ``, :math:`\arg\min_{Q ∈ SO(3)} ‖Q − R‖_F = U\,
+    \mathrm{diag}(1, 1, \det(U V^\top))\,V^\top` (the orthogonal Procrustes problem;
+    Higham, *Matrix nearness problems*, 1989, §3; Umeyama, IEEE TPAMI 13(4), 1991, for the
+    determinant sign). For ``det R > 0`` it is the orthogonal polar factor ``R (RᵀR)^{-1/2}``.
+    """
+    U, _, Vt = np.linalg.svd(np.asarray(R, dtype=float))
+    U[..., :, 2] *= np.where(np.linalg.det(U @ Vt) < 0.0, -1.0, 1.0)[..., None]
+    return U @ Vt
+
+
+def _refusal(name: str, defect: float, det: float, strict: bool) -> str:
+    accepted = (
+        f"strict=True accepts max|RᵀR − I| and |det − 1| up to {ROTATION_TOLERANCE:g}"
+        if strict
+        else f"accepted: max|RᵀR − I| ≤ {NEAR_ROTATION_TOLERANCE:g} with det > 0, projected "
+        "onto the closest rotation"
+    )
+    return (
+        f"{name} is not a rotation matrix: max|RᵀR − I| = {defect:.3g}, det = {det:.6g} "
+        f"(expected orthonormal with det +1; {accepted})"
+    )
+
+
+def _checked_rotation_block(
+    R: np.ndarray, name: str, strict: bool, error: type[InvalidInput]
+) -> np.ndarray | None:
+    """None when ``R`` is a rotation as it is; else its projection (with a warning) under the
+    policy above, or raise ``error``."""
     defect, det = _rotation_defect(R)
     if not (math.isfinite(defect) and math.isfinite(det)):
         raise error(f"{name} holds NaN or inf: {R.tolist()}")
-    if defect > tol or abs(det - 1.0) > tol:
-        raise error(
-            f"{name} is not a rotation matrix: max|RᵀR − I| = {defect:.3g}, "
-            f"det = {det:.6g} (expected orthonormal with det +1 within {tol:g})"
-        )
+    if defect <= ROTATION_TOLERANCE and abs(det - 1.0) <= ROTATION_TOLERANCE:
+        return None
+    if strict or defect > NEAR_ROTATION_TOLERANCE or det <= 0.0:
+        raise error(_refusal(name, defect, det, strict))
+    projected = closest_rotation(R)
+    warn(
+        f"{name} is not exactly a rotation (max|RᵀR − I| = {defect:.2g}); using the closest "
+        f"rotation, which moves its entries by up to {np.abs(projected - R).max():.2g}. "
+        "Pass strict=True to refuse such input.",
+        NearRotationWarning,
+    )
+    return projected
 
 
-def as_pose(T: np.ndarray, name: str = "T", tol: float = ROTATION_TOLERANCE) -> np.ndarray:
-    """Return ``T`` as a float (4, 4) array after checking it is a rigid transform.
+def check_rotations(
+    R: np.ndarray, name: str = "R", *, strict: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
+    """The policy above applied to a (B, 3, 3) stack, without raising: ``(R_used, accepted)``.
+
+    ``R_used`` is ``R`` itself when nothing is projected, else a copy with the near-rotations
+    projected (one warning for all of them); ``accepted`` (B,) is False for the refused
+    matrices (left unchanged).
+    """
+    R = np.asarray(R, dtype=float)
+    defect, det = rotation_defect(R)
+    with np.errstate(invalid="ignore"):
+        exact = (defect <= ROTATION_TOLERANCE) & (np.abs(det - 1.0) <= ROTATION_TOLERANCE)
+        near = ~exact & (defect <= NEAR_ROTATION_TOLERANCE) & (det > 0.0)
+    if strict or not near.any():
+        return R, exact
+    R = R.copy()
+    R[near] = closest_rotation(R[near])
+    warn(
+        f"{int(near.sum())} of the {len(R)} matrices {name} are not exactly rotations "
+        f"(max|RᵀR − I| up to {defect[near].max():.2g}); the closest rotations are used. "
+        "Pass strict=True to refuse such input.",
+        NearRotationWarning,
+    )
+    return R, exact | near
+
+
+def as_rotation(R: np.ndarray, name: str = "R", *, strict: bool = False) -> np.ndarray:
+    """Return ``R`` as a float (3, 3) rotation matrix, under the tolerance policy above.
+
+    A near-rotation is returned projected onto SO(3) (with a
+    :class:`~redik.exceptions.NearRotationWarning`) unless ``strict``.
 
     Raises:
-        InvalidPose: wrong shape, non-finite entries, bad last row, or a non-rotation block.
+        InvalidRotation: wrong shape or dtype, non-finite entries, or not a rotation.
     """
-    T = np.asarray(T, dtype=float)
+    R = real_array(R, name, InvalidRotation)
+    if R.shape != (3, 3):
+        raise InvalidRotation(f"{name} must be a (3, 3) rotation matrix, got shape {R.shape}")
+    projected = _checked_rotation_block(R, name, strict, InvalidRotation)
+    return R if projected is None else projected
+
+
+def as_pose(T: np.ndarray, name: str = "T", *, strict: bool = False) -> np.ndarray:
+    """Return ``T`` as a float (4, 4) rigid transform, under the tolerance policy above.
+
+    The bottom row must be ``[0, 0, 0, 1]`` within :data:`ROTATION_TOLERANCE`; a near-rotation
+    block is returned projected onto SO(3) (in a copy, with a
+    :class:`~redik.exceptions.NearRotationWarning`) unless ``strict``.
+
+    Raises:
+        InvalidPose: wrong shape or dtype, non-finite entries, bad bottom row, or a rotation
+            block that is not a rotation.
+    """
+    T = real_array(T, name, InvalidPose)
     if T.shape != (4, 4):
         raise InvalidPose(f"{name} must be a (4, 4) homogeneous transform, got shape {T.shape}")
     rows = T.tolist()
     if not math.isfinite(sum(rows[0]) + sum(rows[1]) + sum(rows[2]) + sum(rows[3])):
         raise InvalidPose(f"{name} holds NaN or inf: {rows}")
     x, y, z, w = rows[3]
-    if max(abs(x), abs(y), abs(z), abs(w - 1.0)) > tol:
-        raise InvalidPose(f"{name} must end with the row [0, 0, 0, 1], got {rows[3]}")
-    _check_rotation_block(T[:3, :3], f"{name}[:3, :3]", tol, InvalidPose)
+    if max(abs(x), abs(y), abs(z), abs(w - 1.0)) > ROTATION_TOLERANCE:
+        raise InvalidPose(f"{name} must have the bottom row [0, 0, 0, 1], got {rows[3]}")
+    projected = _checked_rotation_block(T[:3, :3], f"{name}[:3, :3]", strict, InvalidPose)
+    if projected is None:
+        return T
+    T = T.copy()
+    T[:3, :3] = projected
     return T
+
+
+def real_array(value: object, name: str, error: type[InvalidInput] = InvalidInput) -> np.ndarray:
+    """``value`` as a float array of any shape, or raise ``error`` naming it: refuses complex
+    (which ``np.asarray(…, dtype=float)`` would silently truncate), string, object and ragged
+    input (on which it would fail with a raw numpy error)."""
+    array = value if isinstance(value, np.ndarray) else None
+    if array is None:
+        try:
+            array = np.asarray(value)
+        except (TypeError, ValueError) as exc:
+            raise error(f"{name} must be an array of real numbers: {exc}") from None
+    if array.dtype.kind not in "biuf":
+        raise error(
+            f"{name} must hold real numbers, got dtype {array.dtype} "
+            f"({np.array2string(array, threshold=12)})"
+        )
+    return array.astype(float, copy=False)
 
 
 def as_vector(x: np.ndarray, size: int, name: str) -> np.ndarray:
     """Return ``x`` as a finite float vector of length ``size``, or raise :class:`InvalidInput`."""
-    x = np.asarray(x, dtype=float)
+    x = real_array(x, name, InvalidInput)
     if x.shape != (size,):
         raise InvalidInput(f"{name} must have shape ({size},), got {x.shape}")
     if not np.all(np.isfinite(x)):

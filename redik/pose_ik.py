@@ -13,7 +13,20 @@ Methods
     ``"newton"``
         Modern Robotics' *IKinBody* (Lynch & Park §6.2.2): the body error twist
         ``V_b = log(T_sb⁻¹ T_sd)`` and ``q ← q + J_b⁺ V_b``. With ``form="space"`` it is the
-        space form, ``V_s = Ad_{T_sb} V_b`` and ``q ← q + J_s⁺ V_s``.
+        space form (*IKinSpace*), ``V_s = Ad_{T_sb} V_b`` and ``q ← q + J_s⁺ V_s``.
+        Stopping rule (``stop``): ``"pose"`` (default) stops when ``‖p_d − p‖ ≤ pos_tol`` and
+        ``angle(Rᵀ R_d) ≤ rot_tol`` — the success test of every method, so Newton stops as
+        soon as the result is certain to succeed; ``"twist"`` is the book's rule
+        (Algorithm IKinBody/IKinSpace): ``‖ω‖ ≤ ε_ω = rot_tol`` and ``‖v‖ ≤ ε_v = pos_tol`` of
+        the error twist ``(v, ω)`` of the form in use. The two differ only in the linear
+        part: ``Rᵀ(p_d − p) = (G(θ)/θ) v_b`` (MR §3.3.3, the exponential of se(3)), whose
+        singular values are 1 (along the rotation axis) and ``2 sin(θ/2)/θ ≤ 1``, so
+        ``‖p_d − p‖ ≤ ‖v_b‖``. The body twist rule is thus the stricter, by up to
+        ``θ / (2 sin(θ/2)) ≤ π/2`` across the axis of the rotation error ``θ``: it mixes the
+        rotation error into the position test, and ``‖v_s‖`` also grows with the distance
+        of the frame from the world origin. The default is the pose rule because
+        ``pos_tol`` and ``rot_tol`` then mean the same thing for every method; success is
+        decided by the pose test with either rule.
     ``"transpose"``
         Gradient descent on ``½‖e‖²``, ``q ← q + α Jᵀ e``. ``step="armijo"`` (default)
         starts each line search at Buss's step ``α₀ = ⟨e, JJᵀe⟩ / ‖JJᵀe‖²`` (the minimiser
@@ -68,7 +81,6 @@ Success
 from __future__ import annotations
 
 import math
-import reprlib
 import secrets
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -79,7 +91,7 @@ import numpy as np
 from .batch import kernel
 from .batch.chain import Chain
 from .batch.solve import BatchOptions
-from .exceptions import InvalidInput, InvalidPose
+from .exceptions import InvalidInput
 from .lie import adjoint, as_pose, inverse, pose_errors, se3_log, skew, so3_log, wrap_angle
 from .result import IKResult
 from .robot import Frame, Robot
@@ -97,7 +109,7 @@ _DLS_OPTIONS = {
     name: getattr(BatchOptions, name)
     for name in ("damping", "min_damping", "max_damping", "patience", "progress", "candidates")
 }
-_NEWTON_OPTIONS = {"form": "body", "step": 1.0}
+_NEWTON_OPTIONS = {"form": "body", "step": 1.0, "stop": "pose"}
 _TRANSPOSE_OPTIONS = {"step": "armijo"}
 _HYBRID_OPTIONS = {"switch_error": 0.1}
 _OPTIONS = {
@@ -127,6 +139,7 @@ def solve_pose(
     respect_limits: bool = True,
     seed: int | np.random.Generator | None = None,
     frame: str | Frame | None = None,
+    strict: bool = False,
     **method_options: object,
 ) -> IKResult:
     """Joint values that put ``frame`` at ``T_target`` (see the module docstring).
@@ -143,10 +156,13 @@ def solve_pose(
         respect_limits: Keep every iterate inside the joint limits (see the module docstring).
         seed: Seed (or generator) of the random restarts, for reproducible results.
         frame: Site or body to place; default the end-effector.
+        strict: Refuse a near-rotation target instead of projecting it onto SO(3) with a
+            warning (the tolerance policy of :mod:`redik.lie`).
         **method_options: ``"dls"``: ``damping`` (initial μ), ``min_damping`` (λ_min),
             ``max_damping``, ``patience`` and ``progress`` (an attempt ends as stalled when
             ``‖e‖²`` fell by less than the fraction ``progress`` in ``patience`` iterations);
-            ``"newton"``: ``form`` ("body" or "space"), ``step``;
+            ``"newton"``: ``form`` ("body" or "space"), ``step``, ``stop`` ("pose" or the
+            textbook's "twist", see the module docstring);
             ``"transpose"``: ``step`` ("armijo" or a number); ``"hybrid"``: ``switch_error``;
             ``"qp"``: passed on to :func:`redik.qp.solve.solve_pose_qp`.
 
@@ -161,7 +177,7 @@ def solve_pose(
             ``frame`` that no joint of the chain moves (such as ``"world"``).
         UnknownFrame: ``frame`` names no site or body.
     """
-    T_target = _as_target(T_target)
+    T_target = as_pose(T_target, "T_target", strict=strict)
     q_start = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
     if method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
@@ -228,6 +244,7 @@ def solve_all(
     respect_limits: bool = True,
     frame: str | Frame | None = None,
     cluster_tol: float = 1e-3,
+    strict: bool = False,
     **method_options: object,
 ) -> list[IKResult]:
     """The distinct solutions reached from ``n_starts`` random starts.
@@ -242,6 +259,7 @@ def solve_all(
         The successful results, one per cluster (the most accurate), ordered by
         ``‖log(T⁻¹ T_d)‖`` — empty when no start converged.
     """
+    T_target = as_pose(T_target, "T_target", strict=strict)  # once, not per start
     n_starts = _count(n_starts, "n_starts", 1)
     if not (isinstance(cluster_tol, (int, float)) and cluster_tol > 0):
         raise InvalidInput(f"cluster_tol must be a positive number, got {cluster_tol!r}")
@@ -555,6 +573,9 @@ def _newton(options: dict) -> Iteration:
     if form not in ("body", "space"):
         raise InvalidInput(f"form must be 'body' or 'space', got {form!r}")
     step = _positive(options["step"], "step")
+    stop = options["stop"]
+    if stop not in ("pose", "twist"):
+        raise InvalidInput(f"stop must be 'pose' or 'twist' (Modern Robotics' rule), got {stop!r}")
 
     def twist_and_jacobian(
         T: np.ndarray, J: np.ndarray, T_target: np.ndarray
@@ -565,6 +586,11 @@ def _newton(options: dict) -> Iteration:
             return V_b, np.vstack((R.T @ J[:3], R.T @ J[3:]))
         return adjoint(T) @ V_b, np.vstack((J[:3] + skew(p) @ J[3:], J[3:]))
 
+    def done(problem: _Problem, T: np.ndarray, V: np.ndarray) -> bool:
+        if stop == "twist":  # ‖v‖ ≤ ε_v and ‖ω‖ ≤ ε_ω, V = (v, ω)
+            return problem.within(float(np.linalg.norm(V[:3])), float(np.linalg.norm(V[3:])))
+        return problem.within(*pose_errors(T, problem.T_target))
+
     def iterate(problem: _Problem, q: np.ndarray, max_iter: int) -> _Attempt:
         robot, frame, n = problem.robot, problem.frame, problem.n
         T, J, e = np.eye(4), np.empty((6, n)), np.empty(6)
@@ -573,7 +599,7 @@ def _newton(options: dict) -> Iteration:
         history, errors = [q.copy()], [float(np.linalg.norm(V))]
         status = "max_iterations"
         for _ in range(max_iter):
-            if problem.within(*pose_errors(T, problem.T_target)):
+            if done(problem, T, V):
                 status = "converged"
                 break
             q_next = problem.project(q + step * (np.linalg.pinv(J_form) @ V))
@@ -586,7 +612,7 @@ def _newton(options: dict) -> Iteration:
             history.append(q.copy())
             errors.append(float(np.linalg.norm(V)))
         else:
-            if problem.within(*pose_errors(T, problem.T_target)):
+            if done(problem, T, V):
                 status = "converged"
         problem.world_error(T, e)
         return _Attempt(q, status, history, errors, float(e @ e), J, e)
@@ -847,28 +873,6 @@ def _reach(robot: Robot, frame: Frame, columns: np.ndarray) -> tuple[tuple[float
     travel = (robot.upper - robot.lower)[columns][~robot.revolute[columns]]
     reach += float(np.sum(travel))  # inf for an unlimited slide
     return tuple(anchors[0].tolist()), reach
-
-
-def _as_target(T_target: object) -> np.ndarray:
-    """``T_target`` as a float 4 × 4 rigid transform (:func:`redik.lie.as_pose`); a value that
-    is not a matrix of real numbers is named in the error."""
-    if not (isinstance(T_target, np.ndarray) and T_target.dtype == np.float64):
-        try:
-            if np.iscomplexobj(T_target):
-                raise TypeError("complex entries")
-            T = np.asarray(T_target, dtype=float)
-        except (TypeError, ValueError) as error:
-            raise InvalidPose(
-                f"T_target must be a 4 × 4 rigid transform of real numbers, got "
-                f"{type(T_target).__name__} {reprlib.repr(T_target)} ({error})"
-            ) from None
-        if T.shape != (4, 4):
-            raise InvalidPose(
-                f"T_target must be a 4 × 4 rigid transform, got {type(T_target).__name__} "
-                f"{reprlib.repr(T_target)} of shape {T.shape}"
-            )
-        T_target = T
-    return as_pose(T_target, "T_target")
 
 
 # --------------------------------------------------------------------------------------

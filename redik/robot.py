@@ -20,6 +20,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from . import loading
 from .exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
 from .lie import skew
 
@@ -111,33 +112,33 @@ class Robot:
     # Construction
 
     @classmethod
-    def from_file(cls, path: str | Path, ee: str | None = None) -> Robot:
+    def from_file(
+        cls, path: str | Path, ee: str | None = None, *, name: str | None = None, **options
+    ) -> Robot:
         """Load an MJCF (``.xml``) or URDF (``.urdf``) file.
 
+        ``options`` go to :func:`redik.loading.load_spec`: ``meshes=False`` for a
+        kinematics-only model, ``visual``, ``package_paths`` for ``package://`` meshes,
+        ``floating_base``, ``keep_fixed_links``. Fixed URDF links stay bodies, so ``tool0`` or
+        ``panda_hand`` can be the end-effector.
+
         Raises:
-            ModelError: the file is missing or MuJoCo cannot compile it.
+            ModelError: the file or a mesh is missing, or MuJoCo cannot compile the model.
         """
-        path = Path(path)
-        if not path.is_file():
-            raise ModelError(f"robot file not found: {str(path)!r}")
-        try:
-            spec = mujoco.MjSpec.from_file(str(path))
-        except ValueError as error:
-            raise ModelError(f"MuJoCo could not load {str(path)!r}: {error}") from None
-        return cls(_compile(spec, str(path)), ee=ee, name=path.stem)
+        model = loading.compile_spec(loading.load_spec(path, **options), str(path))
+        return cls(model, ee=ee, name=name or Path(path).stem)
 
     @classmethod
-    def from_xml_string(cls, xml: str, ee: str | None = None, name: str | None = None) -> Robot:
-        """Build from an MJCF or URDF string.
+    def from_xml_string(
+        cls, xml: str, ee: str | None = None, name: str | None = None, **options
+    ) -> Robot:
+        """Build from an MJCF or URDF string (``options`` as for :func:`load_spec_from_string`).
 
         Raises:
             ModelError: MuJoCo cannot compile the string.
         """
-        try:
-            spec = mujoco.MjSpec.from_string(xml)
-        except ValueError as error:
-            raise ModelError(f"MuJoCo could not parse the model: {error}") from None
-        return cls(_compile(spec, "the model string"), ee=ee, name=name)
+        spec = loading.load_spec_from_string(xml, **options)
+        return cls(loading.compile_spec(spec, "the model string"), ee=ee, name=name)
 
     @classmethod
     def from_dh(
@@ -210,10 +211,7 @@ class Robot:
         elif body >= 0:
             resolved = Frame(name, "body", body)
         else:
-            raise UnknownFrame(
-                f"no site or body named {name!r} in model {self.name!r}; "
-                f"sites: {self.frame_names('site')}, bodies: {self.frame_names('body')}"
-            )
+            raise loading.unknown_frame(self.model, name, f"model {self.name!r}", ("site", "body"))
         self._frames[name] = resolved
         return resolved
 
@@ -381,21 +379,6 @@ class Robot:
 def _model_name(model: mujoco.MjModel) -> str:
     # MuJoCo stores the model's own name first in its names buffer.
     return bytes(model.names).split(b"\0", 1)[0].decode() or "robot"
-
-
-def _compile(spec: mujoco.MjSpec, source: str) -> mujoco.MjModel:
-    """Compile a spec; links without inertia (common in URDF) get a tiny mass, not an error.
-
-    Kinematic URDFs routinely omit inertias, which MuJoCo rejects for moving bodies. Bounding
-    mass and inertia from below changes nothing for links that have them.
-    """
-    if spec.compiler.boundmass == 0.0 and spec.compiler.boundinertia == 0.0:
-        spec.compiler.boundmass = 1e-6
-        spec.compiler.boundinertia = 1e-12
-    try:
-        return spec.compile()
-    except ValueError as error:
-        raise ModelError(f"MuJoCo could not compile {source}: {error}") from None
 
 
 def _as_slice(indices: np.ndarray) -> slice | np.ndarray:

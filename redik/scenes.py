@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from . import models
 from .exceptions import ModelError
 from .robot import Robot
 
@@ -27,8 +28,20 @@ def list_scenes() -> list[str]:
     return sorted(path.stem for path in scenes_dir().glob("*.xml"))
 
 
+# Prefixes naming a model of an installed third-party package, e.g. ``"example-robot-data:ur5"``.
+_THIRD_PARTY = {
+    "example-robot-data": models.example_robot_data,
+    "pybullet_data": models.pybullet_data,
+}
+
+
 def scene_path(name: str | Path) -> Path:
-    """Path of a scene given its bundled name (``"panda"``) or a path to any MJCF/URDF file."""
+    """Path of a scene given its bundled name (``"panda"``), a path to any MJCF/URDF file, or a
+    third-party model ``"example-robot-data:<name>"`` / ``"pybullet_data:<name>"``
+    (:mod:`redik.models`)."""
+    package, colon, model = str(name).partition(":")
+    if colon and package in _THIRD_PARTY:
+        return _THIRD_PARTY[package](model)
     path = Path(name)
     if path.suffix in (".xml", ".urdf", ".mjcf") or path.exists():
         if not path.is_file():
@@ -40,6 +53,13 @@ def scene_path(name: str | Path) -> Path:
     return bundled
 
 
-def load(name: str | Path, ee: str | None = None) -> Robot:
-    """Load a bundled scene by name (``redik.load("panda")``) or any MJCF/URDF file by path."""
-    return Robot.from_file(scene_path(name), ee=ee)
+def load(name: str | Path, ee: str | None = None, **options) -> Robot:
+    """Load a bundled scene by name (``redik.load("panda")``) or any MJCF/URDF file by path.
+
+    ``name`` is anything :func:`scene_path` accepts; ``options`` go to
+    :func:`redik.loading.load_spec` (``meshes=False`` for kinematics only, ``visual``,
+    ``package_paths``, ``floating_base``, ``keep_fixed_links``)::
+
+        redik.load("example-robot-data:ur5", ee="tool0", meshes=False)
+    """
+    return Robot.from_file(scene_path(name), ee=ee, **options)

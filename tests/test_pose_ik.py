@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import itertools
-import reprlib
 
 import numpy as np
 import pytest
@@ -197,8 +196,9 @@ def test_targets_that_are_not_numeric_matrices_name_the_value(arm, T_target):
     for method in ("dls", "newton"):
         with pytest.raises(InvalidPose, match="T_target") as raised:
             solve_pose(arm, T_target, method=method)
-        assert type(T_target).__name__ in str(raised.value)
-        assert reprlib.repr(T_target)[:10] in str(raised.value)
+        assert "real numbers" in str(raised.value)
+    with pytest.raises(InvalidPose, match="abc"):
+        solve_pose(arm, "abc")
 
 
 @pytest.mark.parametrize("method", ["dls", "newton", "hybrid", "transpose"])

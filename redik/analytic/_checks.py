@@ -8,23 +8,16 @@ expected.
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 
-from redik.analytic._numeric import SCALAR, Numeric, pose_entries
-from redik.exceptions import InvalidInput, InvalidPose, InvalidRotation
-
-#: How far ``RᵀR`` may be from the identity (max abs entry) for ``R`` to count as a rotation.
-ORTHONORMAL_TOL = 1e-8
+from redik import lie
+from redik.exceptions import InvalidInput, InvalidPose
 
 
 def finite_array(value: object, name: str, shape: tuple[int | None, ...]) -> np.ndarray:
     """``value`` as a finite float array of ``shape`` (``None`` matches any length)."""
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as error:
-        raise InvalidInput(f"{name} must be numeric with shape {_shape(shape)}: {error}") from None
+    array = lie.real_array(value, name)
     if array.ndim != len(shape) or any(
         want is not None and got != want for got, want in zip(array.shape, shape, strict=True)
     ):
@@ -68,34 +61,36 @@ def scalar(value: object, name: str) -> float:
     return number
 
 
-def rotation(value: object, name: str = "R") -> np.ndarray:
-    """A 3×3 rotation matrix (orthonormal, det = +1)."""
-    R = finite_array(value, name, (3, 3))
-    _check_rotations(R.tolist(), SCALAR, name, InvalidRotation)
-    return R
+def rotation(value: object, name: str = "R", *, strict: bool = False) -> np.ndarray:
+    """A 3×3 rotation matrix, under :mod:`redik.lie`'s tolerance policy (a near-rotation is
+    projected onto SO(3) with a warning unless ``strict``)."""
+    return lie.as_rotation(finite_array(value, name, (3, 3)), name, strict=strict)
 
 
-def pose(value: object, name: str = "T") -> np.ndarray:
-    """A 4×4 rigid transform ``[[R, p], [0, 0, 0, 1]]``."""
-    return poses(value, name, batch=False)
+def pose(value: object, name: str = "T", *, strict: bool = False) -> np.ndarray:
+    """A 4×4 rigid transform ``[[R, p], [0, 0, 0, 1]]``, under :mod:`redik.lie`'s policy."""
+    return lie.as_pose(finite_array(value, name, (4, 4)), name, strict=strict)
 
 
-def poses(value: object, name: str = "T", *, batch: bool = True) -> np.ndarray:
-    """A (B, 4, 4) stack of rigid transforms (or one 4×4 when ``batch`` is False)."""
-    shape: tuple[int | None, ...] = (None, 4, 4) if batch else (4, 4)
-    T = finite_array(value, name, shape)
-    M, num = pose_entries(T)
-    bottom = num.maximum(
-        num.maximum(abs(M[3][0]), abs(M[3][1])), num.maximum(abs(M[3][2]), abs(M[3][3] - 1.0))
-    )
-    if num.any(bottom > ORTHONORMAL_TOL):
+def poses(value: object, name: str = "T", *, strict: bool = False) -> np.ndarray:
+    """A (B, 4, 4) stack of rigid transforms, under :mod:`redik.lie`'s policy (near-rotations
+    projected, one warning for the batch, unless ``strict``); the first bad one is named."""
+    T = finite_array(value, name, (None, 4, 4))
+    bottom = np.abs(T[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1, initial=0.0)
+    if (bottom > lie.ROTATION_TOLERANCE).any():
         index = int(np.argmax(bottom))
-        where = f"{name}[{index}]" if batch else name
         raise InvalidPose(
-            f"{where} must be a rigid transform with bottom row [0, 0, 0, 1], "
-            f"got {np.array2string((T if batch else T[None])[index, 3])}"
+            f"{name}[{index}] must be a rigid transform with bottom row [0, 0, 0, 1], "
+            f"got {np.array2string(T[index, 3])}"
         )
-    _check_rotations(M, num, name, InvalidPose, batch=batch)
+    block = T[:, :3, :3]
+    R, accepted = lie.check_rotations(block, name, strict=strict)
+    if not accepted.all():
+        index = int(np.argmin(accepted))
+        lie.as_pose(T[index], f"{name}[{index}]", strict=strict)  # raises, naming the defect
+    if R is not block:
+        T = T.copy()
+        T[:, :3, :3] = R
     return T
 
 
@@ -125,34 +120,6 @@ def limits(
         joints = np.flatnonzero(lower > upper).tolist()
         raise InvalidInput(f"limits lower > upper for joints {joints}: {lower} > {upper}")
     return lower, upper
-
-
-def _check_rotations(
-    M: Any, num: Numeric, name: str, error: type[InvalidInput], *, batch: bool = False
-) -> None:
-    """Check that the 3×3 blocks ``M[i][j]`` (i, j < 3; :mod:`._numeric` entries) are
-    rotations: ``RᵀR = I`` within :data:`ORTHONORMAL_TOL` and ``det R > 0``."""
-    columns = [[M[i][j] for i in range(3)] for j in range(3)]
-    deviation = 0.0
-    for j in range(3):
-        for k in range(j, 3):
-            (a0, a1, a2), (b0, b1, b2) = columns[j], columns[k]
-            dot = a0 * b0 + a1 * b1 + a2 * b2
-            deviation = num.maximum(deviation, abs(dot - (1.0 if j == k else 0.0)))
-    (a0, a1, a2), (b0, b1, b2), c = columns
-    determinant = (
-        (a1 * b2 - a2 * b1) * c[0] + (a2 * b0 - a0 * b2) * c[1] + (a0 * b1 - a1 * b0) * c[2]
-    )
-    bad = (deviation > ORTHONORMAL_TOL) | (determinant < 0.0)
-    if num.any(bad):
-        index = int(np.argmax(bad))
-        where = f"{name}[{index}]" if batch else name
-        what = "rotation block of " if error is InvalidPose else ""
-        raise error(
-            f"the {what}{where} must be a rotation (orthonormal, det +1): RᵀR deviates from I "
-            f"by {np.ravel(deviation)[index]:.2e} (tolerance {ORTHONORMAL_TOL:g}), "
-            f"det = {np.ravel(determinant)[index]:.6g}"
-        )
 
 
 def _shape(shape: tuple[int | None, ...]) -> str:

@@ -212,7 +212,12 @@ class AnalyticSolver:
     upper: np.ndarray
 
     def __call__(
-        self, target: Any, *, limits: Limits | str = "robot", tol: float = DEFAULT_TOL
+        self,
+        target: Any,
+        *,
+        limits: Limits | str = "robot",
+        tol: float = DEFAULT_TOL,
+        strict: bool = False,
     ) -> IKSolutions:
         """Every solution for a world-frame target.
 
@@ -221,13 +226,14 @@ class AnalyticSolver:
                 (``planar_2r``, ``rrp_polar``, ``hexapod_leg``), a 3-vector.
             limits: ``"robot"`` (the robot's limits), ``None`` (none) or ``(lower, upper)``.
             tol: As in the family's solver.
+            strict: Refuse a near-rotation instead of projecting it (:mod:`redik.lie`'s policy).
         """
         array = np.asarray(target, dtype=float)
         if array.shape == (3,) and self.family in ("planar_2r", "rrp_polar", "hexapod_leg"):
             T = np.eye(4)
             T[:3, 3] = _checks.finite_array(array, "target", (3,))
         else:
-            T = _checks.pose(target, "target")
+            T = _checks.pose(target, "target", strict=strict)
         chosen = (
             (self.lower, self.upper) if isinstance(limits, str) and limits == "robot" else limits
         )

@@ -152,6 +152,7 @@ def puma(
     d6: float = 0.0,
     limits: tuple[np.ndarray, np.ndarray] | None = None,
     tol: float = DEFAULT_TOL,
+    strict: bool = False,
 ) -> IKSolutions:
     """Every joint vector of a PUMA-type arm (module docstring) that reaches the pose ``T``.
 
@@ -162,6 +163,7 @@ def puma(
         limits: Optional ``(lower, upper)`` arrays of 6; angles compared modulo 2π.
         tol: Distance (m) by which the wrist centre may lie outside the workspace and be
             clipped onto its boundary; also the size of ``sin θ5`` reported as singular.
+        strict: Refuse a near-rotation instead of projecting it (:mod:`redik.lie`'s policy).
 
     Returns:
         Up to 8 solutions labelled ``"left-up-noflip"`` … ``"right-down-flip"``; fewer where
@@ -170,7 +172,7 @@ def puma(
         reach.
     """
     params = puma_parameters(a2, a3, d3, d4, d6)
-    return puma_solutions(_checks.pose(T), params, _checks.limits(limits, 6), tol)
+    return puma_solutions(_checks.pose(T, strict=strict), params, _checks.limits(limits, 6), tol)
 
 
 def puma_solutions(
@@ -220,13 +222,14 @@ def puma_batch(
     d6: float = 0.0,
     limits: tuple[np.ndarray, np.ndarray] | None = None,
     tol: float = DEFAULT_TOL,
+    strict: bool = False,
 ) -> BatchSolutions:
     """:func:`puma` for a (B, 4, 4) stack of poses, vectorised.
 
     Returns ``q`` (B, 8, 6) in the slot order of :data:`ARM_LABELS` with a (B, 8) ``valid``
     mask; at a singularity several valid slots may hold the same (or an equivalent) solution.
     """
-    T = _checks.poses(T)
+    T = _checks.poses(T, strict=strict)
     params = puma_parameters(a2, a3, d3, d4, d6)
     checked_limits = _checks.limits(limits, 6)
     M, num = pose_entries(T)

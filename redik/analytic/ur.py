@@ -168,6 +168,7 @@ def ur(
     *,
     limits: tuple[np.ndarray, np.ndarray] | None = None,
     tol: float = DEFAULT_TOL,
+    strict: bool = False,
 ) -> IKSolutions:
     """Every joint vector of a UR-type arm (module docstring) that reaches the pose ``T``.
 
@@ -179,6 +180,7 @@ def ur(
             joints span ±2π: the in-range representative nearest the wrapped angle is kept).
         tol: Distance (m) by which a sub-problem may be out of reach and be clipped onto its
             boundary; also the size of ``sin θ5`` reported as singular.
+        strict: Refuse a near-rotation instead of projecting it (:mod:`redik.lie`'s policy).
 
     Returns:
         Up to 8 solutions ``"left-up-noflip"`` … ``"right-down-flip"``; at ``sin θ5 = 0`` one
@@ -186,7 +188,7 @@ def ur(
         when the pose is out of reach.
     """
     params = ur_parameters(d1, a2, a3, d4, d5, d6)
-    return ur_solutions(_checks.pose(T), params, _checks.limits(limits, 6), tol)
+    return ur_solutions(_checks.pose(T, strict=strict), params, _checks.limits(limits, 6), tol)
 
 
 def ur_solutions(
@@ -246,13 +248,14 @@ def ur_batch(
     *,
     limits: tuple[np.ndarray, np.ndarray] | None = None,
     tol: float = DEFAULT_TOL,
+    strict: bool = False,
 ) -> BatchSolutions:
     """:func:`ur` for a (B, 4, 4) stack of poses, vectorised.
 
     Returns ``q`` (B, 8, 6) in the slot order of :data:`ARM_LABELS` with a (B, 8) ``valid``
     mask; at a singularity several valid slots may hold equivalent solutions.
     """
-    T = _checks.poses(T)
+    T = _checks.poses(T, strict=strict)
     params = ur_parameters(d1, a2, a3, d4, d5, d6)
     checked_limits = _checks.limits(limits, 6)
     M, num = pose_entries(T)

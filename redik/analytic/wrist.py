@@ -121,6 +121,7 @@ def spherical_wrist(
     *,
     limits: tuple[np.ndarray, np.ndarray] | None = None,
     tol: float = DEFAULT_TOL,
+    strict: bool = False,
 ) -> IKSolutions:
     r"""Both Euler-angle solutions ``(θ4, θ5, θ6)`` of a wrist rotation ``R``.
 
@@ -130,13 +131,14 @@ def spherical_wrist(
         limits: Optional ``(lower, upper)`` arrays of 3; solutions are shifted by 2π into
             range when possible, else dropped.
         tol: Size of ``sin θ5`` (``cos β``) below which the wrist is reported singular.
+        strict: Refuse a near-rotation instead of projecting it (:mod:`redik.lie`'s policy).
 
     Returns:
         Two solutions labelled ``"noflip"`` (θ5 ∈ [0, π], resp. |β| ≤ π/2) and ``"flip"``;
         at the singularity one representative with ``singular`` text naming the combined
         angle and a :class:`SolutionFamily` (first angle free).
     """
-    R = _checks.rotation(R)
+    R = _checks.rotation(R, strict=strict)
     if convention not in ("ZYZ", "ZYX"):
         raise _checks.InvalidInput(f"convention must be 'ZYZ' or 'ZYX', got {convention!r}")
     checked_limits = _checks.limits(limits, 3)

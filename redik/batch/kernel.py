@@ -98,6 +98,13 @@ def valid_target(T, tol):
     return abs(det - 1.0) <= tol
 
 
+@numba.njit(parallel=True, **_COMPILE)
+def valid_targets(T, tol, out):
+    """``out[t]`` = :func:`valid_target` of each ``T[t]`` (B × 4 × 4), over every thread."""
+    for t in numba.prange(T.shape[0]):
+        out[t] = valid_target(T[t], tol)
+
+
 @numba.njit(**_COMPILE)
 def chain_kinematics(base, links, revolute, q, R, p, axes, origins):
     """FK of the chain at ``q`` into ``R`` (3 × 3) and ``p``, with each joint's world axis

@@ -15,18 +15,20 @@ from __future__ import annotations
 import numpy as np
 
 from .. import lie
+from ..exceptions import InvalidRotation
 from .frame_task import FrameTask, so3_left_jacobian_inverse
 from .kinematics import KinematicState
 
 
-def as_target_rotation(target) -> np.ndarray:
-    """A 3 × 3 rotation from a matrix, a unit quaternion ``(w, x, y, z)`` or ``mink.SO3``."""
+def as_target_rotation(target, *, strict: bool = False) -> np.ndarray:
+    """A 3 × 3 rotation from a matrix, a unit quaternion ``(w, x, y, z)`` or ``mink.SO3``,
+    under :mod:`redik.lie`'s rotation tolerance policy."""
     if hasattr(target, "as_matrix"):
         target = target.as_matrix()
-    target = np.asarray(target, dtype=float)
+    target = lie.real_array(target, "target_rotation", InvalidRotation)
     if target.shape == (4,):
         return lie.matrix_from_quat(lie.as_quaternion(target, "target_rotation"))
-    return lie.as_rotation(target, name="target_rotation").copy()
+    return lie.as_rotation(target, name="target_rotation", strict=strict).copy()
 
 
 class OrientationTask(FrameTask):
@@ -39,6 +41,8 @@ class OrientationTask(FrameTask):
         weight: Scalar or per-axis (3, body axes) weight.
         gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
         priority: Priority level, 0 highest.
+        strict: Refuse a near-rotation instead of projecting it onto SO(3) with a warning
+            (:mod:`redik.lie`'s tolerance policy); also the default of :meth:`set_target`.
     """
 
     def __init__(
@@ -48,13 +52,18 @@ class OrientationTask(FrameTask):
         weight=1.0,
         gain: float = 1.0,
         priority: int = 0,
+        *,
+        strict: bool = False,
     ):
         super().__init__(frame, weight, gain, priority, size=3)
-        self.target = as_target_rotation(target_rotation)
+        self.strict = strict
+        self.target = as_target_rotation(target_rotation, strict=strict)
 
-    def set_target(self, target_rotation) -> None:
-        """Replace the target orientation (validated)."""
-        self.target = as_target_rotation(target_rotation)
+    def set_target(self, target_rotation, *, strict: bool | None = None) -> None:
+        """Replace the target orientation (validated; ``strict`` defaults to the task's)."""
+        self.target = as_target_rotation(
+            target_rotation, strict=self.strict if strict is None else strict
+        )
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
         R, _ = state.pose(self.frame)

@@ -34,11 +34,12 @@ from .kinematics import KinematicState
 from .task import as_weight
 
 
-def as_target_pose(target, name: str = "target") -> np.ndarray:
-    """A 4 × 4 target pose from an array or anything with ``as_matrix()`` (``mink.SE3``)."""
+def as_target_pose(target, name: str = "target", *, strict: bool = False) -> np.ndarray:
+    """A 4 × 4 target pose from an array or anything with ``as_matrix()`` (``mink.SE3``),
+    under :mod:`redik.lie`'s rotation tolerance policy."""
     if hasattr(target, "as_matrix"):
         target = target.as_matrix()
-    return lie.as_pose(target, name=name).copy()
+    return lie.as_pose(target, name=name, strict=strict).copy()
 
 
 _ONES = np.ones(6)
@@ -100,6 +101,9 @@ class PoseTask(FrameTask):
         orientation_weight: Weight of the angular part ``ω`` (scalar or 3).
         gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
         priority: Priority level, 0 highest.
+        strict: Refuse a near-rotation target instead of projecting it onto SO(3) with a
+            warning (:mod:`redik.lie`'s tolerance policy); also the default of
+            :meth:`set_target`.
     """
 
     def __init__(
@@ -110,9 +114,12 @@ class PoseTask(FrameTask):
         orientation_weight=1.0,
         gain: float = 1.0,
         priority: int = 0,
+        *,
+        strict: bool = False,
     ):
         super().__init__(frame, 1.0, gain, priority, size=6)
         self.set_weights(position_weight, orientation_weight)
+        self.strict = strict
         self.set_target(target)
         self._scales_version = -1
         self._scratch = np.empty(6)
@@ -123,9 +130,9 @@ class PoseTask(FrameTask):
         self.cost[3:] = as_weight(orientation_weight, 3, "orientation_weight")
         self.version += 1
 
-    def set_target(self, target) -> None:
-        """Replace the target pose (validated)."""
-        self.target = as_target_pose(target)
+    def set_target(self, target, *, strict: bool | None = None) -> None:
+        """Replace the target pose (validated; ``strict`` defaults to the task's)."""
+        self.target = as_target_pose(target, strict=self.strict if strict is None else strict)
         self._R_d = self.target[:3, :3].copy()
         self._p_d = self.target[:3, 3].copy()
 
