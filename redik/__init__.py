@@ -33,10 +33,11 @@ from .exceptions import (
     NearRotationWarning,
     RedikError,
     RedikWarning,
+    TrackingWarning,
     UnknownFrame,
 )
 from .iterative import finite_difference_jacobian, gradient, hybrid, newton
-from .limits import MinkLimit, PositionLimit, VelocityLimit
+from .limits import CollisionAvoidanceLimit, MinkLimit, PositionLimit, VelocityLimit
 from .model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
 from .pose_ik import solve_all, solve_pose
 from .problem import Problem
@@ -64,6 +65,7 @@ __all__ = [
     "BatchResult",
     "CartesianPath",
     "CircularPath",
+    "CollisionAvoidanceLimit",
     "DampingTask",
     "Frame",
     "IKResult",
@@ -89,6 +91,7 @@ __all__ = [
     "RedikWarning",
     "Robot",
     "SelfMotion",
+    "TrackingWarning",
     "UnknownFrame",
     "VelocityLimit",
     "analytic",

@@ -56,8 +56,9 @@ Stopping rules, each with its own ``status``
       exactly 0.
     - ``rel_tol``: the relative change :math:`‖f(q_{k+1}) − f(q_k)‖ / ‖e(q_k)‖ ≤ ε`
       (equivalently ``‖e_{k+1} − e_k‖ / ‖e_k‖``) ends the iteration; the status is
-      ``"converged"`` when ``tol`` is met too, else ``"stalled"`` (a small change does
-      not certify a root: it happens at a local minimum of ``‖e‖`` as well).
+      ``"converged"`` when ``tol`` is met too (or ``e`` is exactly 0), else ``"stalled"``
+      (a small change does not certify a root: it happens at a local minimum of ``‖e‖`` as
+      well).
     - ``q_tol``: ``‖Δq‖ ≤ q_tol`` with ``‖e‖ > tol`` → ``"stalled"`` (without moving).
     - ``singular_tol``: ``σ_min(J) ≤ singular_tol`` → ``"singular"`` (without moving),
       checked before each step (the Newton phase only for :func:`hybrid`).
@@ -81,8 +82,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._validate import non_negative, positive
 from .exceptions import InvalidInput
-from .lie import as_vector
+from .lie import as_vector, real_array
 from .result import IKResult
 
 TaskFunction = Callable[[np.ndarray], np.ndarray]
@@ -138,16 +140,24 @@ def finite_difference_jacobian(
     """
     if scheme not in FD_SCHEMES:
         raise InvalidInput(f"scheme must be one of {FD_SCHEMES}, got {scheme!r}")
-    if step is not None and (
-        isinstance(step, bool) or not isinstance(step, (int, float)) or not step > 0
-    ):
-        raise InvalidInput(f"the finite-difference step must be a positive number, got {step!r}")
-    q = np.array(q, dtype=float)
+    if not callable(f):
+        raise InvalidInput(f"f must be callable, got {f!r}")
+    if step is not None:
+        step = positive(step, "the finite-difference step")
+    return _difference_jacobian(f, _finite_vector(q, "q"), step, scheme, f_q)
+
+
+def _difference_jacobian(
+    f: TaskFunction, q: np.ndarray, step: float | None, scheme: str, f_q: np.ndarray | None
+) -> np.ndarray:
+    """:func:`finite_difference_jacobian` on checked arguments: the solvers call it every
+    iteration, after :class:`_Run` checked ``f``, ``fd_step`` and ``fd_scheme`` once."""
+    q = q.copy()
     if step is None:
         exponent = 1.0 / 3.0 if scheme == "central" else 0.5
         h = np.finfo(float).eps ** exponent * np.maximum(1.0, np.abs(q))
     else:
-        h = np.full(q.size, float(step))
+        h = np.full(q.size, step)
     forward = scheme == "forward"
     if forward and f_q is None:
         f_q = np.asarray(f(q.copy()), dtype=float)
@@ -207,7 +217,8 @@ def newton(
     Raises:
         InvalidInput: a shape mismatch, a non-finite ``x_d``/``q0``, or a bad option.
     """
-    options = _Options.checked(step, tol, q_tol, max_iter, singular_tol, rel_tol, max_growth)
+    step = _step_option(step, "step")
+    options = _Options.checked(tol, q_tol, max_iter, singular_tol, rel_tol, max_growth)
     run = _Run(f, x_d, q0, jac, "newton", options, fd_step, fd_scheme, None)
     return _iterate(run, options, lambda J, e: (_newton_step(J, e), step))
 
@@ -246,7 +257,8 @@ def gradient(
     Returns:
         An :class:`~redik.result.IKResult` (method ``"gradient"``).
     """
-    options = _Options.checked(step, tol, q_tol, max_iter, singular_tol, rel_tol, max_growth)
+    step = _step_option(step, "step")
+    options = _Options.checked(tol, q_tol, max_iter, singular_tol, rel_tol, max_growth)
     run = _Run(f, x_d, q0, jac, "gradient", options, fd_step, fd_scheme, gain)
     return _iterate(run, options, lambda J, e: (J.T @ (run.K @ e), step))
 
@@ -287,9 +299,12 @@ def hybrid(
     Returns:
         An :class:`~redik.result.IKResult` (method ``"hybrid"``).
     """
-    switch_error = _positive(switch_error, "switch_error")
-    _Options.checked(newton_step, tol, q_tol, max_iter, singular_tol, rel_tol, max_growth)
-    options = _Options.checked(gradient_step, tol, q_tol, max_iter, None, rel_tol, max_growth)
+    switch_error = positive(switch_error, "switch_error")
+    gradient_step = _step_option(gradient_step, "gradient_step")
+    newton_step = _step_option(newton_step, "newton_step")
+    if singular_tol is not None:  # checked by the Newton phase only, not by _iterate
+        singular_tol = non_negative(singular_tol, "singular_tol")
+    options = _Options.checked(tol, q_tol, max_iter, None, rel_tol, max_growth)
     run = _Run(f, x_d, q0, jac, "hybrid", options, fd_step, fd_scheme, gain)
 
     def direction(J: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, float | str] | IKResult:
@@ -323,7 +338,6 @@ class _Options:
     @classmethod
     def checked(
         cls,
-        step: object,
         tol: object,
         q_tol: object,
         max_iter: object,
@@ -331,18 +345,14 @@ class _Options:
         rel_tol: object,
         max_growth: object,
     ) -> _Options:
-        if step != "armijo" and (
-            isinstance(step, (str, bool)) or not isinstance(step, (int, float)) or not step > 0
-        ):
-            raise InvalidInput(f"step must be a positive number or 'armijo', got {step!r}")
         pose_tol = None
         if isinstance(tol, (tuple, list, np.ndarray)):
-            pair = [_non_negative(value, "tol") for value in tol]
+            pair = [non_negative(value, "tol") for value in tol]
             if len(pair) != 2:
                 raise InvalidInput(f"tol must be a number or a pair (ε_p, ε_R), got {tol!r}")
             pose_tol = (pair[0], pair[1])
             tol = 0.0
-        tol = _non_negative(tol, "tol")
+        tol = non_negative(tol, "tol")
         if (
             isinstance(max_iter, bool)
             or not isinstance(max_iter, (int, np.integer))
@@ -352,13 +362,13 @@ class _Options:
         return cls(
             tol=tol,
             pose_tol=pose_tol,
-            q_tol=None if q_tol is None else _non_negative(q_tol, "q_tol"),
+            q_tol=None if q_tol is None else non_negative(q_tol, "q_tol"),
             max_iter=int(max_iter),
             singular_tol=None
             if singular_tol is None
-            else _non_negative(singular_tol, "singular_tol"),
-            rel_tol=None if rel_tol is None else _non_negative(rel_tol, "rel_tol"),
-            max_growth=_positive(max_growth, "max_growth"),
+            else non_negative(singular_tol, "singular_tol"),
+            rel_tol=None if rel_tol is None else non_negative(rel_tol, "rel_tol"),
+            max_growth=positive(max_growth, "max_growth", allow_inf=True),
         )
 
 
@@ -384,7 +394,7 @@ class _Run:
         if fd_scheme not in FD_SCHEMES:
             raise InvalidInput(f"fd_scheme must be one of {FD_SCHEMES}, got {fd_scheme!r}")
         if fd_step is not None:
-            _positive(fd_step, "fd_step")
+            fd_step = positive(fd_step, "fd_step")
         self.x_d = _finite_vector(x_d, "x_d")
         self.q = _finite_vector(q0, "q0").copy()
         self.f = f
@@ -441,7 +451,7 @@ class _Run:
         if self._J0 is not None:
             J, self._J0 = self._J0, None
         elif self.jac is None:
-            J = finite_difference_jacobian(self.f, self.q, self.fd_step, self.fd_scheme, self.x)
+            J = _difference_jacobian(self.f, self.q, self.fd_step, self.fd_scheme, self.x)
         else:
             J = np.asarray(self.jac(self.q.copy()), dtype=float)
         return J if np.all(np.isfinite(J)) else None
@@ -507,17 +517,29 @@ def _iterate(run: _Run, options: _Options, direction: Direction) -> IKResult:
             return stop
         if run.done():
             return run.result("converged")
-        if options.rel_tol is not None and e_before is not run.e:
-            change = float(np.linalg.norm(run.e - e_before)) / float(np.linalg.norm(e_before))
-            if change <= options.rel_tol:
-                return run.result(
-                    "stalled",
-                    f"relative change ‖e_k+1 − e_k‖/‖e_k‖ = {change:.3g} ≤ rel_tol = "
-                    f"{options.rel_tol:g} with ‖e‖ = {run.norm:.3g} above tol",
-                )
+        if options.rel_tol is not None:
+            stop = _relative_change_stop(run, e_before, options.rel_tol)
+            if stop is not None:
+                return stop
     if run.norm == 0.0:
         return run.result("converged")
     return run.result("max_iterations")
+
+
+def _relative_change_stop(run: _Run, e_before: np.ndarray, rel_tol: float) -> IKResult | None:
+    """Stop when ``‖e_{k+1} − e_k‖ ≤ rel_tol ‖e_k‖`` (multiplied out: at an exact root both
+    sides are 0, and the run ends ``"converged"``, as at the end of a ``tol = 0`` run)."""
+    previous = run.errors[-2]
+    change = float(np.linalg.norm(run.e - e_before))
+    if change > rel_tol * previous:
+        return None
+    if run.norm == 0.0:
+        return run.result("converged")
+    return run.result(
+        "stalled",
+        f"relative change ‖e_k+1 − e_k‖/‖e_k‖ = {change / previous:.3g} ≤ rel_tol = "
+        f"{rel_tol:g} with ‖e‖ = {run.norm:.3g} above tol",
+    )
 
 
 def _singular(run: _Run, J: np.ndarray, singular_tol: float) -> IKResult | None:
@@ -590,7 +612,7 @@ def _gain(gain: np.ndarray | float | None, r: int) -> np.ndarray:
     """``K`` as an ``r × r`` symmetric positive-definite matrix."""
     if gain is None:
         return np.eye(r)
-    K = np.asarray(gain, dtype=float)
+    K = real_array(gain, "gain")
     if K.ndim == 0:
         K = K * np.eye(r)
     elif K.ndim == 1 and K.shape == (r,):
@@ -611,24 +633,16 @@ def _gain(gain: np.ndarray | float | None, r: int) -> np.ndarray:
 
 
 def _finite_vector(x: np.ndarray, name: str) -> np.ndarray:
-    x = np.atleast_1d(np.asarray(x, dtype=float))
+    x = np.atleast_1d(real_array(x, name))
     if x.ndim != 1:
         raise InvalidInput(f"{name} must be a vector, got shape {x.shape}")
     return as_vector(x, x.size, name)
 
 
-def _positive(value: object, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)) or not value > 0:
-        raise InvalidInput(f"{name} must be a positive number, got {value!r}")
-    return float(value)
-
-
-def _non_negative(value: object, name: str) -> float:
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, (int, float, np.floating, np.integer))
-        or not value >= 0
-        or not math.isfinite(value)
-    ):
-        raise InvalidInput(f"{name} must be a finite number ≥ 0, got {value!r}")
-    return float(value)
+def _step_option(step: object, name: str) -> float | str:
+    """A step: ``"armijo"`` or a finite ``λ > 0``."""
+    if isinstance(step, str) and step == "armijo":
+        return step
+    if isinstance(step, str):
+        raise InvalidInput(f"{name} must be a positive number or 'armijo', got {step!r}")
+    return positive(step, name)

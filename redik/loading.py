@@ -46,14 +46,17 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import io
+import itertools
 import os
 import xml.etree.ElementTree as ElementTree
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 
 import mujoco
 import numpy as np
 
+from ._validate import flag
+from ._validate import path as checked_path
 from .exceptions import InvalidInput, ModelError, ModelWarning, UnknownFrame, warn
 
 # Mesh formats MuJoCo decodes without a plugin; other extensions are probed once per run.
@@ -109,7 +112,7 @@ def load_spec(
             ``floating_base`` cannot be applied.
     """
     options = _options(meshes, visual, package_paths, floating_base, keep_fixed_links)
-    path = Path(source)
+    path = checked_path(source, "source")
     if not path.is_file():
         raise ModelError(f"robot file not found: {str(path)!r}")
     try:
@@ -117,13 +120,7 @@ def load_spec(
     except OSError as error:
         raise ModelError(f"cannot read {str(path)!r}: {error}") from None
     urdf = path.suffix.lower() == ".urdf" or _root_tag(text) == "robot"
-    directory = path.resolve().parent
-    edited = _edit_urdf(text, options) if urdf else None
-    spec = _parse(edited, text, str(path))
-    if edited is not None:
-        spec.modelfiledir = str(directory) + os.sep
-    _prepare(spec, urdf, directory, str(path), options)
-    return spec
+    return _load(text, urdf, path.resolve().parent, str(path), options, from_file=True)
 
 
 def load_spec_from_string(
@@ -143,14 +140,9 @@ def load_spec_from_string(
     options = _options(meshes, visual, package_paths, floating_base, keep_fixed_links)
     if not isinstance(xml, str):
         raise InvalidInput(f"the model must be an XML string, got {type(xml).__name__}")
+    base = checked_path(directory, "directory").resolve() if directory is not None else Path.cwd()
     urdf = _root_tag(xml) == "robot"
-    edited = _edit_urdf(xml, options) if urdf else None
-    spec = _parse(xml if edited is None else edited, xml, "the model string")
-    base = Path(directory).resolve() if directory is not None else Path.cwd()
-    # Assets are then named relative to ``directory``, as they would be for a file there.
-    spec.modelfiledir = str(base) + os.sep
-    _prepare(spec, urdf, base, "the model string", options)
-    return spec
+    return _load(xml, urdf, base, "the model string", options, from_file=False)
 
 
 def load_model(source: str | Path, **options) -> mujoco.MjModel:
@@ -188,7 +180,7 @@ def search_folders(
     (folders holding a ``package.xml``) up to :data:`PACKAGE_DEPTH` levels below it, as
     ``rospack`` finds the packages of a workspace's ``src``.
     """
-    explicit = [Path(p).expanduser() for p in _as_paths(package_paths)]
+    explicit = [p.expanduser() for p in _as_paths(package_paths)]
     explicit += [Path(p) for p in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if p]
     folders: list[Path] = []
     for folder in explicit:
@@ -255,23 +247,27 @@ def resolve_mesh_path(
     for scheme in _URI_SCHEMES:
         if name.startswith(scheme):
             package, _, rest = name[len(scheme) :].partition("/")
-            candidates = []
-            for folder in folders:
-                candidates.append(folder / package / rest)
-                if folder.name == package or _package_name(folder) == package:
-                    candidates.append(folder / rest)
-            return _first_file(candidates)
+            return _first_file(_package_candidates(package, rest, folders))
     if name.startswith("file://"):
         name = name[len("file://") :]
     relative = Path(name)
     if relative.is_absolute():
         return relative if relative.is_file() else None
-    candidates = []
-    if meshdir:
-        candidates.append(model_directory / meshdir / relative)
-    candidates.append(model_directory / relative)
-    candidates += [folder / relative for folder in folders]
-    return _first_file(candidates)
+    local = [model_directory / meshdir / relative] if meshdir else []
+    local.append(model_directory / relative)
+    return _first_file(itertools.chain(local, (folder / relative for folder in folders)))
+
+
+def _package_candidates(package: str, rest: str, folders: Iterable[Path]) -> Iterator[Path]:
+    """``F/package/rest`` for each folder ``F``, and ``F/rest`` when ``F`` is the package.
+
+    A generator, so that the search stops at the first file found: a model's meshes usually
+    sit in the first folders, and building every candidate (reading each folder's
+    ``package.xml``) for every mesh took half of :func:`load_spec` on talos (37 meshes)."""
+    for folder in folders:
+        yield folder / package / rest
+        if folder.name == package or _package_name(folder) == package:
+            yield folder / rest
 
 
 _FRAME_OBJECTS = {
@@ -338,29 +334,43 @@ def _options(
     floating_base: bool,
     keep_fixed_links: bool,
 ) -> _Options:
-    for label, value in (
-        ("meshes", meshes),
-        ("visual", visual),
-        ("floating_base", floating_base),
-        ("keep_fixed_links", keep_fixed_links),
-    ):
-        if not isinstance(value, bool):
-            raise InvalidInput(f"{label} must be True or False, got {value!r}")
     return _Options(
-        meshes=meshes,
-        visual=visual,
-        package_paths=tuple(Path(p).expanduser() for p in _as_paths(package_paths)),
-        floating_base=floating_base,
-        keep_fixed_links=keep_fixed_links,
+        meshes=flag(meshes, "meshes"),
+        visual=flag(visual, "visual"),
+        package_paths=tuple(p.expanduser() for p in _as_paths(package_paths)),
+        floating_base=flag(floating_base, "floating_base"),
+        keep_fixed_links=flag(keep_fixed_links, "keep_fixed_links"),
     )
 
 
-def _as_paths(paths: Sequence[str | Path] | str | Path | None) -> list[str | Path]:
+def _as_paths(paths: Sequence[str | Path] | str | Path | None) -> list[Path]:
+    """``package_paths`` as a list of paths: None, one path, or a sequence of paths."""
     if paths is None:
         return []
-    if isinstance(paths, (str, Path)):
-        return [paths]
-    return list(paths)
+    if isinstance(paths, (str, os.PathLike)):
+        return [checked_path(paths, "package_paths")]
+    if not isinstance(paths, Iterable):
+        raise InvalidInput(f"package_paths must be a path or a list of paths, got {paths!r}")
+    return [checked_path(p, f"package_paths[{i}]") for i, p in enumerate(paths)]
+
+
+def _load(
+    text: str, urdf: bool, directory: Path, source: str, options: _Options, *, from_file: bool
+) -> mujoco.MjSpec:
+    """Parse the model (a URDF edited first, :func:`_edit_urdf`) and :func:`_prepare` it.
+
+    An unedited file is read by MuJoCo from its path, so that its includes and assets resolve
+    as MuJoCo resolves them; text is parsed from the string, with ``directory`` as the model
+    file's folder, so relative paths name the same files as for a file there.
+    """
+    edited = _edit_urdf(text, options) if urdf else None
+    if from_file and edited is None:
+        spec = _parse(None, text, source)
+    else:
+        spec = _parse(text if edited is None else edited, text, source)
+        spec.modelfiledir = str(directory) + os.sep
+    _prepare(spec, urdf, directory, source, options)
+    return spec
 
 
 def _parse(xml: str | None, text: str, source: str) -> mujoco.MjSpec:

@@ -145,7 +145,9 @@ def solve_pose(
     """Joint values that put ``frame`` at ``T_target`` (see the module docstring).
 
     Args:
-        robot: The robot.
+        robot: The robot. A whole-model robot (:mod:`redik.robot`) is solved on its chain
+            to ``frame`` (``robot.chain``), every other joint held at its value in ``q0``;
+            ``q`` and ``history`` are then the whole robot's.
         T_target: Desired pose ``T_sd`` of ``frame`` in the world (4 × 4).
         q0: First initial guess; default ``robot.home``.
         method: One of :data:`METHODS`.
@@ -178,6 +180,12 @@ def solve_pose(
         UnknownFrame: ``frame`` names no site or body.
     """
     T_target = as_pose(T_target, "T_target", strict=strict)
+    if not robot.is_chain:
+        return _solve_on_chain(
+            robot, T_target, q0, method=method, pos_tol=pos_tol, rot_tol=rot_tol,
+            max_iter=max_iter, restarts=restarts, respect_limits=respect_limits, seed=seed,
+            frame=frame, **method_options,
+        )  # fmt: skip
     q_start = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
     if method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
@@ -232,6 +240,20 @@ def solve_pose(
     return _finish(problem, _Outcome.of(attempts, robot.lower, robot.upper), method, reach)
 
 
+def _solve_on_chain(
+    robot: Robot, T_target: np.ndarray, q0: np.ndarray | None, frame, **options
+) -> IKResult:
+    """:func:`solve_pose` for a whole-model robot: on its chain to ``frame``, the other
+    joints held at ``q0`` (default ``home``); ``q`` and ``history`` are the robot's."""
+    q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
+    chain = robot.chain(robot.frame(frame), q_whole)
+    q_chain = chain.q_of()
+    result = solve_pose(chain, T_target, q_chain, **options)
+    result.q = robot.embed(chain, result.q, q_whole)
+    result.history = np.array([robot.embed(chain, row, q_whole) for row in result.history])
+    return result
+
+
 def solve_all(
     robot: Robot,
     T_target: np.ndarray,
@@ -259,6 +281,18 @@ def solve_all(
         The successful results, one per cluster (the most accurate), ordered by
         ``‖log(T⁻¹ T_d)‖`` — empty when no start converged.
     """
+    if not robot.is_chain:  # the chain to the frame, the other joints at home
+        chain = robot.chain(robot.frame(frame), robot.home)
+        results = solve_all(
+            chain, T_target, n_starts, seed, method, pos_tol, rot_tol, max_iter,
+            respect_limits, None, cluster_tol, strict, **method_options,
+        )  # fmt: skip
+        for result in results:
+            result.q = robot.embed(chain, result.q, robot.home)
+            result.history = np.array(
+                [robot.embed(chain, row, robot.home) for row in result.history]
+            )
+        return results
     T_target = as_pose(T_target, "T_target", strict=strict)  # once, not per start
     n_starts = _count(n_starts, "n_starts", 1)
     if not (isinstance(cluster_tol, (int, float)) and cluster_tol > 0):

@@ -196,6 +196,8 @@ def _render(
 ) -> list[np.ndarray]:
     if width <= 0 or height <= 0:
         raise InvalidInput(f"width and height must be positive, got {width} × {height}")
+    if on_frame is not None and not callable(on_frame):  # else a TypeError after frame 0
+        raise InvalidInput(f"on_frame must be callable or None, got {on_frame!r}")
     data = mujoco.MjData(robot.model)
     scene = mujoco.MjvScene(robot.model, maxgeom=max(1000, 2 * robot.model.ngeom + 10))
     option = mujoco.MjvOption()

@@ -9,6 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from . import models
+from ._validate import path as checked_path
 from .exceptions import ModelError
 from .robot import Robot
 
@@ -39,10 +40,10 @@ def scene_path(name: str | Path) -> Path:
     """Path of a scene given its bundled name (``"panda"``), a path to any MJCF/URDF file, or a
     third-party model ``"example-robot-data:<name>"`` / ``"pybullet_data:<name>"``
     (:mod:`redik.models`)."""
+    path = checked_path(name, "the scene name")
     package, colon, model = str(name).partition(":")
     if colon and package in _THIRD_PARTY:
         return _THIRD_PARTY[package](model)
-    path = Path(name)
     if path.suffix in (".xml", ".urdf", ".mjcf") or path.exists():
         if not path.is_file():
             raise ModelError(f"robot file not found: {str(path)!r}")

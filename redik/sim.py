@@ -65,10 +65,17 @@ MuJoCo Menagerie's arms (servos with ``k_p`` = 500–4500, ``k_v = k_p / 10`` or
 ``gravcomp``, ``forcerange`` down to ±12 N·m), from a non-singular start, with the
 inverse-dynamics feed-forward (without it): iiwa14 1.1 mm (24 mm), Panda 1.1 mm (3.6 mm),
 Gen3 1.2 mm (6.7 mm). Started at Menagerie's Panda ``home`` (``q₂ = 0``: axes 1 and 3
-collinear) or Gen3 ``home``, the circle's top is out of the QP's reach at 2 rad/s: the IK
-reference itself leaves it by 39 and 26 mm and chatters against the velocity limits; the
-arms then miss by
-49 and 84 mm (54 and 53 mm without feed-forward) and the warning blames the IK.
+collinear) the circle's top, with the orientation held, is out of the arm's reach: the best
+of 40 ``solve`` starts misses it by 39 mm (elbow stretched, ``q₄ ≈ −0.47``), and the IK
+reference misses it by that much. At that fold the undamped step jumped across the
+singularity every tick at the 2 rad/s box and the arm missed by 49 mm; a single-level
+problem with ``Problem(..., step_damping=10)`` (:meth:`redik.Problem.step`) gives a smooth
+reference and a 38.8 mm miss, the unavoidable one (with the posture task at priority 1 it
+does not: the posture reverses in the turning null space, see :meth:`redik.Problem.step`).
+From Gen3's ``home`` the circle is reachable but passes near a wrist singularity
+(``σ_min`` = 0.04) where the QP's joint speeds reach 4.2 rad/s: at 5 rad/s the reference
+follows it within 0.04 mm, at 2 rad/s it misses by 26 mm and the arm by 84 mm (23 and
+24 mm single-level, damped). The warning blames the IK in both.
 ``tests/test_sim.py`` runs Menagerie-like servos built from the bundled iiwa14, the iiwa14
 on torque motors and gymnasium's Pusher arm (torque motors).
 """
@@ -76,14 +83,14 @@ on torque motors and gymnasium's Pusher arm (torque motors).
 from __future__ import annotations
 
 import dataclasses
-import warnings
 from collections.abc import Callable
 from pathlib import Path
 
 import mujoco
 import numpy as np
 
-from .exceptions import InvalidInput, ModelError
+from ._validate import flag, positive
+from .exceptions import InvalidInput, ModelError, TrackingWarning, warn
 from .lie import pose_errors
 from .plot import new_figure, save_figure
 from .robot import Robot
@@ -93,10 +100,6 @@ COMMANDS = ("position", "integrate")
 
 DEFAULT_ERROR_BOUND = (5e-3, 5e-2)
 """Tracking error (m, rad) above which :func:`simulate` warns, unless told otherwise."""
-
-
-class TrackingWarning(UserWarning):
-    """A closed-loop run left the reference by more than the bound it was given."""
 
 
 @dataclasses.dataclass
@@ -212,6 +215,12 @@ class JointDrives:
     def servo(self) -> np.ndarray:
         return np.array([kind == "position" for kind in self.kinds], dtype=bool)
 
+    @property
+    def lead(self) -> np.ndarray:
+        """``k_v / k_p`` of each servo (seconds; 0 for a motor): a servo following a ramp
+        ``q̂ = v t`` settles ``(k_v / k_p) v`` behind, so its setpoint is led by that much."""
+        return self.kv / self.gain
+
 
 def _actuator_name(model: mujoco.MjModel, a: int) -> str:
     return mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_ACTUATOR, a) or f"#{a}"
@@ -234,6 +243,8 @@ def _actuator_kind(model: mujoco.MjModel, a: int) -> str:
         )
     if gain != mujoco.mjtGain.mjGAIN_FIXED or gainprm[0] == 0.0:
         raise ModelError(f"actuator {name!r} has no fixed gain; simulate() cannot drive it")
+    if model.actuator_gear[a, 0] == 0.0:
+        raise ModelError(f"actuator {name!r} has gear 0: it applies no torque to its joint")
     if bias == mujoco.mjtBias.mjBIAS_NONE:
         return "motor"
     kp, kv = gainprm[0], -biasprm[2]
@@ -310,19 +321,6 @@ def actuator_indices(robot: Robot) -> np.ndarray:
     return joint_drives(robot).actuators
 
 
-def servo_lead(model: mujoco.MjModel, actuators: np.ndarray) -> np.ndarray:
-    """``kv / kp`` of each position servo (seconds): how far it lags a ramp at steady state.
-
-    A MuJoCo position actuator applies ``kp (ctrl − q) − kv q̇`` (``gainprm[0] = kp``,
-    ``biasprm[1] = −kp``, ``biasprm[2] = −kv``); following ``q_ref(t) = v t`` it settles
-    ``(kv / kp) v`` behind. Actuators of another form get 0 (no feed-forward).
-    """
-    kp = model.actuator_gainprm[actuators, 0]
-    kv = -model.actuator_biasprm[actuators, 2]
-    is_servo = (kp > 0.0) & np.isclose(model.actuator_biasprm[actuators, 1], -kp) & (kv >= 0.0)
-    return np.where(is_servo, kv / np.where(kp > 0.0, kp, 1.0), 0.0)
-
-
 class _Controller:
     """Turns a joint reference ``(q̂, \\dot{\\hat q}, \\ddot{\\hat q})`` into actuator controls by
     the laws of the module docstring, from the measured state; notes saturation."""
@@ -336,6 +334,9 @@ class _Controller:
         self.qpos_adr = np.asarray(robot.qpos_indices)
         self.scratch = mujoco.MjData(model)
         self.servo = drives.servo
+        self.any_servo, self.all_servo = bool(self.servo.any()), bool(self.servo.all())
+        self.lead = drives.lead
+        self.accel_full, self.inertial_full = np.zeros(model.nv), np.zeros(model.nv)
         self.kp_motor, self.kd_motor = motor_bandwidth**2, 2.0 * motor_bandwidth
         a = drives.actuators
         self.ctrl_low = np.where(
@@ -377,16 +378,14 @@ class _Controller:
         the actuator and take away the feedback and gravity terms that keep the arm on the
         path. So the inertial term is scaled down first, per joint, to fit the range.
         """
-        full = np.zeros(self.model.nv)
-        full[self.dofs] = accel
-        inertial = np.zeros(self.model.nv)
-        mujoco.mj_mulM(self.model, self.scratch, inertial, full)
-        inertial = inertial[self.dofs]
+        self.accel_full[self.dofs] = accel
+        mujoco.mj_mulM(self.model, self.scratch, self.inertial_full, self.accel_full)
+        inertial = self.inertial_full[self.dofs]
         excess = np.maximum(torque - self.torque_high, 0.0) + np.minimum(
             torque - self.torque_low, 0.0
         )
         ratio = np.divide(excess, inertial, out=np.zeros_like(excess), where=inertial != 0.0)
-        return (1.0 - np.clip(1.0 - ratio, 0.0, 1.0)) * inertial
+        return np.clip(ratio, 0.0, 1.0) * inertial
 
     def controls(
         self,
@@ -400,18 +399,17 @@ class _Controller:
         q, qdot = data.qpos[self.qpos_adr], data.qvel[self.dofs]
         g = drives.gear
         u = np.empty(len(g))
-        if np.any(servo):
+        if self.any_servo:
             # servo torque g·kp·u − g²kp·q − g²kv·q̇ = g²kp (q̂ − q) + g²kv (q̂' − q̇) + τ_ff
             kp, kv = drives.gain, drives.kv
-            tau = 0.0 * q
+            servo_u = g * (q_ref + self.lead * velocity_ref)
             if self.feedforward:
                 tau = self.inverse_dynamics(data, accel_ref)
                 feedback = g * g * (kp * (q_ref - q) + kv * (velocity_ref - qdot))
                 tau -= self._unreachable_inertia(feedback + tau, accel_ref)
-            lead = kv / np.where(servo, kp, 1.0)
-            servo_u = g * (q_ref + lead * velocity_ref) + tau / (g * np.where(servo, kp, 1.0))
+                servo_u += tau / (g * kp)
             u[servo] = servo_u[servo]
-        if not np.all(servo):
+        if not self.all_servo:
             qacc = accel_ref + self.kd_motor * (velocity_ref - qdot) + self.kp_motor * (q_ref - q)
             tau = self.inverse_dynamics(data, qacc)
             motor_u = tau / (g * drives.gain)
@@ -482,19 +480,22 @@ def simulate(
         pose_at, start = reference, 0.0
     else:
         raise InvalidInput(f"reference must be a trajectory.Path or t -> T, got {reference!r}")
-    if duration is None or not duration > 0.0:
-        raise InvalidInput(f"duration must be a positive number of seconds, got {duration!r}")
-    if not control_rate > 0.0:
-        raise InvalidInput(f"control_rate must be positive (Hz), got {control_rate!r}")
-    if not (np.isfinite(motor_bandwidth) and motor_bandwidth > 0.0):
-        raise InvalidInput(f"motor_bandwidth must be positive (rad/s), got {motor_bandwidth!r}")
+    duration = positive(duration, "duration", unit="s")
+    control_rate = positive(control_rate, "control_rate", unit="Hz")
+    motor_bandwidth = positive(motor_bandwidth, "motor_bandwidth", unit="rad/s")
+    feedforward = flag(feedforward, "feedforward")
     if error_bound is not None:
-        error_bound = tuple(float(b) for b in error_bound)
-        if len(error_bound) != 2 or not all(b > 0.0 for b in error_bound):
+        if not isinstance(error_bound, (tuple, list)) or len(error_bound) != 2:
             raise InvalidInput(
                 f"error_bound must be (position m, rotation rad), both positive, or None; "
                 f"got {error_bound!r}"
             )
+        error_bound = (
+            positive(error_bound[0], "error_bound[0]", allow_inf=True, unit="m"),
+            positive(error_bound[1], "error_bound[1]", allow_inf=True, unit="rad"),
+        )
+    if on_tick is not None and not callable(on_tick):
+        raise InvalidInput(f"on_tick must be callable or None, got {on_tick!r}")
     dt = 1.0 / control_rate
     substeps = dt / robot.model.opt.timestep
     if abs(substeps - round(substeps)) > 1e-6 or round(substeps) < 1:
@@ -528,7 +529,9 @@ def simulate(
     for k, t in enumerate(times):
         q_measured = data.qpos[qpos_adr].copy()
         # Aim at where the reference will be when this command has been applied.
-        task.set_target(pose_at(t))
+        T_d = pose_at(t)  # once a tick: a user's t -> T may be costly
+        task.set_target(T_d)
+        targets[k] = T_d
         if command == "position":
             q_command = q_measured + problem.step(q_measured.copy(), dt)
             ctrl, clipped = controller.controls(data, q_command, still, still)
@@ -544,8 +547,6 @@ def simulate(
         mujoco.mj_step(robot.model, data, nstep=substeps)
         saturated[k] = clipped or controller.force_saturated(data)
         mujoco.mj_kinematics(robot.model, data)  # mj_step leaves poses of the previous state
-
-        targets[k] = pose_at(t)
         _site_pose(data, ee, T)
         position_error[k], rotation_error[k] = pose_errors(T, targets[k])
         reference_error[k] = pose_errors(robot.fk(q_command, ee), targets[k])
@@ -570,7 +571,7 @@ def simulate(
         error_bound=error_bound,
     )
     if not result.within_bound:
-        warnings.warn(TrackingWarning(_diagnosis(robot.name, result)), stacklevel=2)
+        warn(_diagnosis(robot.name, result), TrackingWarning)
     return result
 
 

@@ -222,6 +222,11 @@ def test_unknown_convention_is_refused():
         stanford(np.eye(4), 0.154, 0.263, convention="spong")
     with pytest.raises(redik.InvalidInput, match="must end in 3 values"):
         SERVO.to_joints([0.1, 0.2])
+    # Neither text, complex numbers nor NaN become angles (no raw numpy error, no silent NaN).
+    for bad, match in [(["a", "b", "c"], "real numbers"), ([1j, 0, 0], "real numbers"),
+                       ([np.nan, 0.0, 0.0], "NaN")]:  # fmt: skip
+        with pytest.raises(redik.InvalidInput, match=match):
+            SERVO.from_joints(bad)
 
 
 def test_the_quiz_with_strict_input_is_refused_not_projected():

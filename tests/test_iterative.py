@@ -142,12 +142,16 @@ def test_non_finite_values_never_leave_the_solver():
     "kwargs",
     [
         {"x_d": [np.nan, 0.0]},
+        {"x_d": ["a", "b"]},
         {"x_d": [1.0, 2.0, 3.0]},
         {"q0": [np.inf, 0.0]},
         {"q0": [[0.0, 1.0]]},
         {"tol": -1e-3},
         {"tol": (1e-3, 1e-3)},  # a pair needs a pose residual of length 6
         {"step": -1.0},
+        {"step": np.inf},
+        {"fd_step": np.inf},
+        {"fd_step": "0.1"},
         {"max_iter": -1},
         {"jac": lambda q: np.eye(3)},
         {"f": "not callable"},
@@ -248,6 +252,8 @@ def test_gain_matrix_weighs_the_transpose_step():
         (np.diag([1.0, -1.0]), "positive definite"),
         (np.ones(3), "length-2 vector"),
         (0.0, "positive definite"),
+        ("fast", "real numbers"),
+        ([[1.0, 0.0], [0.0]], "real numbers"),
     ],
 )
 def test_bad_gains_are_refused(gain, match):
@@ -275,6 +281,20 @@ def test_hybrid_checks_singularity_only_in_its_newton_phase():
     assert result.status == "converged"
     newton_only = newton(two_link, X_D, [0.3, 0.0], jac=two_link_jacobian, singular_tol=1e-6)
     assert newton_only.status == "singular"
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"gradient_step": -1.0}, "gradient_step"),
+        ({"newton_step": "wolfe"}, "newton_step"),
+        ({"switch_error": 0.0}, "switch_error"),
+        ({"singular_tol": -1.0}, "singular_tol"),
+    ],
+)
+def test_hybrid_names_the_bad_option(kwargs, match):
+    with pytest.raises(InvalidInput, match=match):
+        hybrid(two_link, X_D, [0.2, 1.4], **kwargs)
 
 
 def test_gradient_singularity_check():
@@ -318,6 +338,10 @@ def test_relative_change_stop():
     assert np.linalg.norm(e[1] - e[0]) / np.linalg.norm(e[0]) <= 1e-6
     near = newton(two_link, X_D, [0.2, 1.4], rel_tol=0.5, tol=1e-1, max_iter=100)
     assert near.status == "converged"
+    # tol = 0 on a linear f: Newton lands exactly on the root, where ‖e_k‖ = 0 and the
+    # relative change is 0/0; the iterate is a root, so the run ends "converged".
+    exact = newton(lambda q: q, [1.0], [0.0], tol=0, rel_tol=1e-3, max_iter=5)
+    assert exact.status == "converged" and exact.error == 0.0 and exact.iterations == 2
 
 
 def test_tol_zero_runs_every_iteration():
@@ -338,6 +362,12 @@ def test_forward_differences_default_step_is_accurate():
     np.testing.assert_allclose(J, two_link_jacobian(q), atol=1e-7)
     with pytest.raises(InvalidInput, match="scheme"):
         finite_difference_jacobian(two_link, q, scheme="backward")
+    with pytest.raises(InvalidInput, match="q must hold real numbers"):
+        finite_difference_jacobian(two_link, ["a", "b"])
+    with pytest.raises(InvalidInput, match="NaN"):
+        finite_difference_jacobian(two_link, [np.nan, 0.0])
+    with pytest.raises(InvalidInput, match="callable"):
+        finite_difference_jacobian("two_link", q)
     with pytest.raises(InvalidInput, match="step"):
         finite_difference_jacobian(two_link, q, step=0.0)
     with pytest.raises(InvalidInput, match="fd_scheme"):

@@ -201,6 +201,18 @@ def _body_pose(data: mujoco.MjData, body: int) -> np.ndarray:
     return T
 
 
+def _assert_link_poses(model, data, expected: dict, root: str, bullet) -> None:
+    """Every body named in ``expected`` sits at its URDF pose (1e-9) and, but for the root
+    (pybullet's base, not a link), at pybullet's (its precision)."""
+    for link, T in expected.items():
+        actual = _body_pose(data, model.body(link).id)
+        np.testing.assert_allclose(actual, T, rtol=0, atol=EXACT_TOL, err_msg=link)
+        if link != root:
+            np.testing.assert_allclose(
+                actual, bullet.link_pose(link), rtol=0, atol=PYBULLET_TOL, err_msg=link
+            )
+
+
 # --------------------------------------------------------------------------------------
 # Third-party models
 
@@ -259,13 +271,7 @@ def test_third_party_fk_matches_independent_fk(key, tmp_path):
             bullet.set(values)
             expected = urdf.link_poses(values)
             assert set(expected) == set(bullet.links) | {urdf.root}
-            for link, T in expected.items():
-                actual = _body_pose(data, model.body(link).id)
-                np.testing.assert_allclose(actual, T, rtol=0, atol=EXACT_TOL, err_msg=link)
-                if link != urdf.root:
-                    np.testing.assert_allclose(
-                        actual, bullet.link_pose(link), rtol=0, atol=PYBULLET_TOL, err_msg=link
-                    )
+            _assert_link_poses(model, data, expected, urdf.root, bullet)
         for frame in frames:
             robot = _load_robot(path, ee=frame, meshes=False)
             for _ in range(3):
@@ -309,13 +315,7 @@ def test_floating_base_matches_independent_fk(tmp_path):
             base[:3, :3] = Rotation.from_quat(quat, scalar_first=True).as_matrix()
             base[:3, 3] = position
             bullet.set(values, base=base)
-            for link, T in urdf.link_poses(values, base).items():
-                actual = _body_pose(data, model.body(link).id)
-                np.testing.assert_allclose(actual, T, rtol=0, atol=EXACT_TOL, err_msg=link)
-                if link != urdf.root:
-                    np.testing.assert_allclose(
-                        actual, bullet.link_pose(link), rtol=0, atol=PYBULLET_TOL, err_msg=link
-                    )
+            _assert_link_poses(model, data, urdf.link_poses(values, base), urdf.root, bullet)
     finally:
         bullet.close()
 
@@ -655,6 +655,17 @@ def test_bad_options_and_files(tmp_path):
         loading.load_spec(models.pybullet_data("kuka_iiwa/model.sdf"))
     with pytest.raises(redik.ModelError, match="not found"):
         loading.load_spec("/nonexistent/robot.urdf")
+    # A path of the wrong type is an InvalidInput naming the argument, not a raw TypeError.
+    for call, match in [
+        (lambda: loading.load_spec(None), "source"),
+        (lambda: loading.load_spec(path, package_paths=5), "package_paths"),
+        (lambda: loading.load_spec(path, package_paths=[tmp_path, None]), r"package_paths\[1\]"),
+        (lambda: loading.load_spec_from_string("<mujoco/>", directory=3), "directory"),
+        (lambda: loading.search_folders(5), "package_paths"),
+        (lambda: redik.load(None), "scene name"),
+    ]:
+        with pytest.raises(redik.InvalidInput, match=match):
+            call()
     xml = """<mujoco><worldbody><body name="a"/><body name="b"/></worldbody></mujoco>"""
     with pytest.raises(redik.ModelError, match="exactly one body"):
         loading.load_spec_from_string(xml, floating_base=True)

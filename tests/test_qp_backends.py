@@ -123,3 +123,12 @@ def test_daqp_solves_every_step_of_ik_runs_with_the_default_regularisation(rng):
             np.testing.assert_allclose(dq, reference.step(q), atol=1e-6)
             q = q + dq
     assert problem.stats.get("skipped_levels", 0) == 0
+
+
+def test_daqp_solves_an_unconstrained_qp_twice(rng):
+    # The second call updates the workspace in place: with no bounds and no rows DAQP's
+    # update raised IndexError (``Problem(robot, tasks, limits=[])``, second step).
+    backend = make_backend("daqp")
+    for qp in random_ik_qps(rng, 3)[:1] * 3:
+        free = QP(qp.H, qp.c)
+        np.testing.assert_allclose(backend.solve(free), np.linalg.solve(qp.H, -qp.c), atol=1e-9)

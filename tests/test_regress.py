@@ -170,9 +170,8 @@ def test_progress_covers_the_warm_up_and_names_each_spec(tmp_path, monkeypatch):
     monkeypatch.setattr(sys, "stderr", terminal)
     run_regression(tasks, fast=True, show_progress=True)
     drawn = terminal.getvalue()
-    assert "warm-up" in drawn and "sqrt_newton" in drawn and "4/4" in drawn, (
-        drawn
-    )  # warm-up, 2 timings, 1 spec
+    # Four steps: the warm-up, the two reference timings and the one spec.
+    assert "warm-up" in drawn and "sqrt_newton" in drawn and "4/4" in drawn, drawn
 
 
 def test_regress_cli_is_quiet_with_quiet(tmp_path, monkeypatch):

@@ -67,3 +67,5 @@ def test_on_frame_reports_each_frame(panda):
     calls = []
     render_frames(panda, [panda.home] * 3, width=32, height=24, on_frame=lambda *a: calls.append(a))
     assert calls == [(0, 3), (1, 3), (2, 3)]
+    with pytest.raises(redik.InvalidInput, match="on_frame"):
+        render_frames(panda, [panda.home], width=32, height=24, on_frame=len(calls))

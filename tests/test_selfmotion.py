@@ -345,6 +345,15 @@ def test_an_unreachable_pose_has_a_status_a_reason_and_the_closest_error(panda):
     assert nothing.status == "unreachable" and "no start" in nothing.message
 
 
+def test_a_budget_too_small_for_the_manifold_says_so(panda):
+    T = panda.fk(panda.home)
+    whole = explore_self_motion(panda, T, seed=0, n_starts=8, initial=panda.home)
+    assert whole.status == "converged" and len(whole) > 20
+    cut = explore_self_motion(panda, T, seed=0, n_starts=8, initial=panda.home, max_samples=20)
+    assert cut.status == "max_iterations" and cut.success and len(cut) == 20
+    assert "max_samples=20 ran out" in cut.message
+
+
 def test_a_pose_reached_only_outside_the_limits_has_status_limits():
     robot = redik.load("planar_2r")
     q = np.array([0.3, 2.9])  # inside the range only if the elbow could bend 2.9 rad

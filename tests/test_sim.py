@@ -22,7 +22,6 @@ from redik.sim import (
     actuator_indices,
     joint_drives,
     plot_tracking,
-    servo_lead,
     simulate,
 )
 from redik.tasks import PoseTask, PostureTask
@@ -99,11 +98,11 @@ def test_feedforward_beats_plain_position_commands():
 
 def test_servo_lead_reads_kv_over_kp():
     robot = redik.load("panda")
-    actuators = actuator_indices(robot)
-    lead = servo_lead(robot.model, actuators)
-    kp = robot.model.actuator_gainprm[actuators, 0]
-    kv = -robot.model.actuator_biasprm[actuators, 2]
-    assert np.allclose(lead, kv / kp) and np.all(lead > 0.0)
+    drives = joint_drives(robot)
+    kp = robot.model.actuator_gainprm[drives.actuators, 0]
+    kv = -robot.model.actuator_biasprm[drives.actuators, 2]
+    assert np.allclose(drives.lead, kv / kp) and np.all(drives.lead > 0.0)
+    assert np.all(joint_drives(torque_iiwa14()).lead == 0.0)  # a motor has no lag to lead
 
 
 def test_tracking_plot_is_written(iiwa_circle, tmp_path):
@@ -126,6 +125,19 @@ def test_bad_arguments_are_rejected():
         simulate(robot, problem, task, lambda t: T, 1.0, error_bound=(0.0, 1.0))
     with pytest.raises(redik.InvalidInput, match="motor_bandwidth"):
         simulate(robot, problem, task, lambda t: T, 1.0, motor_bandwidth=-1.0)
+    # Wrong types are refused by name, never a raw TypeError (nor a truthy string obeyed).
+    for options, match in [
+        ({"motor_bandwidth": "fast"}, "motor_bandwidth"),
+        ({"control_rate": "100"}, "control_rate"),
+        ({"error_bound": 5e-3}, "error_bound"),
+        ({"error_bound": ("1 mm", 0.05)}, r"error_bound\[0\]"),
+        ({"feedforward": "no"}, "feedforward"),
+        ({"on_tick": 5}, "on_tick"),
+    ]:
+        with pytest.raises(redik.InvalidInput, match=match):
+            simulate(robot, problem, task, lambda t: T, 1.0, **options)
+    with pytest.raises(redik.InvalidInput, match="duration"):
+        simulate(robot, problem, task, lambda t: T, "1 s")
 
 
 def test_a_joint_without_actuator_is_reported():
@@ -188,6 +200,9 @@ def test_exceeding_the_bound_warns_and_says_why():
             error_bound=(3e-3, 0.05),
         )  # fmt: skip
     assert "IK reference alone" in str(caught[0].message)
+    # One root for redik's warnings, attributed to the caller's line (exceptions.warn).
+    assert issubclass(caught[0].category, redik.RedikWarning)
+    assert caught[0].filename == __file__
     assert not result.within_bound and result.max_position_error > 3e-3
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -283,6 +298,11 @@ def test_actuators_simulate_cannot_drive_are_refused_by_name():
     spec = iiwa14_spec()
     spec.actuators[0].set_to_position(kp=100.0, timeconst=0.05)
     with pytest.raises(redik.ModelError, match="'actuator1' has activation dynamics"):
+        joint_drives(redik.Robot(spec.compile()))
+
+    spec = iiwa14_spec()
+    spec.actuators[1].gear[0] = 0.0  # its controls would be divided by 0
+    with pytest.raises(redik.ModelError, match="'actuator2' has gear 0"):
         joint_drives(redik.Robot(spec.compile()))
 
     spec = iiwa14_spec()

@@ -14,6 +14,7 @@ angles (:data:`redik.analytic.hexapod.SERVO`) and the Stanford arm's course angl
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -21,6 +22,7 @@ import numpy as np
 
 from redik.analytic._solution import IKSolutions, JointSolution, SolutionFamily
 from redik.exceptions import InvalidInput
+from redik.lie import real_array
 
 
 @dataclass(frozen=True)
@@ -50,7 +52,7 @@ class AngleConvention:
             )
         if any(sign not in (1, -1) for sign in self.signs):
             raise InvalidInput(f"signs must be +1 or -1, got {self.signs}")
-        if not np.all(np.isfinite(self.offsets)):
+        if not np.all(np.isfinite(real_array(self.offsets, "offsets"))):
             raise InvalidInput(f"offsets must be finite, got {self.offsets}")
 
     @property
@@ -85,24 +87,13 @@ class AngleConvention:
         for solution in solutions:
             family = solution.family
             if family is not None:
-                family = SolutionFamily(
-                    family.free,
-                    family.description,
-                    self._mapped_generator(family),
-                    dict(family.invariants),
-                )
+                family = dataclasses.replace(family, generator=self._mapped_generator(family))
             mapped.append(
                 JointSolution(
                     self.from_joints(solution.q), solution.label, solution.singular, family
                 )
             )
-        return IKSolutions(
-            tuple(mapped),
-            solutions.n_joints,
-            solutions.reachable,
-            solutions.reason,
-            solutions.preferred,
-        )
+        return dataclasses.replace(solutions, solutions=tuple(mapped))
 
     def _mapped_generator(self, family: SolutionFamily) -> Callable[..., np.ndarray]:
         """``at(*t)`` with the free joints' values ``t`` in this convention too."""
@@ -115,12 +106,14 @@ class AngleConvention:
         return generator
 
     def _checked(self, values: np.ndarray, name: str) -> np.ndarray:
-        array = np.asarray(values, dtype=float)
+        array = real_array(values, name)
         if array.shape[-1:] != (self.n_joints,):
             raise InvalidInput(
                 f"{name} must end in {self.n_joints} values ({', '.join(self.symbols)}) for "
                 f"the {self.name!r} convention, got shape {array.shape}"
             )
+        if np.isnan(array).any():  # ±inf stays: an open bound of limits_to_joints
+            raise InvalidInput(f"{name} holds NaN: {np.array2string(array)}")
         return array
 
 

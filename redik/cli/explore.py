@@ -17,7 +17,9 @@ from pathlib import Path
 import numpy as np
 
 from ..lie import as_quaternion, make_pose, matrix_from_quat
-from ..scenes import load
+from ..loading import load_model
+from ..robot import Robot
+from ..scenes import load, scene_path
 from . import _progress
 
 
@@ -34,6 +36,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     pose.add_argument("--q-ref", nargs="+", type=float, help="target = FK of these joint values")
     parser.add_argument("--out", default="explore_out", help="output directory")
     parser.add_argument("--ee", default=None, help="end-effector site or body (default 'ee')")
+    parser.add_argument(
+        "--fixed", nargs="+", default=None, metavar="JOINT",
+        help="joints held on the chain (names or patterns, e.g. 'head_*'; a ball joint on "
+        "the chain must be held)",
+    )  # fmt: skip
     parser.add_argument("--spacing", type=float, default=None, help="sample spacing (rad)")
     parser.add_argument("--starts", type=int, default=64, help="random IK starts for seeding")
     parser.add_argument("--seed", type=int, default=0)
@@ -47,7 +54,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..redundancy import explore_self_motion
 
-    robot = load(args.scene, ee=args.ee)
+    if args.fixed:  # before the chain is built: a ball joint on it must be held
+        model = load_model(scene_path(args.scene))
+        robot = Robot(model, args.ee, name=Path(args.scene).stem, fixed=args.fixed)
+    else:
+        robot = load(args.scene, ee=args.ee)
     initial = None
     if args.pose is not None:
         quat = as_quaternion(np.array(args.pose[3:]), "--pose quaternion")

@@ -108,7 +108,8 @@ class LevelAssembly:
             hessian, factor = task.diagonal_terms()
             self._joint_hessian += hessian
             self._joint_factor += factor
-            self._joint_offset += factor * task.reference
+            if task.reference.shape == factor.shape:  # else a configuration (not flat)
+                self._joint_offset += factor * task.reference
         self._joint_versions = versions
 
     def build(self, state: KinematicState, configuration, columns: np.ndarray) -> None:
@@ -123,13 +124,19 @@ class LevelAssembly:
         np.dot(At, self.A, out=H)
         np.dot(At, self.b, out=c)
         np.negative(c, out=c)
-        # Joint-space tasks: H += diag(Σ w²d²), c += Σ α w²d² ⊙ (q − r).
+        # Joint-space tasks: H += diag(Σ w²d²), c += Σ α w²d² ⊙ (q ⊖ r).
         self._refresh_joint_terms()
         self._diagonal += self._joint_hessian
-        if self.joint_tasks:
+        if self.joint_tasks and state.robot.flat:
             np.multiply(self._joint_factor, state.q, out=self._joint_buffer)
             c += self._joint_buffer
             c -= self._joint_offset
+        elif self.joint_tasks:
+            # Across ball and free joints q ⊖ r is no difference of vectors: one per task.
+            for task in self.joint_tasks:
+                _, factor = task.diagonal_terms()
+                if factor.any():
+                    c += factor * state.robot.difference(task.reference, state.q)
         for task in self.other_tasks:
             if isinstance(task, Task):
                 task.add_objective(state, H, c)

@@ -141,8 +141,14 @@ class DaqpBackend(Backend):
             self._model.settings = {**self._model.settings, **self.settings}
             self._dims = dims
         else:
+            # DAQP cannot update zero-length bounds (an unconstrained QP): pass none.
+            bounded = upper.shape[0] > 0
             self._model.update(
-                H=qp.H, f=qp.c, A=A if A.shape[0] else None, bupper=upper, blower=lower
+                H=qp.H,
+                f=qp.c,
+                A=A if A.shape[0] else None,
+                bupper=upper if bounded else None,
+                blower=lower if bounded else None,
             )
         x, _, exitflag, _ = self._model.solve()
         if exitflag == -1:

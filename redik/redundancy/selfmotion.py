@@ -156,7 +156,7 @@ class SelfMotion:
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
-            raise ValueError(f"status must be one of {STATUSES}, got {self.status!r}")
+            raise InvalidInput(f"status must be one of {STATUSES}, got {self.status!r}")
 
     @property
     def success(self) -> bool:
@@ -302,13 +302,17 @@ def explore_self_motion(
     max_samples: int = 50_000,
     nominal: np.ndarray | None = None,
     criteria: tuple[Criterion, ...] | None = None,
+    exact: bool = False,
 ) -> SelfMotion:
     """Sample every configuration of ``robot`` that places ``frame`` at ``T_target``.
 
     See the module docstring for the method.
 
     Args:
-        robot: The arm; its joint limits bound the manifold.
+        robot: The arm; its joint limits bound the manifold. A whole-model robot
+            (:mod:`redik.robot`) is explored on its chain to ``frame``, the other joints
+            held at their current values (``robot.chain(frame)``); the samples are the
+            chain's joint values.
         T_target: The pose (4 × 4, world frame).
         frame: Site or body to place; default the end-effector.
         spacing: Largest joint-space distance between neighbouring samples; default
@@ -321,6 +325,10 @@ def explore_self_motion(
         nominal: Posture of the ``posture_distance`` criterion; default ``robot.home``.
         criteria: Criteria to score samples by; default
             :func:`redik.redundancy.criteria.default_criteria`.
+        exact: For a 7R arm with a spherical shoulder and wrist (iiwa type), take the curves
+            from the closed-form arm-angle parameterisation
+            (:func:`redik.analytic.srs.self_motion_curves`) instead of numerical tracing;
+            every loop of the pose is then a component, whether or not a start found it.
 
     Returns:
         A :class:`SelfMotion`. An out-of-reach pose is an ordinary outcome, not an error: the
@@ -331,8 +339,12 @@ def explore_self_motion(
     Raises:
         InvalidPose: ``T_target`` is not a rigid transform.
         InvalidInput: the manifold would have more than two dimensions, or a bad argument.
+        ModelError: ``exact=True`` on an arm that is not a 7R with a spherical shoulder and
+            wrist.
     """
     started = time.perf_counter()
+    if not robot.is_chain:
+        robot, frame = robot.chain(frame), None
     T_target = as_pose(T_target, "T_target")
     resolved = robot.frame(frame)
     dimension = max(robot.dof - 6, 0)
@@ -358,6 +370,9 @@ def explore_self_motion(
     seeds, closest = _seed_solutions(corrector, extra, n_starts, rng)
 
     explorer = _Explorer(corrector, dimension, spacing, max_samples)
+    if exact:
+        explorer.exact_curves = _exact_curves(robot, T_target, resolved, spacing)
+        seeds = [curve[0] for curve in explorer.exact_curves] + seeds
     for q in seeds:
         explorer.add_component(q)
 
@@ -395,6 +410,22 @@ def explore_self_motion(
         closest_position_error=None if seeds else closest[0],
         closest_rotation_error=None if seeds else closest[1],
     )
+
+
+def _exact_curves(robot: Robot, T_target: np.ndarray, frame: Frame, spacing: float) -> list:
+    """The closed-form self-motion loops (``exact=True``), for the robot's end-effector."""
+    from ..analytic.srs import self_motion_curves
+
+    if frame.name != robot.ee.name:
+        raise InvalidInput(
+            f"exact=True follows the arm angle of the end-effector {robot.ee.name!r}, "
+            f"not of {frame.name!r}"
+        )
+    return self_motion_curves(robot, T_target, spacing=spacing)
+
+
+def _torus_distance(curve: np.ndarray, q: np.ndarray) -> np.ndarray:
+    return np.abs(wrap_angle(curve - q)).max(axis=1)
 
 
 def _status(
@@ -486,6 +517,7 @@ class _Explorer:
         self.parts: list[list[np.ndarray]] = []
         self.closed: list[bool] = []
         self.ends: list[tuple[str, ...]] = []
+        self.exact_curves: list[np.ndarray] = []
 
     @property
     def budget(self) -> int:
@@ -524,7 +556,11 @@ class _Explorer:
         Tracing through the limits finds every arc of a loop from one seed anywhere on it,
         so seeds outside the limits (most of them, for a Panda) still count.
         """
-        curve, closed, ends = self._trace_curve(seed)
+        if self.exact_curves:
+            nearest = min(self.exact_curves, key=lambda c: _torus_distance(c, seed).min())
+            curve, closed, ends = list(nearest), True, ("closed",)
+        else:
+            curve, closed, ends = self._trace_curve(seed)
         self.traced.extend(curve)
         curve = self._refine_near_limits(curve, closed)
         shifted = [self.corrector.into_limits(q) for q in curve]
