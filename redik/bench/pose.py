@@ -52,6 +52,8 @@ MINK_SETTINGS = {"mink": (0.95, 1e-12), "mink tuned": (0.2, 1e-6)}
 """``(ConfigurationLimit gain, solve_ik damping)``: mink's defaults, and its best setting."""
 SEED_MODES = ("middle", "random")
 REFERENCE = "rtb ik_LM"
+REFERENCES = ("rtb", "tracik", "mink")
+"""The libraries ``--references`` chooses from."""
 
 Solver = Callable[[np.ndarray, np.ndarray, int], np.ndarray | None]
 """``solver(T_target, q0, index) -> q`` (None when the solver returns nothing)."""
@@ -69,6 +71,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quick", action="store_true", help="50 targets per robot")
     parser.add_argument("--seed", type=int, default=0, help="seed of the targets and starts")
     parser.add_argument(
+        "--references",
+        nargs="*",
+        default=list(REFERENCES),
+        help=f"libraries to compare among {REFERENCES} (default: all; none: redik alone)",
+    )
+    parser.add_argument(
         "--no-references", action="store_true", help="skip Robotics Toolbox, TRAC-IK and mink"
     )
 
@@ -79,6 +87,11 @@ def run(args: argparse.Namespace) -> int:
     if unknown:
         print(f"unknown method(s) {unknown}; choose among {METHODS}")
         return 2
+    references = [] if args.no_references else list(args.references)
+    unknown = [r for r in references if r not in REFERENCES]
+    if unknown:
+        print(f"unknown reference(s) {unknown}; choose among {REFERENCES}")
+        return 2
     print(
         f"redik bench pose: {n} targets per robot and seed mode; success = pos ≤ {POS_TOL:g} m, "
         f"rot ≤ {ROT_TOL:g} rad, inside the limits, scored by MuJoCo FK of the returned q"
@@ -88,8 +101,7 @@ def run(args: argparse.Namespace) -> int:
     for name in args.robots:
         robot = _load(name)
         solvers = {f"redik {m}": _redik_solver(robot, m) for m in args.methods}
-        if not args.no_references:
-            solvers.update(_reference_solvers(robot))
+        solvers.update(_reference_solvers(robot, references))
         solvers = {label: solver for label, solver in solvers.items() if solver is not None}
         rows += _measure(robot, solvers, n, args.seed)
     _print_table(rows)
@@ -208,11 +220,15 @@ def _redik_solver(robot: Robot, method: str) -> Solver | None:
     return solve
 
 
-def _reference_solvers(robot: Robot) -> dict[str, Solver | None]:
-    solvers: dict[str, Solver | None] = {REFERENCE: _rtb_solver(robot)}
-    solvers["TRAC-IK"] = _tracik_solver(robot)
-    for label, (gain, damping) in MINK_SETTINGS.items():
-        solvers[label] = _mink_solver(robot, gain, damping)
+def _reference_solvers(robot: Robot, references: list[str]) -> dict[str, Solver | None]:
+    solvers: dict[str, Solver | None] = {}
+    if "rtb" in references:
+        solvers[REFERENCE] = _rtb_solver(robot)
+    if "tracik" in references:
+        solvers["TRAC-IK"] = _tracik_solver(robot)
+    if "mink" in references:
+        for label, (gain, damping) in MINK_SETTINGS.items():
+            solvers[label] = _mink_solver(robot, gain, damping)
     return solvers
 
 
