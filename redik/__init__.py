@@ -9,7 +9,9 @@ from . import (
     dh,
     lie,
     limits,
+    loading,
     model_builder,
+    models,
     plot,
     qp,
     redundancy,
@@ -27,13 +29,15 @@ from .exceptions import (
     InvalidPose,
     InvalidRotation,
     ModelError,
+    ModelWarning,
     NearRotationWarning,
     RedikError,
     RedikWarning,
+    TrackingWarning,
     UnknownFrame,
 )
-from .iterative import finite_difference_jacobian, gradient, newton
-from .limits import MinkLimit, PositionLimit, VelocityLimit
+from .iterative import finite_difference_jacobian, gradient, hybrid, newton
+from .limits import CollisionAvoidanceLimit, MinkLimit, PositionLimit, VelocityLimit
 from .model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
 from .pose_ik import solve_all, solve_pose
 from .problem import Problem
@@ -61,6 +65,7 @@ __all__ = [
     "BatchResult",
     "CartesianPath",
     "CircularPath",
+    "CollisionAvoidanceLimit",
     "DampingTask",
     "Frame",
     "IKResult",
@@ -74,6 +79,7 @@ __all__ = [
     "ManipulabilityTask",
     "MinkLimit",
     "ModelError",
+    "ModelWarning",
     "NearRotationWarning",
     "OrientationTask",
     "PoseTask",
@@ -85,6 +91,7 @@ __all__ = [
     "RedikWarning",
     "Robot",
     "SelfMotion",
+    "TrackingWarning",
     "UnknownFrame",
     "VelocityLimit",
     "analytic",
@@ -96,12 +103,15 @@ __all__ = [
     "finite_difference_jacobian",
     "follow_path",
     "gradient",
+    "hybrid",
     "lie",
     "limits",
     "list_scenes",
     "load",
+    "loading",
     "make_backend",
     "model_builder",
+    "models",
     "newton",
     "nullspace_velocity",
     "plot",

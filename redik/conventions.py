@@ -46,5 +46,10 @@ Joint vector
     ``q`` holds the hinge and slide joints on the kinematic chain from the model root to
     the end-effector, in that order (``robot.joint_names``). Every other joint of the
     MuJoCo model is held at its ``home`` keyframe value (or ``qpos0``). A joint without a
-    range has limits ``±inf``.
+    range has limits ``±inf``. A whole-model robot (``Robot(model, joints=...)``) moves any
+    set of joints, ball and free joints included: ``q`` is then their ``qpos`` entries
+    (``robot.nq``: a free joint's position then unit quaternion ``(w, x, y, z)``), while
+    ``Δq``, Jacobian columns, limits and weights live in the tangent space (``robot.dof``,
+    MuJoCo's velocity coordinates); ``robot.integrate`` and ``robot.difference`` map between
+    them (:mod:`redik.robot`).
 """

@@ -4,7 +4,8 @@ Every error redik raises on misuse derives from :class:`RedikError`. Ordinary fa
 solver (a target out of reach, an iteration limit) are *not* exceptions: they come back as
 a result with ``success=False`` and a ``status``. Input that redik can repair without changing
 its meaning beyond a stated tolerance (a rotation typed with three decimals) is repaired with a
-:class:`RedikWarning`, never silently.
+:class:`RedikWarning`, never silently; a run that misses a bound the caller set (a simulated
+arm leaving its path) warns the same way.
 """
 
 from __future__ import annotations
@@ -57,12 +58,23 @@ class InfeasibleProblem(RedikError):
 
 
 class RedikWarning(UserWarning):
-    """Root of every warning redik issues: the input was used after a documented repair."""
+    """Root of every warning redik issues: the input was used after a documented repair, or a
+    result missed a bound the caller set."""
+
+
+class ModelWarning(RedikWarning):
+    """A model loaded after a stated repair: a part left out (a mesh in a format MuJoCo cannot
+    read) or replaced (an indefinite inertia tensor); see :mod:`redik.loading`."""
 
 
 class NearRotationWarning(RedikWarning):
     """A matrix close to a rotation was replaced by the closest rotation
     (:func:`redik.lie.closest_rotation`); see :mod:`redik.lie` for the tolerance policy."""
+
+
+class TrackingWarning(RedikWarning):
+    """A closed-loop run (:func:`redik.sim.simulate`) left the reference by more than the
+    bound it was given."""
 
 
 def warn(message: str, category: type[RedikWarning] = RedikWarning) -> None:

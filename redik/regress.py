@@ -43,6 +43,7 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
+from tqdm import tqdm
 
 from .exceptions import InvalidInput
 from .taskspec import Context, SpecOutcome, discover, format_table, format_value, run_spec
@@ -319,26 +320,37 @@ def run_regression(
         update: Rewrite the baselines of every spec that passed its own criteria.
         seed: Passed to every spec's :class:`~redik.taskspec.Context`.
         out: Folder for the specs' pictures (default: a temporary folder, discarded).
-        show_progress: Draw a progress bar over the specs.
+        show_progress: Draw a progress bar on stderr: the warm-up, the reference timing and
+            each spec by name (and the specs' own bars, :meth:`Context.progress`).
     """
     tasks_dir = Path(tasks_dir) if tasks_dir is not None else default_tasks_dir()
     baselines_dir = Path(baselines_dir) if baselines_dir is not None else tasks_dir / "baselines"
     paths = discover(tasks_dir)
     mode = "fast" if fast else "full"
-    warm_up()
-    with tempfile.TemporaryDirectory(prefix="redik-regress-") as scratch:
+    # Steps: the warm-up, a reference timing before and after, and every spec.
+    progress = tqdm(
+        total=len(paths) + 3, desc="regress", unit="step", file=sys.stderr,
+        disable=not show_progress,
+    )  # fmt: skip
+    with progress, tempfile.TemporaryDirectory(prefix="redik-regress-") as scratch:
+        progress.set_postfix_str("warm-up: loading (or compiling) the numba kernels")
+        warm_up()
+        progress.update()
         out_root = Path(out) if out is not None else Path(scratch)
+        progress.set_postfix_str("reference timing")
         before = reference_seconds()
+        progress.update()
         outcomes = []
-        iterator = paths
-        if show_progress:
-            from tqdm import tqdm
-
-            iterator = tqdm(paths, desc="regress", unit="spec", file=sys.stderr)
-        for path in iterator:
-            context = Context(fast=fast, seed=seed, out=out_root / path.stem)
+        for path in paths:
+            progress.set_postfix_str(path.stem)
+            context = Context(
+                fast=fast, seed=seed, out=out_root / path.stem, show_progress=show_progress
+            )
             outcomes.append(run_spec(path, context))
+            progress.update()
+        progress.set_postfix_str("reference timing")
         reference = 0.5 * (before + reference_seconds())
+        progress.update()
 
     report = RegressionReport(specs=[], reference_seconds=reference, fast=fast)
     for outcome in outcomes:

@@ -17,7 +17,7 @@ from __future__ import annotations
 import contextlib
 import os
 import sys
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -148,6 +148,7 @@ def render_frames(
     height: int = 480,
     camera: Camera = None,
     target: np.ndarray | None = None,
+    on_frame: Callable[[int, int], None] | None = None,
 ) -> list[np.ndarray]:
     """Render ``robot`` at each configuration of ``qs``: a list of height × width × 3 uint8.
 
@@ -157,10 +158,12 @@ def render_frames(
         width, height: Image size in pixels.
         camera: See :data:`Camera`; None frames every configuration (:func:`framing_camera`).
         target: A pose (4 × 4) drawn as RGB axes, e.g. the end-effector target.
+        on_frame: Called as ``on_frame(k, total)`` after each frame (e.g. a progress bar).
     """
     qs = [robot.check_q(q, "qs[i]") for q in np.atleast_2d(np.asarray(qs, dtype=float))]
     view = _camera(robot, camera, qs)
-    return _render(robot, [robot.full_qpos(q) for q in qs], width, height, view, target)
+    states = [robot.full_qpos(q) for q in qs]
+    return _render(robot, states, width, height, view, target, on_frame)
 
 
 def render_states(
@@ -170,13 +173,16 @@ def render_states(
     height: int = 480,
     camera: Camera = None,
     target: np.ndarray | None = None,
+    on_frame: Callable[[int, int], None] | None = None,
 ) -> list[np.ndarray]:
-    """Render full model states (k × nq ``qpos``, e.g. ``SimulationResult.qpos``)."""
+    """Render full model states (k × nq ``qpos``, e.g. ``SimulationResult.qpos``); the other
+    arguments are those of :func:`render_frames`."""
     qpos = np.atleast_2d(np.asarray(qpos, dtype=float))
     if qpos.shape[1] != robot.model.nq or not np.all(np.isfinite(qpos)):
         raise InvalidInput(f"qpos must be finite, k × {robot.model.nq}; got shape {qpos.shape}")
     chain = [state[robot.qpos_indices] for state in qpos]
-    return _render(robot, list(qpos), width, height, _camera(robot, camera, chain), target)
+    view = _camera(robot, camera, chain)
+    return _render(robot, list(qpos), width, height, view, target, on_frame)
 
 
 def _render(
@@ -186,9 +192,12 @@ def _render(
     height: int,
     view: mujoco.MjvCamera,
     target: np.ndarray | None,
+    on_frame: Callable[[int, int], None] | None = None,
 ) -> list[np.ndarray]:
     if width <= 0 or height <= 0:
         raise InvalidInput(f"width and height must be positive, got {width} × {height}")
+    if on_frame is not None and not callable(on_frame):  # else a TypeError after frame 0
+        raise InvalidInput(f"on_frame must be callable or None, got {on_frame!r}")
     data = mujoco.MjData(robot.model)
     scene = mujoco.MjvScene(robot.model, maxgeom=max(1000, 2 * robot.model.ngeom + 10))
     option = mujoco.MjvOption()
@@ -208,6 +217,8 @@ def _render(
             pixels = np.empty((height, width, 3), dtype=np.uint8)
             mujoco.mjr_readPixels(pixels, None, viewport, render_context)
             frames.append(np.flipud(pixels).copy())  # OpenGL rows run bottom-up
+            if on_frame is not None:
+                on_frame(len(frames) - 1, len(states))
     return frames
 
 

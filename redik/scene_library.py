@@ -251,13 +251,14 @@ SCENES: dict[str, Scene] = {
             source="textbook example (Spong §3.3 spherical manipulator, without a wrist)",
             parameters={"d1": 0.5},
             table=_rrp_polar,
-            limits=(_PI_RANGE, (-HALF_PI, HALF_PI), (0.0, 1.0)),
+            limits=(_PI_RANGE, (-HALF_PI, HALF_PI), (0.0, 2.0)),
             home=(0.0, 0.4, 0.6),
             radius=0.03,
             notes=(
                 "q1 = yaw about z, q2 = elevation above the horizontal, q3 = extension (m);",
                 "the ee sits at the end of the prismatic link:",
                 "p = (q3 cos q2 cos q1, q3 cos q2 sin q1, d1 + q3 sin q2).",
+                "q3 in [0, 2] m so the course's example p = (1, 1, 1) (q3 = 1.5 m) is reachable.",
             ),
         ),
         Scene(

@@ -9,6 +9,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from . import models
 from .exceptions import InvalidInput, ModelError
 from .robot import Robot
 
@@ -28,8 +29,17 @@ def list_scenes() -> list[str]:
     return sorted(path.stem for path in scenes_dir().glob("*.xml"))
 
 
+# Prefixes naming a model of an installed third-party package, e.g. ``"example-robot-data:ur5"``.
+_THIRD_PARTY = {
+    "example-robot-data": models.example_robot_data,
+    "pybullet_data": models.pybullet_data,
+}
+
+
 def scene_path(name: str | os.PathLike[str]) -> Path:
-    """Path of a scene given its bundled name (``"panda"``) or a path to any MJCF/URDF file.
+    """Path of a scene given its bundled name (``"panda"``), a path to any MJCF/URDF file, or a
+    third-party model ``"example-robot-data:<name>"`` / ``"pybullet_data:<name>"``
+    (:mod:`redik.models`).
 
     Raises:
         InvalidInput: ``name`` is neither a string nor a path.
@@ -37,10 +47,13 @@ def scene_path(name: str | os.PathLike[str]) -> Path:
     """
     if not isinstance(name, str | os.PathLike) or not str(name).strip():
         raise InvalidInput(
-            f"a robot is named by a bundled scene name (one of {list_scenes()}) or the path of "
-            f"an MJCF/URDF file, got {name!r}"
+            f"a robot is named by a bundled scene name (one of {list_scenes()}), the path of "
+            f"an MJCF/URDF file or 'example-robot-data:<name>', got {name!r} (the scene name)"
         )
     path = Path(name)
+    package, colon, model = str(name).partition(":")
+    if colon and package in _THIRD_PARTY:
+        return _THIRD_PARTY[package](model)
     try:
         is_file = path.is_file()
         exists = is_file or path.exists()
@@ -63,12 +76,18 @@ def scene_path(name: str | os.PathLike[str]) -> Path:
     return bundled
 
 
-def load(name: str | os.PathLike[str], ee: str | None = None) -> Robot:
+def load(name: str | os.PathLike[str], ee: str | None = None, **options) -> Robot:
     """Load a bundled scene by name (``redik.load("panda")``) or any MJCF/URDF file by path.
+
+    ``name`` is anything :func:`scene_path` accepts; ``options`` go to
+    :func:`redik.loading.load_spec` (``meshes=False`` for kinematics only, ``visual``,
+    ``package_paths``, ``floating_base``, ``keep_fixed_links``)::
+
+        redik.load("example-robot-data:ur5", ee="tool0", meshes=False)
 
     Raises:
         InvalidInput: ``name`` is neither a string nor a path.
         ModelError: no such scene or file, or MuJoCo cannot compile it.
         UnknownFrame: ``ee`` names no site or body of the model.
     """
-    return Robot.from_file(scene_path(name), ee=ee)
+    return Robot.from_file(scene_path(name), ee=ee, **options)

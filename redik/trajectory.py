@@ -31,6 +31,7 @@ Poses, units and the error metrics are those of :mod:`redik.conventions`.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -221,7 +222,7 @@ class JointTrajectory:
 
     Attributes:
         times: (N,) sample times in seconds.
-        q: (N, n) joint values.
+        q: (N, nq) configurations (``robot.nq`` entries each).
         targets: (N, 4, 4) desired poses.
         success: (N,) whether each sample's IK met its tolerances.
         iterations: (N,) solver iterations per sample (the first one starts from ``q0``).
@@ -305,6 +306,11 @@ def joint_steps(q: np.ndarray) -> np.ndarray:
     return np.max(np.abs(np.diff(q, axis=0)), axis=1)
 
 
+def _tangent_steps(robot: Robot, q: np.ndarray) -> np.ndarray:
+    """``‖q_{k+1} ⊖ q_k‖_∞`` per step, across ball and free joints (:mod:`redik.robot`)."""
+    return np.array([np.max(np.abs(robot.difference(a, b))) for a, b in itertools.pairwise(q)])
+
+
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     """Maximal runs of True in a boolean vector as inclusive ``(start, end)`` index pairs."""
     padded = np.concatenate(([False], mask, [False])).astype(np.int8)
@@ -325,8 +331,9 @@ def singular_crossings(times: np.ndarray, sigma_min: np.ndarray, tol: float) -> 
 def limit_contacts(times: np.ndarray, q: np.ndarray, robot: Robot, margin: float) -> list[Interval]:
     """Intervals where a joint is within ``margin`` of its lower or upper limit."""
     events = []
-    for side, distance in (("lower", q - robot.lower), ("upper", robot.upper - q)):
-        for j, joint in enumerate(robot.joint_names):
+    values = q if robot.flat else np.array([robot.scalar_values(row) for row in q])
+    for side, distance in (("lower", values - robot.lower), ("upper", robot.upper - values)):
+        for j, joint in enumerate(robot.dof_names):
             for a, b in _runs(distance[:, j] <= margin):
                 closest = float(distance[a : b + 1, j].min())
                 events.append(
@@ -350,7 +357,8 @@ def follow_path(
     """Solve IK at every sample of ``path``, each solve warm-started at the previous solution.
 
     Args:
-        robot: The robot.
+        robot: The robot (a whole-model robot too: the default solver then moves the chain
+            to ``frame``, a QP stack whatever it moves).
         path: The path of ``frame`` (a :class:`CartesianPath`, :class:`CircularPath`, …).
         q0: Start configuration for the first sample (ideally already on the path).
         solver: ``solver(T_target, q_start) -> IKResult``. Default: damped least squares
@@ -377,7 +385,7 @@ def follow_path(
 
     times, targets = path.sample(rate)
     count = len(times)
-    qs = np.empty((count, robot.dof))
+    qs = np.empty((count, robot.nq))
     success = np.zeros(count, dtype=bool)
     iterations = np.zeros(count, dtype=int)
     position_error, rotation_error, sigma_min = np.empty(count), np.empty(count), np.empty(count)
@@ -401,7 +409,7 @@ def follow_path(
         position_error=position_error,
         rotation_error=rotation_error,
         sigma_min=sigma_min,
-        joint_steps=joint_steps(qs),
+        joint_steps=joint_steps(qs) if robot.flat else _tangent_steps(robot, qs),
         jump_tol=jump_tol,
         singular_crossings=singular_crossings(times, sigma_min, singular_tol),
         limit_contacts=limit_contacts(times, qs, robot, limit_margin),

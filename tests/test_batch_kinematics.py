@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pickle
 
+import mujoco
 import numpy as np
 import pytest
 
@@ -13,7 +14,8 @@ from redik.batch import Chain, forward_kinematics, jacobian
 from .conftest import ARM_XML
 
 # Joint references (qpos0 ≠ 0), anchors off the body origin, skew axes, a slide after a hinge
-# in one body, and a ball joint on the chain frozen at its home quaternion.
+# in one body, and a ball joint on the chain held at its home quaternion (fixed=["ball"]:
+# a chain moves hinges and slides only, and never freezes a ball joint silently).
 REF_ARM_XML = """
 <mujoco model="ref_arm">
   <worldbody>
@@ -69,7 +71,7 @@ def _robots() -> dict[str, redik.Robot]:
     robots["test_arm"] = redik.Robot.from_xml_string(ARM_XML)
     robots["test_arm_fingertip"] = redik.Robot.from_xml_string(ARM_XML, ee="fingertip")
     robots["test_arm_body_ee"] = redik.Robot.from_xml_string(ARM_XML, ee="l7")
-    robots["ref_arm"] = redik.Robot.from_xml_string(REF_ARM_XML)
+    robots["ref_arm"] = redik.Robot(mujoco.MjModel.from_xml_string(REF_ARM_XML), fixed=["ball"])
     robots["free_base"] = redik.Robot.from_xml_string(FREE_BASE_XML)
     return robots
 

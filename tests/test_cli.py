@@ -47,3 +47,50 @@ def test_console_script_entry_point():
     assert completed.returncode == 0
     for command in ("info", "bench"):
         assert command in completed.stdout
+
+
+class _Terminal:
+    """A stand-in for an interactive stderr: records what is written, says it is a tty."""
+
+    def __init__(self):
+        self.text = []
+
+    def write(self, text: str) -> int:
+        self.text.append(text)
+        return len(text)
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return True
+
+    def __str__(self) -> str:
+        return "".join(self.text)
+
+
+EXPLORE = ["explore", "panda", "--pose", "0.4", "0.1", "0.5", "0", "1", "0", "0", "--starts", "8"]
+EXPLORE_OUTPUT = ["--frames", "3", "--size", "64", "48", "--no-mp4"]
+
+
+def test_explore_draws_a_progress_bar_on_a_terminal(tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("MUJOCO_GL", "egl")
+    terminal = _Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    assert main([*EXPLORE, *EXPLORE_OUTPUT, "--out", str(tmp_path)]) == 0
+    drawn = str(terminal)
+    for stage in ("plotting", "rendering", "writing GIF"):
+        assert stage in drawn, drawn
+    assert "wrote" in capsys.readouterr().out
+
+
+def test_explore_is_quiet_with_quiet_or_without_a_terminal(tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("MUJOCO_GL", "egl")
+    terminal = _Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    assert main([*EXPLORE, *EXPLORE_OUTPUT, "--out", str(tmp_path / "a"), "--quiet"]) == 0
+    assert str(terminal) == ""
+    monkeypatch.undo()
+    monkeypatch.setenv("MUJOCO_GL", "egl")
+    assert main([*EXPLORE, *EXPLORE_OUTPUT, "--out", str(tmp_path / "b")]) == 0
+    assert capsys.readouterr().err == ""  # pytest's captured stderr is not a tty

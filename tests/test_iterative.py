@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from redik.exceptions import InvalidInput, RedikError
-from redik.iterative import finite_difference_jacobian, gradient, newton
+from redik.iterative import finite_difference_jacobian, gradient, hybrid, newton
 
 L1, L2 = 1.0, 0.8
 
@@ -142,11 +142,16 @@ def test_non_finite_values_never_leave_the_solver():
     "kwargs",
     [
         {"x_d": [np.nan, 0.0]},
+        {"x_d": ["a", "b"]},
         {"x_d": [1.0, 2.0, 3.0]},
         {"q0": [np.inf, 0.0]},
         {"q0": [[0.0, 1.0]]},
-        {"tol": 0.0},
+        {"tol": -1e-3},
+        {"tol": (1e-3, 1e-3)},  # a pair needs a pose residual of length 6
         {"step": -1.0},
+        {"step": np.inf},
+        {"fd_step": np.inf},
+        {"fd_step": "0.1"},
         {"max_iter": -1},
         {"jac": lambda q: np.eye(3)},
         {"f": "not callable"},
@@ -178,3 +183,192 @@ def test_the_jacobian_is_evaluated_once_per_iteration():
     assert result.status == "converged"
     assert len(calls) == result.iterations  # jac(q0), checked up front, is reused
     np.testing.assert_array_equal(calls[0], [0.3, 0.4])
+
+
+# --------------------------------------------------------------------------------------
+# The course's options (issue 15)
+
+
+@pytest.mark.parametrize(
+    ("q0", "jac"),
+    [([0.3, np.pi], two_link_jacobian), ([0.3, 0.0], None)],
+    ids=["folded-analytic", "outstretched-finite-diff"],
+)
+def test_singular_start_without_the_check_ends_as_diverged(q0, jac):
+    """J singular up to rounding (sin π ≈ 1e-16; a finite-difference J of the outstretched
+    arm): J⁻¹e is ~1e16 — finite, but nonsense. Before the blow-up bound this ran on to
+    ``max_iterations`` with q ≈ 1e10."""
+    result = newton(two_link, X_D, q0, jac=jac, max_iter=10)
+    assert result.status == "diverged" and "blew up" in result.message
+    np.testing.assert_array_equal(result.q, q0)  # the last sane iterate
+    assert np.all(np.abs(result.history) < 1e3)
+
+
+def test_max_growth_bounds_the_error_too():
+    # f = q³ from a far start: Newton is fine, but a huge constant gradient step explodes e.
+    result = gradient(lambda q: q**3, [1.0], [2.0], step=50.0, max_iter=20)
+    assert result.status == "diverged"
+    assert np.all(np.abs(result.error_history) <= 1e8 * max(1.0, result.error_history[0]))
+
+
+def test_newton_armijo_step_never_increases_the_error_and_ends_quadratic():
+    """From an arm folded back, full Newton steps overshoot; λ^k from backtracking does not,
+    and λ = 1 is accepted near the root (quadratic terminal rate)."""
+    q0 = [0.2, 2.9]
+    full = newton(two_link, X_D, q0, jac=two_link_jacobian, tol=1e-12, max_iter=100)
+    assert np.any(np.diff(full.error_history) > 0.0)
+    adaptive = newton(two_link, X_D, q0, jac=two_link_jacobian, step="armijo", tol=1e-12)
+    assert adaptive.status == "converged"
+    assert np.all(np.diff(adaptive.error_history) < 0.0)
+    e = adaptive.error_history
+    terminal = [(a, b) for a, b in itertools.pairwise(e) if 1e-9 < a < 1e-2]
+    assert terminal and all(b <= 10.0 * a**2 for a, b in terminal)
+
+
+def test_gain_matrix_weighs_the_transpose_step():
+    K = np.diag([4.0, 0.5])
+    q0 = np.array([0.2, 1.4])
+    result = gradient(two_link, X_D, q0, jac=two_link_jacobian, step=0.1, gain=K, max_iter=1,
+                      tol=0)  # fmt: skip
+    J, e = two_link_jacobian(q0), X_D - two_link(q0)
+    np.testing.assert_allclose(result.history[1], q0 + 0.1 * J.T @ K @ e, atol=1e-15)
+    # A vector is the diagonal, a number k is k I.
+    as_vector = gradient(two_link, X_D, q0, step=0.1, gain=[4.0, 0.5], max_iter=1, tol=0)
+    np.testing.assert_allclose(as_vector.history[1], result.history[1], atol=1e-9)
+    scalar = gradient(two_link, X_D, q0, jac=two_link_jacobian, step=0.1, gain=2.0, max_iter=1,
+                      tol=0)  # fmt: skip
+    np.testing.assert_allclose(scalar.history[1], q0 + 0.2 * J.T @ e, atol=1e-15)
+    weighted = gradient(two_link, X_D, q0, jac=two_link_jacobian, step="armijo", gain=K,
+                        tol=1e-8, max_iter=5000)  # fmt: skip
+    assert weighted.status == "converged"
+    merit = [0.5 * (X_D - two_link(q)) @ K @ (X_D - two_link(q)) for q in weighted.history]
+    assert np.all(np.diff(merit) <= 0.0)
+
+
+@pytest.mark.parametrize(
+    ("gain", "match"),
+    [
+        (np.array([[1.0, 2.0], [0.0, 1.0]]), "symmetric"),
+        (np.diag([1.0, -1.0]), "positive definite"),
+        (np.ones(3), "length-2 vector"),
+        (0.0, "positive definite"),
+        ("fast", "real numbers"),
+        ([[1.0, 0.0], [0.0]], "real numbers"),
+    ],
+)
+def test_bad_gains_are_refused(gain, match):
+    with pytest.raises(InvalidInput, match=match):
+        gradient(two_link, X_D, [0.2, 1.4], gain=gain)
+
+
+def test_hybrid_uses_the_gradient_far_away_and_newton_near():
+    q0 = [0.2, 2.9]
+    result = hybrid(two_link, X_D, q0, jac=two_link_jacobian, switch_error=0.1, tol=1e-12)
+    assert result.status == "converged" and result.method == "hybrid"
+    e = result.error_history
+    far = np.flatnonzero(e > 0.1)
+    assert np.all(np.diff(e[: far[-1] + 2]) < 0.0)  # Armijo gradient phase: monotone
+    near = [(a, b) for a, b in itertools.pairwise(e) if 1e-9 < a < 1e-2]
+    assert near and all(b <= 10.0 * a**2 for a, b in near)  # Newton phase: quadratic
+    slow = gradient(two_link, X_D, q0, jac=two_link_jacobian, step="armijo", tol=1e-12,
+                    max_iter=5000)  # fmt: skip
+    assert result.iterations < slow.iterations
+
+
+def test_hybrid_checks_singularity_only_in_its_newton_phase():
+    # From the outstretched arm the gradient phase moves off the singularity first.
+    result = hybrid(two_link, X_D, [0.3, 0.0], jac=two_link_jacobian, singular_tol=1e-6)
+    assert result.status == "converged"
+    newton_only = newton(two_link, X_D, [0.3, 0.0], jac=two_link_jacobian, singular_tol=1e-6)
+    assert newton_only.status == "singular"
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"gradient_step": -1.0}, "gradient_step"),
+        ({"newton_step": "wolfe"}, "newton_step"),
+        ({"switch_error": 0.0}, "switch_error"),
+        ({"singular_tol": -1.0}, "singular_tol"),
+    ],
+)
+def test_hybrid_names_the_bad_option(kwargs, match):
+    with pytest.raises(InvalidInput, match=match):
+        hybrid(two_link, X_D, [0.2, 1.4], **kwargs)
+
+
+def test_gradient_singularity_check():
+    result = gradient(two_link, X_D, [0.3, 0.0], jac=two_link_jacobian, singular_tol=1e-6)
+    assert result.status == "singular" and result.iterations == 0 and "σ_min" in result.message
+
+
+def planar_3r_pose(q: np.ndarray) -> np.ndarray:
+    """A 6-vector pose residual of a unit 3R planar arm: (x, y, 0) and (0, 0, φ)."""
+    c = np.cumsum(q)
+    return np.array([np.cos(c).sum(), np.sin(c).sum(), 0.0, 0.0, 0.0, c[-1]])
+
+
+def test_separate_position_and_orientation_tolerances():
+    """tol = (ε_p, ε_R) stops at the first iterate with ‖e_p‖ ≤ ε_p and ‖e_R‖ ≤ ε_R. A gain
+    that favours position makes the two halves converge at different rates."""
+    x_d = planar_3r_pose(np.array([0.3, 0.9, -0.4]))
+    q0 = [0.5, 0.5, 0.5]
+    K = np.diag([1.0, 1.0, 1.0, 1.0, 1.0, 0.05])
+    result = gradient(planar_3r_pose, x_d, q0, step="armijo", gain=K, tol=(1e-3, 2e-2),
+                      max_iter=5000)  # fmt: skip
+    assert result.status == "converged"
+    assert result.position_error <= 1e-3 and result.rotation_error <= 2e-2
+    halves = [(np.linalg.norm(e[:3]), np.linalg.norm(e[3:]))
+              for e in (x_d - planar_3r_pose(q) for q in result.history)]  # fmt: skip
+    met = [p <= 1e-3 and r <= 2e-2 for p, r in halves]
+    assert met.index(True) == len(met) - 1  # the first iterate that meets both
+    assert result.error > 1e-3  # one bound on ‖e‖ = 1e-3 would have gone on
+    single = gradient(planar_3r_pose, x_d, q0, step="armijo", gain=K, tol=1e-3, max_iter=5000)
+    assert single.iterations > result.iterations
+
+
+def test_relative_change_stop():
+    """Beyond reach (‖x_d‖ > 1.8): the gradient settles at the closest point; the relative
+    change stop ends it there as "stalled" (no root), and as "converged" when tol is met."""
+    far = gradient(two_link, np.array([3.0, 0.5]), [0.2, 0.4], step="armijo", rel_tol=1e-6,
+                   max_iter=1000)  # fmt: skip
+    assert far.status == "stalled" and "relative change" in far.message
+    assert far.iterations < 1000
+    e = np.array([3.0, 0.5]) - np.array([two_link(q) for q in far.history[-2:]])
+    assert np.linalg.norm(e[1] - e[0]) / np.linalg.norm(e[0]) <= 1e-6
+    near = newton(two_link, X_D, [0.2, 1.4], rel_tol=0.5, tol=1e-1, max_iter=100)
+    assert near.status == "converged"
+    # tol = 0 on a linear f: Newton lands exactly on the root, where ‖e_k‖ = 0 and the
+    # relative change is 0/0; the iterate is a root, so the run ends "converged".
+    exact = newton(lambda q: q, [1.0], [0.0], tol=0, rel_tol=1e-3, max_iter=5)
+    assert exact.status == "converged" and exact.error == 0.0 and exact.iterations == 2
+
+
+def test_tol_zero_runs_every_iteration():
+    result = newton(two_link, X_D, [0.2, 1.4], jac=two_link_jacobian, tol=0, max_iter=12)
+    assert result.iterations == 12 and result.history.shape == (13, 2)
+    assert result.error < 1e-14  # converged long before; the table still has 12 rows
+    assert result.status == ("converged" if result.error == 0.0 else "max_iterations")
+    early = newton(two_link, X_D, [0.2, 1.4], jac=two_link_jacobian, tol=0, max_iter=2)
+    assert early.iterations == 2 and early.status == "max_iterations" and not early.success
+    exact = newton(lambda q: 2.0 * q, [4.0], [0.0], tol=0, max_iter=10)  # linear: exact in 1
+    assert exact.status == "converged" and exact.iterations == 10 and exact.error == 0.0
+    np.testing.assert_array_equal(exact.history[1:], 2.0)
+
+
+def test_forward_differences_default_step_is_accurate():
+    q = np.array([0.4, 1.1])
+    J = finite_difference_jacobian(two_link, q, scheme="forward")
+    np.testing.assert_allclose(J, two_link_jacobian(q), atol=1e-7)
+    with pytest.raises(InvalidInput, match="scheme"):
+        finite_difference_jacobian(two_link, q, scheme="backward")
+    with pytest.raises(InvalidInput, match="q must hold real numbers"):
+        finite_difference_jacobian(two_link, ["a", "b"])
+    with pytest.raises(InvalidInput, match="NaN"):
+        finite_difference_jacobian(two_link, [np.nan, 0.0])
+    with pytest.raises(InvalidInput, match="callable"):
+        finite_difference_jacobian("two_link", q)
+    with pytest.raises(InvalidInput, match="step"):
+        finite_difference_jacobian(two_link, q, step=0.0)
+    with pytest.raises(InvalidInput, match="fd_scheme"):
+        newton(two_link, X_D, q, fd_scheme="complex")

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import io
 import json
+import sys
 import textwrap
 from pathlib import Path
 
@@ -155,3 +157,28 @@ def test_comparison_rules():
     assert better["mean_iterations"] == "improved"
     missing = {c.metric: c.status for c in compare({"note": 1.0}, base)}
     assert missing["success_rate"] == "REGRESSED"
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_progress_covers_the_warm_up_and_names_each_spec(tmp_path, monkeypatch):
+    tasks = make_tasks(tmp_path / "tasks")
+    terminal = _Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    run_regression(tasks, fast=True, show_progress=True)
+    drawn = terminal.getvalue()
+    # Four steps: the warm-up, the two reference timings and the one spec.
+    assert "warm-up" in drawn and "sqrt_newton" in drawn and "4/4" in drawn, drawn
+
+
+def test_regress_cli_is_quiet_with_quiet(tmp_path, monkeypatch):
+    tasks = make_tasks(tmp_path / "tasks")
+    terminal = _Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    assert main(["regress", "--fast", "--update", "--tasks", str(tasks), "--quiet"]) == 0
+    assert terminal.getvalue() == ""
+    assert main(["regress", "--fast", "--tasks", str(tasks)]) == 0
+    assert "sqrt_newton" in terminal.getvalue()

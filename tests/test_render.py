@@ -61,3 +61,11 @@ def test_png_gif_and_mp4_round_trip(panda, tmp_path):
     with imageio.get_reader(mp4) as reader:  # decoded by imageio-ffmpeg
         decoded = [frame for frame in reader]
     assert len(decoded) == 4 and decoded[0].shape == (72, 96, 3)
+
+
+def test_on_frame_reports_each_frame(panda):
+    calls = []
+    render_frames(panda, [panda.home] * 3, width=32, height=24, on_frame=lambda *a: calls.append(a))
+    assert calls == [(0, 3), (1, 3), (2, 3)]
+    with pytest.raises(redik.InvalidInput, match="on_frame"):
+        render_frames(panda, [panda.home], width=32, height=24, on_frame=len(calls))

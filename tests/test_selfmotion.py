@@ -23,6 +23,7 @@ from redik.redundancy.corrector import (
     BatchCorrector,
     Corrector,
 )
+from redik.redundancy.selfmotion import _SampleIndex
 
 
 def without_limits(scene: str) -> redik.Robot:
@@ -301,3 +302,77 @@ def test_explore_cli_writes_samples_summary_and_pictures(tmp_path, monkeypatch):
     assert len(list((out / "frames").glob("*.png"))) == 3
     with pytest.raises(SystemExit):
         main(["explore", "panda", "--pose", "1", "2", "3"])
+
+
+def test_angles_a_hair_below_minus_pi_fit_the_periodic_box():
+    # np.mod(q + π, 2π) rounds to exactly 2π one ulp below −π; cKDTree refused that value.
+    index = _SampleIndex(np.array([True, False]), 2)
+    below = np.nextafter(-np.pi, -4.0)
+    index.extend(np.random.default_rng(0).uniform(-3.0, 3.0, (100, 2)))
+    index.extend(np.array([[below, 0.3], [below + 2 * np.pi * 3, 0.1]]))
+    index._rebuild()
+    embedded = index._embed(np.array([[below, 0.3], [np.pi, 0.0], [-np.pi, 0.0]]))
+    assert np.all((embedded[:, 0] >= 0.0) & (embedded[:, 0] < 2 * np.pi))
+    assert index.nearest(np.array([np.pi, 0.3])) == pytest.approx(0.0, abs=1e-12)
+    assert index.within_each(np.array([[np.pi, 0.3]]), np.array([1e-9]))[0]
+
+
+def test_iiwa14_at_its_home_keyframe_pose_is_explored():
+    # The keyframe of MuJoCo Menagerie's iiwa14 (q1 = q3 = q5 = q7 = 0): tracing passes
+    # through hinge angles of exactly ±π, which crashed the KD-tree (issue 11).
+    robot = redik.load("iiwa14")
+    q = np.array([0.0, 0.785398, 0.0, -1.5708, 0.0, 0.0, 0.0])
+    motion = explore_self_motion(robot, robot.fk(q), seed=2, n_starts=16, initial=q)
+    assert motion.status == "converged" and motion.success, motion.message
+    assert_every_sample_keeps_the_pose(robot, motion)
+    assert motion.distance_to(q)[0] <= motion.spacing
+
+
+def test_an_unreachable_pose_has_a_status_a_reason_and_the_closest_error(panda):
+    T = panda.fk(panda.home)
+    T[:3, 3] = [3.0, 0.0, 0.5]  # 3 m away: the Panda reaches under 1 m
+    motion = explore_self_motion(panda, T, seed=0, n_starts=4)
+    assert not motion.success and len(motion) == 0 and motion.n_components == 0
+    assert motion.status == "unreachable"
+    assert "none of 4 IK starts reached the pose" in motion.message
+    assert motion.closest_position_error > 1.5  # at least 3 m − the reach
+    summary = motion.summary()
+    assert summary["status"] == "unreachable" and summary["message"] == motion.message
+    assert summary["max_position_error"] is None and summary["max_rotation_error"] is None
+    assert summary["closest_position_error"] == pytest.approx(motion.closest_position_error)
+    json.dumps(summary)
+    nothing = explore_self_motion(panda, T, n_starts=0)
+    assert nothing.status == "unreachable" and "no start" in nothing.message
+
+
+def test_a_budget_too_small_for_the_manifold_says_so(panda):
+    T = panda.fk(panda.home)
+    whole = explore_self_motion(panda, T, seed=0, n_starts=8, initial=panda.home)
+    assert whole.status == "converged" and len(whole) > 20
+    cut = explore_self_motion(panda, T, seed=0, n_starts=8, initial=panda.home, max_samples=20)
+    assert cut.status == "max_iterations" and cut.success and len(cut) == 20
+    assert "max_samples=20 ran out" in cut.message
+
+
+def test_a_pose_reached_only_outside_the_limits_has_status_limits():
+    robot = redik.load("planar_2r")
+    q = np.array([0.3, 2.9])  # inside the range only if the elbow could bend 2.9 rad
+    spec = mujoco.MjSpec.from_file(str(redik.scene_path("planar_2r")))
+    for joint in spec.joints:
+        joint.range = [-1.0, 1.0]
+        joint.limited = mujoco.mjtLimited.mjLIMITED_TRUE
+    limited = redik.Robot(spec.compile(), name="planar_2r_narrow")
+    motion = explore_self_motion(limited, robot.fk(q), seed=0, n_starts=8, initial=q)
+    assert motion.status == "limits" and not motion.success
+    assert "leave the joint limits" in motion.message
+
+
+def test_explore_cli_reports_an_unreachable_pose(tmp_path, capsys):
+    from redik.cli import main
+
+    args = ["explore", "panda", "--pose", "3", "0", "0.5", "1", "0", "0", "0", "--starts", "2"]
+    assert main([*args, "--out", str(tmp_path), "--frames", "0"]) == 1
+    out = capsys.readouterr().out
+    assert "unreachable" in out and "none of 2 IK starts" in out
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["status"] == "unreachable" and summary["max_position_error"] is None

@@ -7,22 +7,33 @@ and ends within 0.05 mm.
 
 from __future__ import annotations
 
+import warnings
+from pathlib import Path
+
+import mujoco
 import numpy as np
 import pytest
 
 import redik
 from redik.limits import PositionLimit, VelocityLimit
 from redik.problem import Problem
-from redik.sim import actuator_indices, plot_tracking, servo_lead, simulate
+from redik.sim import (
+    TrackingWarning,
+    actuator_indices,
+    joint_drives,
+    plot_tracking,
+    simulate,
+)
 from redik.tasks import PoseTask, PostureTask
 from redik.trajectory import CircularPath
 
 POSITION_BOUND, ROTATION_BOUND, FINAL_BOUND = 3e-3, 1e-2, 5e-5
 
 
-def tracking_problem(robot):
-    task = PoseTask(robot.fk(robot.home))
-    posture = PostureTask(robot.home, weight=0.1, priority=1)
+def tracking_problem(robot, q0=None):
+    q0 = robot.home if q0 is None else q0
+    task = PoseTask(robot.fk(q0))
+    posture = PostureTask(q0, weight=0.1, priority=1)
     limits = [PositionLimit(), VelocityLimit(2.0)]
     return Problem(robot, [task, posture], limits=limits), task
 
@@ -78,18 +89,20 @@ def test_feedforward_beats_plain_position_commands():
     errors = {}
     for command in ("integrate", "position"):
         problem, task = tracking_problem(robot)
-        result = simulate(robot, problem, task, path, control_rate=100.0, command=command)
+        result = simulate(
+            robot, problem, task, path, control_rate=100.0, command=command, error_bound=None
+        )
         errors[command] = result.max_position_error
     assert errors["integrate"] < 0.5 * errors["position"], errors
 
 
 def test_servo_lead_reads_kv_over_kp():
     robot = redik.load("panda")
-    actuators = actuator_indices(robot)
-    lead = servo_lead(robot.model, actuators)
-    kp = robot.model.actuator_gainprm[actuators, 0]
-    kv = -robot.model.actuator_biasprm[actuators, 2]
-    assert np.allclose(lead, kv / kp) and np.all(lead > 0.0)
+    drives = joint_drives(robot)
+    kp = robot.model.actuator_gainprm[drives.actuators, 0]
+    kv = -robot.model.actuator_biasprm[drives.actuators, 2]
+    assert np.allclose(drives.lead, kv / kp) and np.all(drives.lead > 0.0)
+    assert np.all(joint_drives(torque_iiwa14()).lead == 0.0)  # a motor has no lag to lead
 
 
 def test_tracking_plot_is_written(iiwa_circle, tmp_path):
@@ -108,6 +121,23 @@ def test_bad_arguments_are_rejected():
         simulate(robot, problem, task, lambda t: T)
     with pytest.raises(redik.InvalidInput, match="physics steps"):
         simulate(robot, problem, task, lambda t: T, 1.0, control_rate=300.0)
+    with pytest.raises(redik.InvalidInput, match="error_bound"):
+        simulate(robot, problem, task, lambda t: T, 1.0, error_bound=(0.0, 1.0))
+    with pytest.raises(redik.InvalidInput, match="motor_bandwidth"):
+        simulate(robot, problem, task, lambda t: T, 1.0, motor_bandwidth=-1.0)
+    # Wrong types are refused by name, never a raw TypeError (nor a truthy string obeyed).
+    for options, match in [
+        ({"motor_bandwidth": "fast"}, "motor_bandwidth"),
+        ({"control_rate": "100"}, "control_rate"),
+        ({"error_bound": 5e-3}, "error_bound"),
+        ({"error_bound": ("1 mm", 0.05)}, r"error_bound\[0\]"),
+        ({"feedforward": "no"}, "feedforward"),
+        ({"on_tick": 5}, "on_tick"),
+    ]:
+        with pytest.raises(redik.InvalidInput, match=match):
+            simulate(robot, problem, task, lambda t: T, 1.0, **options)
+    with pytest.raises(redik.InvalidInput, match="duration"):
+        simulate(robot, problem, task, lambda t: T, "1 s")
 
 
 def test_a_joint_without_actuator_is_reported():
@@ -116,3 +146,178 @@ def test_a_joint_without_actuator_is_reported():
     robot = redik.Robot.from_xml_string(xml)
     with pytest.raises(redik.ModelError, match="no actuator"):
         actuator_indices(robot)
+
+
+# --------------------------------------------------------------------------------------
+# Third-party actuation: servos without gravcomp, torque motors, actuators refused (issue 11)
+
+
+def iiwa14_spec() -> mujoco.MjSpec:
+    return mujoco.MjSpec.from_file(str(redik.scene_path("iiwa14")))
+
+
+def menagerie_like_iiwa14(forcerange: float | None = None) -> redik.Robot:
+    """The bundled iiwa14 with MuJoCo Menagerie's actuation: no gravcomp, every joint a
+    ``general`` servo with kp = 2000, kv = 200 (Menagerie's iiwa14), gravity on."""
+    spec = iiwa14_spec()
+    for body in spec.bodies:
+        body.gravcomp = 0.0
+    for actuator in spec.actuators:
+        actuator.gainprm[0] = 2000.0
+        actuator.biasprm[:3] = [0.0, -2000.0, -200.0]
+        if forcerange is not None:
+            actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+            actuator.forcerange = [-forcerange, forcerange]
+    return redik.Robot(spec.compile(), name="iiwa14_menagerie_servos")
+
+
+def circle(robot, q0, duration=4.0, radius=0.1):
+    T0 = robot.fk(q0)
+    return CircularPath(
+        T0, center=T0[:3, 3] + [0.0, 0.0, radius], normal=[1.0, 0.0, 0.0], duration=duration
+    )
+
+
+def test_servos_without_gravcomp_track_within_the_bound():
+    # Before the inverse-dynamics feed-forward: 24 mm (gravity sag g(q)/kp, 2.3 mm at rest).
+    robot = menagerie_like_iiwa14()
+    problem, task = tracking_problem(robot)
+    result = simulate(robot, problem, task, circle(robot, robot.home), control_rate=100.0)
+    assert result.drives == ("position",) * 7
+    assert result.max_position_error < POSITION_BOUND, result.summary()
+    assert result.max_rotation_error < ROTATION_BOUND, result.summary()
+    assert result.final_position_error < FINAL_BOUND, result.summary()
+    assert result.reference_position_error.max() < 1e-4  # the IK followed the circle
+    assert not result.saturated.any() and result.within_bound
+
+
+def test_exceeding_the_bound_warns_and_says_why():
+    robot = menagerie_like_iiwa14()
+    problem, task = tracking_problem(robot)
+    with pytest.warns(TrackingWarning, match="exceeds the bound 3 mm") as caught:
+        result = simulate(
+            robot, problem, task, circle(robot, robot.home), feedforward=False,
+            error_bound=(3e-3, 0.05),
+        )  # fmt: skip
+    assert "IK reference alone" in str(caught[0].message)
+    # One root for redik's warnings, attributed to the caller's line (exceptions.warn).
+    assert issubclass(caught[0].category, redik.RedikWarning)
+    assert caught[0].filename == __file__
+    assert not result.within_bound and result.max_position_error > 3e-3
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        problem, task = tracking_problem(robot)
+        simulate(robot, problem, task, circle(robot, robot.home), feedforward=False,
+                 error_bound=None)  # fmt: skip
+
+
+def test_a_reference_the_ik_cannot_follow_is_blamed_on_the_ik():
+    robot = menagerie_like_iiwa14()
+    task = PoseTask(robot.fk(robot.home))
+    slow = Problem(robot, [task], limits=[PositionLimit(), VelocityLimit(0.05)])
+    with pytest.warns(TrackingWarning, match="The IK reference itself leaves the path"):
+        result = simulate(robot, slow, task, circle(robot, robot.home, duration=1.0))
+    assert result.reference_position_error.max() > 0.5 * result.max_position_error
+
+
+def test_force_limited_servos_report_saturation():
+    robot = menagerie_like_iiwa14(forcerange=5.0)  # far below the gravity torque of joint 2
+    problem, task = tracking_problem(robot)
+    with pytest.warns(TrackingWarning, match="saturated"):
+        result = simulate(robot, problem, task, circle(robot, robot.home, duration=1.0))
+    assert result.saturation_fraction > 0.5
+
+
+def test_inertial_feedforward_is_cut_to_what_the_actuator_can_give():
+    # A chattering reference (near a singularity) asks for accelerations no servo can give;
+    # sent whole, the feed-forward saturated the servo and lost the gravity and PD terms.
+    from redik.sim import _Controller
+
+    robot = menagerie_like_iiwa14(forcerange=60.0)
+    drives = joint_drives(robot)
+    controller = _Controller(robot, drives, feedforward=True, motor_bandwidth=30.0)
+    data = mujoco.MjData(robot.model)
+    data.qpos[:] = robot.full_qpos(robot.home)
+    mujoco.mj_forward(robot.model, data)
+    still = np.zeros(robot.dof)
+    for sign in (1.0, -1.0):
+        ctrl, _ = controller.controls(data, robot.home, still, sign * np.full(robot.dof, 1e3))
+        force = drives.gain * (ctrl - robot.home)  # at rest: kp (u − q)
+        assert np.all(np.abs(force) <= 60.0 + 1e-9), force
+        assert np.any(np.abs(force) > 59.0)  # cut to the range, not dropped
+    gravity_only, _ = controller.controls(data, robot.home, still, still)
+    assert np.allclose(drives.gain * (gravity_only - robot.home), data.qfrc_bias[:7], atol=1e-9)
+
+
+def torque_iiwa14() -> redik.Robot:
+    """The bundled iiwa14 driven by torque motors (gear 1, ±320 N·m), gravity on."""
+    spec = iiwa14_spec()
+    for body in spec.bodies:
+        body.gravcomp = 0.0
+    for actuator in spec.actuators:
+        actuator.set_to_motor()
+        actuator.ctrllimited = mujoco.mjtLimited.mjLIMITED_TRUE
+        actuator.ctrlrange = [-320.0, 320.0]
+    return redik.Robot(spec.compile(), name="iiwa14_motors")
+
+
+def test_torque_motors_are_driven_by_computed_torque():
+    # Before: joint angles sent as torques, the arm fell (940 mm on a user's model).
+    robot = torque_iiwa14()
+    assert joint_drives(robot).kinds == ("motor",) * 7
+    problem, task = tracking_problem(robot)
+    result = simulate(robot, problem, task, circle(robot, robot.home), control_rate=100.0)
+    assert result.max_position_error < POSITION_BOUND, result.summary()
+    assert result.final_position_error < FINAL_BOUND, result.summary()
+    assert np.ptp(result.q[:, 1]) > 0.05  # the arm moved
+
+
+def gymnasium_pusher() -> redik.Robot:
+    gymnasium = pytest.importorskip("gymnasium")
+    xml = Path(gymnasium.__file__).parent / "envs/mujoco/assets/pusher_v5.xml"
+    return redik.load(xml, ee="tips_arm")
+
+
+def test_gymnasium_pusher_motors_track_a_circle():
+    # A third-party 7-joint arm with <motor> actuators (±2 N·m), physics at 100 Hz.
+    robot = gymnasium_pusher()
+    assert joint_drives(robot).kinds == ("motor",) * 7
+    q0 = np.array([0.2, 0.3, 0.0, -1.0, 0.0, -0.5, 0.0])
+    problem, task = tracking_problem(robot, q0)
+    result = simulate(robot, problem, task, circle(robot, q0, radius=0.05), q0=q0)
+    assert result.max_position_error < POSITION_BOUND, result.summary()
+    assert result.final_position_error < FINAL_BOUND, result.summary()
+
+
+def test_actuators_simulate_cannot_drive_are_refused_by_name():
+    spec = iiwa14_spec()
+    spec.actuators[2].set_to_velocity(kv=30.0)
+    with pytest.raises(redik.ModelError, match="'actuator3' is a velocity servo"):
+        joint_drives(redik.Robot(spec.compile()))
+
+    spec = iiwa14_spec()
+    spec.actuators[0].set_to_position(kp=100.0, timeconst=0.05)
+    with pytest.raises(redik.ModelError, match="'actuator1' has activation dynamics"):
+        joint_drives(redik.Robot(spec.compile()))
+
+    spec = iiwa14_spec()
+    spec.actuators[1].gear[0] = 0.0  # its controls would be divided by 0
+    with pytest.raises(redik.ModelError, match="'actuator2' has gear 0"):
+        joint_drives(redik.Robot(spec.compile()))
+
+    spec = iiwa14_spec()
+    extra = spec.add_actuator(name="joint4_damper", target="joint4")
+    extra.trntype = mujoco.mjtTrn.mjTRN_JOINT
+    extra.set_to_velocity(kv=5.0)
+    with pytest.raises(redik.ModelError, match=r"driven by 2 actuators.*'joint4_damper'"):
+        joint_drives(redik.Robot(spec.compile()))
+
+    spec = iiwa14_spec()
+    spec.delete(spec.actuator("actuator7"))
+    tendon = spec.add_tendon(name="wrist")
+    tendon.wrap_joint("joint7", 1.0)
+    motor = spec.add_actuator(name="wrist_motor", target="wrist")
+    motor.trntype = mujoco.mjtTrn.mjTRN_TENDON
+    motor.set_to_motor()
+    with pytest.raises(redik.ModelError, match=r"'joint7'.*no actuator.*'wrist_motor' \(tendon\)"):
+        joint_drives(redik.Robot(spec.compile()))

@@ -18,7 +18,11 @@ transform, a negative length) raises :mod:`redik.exceptions` errors.
 Each kernel is written once (:mod:`._numeric`): on Python floats for one target, so a single
 pose allocates no arrays, and on (B,) arrays for a batch. ``redik bench analytic`` times both
 against iterative DLS.
-:func:`solver_for` binds a solver to a bundled scene's :class:`redik.Robot`.
+:func:`solver_for` binds a solver to a bundled scene's :class:`redik.Robot`, and to any other
+6R arm whose screw axes fit a subproblem decomposition (:mod:`.decomposed`: spherical wrist or
+shoulder, three parallel axes; IK-Geo's classes), compiled with numba
+(:meth:`DecomposedSolver.raw` returns a plain array in a few microseconds). :mod:`.srs` gives
+the exact self-motion loops of a 7R arm with a spherical shoulder and wrist by the arm angle.
 """
 
 from redik.analytic._solution import (
@@ -28,6 +32,7 @@ from redik.analytic._solution import (
     SolutionFamily,
     wrap_angle,
 )
+from redik.analytic.decomposed import DecomposedSolver, decomposed_solver
 from redik.analytic.families import AnalyticSolver, params_from_model, solver_for
 from redik.analytic.hexapod import hexapod_leg
 from redik.analytic.planar import (
@@ -47,10 +52,12 @@ __all__ = [
     "UR5E",
     "AnalyticSolver",
     "BatchSolutions",
+    "DecomposedSolver",
     "IKSolutions",
     "JointSolution",
     "Planar3RFamily",
     "SolutionFamily",
+    "decomposed_solver",
     "hexapod_leg",
     "params_from_model",
     "planar_2r",

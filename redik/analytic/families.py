@@ -20,6 +20,7 @@ import numpy as np
 from redik import lie
 from redik.analytic import _checks
 from redik.analytic._solution import DEFAULT_TOL, IKSolutions, unreachable
+from redik.analytic.decomposed import DecomposedSolver, solver_from_robot
 from redik.analytic.hexapod import hexapod_leg
 from redik.analytic.planar import planar_2r, planar_3r
 from redik.analytic.polar import rrp_polar
@@ -251,21 +252,37 @@ class AnalyticSolver:
         return np.linalg.inv(self.base)
 
 
-def solver_for(robot: Robot, family: str | None = None) -> AnalyticSolver:
-    """The closed-form solver of a robot whose model carries its family's parameters.
+def solver_for(robot: Robot, family: str | None = None) -> AnalyticSolver | DecomposedSolver:
+    """The closed-form solver of a robot.
 
     Args:
-        robot: A :class:`redik.Robot`, e.g. ``redik.load("puma560")``.
-        family: The arm family; default: inferred from the model name (``robot.name``).
+        robot: A :class:`redik.Robot`, e.g. ``redik.load("puma560")`` or one built with
+            :meth:`redik.Robot.from_screws`.
+        family: The arm family; default: inferred from the model name (``robot.name``), and
+            for any other 6R arm the subproblem decomposition of its screw axes
+            (:mod:`redik.analytic.decomposed`); ``"decomposed"`` forces that one.
 
-    The model's kinematics are checked against the family's DH table (``robot.fk`` at two
-    configurations, up to a constant base transform) so that a solver never silently answers
-    for a different arm.
+    A family's solver is checked against its DH table (``robot.fk`` at two configurations,
+    up to a constant base transform), the decomposition against the product of exponentials
+    of the screw axes, so that a solver never silently answers for a different arm.
 
     Raises:
-        InvalidInput: No family of that name (or none inferred from the model name).
-        ModelError: A parameter is missing or the model does not match the table.
+        InvalidInput: No family of that name.
+        ModelError: A parameter is missing, the model does not match the table, or no
+            family fits (for a 6R arm: its geometry fits no decomposition class).
     """
+    if family is not None and not isinstance(family, str):
+        family_of(family)  # raises, naming the families
+    if family == "decomposed" or (
+        family is None and ALIASES.get(robot.name, robot.name) not in FAMILIES
+    ):
+        if family is None and robot.dof != 6:
+            raise InvalidInput(
+                f"no closed-form solver for {robot.name!r} ({robot.dof} joints): the families "
+                f"are {sorted(FAMILIES)} (scene names {sorted(ALIASES)} also work), and "
+                "the subproblem decomposition takes 6R arms"
+            )
+        return solver_from_robot(robot)
     spec = family_of(family if family is not None else robot.name)
     if robot.dof != spec.dof:
         raise ModelError(

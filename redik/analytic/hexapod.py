@@ -21,6 +21,20 @@ Rotating the coxa by π (:math:`u = -\sqrt{p_x^2+p_y^2} - \text{coxa}`) gives tw
 Knee labels: ``"knee-up"`` has θ3 < 0, the knee above the femur–foot line for a foot outward
 and below; this is the branch a hexapod walks with (``result.preferred``). ``"knee-down"``
 has θ3 > 0.
+
+Servo angles (``convention="servo"``, :data:`SERVO`)
+    The lecture's leg angles ``(α, β, γ)``, what the three servos are commanded to:
+
+    .. math:: α = θ_1, \qquad β = θ_2, \qquad γ = π + θ_3,
+
+    α the coxa yaw, β the femur elevation above the horizontal and γ the knee angle between
+    femur and tibia — the angle the law of cosines gives,
+    :math:`γ = \arccos\frac{\text{femur}^2 + \text{tibia}^2 - L^2}{2\,\text{femur}\,
+    \text{tibia}}` with ``L`` the femur-axis-to-foot distance — so γ = π is the stretched
+    leg, ``γ ∈ (0, π)`` the knee-up (walking) branch and ``γ ∈ (π, 2π)`` the knee-down one.
+    :meth:`SERVO.from_joints <redik.analytic.convention.AngleConvention.from_joints>` and
+    ``SERVO.to_joints`` convert either way; with ``convention="servo"`` the solver takes its
+    ``limits`` and returns its solutions in ``(α, β, γ)``.
 """
 
 from __future__ import annotations
@@ -38,10 +52,23 @@ from redik.analytic._solution import (
     unreachable,
     wrap_angle,
 )
+from redik.analytic.convention import AngleConvention, resolve
 from redik.analytic.planar import two_link, two_link_candidates, two_link_reason
 
 KNEE_LABELS = ("knee-down", "knee-up")  # 2R slot 0 has θ3 ≥ 0
 PREFERRED = "knee-up"
+
+SERVO = AngleConvention(
+    name="servo",
+    symbols=("α", "β", "γ"),
+    signs=(1.0, 1.0, 1.0),
+    offsets=(0.0, 0.0, np.pi),
+    description="α coxa yaw, β femur elevation, γ knee angle between femur and tibia",
+)
+"""The lecture's servo angles ``(α, β, γ) = (θ1, θ2, π + θ3)`` (module docstring)."""
+
+CONVENTIONS: dict[str, AngleConvention | None] = {"joint": None, "servo": SERVO}
+"""The values of ``convention=``: the DH joint angles (θ1, θ2, θ3), or the servo angles."""
 
 
 def hexapod_leg(
@@ -53,6 +80,7 @@ def hexapod_leg(
     *,
     limits: tuple[np.ndarray, np.ndarray] | None = None,
     tol: float = DEFAULT_TOL,
+    convention: str = "joint",
 ) -> IKSolutions:
     """Every ``(θ_coxa, θ_femur, θ_tibia)`` that puts the foot at ``p`` (leg frame).
 
@@ -63,6 +91,8 @@ def hexapod_leg(
         z_offset: Height of the femur axis above the leg origin (m, signed).
         limits: Optional ``(lower, upper)`` arrays of 3; angles compared modulo 2π.
         tol: Distance (m) within which a target counts as on a boundary or on the yaw axis.
+        convention: ``"joint"`` (θ1, θ2, θ3) or ``"servo"`` (α, β, γ), for the solutions
+            and the limits (see the module docstring).
 
     Returns:
         ``"knee-up"`` (preferred), ``"knee-down"`` and, when reachable, the coxa-reversed
@@ -73,7 +103,26 @@ def hexapod_leg(
     coxa = _checks.length(coxa, "coxa", allow_zero=True)
     femur, tibia = _checks.length(femur, "femur"), _checks.length(tibia, "tibia")
     z_offset = _checks.scalar(z_offset, "z_offset")
+    mapping = resolve(convention, CONVENTIONS, "hexapod_leg")
     checked_limits = _checks.limits(limits, 3)
+    if mapping is None:
+        return _solve(px, py, pz, coxa, femur, tibia, z_offset, checked_limits, tol)
+    joint_limits = mapping.limits_to_joints(checked_limits)
+    solutions = _solve(px, py, pz, coxa, femur, tibia, z_offset, joint_limits, tol)
+    return mapping.map_solutions(solutions)
+
+
+def _solve(
+    px: float,
+    py: float,
+    pz: float,
+    coxa: float,
+    femur: float,
+    tibia: float,
+    z_offset: float,
+    checked_limits: tuple[np.ndarray, np.ndarray] | None,
+    tol: float,
+) -> IKSolutions:
     r, z = float(np.hypot(px, py)), float(pz - z_offset)
     on_axis = r <= tol
     yaw = 0.0 if on_axis else float(np.arctan2(py, px))

@@ -29,6 +29,12 @@ vertical plane through the base axis and the wrist centre, seen from the base
 (:math:`X d_2 > 0`; for d2 = 0, :math:`X > 0`); *noflip* when θ5 ∈ [0, π].
 Singular: the wrist centre on the shoulder cylinder (left = right), at the shoulder
 (d3 = 0, θ2 free), on the base axis when d2 = 0 (θ1 free), and the wrist.
+
+Course angles (``convention="course"``, :data:`COURSE`): DH measures θ2 from the vertical
+base axis ``z0`` (θ2 = 0: boom straight up); the course measures the shoulder as the boom's
+elevation above the horizontal plane, :math:`β = π/2 - θ_2` (positive up, the boom's
+``atan2(p_{cz} - d_1, X)``), the other joints as DH:
+``(θ1, β, d3, θ4, θ5, θ6) = COURSE.from_joints(q)``; ``COURSE.to_joints`` goes back.
 """
 
 from __future__ import annotations
@@ -56,6 +62,8 @@ from redik.analytic._solution import (
     SolutionFamily,
     unreachable,
 )
+from redik.analytic.convention import AngleConvention
+from redik.analytic.convention import resolve as resolve_convention
 from redik.analytic.wrist import wrist_singularity, zyz_pair
 from redik.dh import DHRow
 
@@ -130,6 +138,7 @@ def stanford(
     limits: tuple[np.ndarray, np.ndarray] | None = None,
     tol: float = DEFAULT_TOL,
     strict: bool = False,
+    convention: str = "dh",
 ) -> IKSolutions:
     """Every ``(θ1, θ2, d3, θ4, θ5, θ6)`` with ``d3 ≥ 0`` of a Stanford arm reaching ``T``.
 
@@ -140,11 +149,18 @@ def stanford(
         limits: Optional ``(lower, upper)`` arrays of 6; angles compared modulo 2π, d3 as is.
         tol: Distance (m) from a singular set reported as singular.
         strict: Refuse a near-rotation instead of projecting it (:mod:`redik.lie`'s policy).
+        convention: ``"dh"`` or ``"course"`` (θ2 as the boom's elevation, module docstring)
+            for the solutions and the limits.
 
     Returns:
         Up to 4 solutions ``"left-noflip"`` … ``"right-flip"``; none, with a ``reason``,
         when the wrist centre is closer to the base axis than ``|d2|``.
     """
+    mapping = resolve_convention(convention, CONVENTIONS, "stanford")
+    if mapping is not None:
+        joint_limits = mapping.limits_to_joints(_checks.limits(limits, 6))
+        solutions = stanford(T, d2, d6, d1=d1, limits=joint_limits, tol=tol, strict=strict)
+        return mapping.map_solutions(solutions)
     T = _checks.pose(T, strict=strict)
     d2, d6, d1 = (_checks.scalar(v, n) for v, n in ((d2, "d2"), (d6, "d6"), (d1, "d1")))
     checked_limits = _checks.limits(limits, 6)
@@ -188,3 +204,19 @@ def _wrist_describer(q: np.ndarray, slot: int) -> tuple[str, SolutionFamily]:
     return text, SolutionFamily(
         (3,), text, lambda t: np.concatenate([arm, wrist.at(t)]), wrist.invariants
     )
+
+
+# --------------------------------------------------------------------------------------
+# The course's angle convention (module docstring), a thin map over the DH solution.
+
+COURSE = AngleConvention(
+    name="course",
+    symbols=("θ1", "β", "d3", "θ4", "θ5", "θ6"),
+    signs=(1.0, -1.0, 1.0, 1.0, 1.0, 1.0),
+    offsets=(0.0, np.pi / 2.0, 0.0, 0.0, 0.0, 0.0),
+    description="β = π/2 − θ2, the boom's elevation above the horizontal; the rest as DH",
+)
+"""The course's Stanford-arm angles ``(θ1, π/2 − θ2, d3, θ4, θ5, θ6)``."""
+
+CONVENTIONS: dict[str, AngleConvention | None] = {"dh": None, "course": COURSE}
+"""The values of :func:`stanford`'s ``convention=``."""

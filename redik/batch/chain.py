@@ -27,7 +27,7 @@ import dataclasses
 import mujoco
 import numpy as np
 
-from ..exceptions import ModelError
+from ..exceptions import InvalidInput, ModelError
 from ..lie import make_pose, matrix_from_quat
 from ..robot import Frame, Robot
 
@@ -101,6 +101,11 @@ class Chain:
         The chain holds the robot's joints that move ``frame``, in the robot's order
         (:attr:`columns`): all of them for the end-effector or a frame attached below it.
         """
+        if not robot.is_chain:
+            raise InvalidInput(
+                f"{robot!r} is a whole-model robot; compile one of its chains: "
+                "Chain.from_robot(robot.chain(frame)) (the other joints held)"
+            )
         frame = robot.frame(frame)
         base, links, addresses = _fold(robot, frame)
         columns = np.array(
@@ -125,7 +130,7 @@ def _fold(robot: Robot, ee: Frame) -> tuple[np.ndarray, np.ndarray, list[int]]:
     model = robot.model
     home_qpos = robot.full_qpos(robot.home)
     chain_qpos = {int(adr) for adr in robot.qpos_indices}
-    ee_body = int(model.site_bodyid[ee.id]) if ee.kind == "site" else ee.id
+    ee_body = robot.body_of(ee)
 
     path = []
     body = ee_body

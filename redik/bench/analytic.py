@@ -13,6 +13,15 @@ are solved one at a time. In the same run:
 
 Single and dls times are the median over every call of every repeat; batched is the median
 over repeats of the batch time divided by ``--batch``. Speed-ups are ratios of those medians.
+
+A second table compares, for the 6R scenes, the compiled subproblem-decomposition path
+(:meth:`redik.analytic.DecomposedSolver.raw`: every solution as an array, FK-verified, no
+limits) with the ``ik-geo`` package (Elias & Wen's Rust IK-Geo, ``ik_geo.Robot`` of the same
+geometry class built from the same screw axes) when it is installed: the same ``--n`` poses,
+the two calls interleaved pose by pose (alternating which goes first, as the first call on
+a pose pays for loading it into cache), median µs per call, their ratio, the mean number of
+solutions each returns and the largest FK error (by ``robot.fk``) among ik-geo's answers that
+are not flagged least-squares. The load average is printed with it.
 ``--clock cpu`` times with the process CPU clock instead of the wall clock: on a shared,
 loaded machine it leaves out the time spent waiting for a core.
 """
@@ -20,9 +29,11 @@ loaded machine it leaves out the time spent waiting for a core.
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import time
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -69,6 +80,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--no-dls", action="store_true", help="skip the iterative reference (closed form only)"
     )
+    parser.add_argument(
+        "--no-ik-geo", action="store_true", help="skip the comparison with the ik-geo package"
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -103,7 +117,111 @@ def run(args: argparse.Namespace) -> int:
             f"{name:<10}{row['single_us']:>9.1f}{row['batch_us']:>9.2f}{reference}"
             f"{row['solutions']:>11.2f}"
         )
+    if not args.no_ik_geo:
+        compare_ik_geo(args)
     return 0
+
+
+#: Decomposition classes that ik-geo builds from axes and offsets, by redik's class name.
+IK_GEO_CLASSES = {
+    "spherical_two_intersecting": "spherical_two_intersecting",
+    "spherical_two_parallel": "spherical_two_parallel",
+    "spherical": "spherical",
+    "three_parallel_two_intersecting": "three_parallel_two_intersecting",
+}
+
+
+def compare_ik_geo(args: argparse.Namespace) -> None:
+    """The second table of the module docstring (skipped, with a note, without ik-geo)."""
+    try:
+        import ik_geo
+    except ImportError:
+        print("\nik-geo is not installed (pip install ik-geo): comparison skipped")
+        return
+    load_average = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+    print(
+        f"\nsubproblem decomposition (raw array) vs ik-geo, {args.n} poses interleaved, "
+        f"median µs per call ({args.clock} clock) over {args.repeats} repeats; "
+        f"load average {load_average}"
+    )
+    print(
+        f"{'robot':<10}{'class':>33}{'redik':>8}{'ik-geo':>8}{'ik-geo/redik':>14}"
+        f"{'solutions':>11}{'ik-geo sols':>12}{'ik-geo FK err':>15}"
+    )
+    for name in args.robots:
+        robot = load(name)
+        if robot.dof != 6 or not robot.revolute.all():
+            continue
+        row = measure_ik_geo(robot, args.n, args.repeats, args.seed, ik_geo, CLOCKS[args.clock])
+        if row is None:
+            print(f"{name:<10}  (no ik-geo class for this geometry)")
+            continue
+        print(
+            f"{name:<10}{row['kind']:>33}{row['redik_us']:>8.2f}{row['ik_geo_us']:>8.2f}"
+            f"{row['ik_geo_us'] / row['redik_us']:>13.2f}×{row['solutions']:>11.2f}"
+            f"{row['ik_geo_solutions']:>12.2f}{row['ik_geo_error']:>15.1e}"
+        )
+
+
+def measure_ik_geo(
+    robot: Robot,
+    n: int,
+    repeats: int,
+    seed: int,
+    ik_geo: Any,
+    clock: Callable[[], float] = time.perf_counter,
+) -> dict | None:
+    """Time :meth:`DecomposedSolver.raw` and ik-geo's ``get_ik`` on the same poses
+    (module docstring); None when ik-geo has no class for the arm (a reversed chain)."""
+    solver = solver_for(robot, "decomposed")
+    if solver.reversed or solver.kind not in IK_GEO_CLASSES:
+        return None
+    G = solver.geometry
+    axes, points, home = G[0:6], G[6:12], G[12]
+    offsets = np.vstack([points[0], np.diff(points, axis=0), home - points[5]])
+    factory = getattr(ik_geo.Robot, IK_GEO_CLASSES[solver.kind])
+    reference = factory(axes.tolist(), offsets.tolist())
+    R_home = G[13:16]
+    rng = np.random.default_rng(seed)
+    targets = [robot.fk(q) for q in robot.random_q(rng, size=n)]
+    # ik-geo's chain ends with the identity rotation at q = 0: its target is R R_Mᵀ, passed
+    # as a list of columns (its forward_kinematics returns the transpose of redik's).
+    inputs = [((T[:3, :3] @ R_home.T).T.tolist(), T[:3, 3].tolist()) for T in targets]
+    ours, theirs = [], []
+    for _ in range(repeats):
+        for index, (T, (R, p)) in enumerate(zip(targets, inputs, strict=True)):
+            # Whichever runs first on a pose pays for bringing it into cache: alternate.
+            if index % 2:
+                start = clock()
+                reference.get_ik(R, p)
+                middle = clock()
+                solver.raw(T, limits=None)
+                end = clock()
+                theirs.append(middle - start)
+                ours.append(end - middle)
+            else:
+                start = clock()
+                solver.raw(T, limits=None)
+                middle = clock()
+                reference.get_ik(R, p)
+                end = clock()
+                ours.append(middle - start)
+                theirs.append(end - middle)
+    counts, reference_counts, worst = [], [], 0.0
+    for T, (R, p) in zip(targets, inputs, strict=True):
+        counts.append(len(solver.raw(T, limits=None)))
+        exact = [q for q, least_squares in reference.get_ik(R, p) if not least_squares]
+        reference_counts.append(len(exact))
+        for q in exact:
+            worst = max(worst, float(np.abs(robot.fk(np.asarray(q)) - T).max()))
+    return {
+        "kind": solver.kind,
+        "redik_us": 1e6 * statistics.median(ours),
+        "ik_geo_us": 1e6 * statistics.median(theirs),
+        "solutions": float(np.mean(counts)),
+        "ik_geo_solutions": float(np.mean(reference_counts)),
+        "ik_geo_error": worst,
+    }
 
 
 def measure(

@@ -16,9 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..exceptions import InvalidInput
 from ..lie import as_quaternion, make_pose, matrix_from_quat
-from ..scenes import load
+from ..loading import load_model
+from ..robot import Robot
+from ..scenes import load, scene_path
+from . import _progress
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -34,20 +36,29 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     pose.add_argument("--q-ref", nargs="+", type=float, help="target = FK of these joint values")
     parser.add_argument("--out", default="explore_out", help="output directory")
     parser.add_argument("--ee", default=None, help="end-effector site or body (default 'ee')")
+    parser.add_argument(
+        "--fixed", nargs="+", default=None, metavar="JOINT",
+        help="joints held on the chain (names or patterns, e.g. 'head_*'; a ball joint on "
+        "the chain must be held)",
+    )  # fmt: skip
     parser.add_argument("--spacing", type=float, default=None, help="sample spacing (rad)")
     parser.add_argument("--starts", type=int, default=64, help="random IK starts for seeding")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--frames", type=int, default=60, help="rendered frames (0: none)")
     parser.add_argument("--size", nargs=2, type=int, default=(480, 360), metavar=("W", "H"))
     parser.add_argument("--no-mp4", action="store_true", help="skip the MP4 (GIF only)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..redundancy import explore_self_motion
-    from ..redundancy.plot import plot_joint_pairs
 
-    robot = load(args.scene, ee=args.ee)
+    if args.fixed:  # before the chain is built: a ball joint on it must be held
+        model = load_model(scene_path(args.scene))
+        robot = Robot(model, args.ee, name=Path(args.scene).stem, fixed=args.fixed)
+    else:
+        robot = load(args.scene, ee=args.ee)
     initial = None
     if args.pose is not None:
         quat = as_quaternion(np.array(args.pose[3:]), "--pose quaternion")
@@ -56,43 +67,78 @@ def run(args: argparse.Namespace) -> int:
         q_ref = robot.home if args.q_ref is None else robot.check_q(np.array(args.q_ref), "--q-ref")
         T = robot.fk(q_ref)
         initial = q_ref
-    motion = explore_self_motion(
-        robot, T, spacing=args.spacing, seed=args.seed, n_starts=args.starts, initial=initial
-    )
-    out = Path(args.out)
+    progress = _progress.bar(None, "exploring", "step", _progress.wanted(args.quiet), leave=False)
+    with progress:
+        motion = explore_self_motion(
+            robot, T, spacing=args.spacing, seed=args.seed, n_starts=args.starts, initial=initial
+        )
+        status = _draw(robot, motion, Path(args.out), args, progress)
+    if status == 0:
+        print(f"wrote {args.out}/")
+    return status
+
+
+def _draw(robot, motion, out: Path, args: argparse.Namespace, progress) -> int:
+    """Write the samples, summary, plots and renders, advancing ``progress`` (one step per
+    plot, per rendered frame and per written file)."""
+    from ..redundancy.plot import plot_joint_pairs
+
     out.mkdir(parents=True, exist_ok=True)
     motion.save(out / "samples.npz")
     summary = motion.summary()
     (out / "summary.json").write_text(json.dumps(summary, indent=2))
-    print(
-        f"{robot.name}: {len(motion)} samples, dimension {motion.dimension}, "
+    if len(motion) == 0:
+        progress.close()
+        print(f"{robot.name}: {motion.status}: {motion.message}; nothing to draw")
+        return 1
+    color_by = ["component", *motion.criteria]
+    picks = _frame_picks(motion, args.frames)
+    files = 2 + (not args.no_mp4) if len(picks) else 0  # PNGs, GIF, MP4
+    progress.reset(total=len(color_by) + len(picks) + files)
+    progress.write(
+        f"{robot.name}: {motion.status}, {len(motion)} samples, dimension {motion.dimension}, "
         f"{motion.n_components} component(s), max errors {summary['max_position_error']:.1e} m / "
         f"{summary['max_rotation_error']:.1e} rad, {motion.elapsed:.2f} s"
     )
-    if len(motion) == 0:
-        print("no configuration reaches this pose (inside the limits); nothing to draw")
-        return 1
-    for color_by in ["component", *motion.criteria]:
+    if motion.message:
+        progress.write(f"note: {motion.message}")
+    progress.set_description("plotting")
+    for criterion in color_by:
         plot_joint_pairs(
-            motion, color_by, lower=robot.lower, upper=robot.upper,
-            path=out / f"manifold_{color_by}.png",
+            motion, criterion, lower=robot.lower, upper=robot.upper,
+            path=out / f"manifold_{criterion}.png",
         )  # fmt: skip
-    if args.frames > 0:
-        _render(robot, motion, out, args)
-    print(f"wrote {out}/")
+        progress.update()
+    if len(picks):
+        _render(robot, motion, picks, out, args, progress)
     return 0
 
 
-def _render(robot, motion, out: Path, args: argparse.Namespace) -> None:
-    from ..render import render_frames, save_gif, save_mp4, save_pngs
-
+def _frame_picks(motion, frames: int) -> np.ndarray:
+    """Indices of the samples to render: ``frames`` spread along the largest component."""
+    if frames <= 0:
+        return np.empty(0, dtype=int)
     largest = int(np.argmax(np.bincount(motion.component)))
     path = motion.walk(largest)
-    picks = path[np.unique(np.linspace(0, len(path) - 1, args.frames).round().astype(int))]
-    if len(picks) == 0:
-        raise InvalidInput("nothing to render")
-    frames = render_frames(robot, motion.samples[picks], *args.size, target=motion.T_target)
+    return path[np.unique(np.linspace(0, len(path) - 1, frames).round().astype(int))]
+
+
+def _render(robot, motion, picks, out: Path, args: argparse.Namespace, progress) -> None:
+    from ..render import render_frames, save_gif, save_mp4, save_pngs
+
+    progress.set_description("rendering")
+    start = progress.n
+    frames = render_frames(
+        robot, motion.samples[picks], *args.size, target=motion.T_target,
+        on_frame=lambda k, total: progress.update(start + k + 1 - progress.n),
+    )  # fmt: skip
+    progress.set_description("writing frames")
     save_pngs(out / "frames", frames)
+    progress.update()
+    progress.set_description("writing GIF")
     save_gif(out / "selfmotion.gif", frames)
+    progress.update()
     if not args.no_mp4:
+        progress.set_description("writing MP4")
         save_mp4(out / "selfmotion.mp4", frames)
+        progress.update()

@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from ..regress import run_regression
+from . import _progress
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -22,6 +22,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--seed", type=int, default=0, help="seed passed to every spec")
     parser.add_argument("--out", type=Path, default=None, help="keep the specs' pictures here")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
 
@@ -33,7 +34,7 @@ def run(args: argparse.Namespace) -> int:
         update=args.update,
         seed=args.seed,
         out=args.out,
-        show_progress=sys.stderr.isatty(),
+        show_progress=_progress.wanted(args.quiet),
     )
     print(report.table())
     for path in report.updated:

@@ -1,6 +1,6 @@
 r"""The limit contract: hard inequalities on the joint step ``Δq``.
 
-A limit restricts the step of the chain joints (``robot.dof`` of them) to
+A limit restricts the joint step (``robot.dof`` tangent coordinates, :mod:`redik.robot`) to
 
 .. math::
 
@@ -25,7 +25,7 @@ from ..robot import Robot
 
 
 class Limit:
-    """Base class of hard limits on the chain's joint step."""
+    """Base class of hard limits on the robot's joint step."""
 
     robot: Robot | None = None
 
@@ -42,7 +42,11 @@ class BoxLimit(Limit, abc.ABC):
     def bounds_into(
         self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
     ) -> None:
-        """Intersect this box with ``[lower, upper]`` in place (``lower = max(lower, l)``…)."""
+        """Intersect this box with ``[lower, upper]`` in place (``lower = max(lower, l)``…).
+
+        ``q`` is per tangent coordinate, ``robot.scalar_values(q)``: the hinge and slide
+        values (0 on ball and free joints, which have no position box).
+        """
 
     def set_bounds(
         self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
@@ -54,7 +58,7 @@ class BoxLimit(Limit, abc.ABC):
 
 
 class InequalityLimit(Limit, abc.ABC):
-    """A limit of general rows ``G Δq ≤ h`` over the chain joints."""
+    """A limit of general rows ``G Δq ≤ h`` over the robot's tangent coordinates."""
 
     needs_configuration = False
     """True when the rows are computed from a ``mink.Configuration`` kept in sync."""
@@ -62,3 +66,13 @@ class InequalityLimit(Limit, abc.ABC):
     @abc.abstractmethod
     def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
         """``(G, h)`` with ``G`` of shape (m, ``robot.dof``), or None when inactive."""
+
+    def admits(self) -> bool:
+        """Whether the robot's current state (a trial ``q ⊕ αΔq``, after forward kinematics)
+        respects the limit itself, not only its linearisation at ``q``.
+
+        :meth:`redik.Problem.solve` shortens (backtracks) a step until every limit admits
+        it. Rows linear in ``Δq`` are exact (True); a limit linearised at ``q`` — a distance
+        — checks the nonlinear quantity here.
+        """
+        return True

@@ -24,7 +24,7 @@ from .limit import BoxLimit
 
 
 class PositionLimit(BoxLimit):
-    """Box the step so that the chain stays within its joint limits.
+    """Box the step so that the hinge and slide joints stay within their limits.
 
     Args:
         margin: Distance (rad or m) to keep from each limit, ≥ 0.

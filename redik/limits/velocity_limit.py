@@ -16,10 +16,10 @@ from .limit import BoxLimit
 
 
 class VelocityLimit(BoxLimit):
-    """Bound each chain joint's speed.
+    """Bound each joint's speed (each tangent coordinate of a ball or free joint).
 
     Args:
-        max_velocity: A scalar, one value per chain joint, or a mapping from joint name to
+        max_velocity: A scalar, one value per tangent coordinate, or a mapping from joint name to
             its bound (rad/s or m/s, > 0); joints not in the mapping are unbounded.
     """
 
@@ -33,9 +33,11 @@ class VelocityLimit(BoxLimit):
             unknown = sorted(set(spec) - set(robot.joint_names))
             if unknown:
                 raise InvalidInput(
-                    f"VelocityLimit names joints {unknown} not on the chain {robot.joint_names}"
+                    f"VelocityLimit names joints {unknown} the robot does not move "
+                    f"{robot.joint_names}"
                 )
-            limit = np.array([float(spec.get(name, np.inf)) for name in robot.joint_names])
+            # A ball or free joint's bound applies to each of its tangent coordinates.
+            limit = np.array([float(spec.get(name, np.inf)) for name in robot.dof_joints])
         else:
             limit = np.atleast_1d(np.asarray(spec, dtype=float))
             if limit.shape not in ((1,), (robot.dof,)):

@@ -60,6 +60,7 @@ from scipy.spatial import cKDTree
 
 from ..exceptions import InvalidInput
 from ..lie import as_pose, real_array, wrap_angle
+from ..result import STATUSES
 from .corrector import BatchCorrector, Corrector
 from .criteria import Criterion, default_criteria, evaluate_criteria
 
@@ -120,6 +121,15 @@ class SelfMotion:
         periodic: Mask of the joints whose angles are compared modulo 2π.
         elapsed: Wall time of the exploration (s).
         starts: Random starts used for seeding.
+        status: One of :data:`redik.result.STATUSES`: ``"converged"`` (the components found
+            were sampled to the end), ``"max_iterations"`` (``max_samples`` ran out first,
+            the manifold may be incomplete), ``"unreachable"`` (no start reached the pose:
+            no sample) or ``"limits"`` (the pose is reached only outside the joint limits:
+            no sample).
+        message: Why, in words, when the status is not ``"converged"``.
+        closest_position_error: When no start reached the pose, the position error (m) of
+            the start that came closest (by the norm of the pose error); None otherwise.
+        closest_rotation_error: The rotation error (rad) of that start; None otherwise.
     """
 
     T_target: np.ndarray
@@ -139,6 +149,19 @@ class SelfMotion:
     periodic: np.ndarray
     elapsed: float
     starts: int
+    status: str = "converged"
+    message: str = ""
+    closest_position_error: float | None = None
+    closest_rotation_error: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.status not in STATUSES:
+            raise InvalidInput(f"status must be one of {STATUSES}, got {self.status!r}")
+
+    @property
+    def success(self) -> bool:
+        """True when at least one sample reaches the pose inside the joint limits."""
+        return len(self.samples) > 0
 
     @property
     def n_components(self) -> int:
@@ -207,13 +230,20 @@ class SelfMotion:
         return members[np.array(path[::-1])]
 
     def summary(self) -> dict:
-        """A JSON-serialisable summary: sizes, errors, components and the best samples."""
+        """A JSON-serialisable summary: status, sizes, errors, components and the best samples.
+
+        ``max_position_error`` and ``max_rotation_error`` are over the samples, None when
+        there is none; ``closest_*_error`` say how near the best start came then.
+        """
         best = {}
         for name, values in self.criteria.items():
             if len(values):
                 k = self.best_index(name)
                 best[name] = {"value": float(values[k]), "q": self.samples[k].tolist()}
+        empty = len(self.samples) == 0
         return {
+            "status": self.status,
+            "message": self.message,
             "frame": self.frame,
             "joint_names": list(self.joint_names),
             "T_target": self.T_target.tolist(),
@@ -228,8 +258,10 @@ class SelfMotion:
                 }
                 for k in range(self.n_components)
             ],
-            "max_position_error": float(np.max(self.position_error, initial=0.0)),
-            "max_rotation_error": float(np.max(self.rotation_error, initial=0.0)),
+            "max_position_error": None if empty else float(np.max(self.position_error)),
+            "max_rotation_error": None if empty else float(np.max(self.rotation_error)),
+            "closest_position_error": self.closest_position_error,
+            "closest_rotation_error": self.closest_rotation_error,
             "best": best,
             "seeds": len(self.seeds),
             "starts": self.starts,
@@ -270,13 +302,17 @@ def explore_self_motion(
     max_samples: int = 50_000,
     nominal: np.ndarray | None = None,
     criteria: tuple[Criterion, ...] | None = None,
+    exact: bool = False,
 ) -> SelfMotion:
     """Sample every configuration of ``robot`` that places ``frame`` at ``T_target``.
 
     See the module docstring for the method.
 
     Args:
-        robot: The arm; its joint limits bound the manifold.
+        robot: The arm; its joint limits bound the manifold. A whole-model robot
+            (:mod:`redik.robot`) is explored on its chain to ``frame``, the other joints
+            held at their current values (``robot.chain(frame)``); the samples are the
+            chain's joint values.
         T_target: The pose (4 × 4, world frame).
         frame: Site or body to place; default the end-effector.
         spacing: Largest joint-space distance between neighbouring samples; default
@@ -289,15 +325,26 @@ def explore_self_motion(
         nominal: Posture of the ``posture_distance`` criterion; default ``robot.home``.
         criteria: Criteria to score samples by; default
             :func:`redik.redundancy.criteria.default_criteria`.
+        exact: For a 7R arm with a spherical shoulder and wrist (iiwa type), take the curves
+            from the closed-form arm-angle parameterisation
+            (:func:`redik.analytic.srs.self_motion_curves`) instead of numerical tracing;
+            every loop of the pose is then a component, whether or not a start found it.
 
     Returns:
-        A :class:`SelfMotion` (possibly empty when no start reached the pose).
+        A :class:`SelfMotion`. An out-of-reach pose is an ordinary outcome, not an error: the
+        result is empty with ``status="unreachable"`` (no start reached it; ``message`` and
+        ``closest_*_error`` say how near the best came) or ``status="limits"`` (reached
+        only outside the joint limits).
 
     Raises:
         InvalidPose: ``T_target`` is not a rigid transform.
         InvalidInput: the manifold would have more than two dimensions, or a bad argument.
+        ModelError: ``exact=True`` on an arm that is not a 7R with a spherical shoulder and
+            wrist.
     """
     started = time.perf_counter()
+    if not robot.is_chain:
+        robot, frame = robot.chain(frame), None
     T_target = as_pose(T_target, "T_target")
     resolved = robot.frame(frame)
     dimension = max(robot.dof - 6, 0)
@@ -326,9 +373,12 @@ def explore_self_motion(
     criteria = default_criteria(robot, nominal) if criteria is None else tuple(criteria)
 
     corrector = Corrector(robot, T_target, resolved)
-    seeds = _seed_solutions(corrector, extra, n_starts, rng)
+    seeds, closest = _seed_solutions(corrector, extra, n_starts, rng)
 
     explorer = _Explorer(corrector, dimension, spacing, max_samples)
+    if exact:
+        explorer.exact_curves = _exact_curves(robot, T_target, resolved, spacing)
+        seeds = [curve[0] for curve in explorer.exact_curves] + seeds
     for q in seeds:
         explorer.add_component(q)
 
@@ -342,6 +392,7 @@ def explore_self_motion(
         or [np.empty(0, dtype=int)]
     )
     errors = np.array([corrector.pose_errors(q) for q in samples]).reshape(-1, 2)
+    status, message = _status(explorer, seeds, closest, len(extra) + n_starts, max_samples)
     return SelfMotion(
         T_target=T_target.copy(),
         frame=resolved.name,
@@ -360,7 +411,55 @@ def explore_self_motion(
         periodic=corrector.periodic.copy(),
         elapsed=time.perf_counter() - started,
         starts=n_starts,
+        status=status,
+        message=message,
+        closest_position_error=None if seeds else closest[0],
+        closest_rotation_error=None if seeds else closest[1],
     )
+
+
+def _exact_curves(robot: Robot, T_target: np.ndarray, frame: Frame, spacing: float) -> list:
+    """The closed-form self-motion loops (``exact=True``), for the robot's end-effector."""
+    from ..analytic.srs import self_motion_curves
+
+    if frame.name != robot.ee.name:
+        raise InvalidInput(
+            f"exact=True follows the arm angle of the end-effector {robot.ee.name!r}, "
+            f"not of {frame.name!r}"
+        )
+    return self_motion_curves(robot, T_target, spacing=spacing)
+
+
+def _torus_distance(curve: np.ndarray, q: np.ndarray) -> np.ndarray:
+    return np.abs(wrap_angle(curve - q)).max(axis=1)
+
+
+def _status(
+    explorer: _Explorer,
+    seeds: list[np.ndarray],
+    closest: tuple[float | None, float | None],
+    attempts: int,
+    max_samples: int,
+) -> tuple[str, str]:
+    """The status and message of an exploration (see :class:`SelfMotion`)."""
+    if not seeds:
+        if attempts == 0:
+            return "unreachable", "no start: n_starts is 0 and no initial configuration was given"
+        position, rotation = closest
+        return "unreachable", (
+            f"none of {attempts} IK starts reached the pose (joint limits ignored); the closest "
+            f"ended {position:.3g} m and {rotation:.3g} rad away"
+        )
+    if not explorer.parts:
+        return "limits", (
+            f"{len(seeds)} IK solution(s) reach the pose, but the configurations through them "
+            f"leave the joint limits everywhere: no sample inside the limits"
+        )
+    if any("max_samples" in ends for ends in explorer.ends) or explorer.budget <= 0:
+        return "max_iterations", (
+            f"max_samples={max_samples} ran out before every component was sampled"
+        )
+    return "converged", ""
 
 
 # --------------------------------------------------------------------------------------
@@ -372,8 +471,9 @@ def _seed_solutions(
     extra: np.ndarray,
     n_starts: int,
     rng: np.random.Generator,
-) -> list[np.ndarray]:
-    """IK solutions of the pose: from ``extra`` configurations, then ``n_starts`` random ones.
+) -> tuple[list[np.ndarray], tuple[float | None, float | None]]:
+    """IK solutions of the pose: from ``extra`` configurations, then ``n_starts`` random ones,
+    and the ``(position, rotation)`` errors of the attempt that came closest (by ``‖e‖``).
 
     Each start is solved by :func:`redik.solve_pose` (damped least squares) *without* the
     joint limits — curves and surfaces are followed through the limits, so a solution
@@ -384,17 +484,21 @@ def _seed_solutions(
 
     robot = corrector.robot
     seeds = []
+    closest, closest_error = (None, None), math.inf
     for q0 in [*extra, *robot.random_q(rng, size=n_starts)]:
         result = solve_pose(
             robot, corrector.T_target, q0, restarts=0, respect_limits=False,
             frame=corrector.frame, pos_tol=1e-6, rot_tol=1e-5,
         )  # fmt: skip
+        if result.error < closest_error:
+            closest_error = result.error
+            closest = (result.position_error, result.rotation_error)
         if not result.success:
             continue
         q, converged = corrector.correct(result.q)
         if converged:
             seeds.append(q)
-    return seeds
+    return seeds, closest
 
 
 # --------------------------------------------------------------------------------------
@@ -419,6 +523,7 @@ class _Explorer:
         self.parts: list[list[np.ndarray]] = []
         self.closed: list[bool] = []
         self.ends: list[tuple[str, ...]] = []
+        self.exact_curves: list[np.ndarray] = []
 
     @property
     def budget(self) -> int:
@@ -457,7 +562,11 @@ class _Explorer:
         Tracing through the limits finds every arc of a loop from one seed anywhere on it,
         so seeds outside the limits (most of them, for a Panda) still count.
         """
-        curve, closed, ends = self._trace_curve(seed)
+        if self.exact_curves:
+            nearest = min(self.exact_curves, key=lambda c: _torus_distance(c, seed).min())
+            curve, closed, ends = list(nearest), True, ("closed",)
+        else:
+            curve, closed, ends = self._trace_curve(seed)
         self.traced.extend(curve)
         curve = self._refine_near_limits(curve, closed)
         shifted = [self.corrector.into_limits(q) for q in curve]
@@ -762,10 +871,17 @@ class _SampleIndex:
         return self._count
 
     def _embed(self, q: np.ndarray) -> np.ndarray:
+        """Coordinates inside the tree's box: periodic angles in ``[0, 2π)``.
+
+        ``np.mod(x, 2π)`` rounds to exactly ``2π`` for ``x`` a hair below a multiple of
+        ``2π`` (``q`` one ulp below ``−π``, as tracing through a hinge's ``±π`` produces);
+        ``cKDTree`` rejects a coordinate equal to its box size, so that value wraps to 0.
+        """
         if not self._wrapped:
             return q
         x = np.array(q, dtype=float) + 0.5 * self._BOX
-        x[..., self.periodic] = np.mod(q[..., self.periodic] + np.pi, 2 * np.pi)
+        angles = np.mod(q[..., self.periodic] + np.pi, 2 * np.pi)
+        x[..., self.periodic] = np.where(angles >= 2 * np.pi, 0.0, angles)
         return x
 
     def add(self, q: np.ndarray) -> None:

@@ -1,6 +1,6 @@
 r"""Penalise the step itself: :math:`\tfrac12 \|W Δq\|^2` (:math:`e = 0`, :math:`J = I`).
 
-A Levenberg–Marquardt / minimum-norm regulariser on the chain joints: at the lowest
+A Levenberg–Marquardt / minimum-norm regulariser on the joint step: at the lowest
 priority it selects the smallest step among those the higher levels leave equally good;
 at the same priority as a pose task it trades accuracy per step for smoothness near
 singularities (damped least squares, Nakamura & Hanafusa 1986; Wampler 1986). A
@@ -31,7 +31,8 @@ class DampingTask(JointSpaceTask):
     def bind(self, robot: Robot) -> DampingTask:
         super().bind(robot)
         self.jacobian_diagonal = np.ones(robot.dof)
-        self.reference = np.zeros(robot.dof)
+        # No reference (the gain is 0); a configuration, so that q ⊖ r is defined.
+        self.reference = np.zeros(robot.dof) if robot.flat else robot.home.copy()
         return self
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:

@@ -49,9 +49,11 @@ class JointLimitAvoidanceTask(JointSpaceTask):
         limited = np.isfinite(robot.lower) & np.isfinite(robot.upper)
         span = np.where(limited, robot.upper - robot.lower, 1.0)
         self.scale = np.where(limited & (span > 0.0), 1.0 / span, 0.0)
-        self.reference = 0.5 * (
-            np.where(limited, robot.lower, 0.0) + np.where(limited, robot.upper, 0.0)
-        )
+        middle = 0.5 * (np.where(limited, robot.lower, 0.0) + np.where(limited, robot.upper, 0.0))
+        if robot.flat:
+            self.reference = middle
+        else:  # a configuration: the middle on hinges and slides (s = 0 elsewhere)
+            self.reference = robot.with_scalar_values(robot.home, middle)
         self.jacobian_diagonal = math.sqrt(2.0) * self.scale
         return self
 
@@ -62,11 +64,13 @@ class JointLimitAvoidanceTask(JointSpaceTask):
 
     def value(self, q: np.ndarray) -> float:
         """The potential ``φ(q)``."""
-        return float(np.sum((self.scale * (q - self.reference)) ** 2))
+        return float(
+            np.sum((self.scale * self._require_robot().difference(self.reference, q)) ** 2)
+        )
 
     def gradient(self, q: np.ndarray) -> np.ndarray:
         """``∇φ(q) = 2 s² ⊙ (q − q̄)``."""
-        return 2.0 * self.scale**2 * (q - self.reference)
+        return 2.0 * self.scale**2 * self._require_robot().difference(self.reference, q)
 
     def hessian(self) -> np.ndarray:
         """``∇²φ = 2 diag(s²)`` (constant)."""

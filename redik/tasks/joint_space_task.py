@@ -2,16 +2,19 @@ r"""Tasks on the joint values themselves: a diagonal Jacobian, a reference postu
 
 .. math::
 
-    e(q) = d ⊙ (q - r), \qquad J = \mathrm{diag}(d)
+    e(q) = d ⊙ (q \ominus r), \qquad J = \mathrm{diag}(d)
 
-over the chain joints, with a constant :math:`d` and reference :math:`r`
+over the robot's tangent coordinates, with a constant :math:`d` and reference
+configuration :math:`r`; :math:`q \ominus r` is ``robot.difference(r, q)`` (plain
+:math:`q - r` on a flat robot; ``mj_differentiatePos`` across ball and free joints, whose
+Jacobian is then the identity to first order, as in mink's ``PostureTask``)
 (:class:`PostureTask`: :math:`d = 1`, :math:`r = q_{nom}`; :class:`JointLimitAvoidanceTask`:
 :math:`d = \sqrt2 s`, :math:`r = \bar q`; :class:`DampingTask`: :math:`d = 1`, :math:`α = 0`).
 Their objective is diagonal,
 
 .. math::
 
-    H = \mathrm{diag}(w^2 d^2), \qquad c = α\, w^2 d^2 ⊙ (q - r),
+    H = \mathrm{diag}(w^2 d^2), \qquad c = α\, w^2 d^2 ⊙ (q \ominus r),
 
 so :mod:`redik.qp.assembly` adds all of a level's joint-space tasks with a few vector
 operations instead of stacking ``n × n`` identity blocks.
@@ -27,7 +30,7 @@ from .task import ResidualTask
 
 
 class JointSpaceTask(ResidualTask):
-    """Base of the tasks with ``e = d ⊙ (q − r)`` and ``J = diag(d)``.
+    """Base of the tasks with ``e = d ⊙ (q ⊖ r)`` and ``J = diag(d)``.
 
     Subclasses set :attr:`jacobian_diagonal` (``d``) and :attr:`reference` (``r``) in
     :meth:`bind` (and bump :attr:`version` when they change them later).
@@ -44,12 +47,15 @@ class JointSpaceTask(ResidualTask):
         return super().bind(robot)
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
-        np.subtract(state.q, self.reference, out=e)
+        if state.robot.flat:
+            np.subtract(state.q, self.reference, out=e)
+        else:
+            e[:] = state.robot.difference(self.reference, state.q)
         e *= self.jacobian_diagonal
         J[:] = 0.0
         J[self._rows, state.chain_columns] = self.jacobian_diagonal
 
     def diagonal_terms(self) -> tuple[np.ndarray, np.ndarray]:
-        """``(w² d², α w² d²)``: the Hessian diagonal and the factor of ``q − r`` in ``c``."""
+        """``(w² d², α w² d²)``: the Hessian diagonal and the factor of ``q ⊖ r`` in ``c``."""
         hessian = (self.cost * self.jacobian_diagonal) ** 2
         return hessian, self.gain * hessian

@@ -1,13 +1,13 @@
-"""The kinematic snapshot a task reads: frame poses, world Jacobians and the chain's ``q``.
+"""The kinematic snapshot a task reads: frame poses, world Jacobians and the robot's ``q``.
 
 A redik task is evaluated in two settings, and both hand it a :class:`KinematicState`:
 
 - inside a :class:`redik.Problem` (the hot path), the state wraps the robot's own
   ``MjData`` after **one** ``robot.update(q)`` per step, and Jacobians have one column per
-  chain joint (``robot.dof`` columns);
+  tangent coordinate of the robot's joints (``robot.dof`` columns, :mod:`redik.robot`);
 - inside ``mink.solve_ik`` (interoperability), the state wraps the ``mink.Configuration``'s
   data, and Jacobians have one column per degree of freedom of the model (``model.nv``),
-  the chain joints sitting at ``robot.dof_indices``.
+  the robot's sitting at ``robot.dof_indices``.
 
 Jacobians are MuJoCo's ``"world"`` Jacobians of :mod:`redik.conventions` (origin velocity
 and angular velocity in world axes, ``(v, ω)`` order). They are computed at most once per
@@ -20,7 +20,7 @@ import mujoco
 import numpy as np
 
 from ..exceptions import InvalidInput
-from ..robot import Frame, Robot
+from ..robot import Frame, Robot, frame_jacobian, frame_pose_views
 
 
 class KinematicState:
@@ -28,9 +28,10 @@ class KinematicState:
 
     Attributes:
         robot: The robot whose chain defines ``q`` and the frames.
-        q: The chain joint values (``robot.dof``,) of the current configuration.
+        q: The robot's configuration (``robot.nq``,) (on a chain, its joint values).
         n_columns: Number of Jacobian columns (``robot.dof`` or ``model.nv``).
-        chain_columns: Column of each chain joint among the ``n_columns``.
+        chain_columns: Column of each of the robot's tangent coordinates among the
+            ``n_columns``.
     """
 
     def __init__(self, robot: Robot, model: mujoco.MjModel, data: mujoco.MjData, full: bool):
@@ -40,7 +41,7 @@ class KinematicState:
         self._full = full
         self.n_columns = model.nv if full else robot.dof
         self.chain_columns = robot.dof_indices if full else np.arange(robot.dof)
-        self.q = np.zeros(robot.dof)
+        self.q = np.zeros(robot.nq)
         self._jacobians: dict[Frame, np.ndarray] = {}
         self._fresh: set[Frame] = set()
         # Views into data (its arrays never move), so reading a pose allocates nothing.
@@ -67,7 +68,7 @@ class KinematicState:
         return state
 
     def update(self, q: np.ndarray) -> None:
-        """Run forward kinematics at the chain values ``q`` (robot path only; no checks)."""
+        """Run forward kinematics at ``q`` (robot path only; no checks)."""
         self.robot.update(q)
         self.q[:] = q
         self._fresh.clear()
@@ -76,11 +77,7 @@ class KinematicState:
         """Views ``(R, p)`` of the frame's world rotation (3 × 3) and position (3,)."""
         views = self._views.get(frame)
         if views is None:
-            if frame.kind == "site":
-                xmat, xpos = self.data.site_xmat, self.data.site_xpos
-            else:
-                xmat, xpos = self.data.xmat, self.data.xpos
-            views = self._views[frame] = (xmat[frame.id].reshape(3, 3), xpos[frame.id])
+            views = self._views[frame] = frame_pose_views(self.data, frame)
         return views
 
     def jacobian(self, frame: Frame) -> np.ndarray:
@@ -93,8 +90,7 @@ class KinematicState:
         if not self._full:
             self.robot.world_jacobian_into(frame, J)
         else:
-            jac = mujoco.mj_jacSite if frame.kind == "site" else mujoco.mj_jacBody
-            jac(self.model, self.data, self._jacp, self._jacr, frame.id)
+            frame_jacobian(self.model, self.data, frame, self._jacp, self._jacr)
             J[:3] = self._jacp
             J[3:] = self._jacr
         self._fresh.add(frame)

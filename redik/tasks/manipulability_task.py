@@ -60,6 +60,11 @@ class ManipulabilityTask(Task):
             raise InvalidInput(f"gain must be finite and >= 0, got {gain}")
 
     def bind(self, robot: Robot) -> ManipulabilityTask:
+        if not robot.is_chain:
+            raise InvalidInput(
+                f"ManipulabilityTask's gradient is that of a serial chain; {robot!r} is a "
+                "whole-model robot: bind it to robot.chain(frame)"
+            )
         if robot.dof < 6:
             raise InvalidInput(
                 f"ManipulabilityTask needs at least 6 chain joints for det(J Jᵀ) > 0, "

@@ -1,4 +1,4 @@
-r"""Pull the chain towards a nominal posture: :math:`e = q - q_{nom}`, :math:`J = I`.
+r"""Pull the robot towards a nominal posture: :math:`e = q \ominus q_{nom}`, :math:`J = I`.
 
 Usually a low-priority regulariser: in a redundant arm it picks, among the joint steps
 that serve the higher levels equally well, the one that moves towards :math:`q_{nom}`.
@@ -16,11 +16,11 @@ from .joint_space_task import JointSpaceTask
 
 
 class PostureTask(JointSpaceTask):
-    """Drive the chain joints towards ``q_nominal``.
+    """Drive the robot's joints towards ``q_nominal`` (across ball and free joints too).
 
     Args:
-        q_nominal: The nominal chain configuration (``robot.dof``,); None is the robot's
-            ``home``, taken when the task is bound.
+        q_nominal: The nominal configuration (``robot.nq``,); None is the robot's ``home``,
+            taken when the task is bound.
         weight: Scalar or per-joint weight.
         gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
         priority: Priority level, 0 highest.
@@ -36,7 +36,7 @@ class PostureTask(JointSpaceTask):
         if self._q_nominal_given is None:
             self.reference = robot.home.copy()
         else:
-            self.reference = lie.as_vector(self._q_nominal_given, robot.dof, "q_nominal").copy()
+            self.reference = robot.clip(lie.as_vector(self._q_nominal_given, robot.nq, "q_nominal"))
         return self
 
     @property
@@ -47,5 +47,5 @@ class PostureTask(JointSpaceTask):
     def set_target(self, q_nominal) -> None:
         """Replace the nominal posture (validated against the bound robot)."""
         robot = self._require_robot()
-        self.reference = lie.as_vector(q_nominal, robot.dof, "q_nominal").copy()
+        self.reference = robot.clip(lie.as_vector(q_nominal, robot.nq, "q_nominal"))
         self.version += 1

@@ -1,0 +1,328 @@
+r"""Collision avoidance as a limit: a velocity damper on the distance between geom pairs.
+
+For a pair of geoms at signed distance :math:`d` (``mj_geomDistance``; negative when they
+penetrate) with nearest points :math:`p_1, p_2` and unit normal :math:`n` from geom 1 to
+geom 2 (flipped when they penetrate, so that :math:`d` grows along :math:`n`), a step
+:math:`Δq` changes the distance to first order by
+
+.. math::
+
+    Δd = n^\top \bigl(J_{p_2} - J_{p_1}\bigr) Δq ,
+
+with :math:`J_p` the translational Jacobian of the point :math:`p` fixed to its geom's body
+(``mj_jac``). The limit keeps every pair closer than the detection distance
+:math:`d_i` from approaching faster than a fraction :math:`ξ` of its remaining margin above
+the minimum distance :math:`d_s` (the velocity damper of Faverjon & Tournassoud, ICRA
+1987; Kanoun, Lamiraux & Wieber, IEEE T-RO 2011, §IV-B; mink's
+``CollisionAvoidanceLimit``):
+
+.. math::
+
+    -n^\top \bigl(J_{p_2} - J_{p_1}\bigr) Δq \;\le\; ξ\, (d - d_s) \qquad (d < d_i).
+
+Iterated, the margin :math:`d - d_s` can shrink at most geometrically, so the pair never
+comes closer than :math:`d_s` (to first order); a pair already inside the margin gets a
+positive lower bound on :math:`Δd` and is pushed back out at the same rate (mink holds it
+still instead). Pairs farther than :math:`d_i` give no row; a cheap bounding-sphere test
+(``geom_rbound``, MuJoCo's broad phase) skips most of them before ``mj_geomDistance``.
+Distances are computed on the robot's own ``MjData`` after the problem's forward
+kinematics; only the robot's moved joints get columns (:mod:`redik.robot`).
+
+The rows are hard: a :class:`redik.Problem` imposes them while solving every priority
+level, so no lower level (a posture, a second hand) can buy its objective with a
+collision.
+
+**Long steps.** The rows are first order and exist only for pairs closer than
+:math:`d_i`, so one long step (an iterative solve far from its target) could carry a
+geom through another. :meth:`CollisionAvoidanceLimit.admits` therefore checks the true
+distances of a trial configuration, and :meth:`redik.Problem.solve` halves the step until
+no pair ends closer than :math:`d_s` (or, for a pair already inside the margin, closer
+than it was): every iterate ``solve`` returns keeps the margin. ``Problem.step`` returns
+the damped step only, as mink does; at a control rate the steps are short.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import itertools
+from collections.abc import Sequence
+
+import mujoco
+import numpy as np
+
+from ..exceptions import InvalidInput, ModelError
+from ..robot import Robot
+from .limit import InequalityLimit
+
+GeomGroup = Sequence[str]
+"""Geom names, or body names standing for all of the body's geoms; ``fnmatch`` patterns
+(``"left_*"``) match geom and body names."""
+
+
+class CollisionAvoidanceLimit(InequalityLimit):
+    """Keep geom pairs at least ``minimum_distance`` apart.
+
+    Args:
+        geom_pairs: Pairs ``(group_a, group_b)`` of geom groups (geom or body names, or
+            patterns such as ``"left_*"``); every
+            geom of ``group_a`` is kept away from every geom of ``group_b`` (a group paired
+            with itself: self-collision within it); pairs MuJoCo would not collide
+            (``contype``/``conaffinity``, welded, parent and child) are dropped. None:
+            every pair of geoms that may
+            collide — passing MuJoCo's ``contype``/``conaffinity`` test, not on the same
+            or welded bodies, not on a parent and child body — of which at least one is
+            moved by the robot (self-collision and obstacles from the model's geoms),
+            less the pairs already closer than ``minimum_distance`` at the robot's
+            ``home`` (overlapping collision shapes of neighbouring links, which a URDF
+            often has: the "collide by default" pairs MoveIt's setup assistant disables).
+        minimum_distance: ``d_s`` (m), the distance to keep; ≥ 0.
+        detection_distance: ``d_i`` (m), the distance under which a pair is constrained;
+            > ``minimum_distance``.
+        gain: ``ξ ∈ (0, 1]``, the fraction of the margin a step may close.
+
+    Attributes:
+        pairs: The geom id pairs checked, once bound.
+    """
+
+    def __init__(
+        self,
+        geom_pairs: Sequence[tuple[GeomGroup, GeomGroup]] | None = None,
+        minimum_distance: float = 0.005,
+        detection_distance: float = 0.05,
+        gain: float = 0.5,
+    ):
+        minimum_distance, detection_distance, gain = (
+            float(minimum_distance),
+            float(detection_distance),
+            float(gain),
+        )
+        if not (np.isfinite(minimum_distance) and minimum_distance >= 0.0):
+            raise InvalidInput(f"minimum_distance must be finite and >= 0, got {minimum_distance}")
+        if not (np.isfinite(detection_distance) and detection_distance > minimum_distance):
+            raise InvalidInput(
+                f"detection_distance must be finite and > minimum_distance "
+                f"({minimum_distance}), got {detection_distance}"
+            )
+        if not 0.0 < gain <= 1.0:
+            raise InvalidInput(f"gain must be in (0, 1], got {gain}")
+        self.geom_pairs = geom_pairs
+        self.minimum_distance = minimum_distance
+        self.detection_distance = detection_distance
+        self.gain = gain
+        self.pairs = np.empty((0, 2), dtype=int)
+
+    def bind(self, robot: Robot, tolerance: float = 0.0) -> CollisionAvoidanceLimit:
+        model = robot.model
+        mover = _moving_ancestor(robot)
+        if self.geom_pairs is None:
+            candidates = itertools.combinations(range(model.ngeom), 2)
+            pairs = [
+                (a, b)
+                for a, b in candidates
+                if mover[model.geom_bodyid[a]] != mover[model.geom_bodyid[b]]
+                and _may_collide(model, a, b)
+            ]
+            pairs = _apart_at_home(robot, pairs, self.minimum_distance)
+        else:
+            pairs = []
+            for index, pair in enumerate(self.geom_pairs):
+                if len(pair) != 2:
+                    raise InvalidInput(
+                        f"geom_pairs[{index}] must be a pair of groups, got {pair!r}"
+                    )
+                group_a = _geom_ids(robot, pair[0], f"geom_pairs[{index}][0]")
+                group_b = _geom_ids(robot, pair[1], f"geom_pairs[{index}][1]")
+                for a, b in itertools.product(group_a, group_b):
+                    # Geoms that no joint of the robot moves apart keep their distance;
+                    # MuJoCo's filters (as mink applies them) drop the rest.
+                    if mover[model.geom_bodyid[a]] == mover[model.geom_bodyid[b]]:
+                        continue
+                    if not _may_collide(model, a, b):
+                        continue
+                    pairs.append((min(a, b), max(a, b)))
+            pairs = sorted(set(pairs))
+        self.pairs = np.array(pairs, dtype=int).reshape(-1, 2)
+        rbound = model.geom_rbound
+        self._bounded = (rbound[self.pairs[:, 0]] > 0.0) & (rbound[self.pairs[:, 1]] > 0.0)
+        self._radii = rbound[self.pairs[:, 0]] + rbound[self.pairs[:, 1]]
+        self._fromto = np.zeros(6)
+        self._floor = np.full(len(self.pairs), self.minimum_distance)
+        self._jac1 = np.zeros((3, model.nv))
+        self._jac2 = np.zeros((3, model.nv))
+        return super().bind(robot, tolerance)
+
+    def _candidates(self, data: mujoco.MjData, distmax: float) -> np.ndarray:
+        """Indices of the pairs whose bounding spheres are closer than ``distmax``."""
+        a, b = self.pairs[:, 0], self.pairs[:, 1]
+        gap = np.linalg.norm(data.geom_xpos[a] - data.geom_xpos[b], axis=1) - self._radii
+        return np.flatnonzero(~self._bounded | (gap < distmax))
+
+    def distances(self, distmax: float = 1.0) -> np.ndarray:
+        """Signed distance of every pair at the robot's current state (capped at
+        ``distmax``); call ``robot.update(q)`` (or ``fk``) first."""
+        self._require_bound()
+        data = self.robot.data
+        out = np.full(len(self.pairs), distmax)
+        for i in self._candidates(data, distmax):
+            a, b = self.pairs[i]
+            out[i] = mujoco.mj_geomDistance(self.robot.model, data, a, b, distmax, self._fromto)
+        return out
+
+    def minimum_distance_at(self, q: np.ndarray) -> tuple[float, tuple[str, str] | None]:
+        """``(d, (geom_a, geom_b))``: the closest pair at ``q`` (``d`` capped at 1 m)."""
+        self._require_bound()
+        robot = self.robot
+        robot.update(robot.check_q(q))
+        if len(self.pairs) == 0:
+            return 1.0, None
+        distances = self.distances()
+        i = int(np.argmin(distances))
+        names = tuple(_geom_name(robot.model, g) for g in self.pairs[i])
+        return float(distances[i]), names
+
+    def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
+        robot = self.robot
+        model, data = robot.model, robot.data
+        rows, bounds = [], []
+        fromto, jac1, jac2 = self._fromto, self._jac1, self._jac2
+        columns = robot.dof_indices
+        self._floor.fill(self.minimum_distance)
+        for i in self._candidates(data, self.detection_distance):
+            a, b = self.pairs[i]
+            d = mujoco.mj_geomDistance(model, data, a, b, self.detection_distance, fromto)
+            if d >= self.detection_distance:
+                continue
+            self._floor[i] = min(self.minimum_distance, d)
+            normal = fromto[3:] - fromto[:3]
+            length = float(np.linalg.norm(normal))
+            if length < 1e-12:  # touching: separate the geom centres instead
+                normal = data.geom_xpos[b] - data.geom_xpos[a]
+                length = float(np.linalg.norm(normal))
+                if length < 1e-12:
+                    continue
+            elif d < 0.0:
+                normal = -normal  # penetrating: the nearest points are crossed over
+            normal = normal / length
+            mujoco.mj_jac(model, data, jac1, None, fromto[:3], model.geom_bodyid[a])
+            mujoco.mj_jac(model, data, jac2, None, fromto[3:], model.geom_bodyid[b])
+            row = -(normal @ (jac2 - jac1))[columns]
+            rows.append(row)
+            bounds.append(self.gain * (d - self.minimum_distance))
+        if not rows:
+            return None
+        return np.array(rows), np.array(bounds)
+
+    def admits(self) -> bool:
+        """No pair closer than ``minimum_distance`` at the current state, unless it was
+        already closer at the last linearisation and has not come closer still."""
+        robot = self.robot
+        model, data = robot.model, robot.data
+        tolerance = 1e-6  # 1 µm: what a distance query resolves on meshes
+        for i in self._candidates(data, self.minimum_distance):
+            a, b = self.pairs[i]
+            d = mujoco.mj_geomDistance(model, data, a, b, self.minimum_distance, self._fromto)
+            if d < self._floor[i] - tolerance:
+                return False
+        return True
+
+    def _require_bound(self) -> None:
+        if self.robot is None:
+            raise InvalidInput(
+                "CollisionAvoidanceLimit is not bound: pass it to a redik.Problem or call "
+                "limit.bind(robot) first"
+            )
+
+
+def _geom_name(model: mujoco.MjModel, geom: int) -> str:
+    """The geom's name, else ``"<body>#<id>"`` (URDF collision geoms have no name)."""
+    name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, geom)
+    if name:
+        return name
+    body = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, model.geom_bodyid[geom])
+    return f"{body or 'world'}#{geom}"
+
+
+def _moving_ancestor(robot: Robot) -> np.ndarray:
+    """Per body: the nearest body (itself or an ancestor) with a joint of the robot, 0 if
+    none. Two bodies with the same one move as one rigid body under the robot's joints."""
+    model = robot.model
+    joint_body = set(int(model.jnt_bodyid[j]) for j in robot.joint_ids)
+    mover = np.zeros(model.nbody, dtype=int)
+    for body in range(1, model.nbody):  # parents come before children in MuJoCo
+        mover[body] = body if body in joint_body else mover[model.body_parentid[body]]
+    return mover
+
+
+def _apart_at_home(
+    robot: Robot, pairs: list[tuple[int, int]], distance: float
+) -> list[tuple[int, int]]:
+    """The pairs at least ``distance`` apart at ``robot.home`` (held joints as held)."""
+    data = mujoco.MjData(robot.model)
+    data.qpos[:] = robot.full_qpos(robot.home)
+    mujoco.mj_kinematics(robot.model, data)
+    fromto = np.zeros(6)
+    return [
+        (a, b)
+        for a, b in pairs
+        if mujoco.mj_geomDistance(robot.model, data, a, b, distance + 1e-6, fromto) >= distance
+    ]
+
+
+def _welded(model: mujoco.MjModel, a: int, b: int) -> bool:
+    return model.body_weldid[model.geom_bodyid[a]] == model.body_weldid[model.geom_bodyid[b]]
+
+
+def _may_collide(model: mujoco.MjModel, a: int, b: int) -> bool:
+    """MuJoCo's own filters: contype/conaffinity, same weld, parent–child welds."""
+    if not (
+        model.geom_contype[a] & model.geom_conaffinity[b]
+        or model.geom_contype[b] & model.geom_conaffinity[a]
+    ):
+        return False
+    if _welded(model, a, b):
+        return False
+    weld_a = model.body_weldid[model.geom_bodyid[a]]
+    weld_b = model.body_weldid[model.geom_bodyid[b]]
+    parent_a = model.body_weldid[model.body_parentid[weld_a]]
+    parent_b = model.body_weldid[model.body_parentid[weld_b]]
+    # MuJoCo skips parent–child contacts unless the parent is the world (obstacles).
+    return not ((parent_a == weld_b and weld_b != 0) or (parent_b == weld_a and weld_a != 0))
+
+
+def _geom_ids(robot: Robot, group: GeomGroup, where: str) -> list[int]:
+    """Geom ids of a group of geom or body names."""
+    if isinstance(group, str):
+        group = [group]
+    model = robot.model
+    ids: list[int] = []
+    for name in group:
+        if not isinstance(name, str):
+            raise InvalidInput(f"{where}: a geom group holds names, got {name!r}")
+        if any(char in name for char in "*?["):
+            matched = [
+                g
+                for g in range(model.ngeom)
+                if fnmatch.fnmatchcase(
+                    mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or "", name
+                )
+                or fnmatch.fnmatchcase(
+                    mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, model.geom_bodyid[g]) or "",
+                    name,
+                )
+            ]
+            if not matched:
+                raise ModelError(f"{where}: no geom or body matches {name!r} in {robot.name!r}")
+            ids.extend(matched)
+            continue
+        geom = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name)
+        if geom >= 0:
+            ids.append(geom)
+            continue
+        body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
+        if body < 0:
+            raise ModelError(f"{where}: no geom or body named {name!r} in model {robot.name!r}")
+        body_geoms = np.flatnonzero(model.geom_bodyid == body).tolist()
+        if not body_geoms:
+            raise ModelError(f"{where}: body {name!r} has no geom")
+        ids.extend(body_geoms)
+    return ids

@@ -1,0 +1,375 @@
+"""The subproblem-decomposition solver (redik.analytic.decomposed) on bundled and generated arms.
+
+Every solution must reproduce the target by MuJoCo's FK (robot.fk, independent of the screw
+chain the solver reads), include the configuration that generated the target, equal the PUMA
+and UR solvers' sets where those apply, and equal what many random-seeded iterative solves
+find (nothing missed, nothing extra).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import redik
+from redik import analytic
+from redik.analytic import decomposed, wrap_angle
+from redik.analytic.decomposed import Chain
+from redik.analytic.puma import dh_rows as puma_rows
+from redik.analytic.ur import UR5E
+from redik.analytic.ur import dh_rows as ur_rows
+from redik.dh import DHRow
+from redik.exceptions import InvalidInput, InvalidPose, ModelError, NearRotationWarning
+from redik.pose_ik import solve_all
+
+FULL_TURN = [(-np.pi, np.pi)] * 6
+FK_TOL = 1e-9
+
+
+def _distance(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.abs(wrap_angle(np.asarray(a) - np.asarray(b))).max())
+
+
+def _same_set(first: np.ndarray, second: np.ndarray, tol: float, count: bool = True) -> bool:
+    """Every member of each set is within ``tol`` of one of the other (and, with ``count``,
+    the sets have the same size)."""
+    if count and len(first) != len(second):
+        return False
+    return all(min(_distance(a, b) for b in second) <= tol for a in first) and all(
+        min(_distance(a, b) for a in first) <= tol for b in second
+    )
+
+
+def _screw_robot(axes, points, M, name: str) -> redik.Robot:
+    axes = np.asarray(axes, dtype=float)
+    points = np.asarray(points, dtype=float)
+    S = np.vstack([axes.T, np.cross(-axes, points).T])
+    return redik.Robot.from_screws(S, M, limits=FULL_TURN, name=name)
+
+
+def _reversed_robot(robot: redik.Robot, name: str) -> redik.Robot:
+    """The arm run backwards (its tool becomes the base): a spherical wrist becomes a
+    spherical shoulder."""
+    S, M = decomposed.screws_of(robot)
+    chain = Chain.from_screws(S, M).reversed()
+    return _screw_robot(chain.h, chain.a, chain.M, name)
+
+
+def _wrist_arm(rng: np.random.Generator, wrist: str) -> redik.Robot:
+    """An elbow arm (waist z, shoulder and elbow y, shoulder axes meeting) with random link
+    lengths and a spherical wrist of the given Euler convention."""
+    base, upper, fore, tool = rng.uniform(0.1, 0.6, 4)
+    offset = rng.uniform(-0.2, 0.2)
+    unit = {"X": (1, 0, 0), "Y": (0, 1, 0), "Z": (0, 0, 1)}
+    centre = (upper + fore, offset, base)
+    axes = [(0, 0, 1), (0, 1, 0), (0, 1, 0)] + [unit[c] for c in wrist]
+    points = [(0, 0, 0), (0, 0, base), (upper, offset, base), centre, centre, centre]
+    M = np.eye(4)
+    M[:3, 3] = (upper + fore + tool, offset, base)
+    return _screw_robot(axes, points, M, f"elbow_{wrist.lower()}")
+
+
+def _dh_robot(rows, name: str) -> redik.Robot:
+    return redik.Robot.from_dh(rows, limits=FULL_TURN, name=name)
+
+
+def _offset_elbow(rng: np.random.Generator) -> redik.Robot:
+    """Axes 2 ∥ 3 and a shoulder offset a1 (axes 1 and 2 do not meet: IRB-type)."""
+    a1, d1, a2, a3, d4, d6 = rng.uniform(0.05, 0.6, 6)
+    half = np.pi / 2
+    rows = (
+        DHRow(a1, d1, -half),
+        DHRow(a2, 0.0, 0.0),
+        DHRow(a3, 0.0, -half),
+        DHRow(0.0, d4, half),
+        DHRow(0.0, 0.0, -half),
+        DHRow(0.0, d6, 0.0),
+    )
+    return _dh_robot(rows, "offset_elbow")
+
+
+def _general_spherical(rng: np.random.Generator) -> redik.Robot:
+    """Random skew first three axes (no two meeting or parallel) and a spherical wrist."""
+    a = rng.uniform(0.1, 0.5, 3)
+    d = rng.uniform(-0.3, 0.3, 3)
+    alpha = rng.uniform(0.3, 1.3, 3) * rng.choice([-1.0, 1.0], 3)
+    rows = (
+        DHRow(a[0], d[0], alpha[0]),
+        DHRow(a[1], d[1], alpha[1]),
+        DHRow(a[2], d[2], alpha[2]),
+        DHRow(0.0, rng.uniform(0.2, 0.5), np.pi / 2),
+        DHRow(0.0, 0.0, -np.pi / 2),
+        DHRow(0.0, rng.uniform(0.05, 0.2), 0.0),
+    )
+    return _dh_robot(rows, "skew_spherical")
+
+
+def _random_puma(rng: np.random.Generator) -> tuple[redik.Robot, tuple]:
+    params = (rng.uniform(0.2, 0.6), rng.uniform(-0.1, 0.1), rng.uniform(-0.2, 0.2))
+    params = (params[0], params[1], params[2], rng.uniform(0.2, 0.6))
+    return _dh_robot(puma_rows(*params), "random_puma"), params
+
+
+def _random_ur(rng: np.random.Generator) -> tuple[redik.Robot, tuple]:
+    d1, d4, d5, d6 = rng.uniform(0.05, 0.2, 4)
+    a2, a3 = -rng.uniform(0.2, 0.6, 2)
+    params = (d1, a2, a3, d4, d5, d6)
+    return _dh_robot(ur_rows(*params), "random_ur"), params
+
+
+def _check_poses(robot: redik.Robot, n_poses: int, seed: int) -> list[tuple[np.ndarray, object]]:
+    """Every solution reproduces the pose by MuJoCo's FK and the generating q is among them;
+    raw and labelled paths agree. Returns (T, solutions) per pose."""
+    solver = analytic.solver_for(robot)
+    rng = np.random.default_rng(seed)
+    results = []
+    for _ in range(n_poses):
+        q_true = robot.random_q(rng)
+        T = robot.fk(q_true)
+        solutions = solver(T, limits=None)
+        assert solutions.reachable and len(solutions) >= 1
+        for q in solutions:
+            assert np.abs(robot.fk(q.q) - T).max() <= FK_TOL, (robot.name, q)
+        assert min(_distance(q, q_true) for q in solutions) <= 1e-7, robot.name
+        assert len(set(solutions.labels)) == len(solutions)
+        assert _same_set(solver.raw(T, limits=None), solutions.as_array(), 1e-12)
+        results.append((T, solutions))
+    return results
+
+
+@pytest.mark.parametrize(
+    ("name", "kind"),
+    [("puma560", "spherical_two_intersecting"), ("ur5e", "three_parallel_two_intersecting")],
+)
+def test_bundled_6r_scenes_equal_their_dedicated_solvers(name, kind):
+    robot = redik.load(name)
+    generic = analytic.solver_for(robot, "decomposed")
+    dedicated = analytic.solver_for(robot)
+    assert generic.kind == kind and not generic.reversed
+    rng = np.random.default_rng(14)
+    for _ in range(20):
+        T = robot.fk(robot.random_q(rng))
+        for limits in ("robot", None):
+            ours = generic(T, limits=limits).as_array()
+            theirs = dedicated(T, limits=limits).as_array()
+            assert _same_set(ours, theirs, 1e-9)
+            assert _same_set(generic.raw(T, limits=limits), theirs, 1e-9)
+
+
+def test_random_puma_arms_equal_the_puma_solver():
+    rng = np.random.default_rng(1)
+    for _ in range(4):
+        robot, params = _random_puma(rng)
+        for T, solutions in _check_poses(robot, 5, seed=int(rng.integers(1 << 30))):
+            reference = analytic.puma(T, *params)
+            assert _same_set(solutions.as_array(), reference.as_array(), 1e-9)
+
+
+def test_random_ur_arms_equal_the_ur_solver():
+    rng = np.random.default_rng(2)
+    for _ in range(4):
+        robot, params = _random_ur(rng)
+        assert analytic.solver_for(robot).kind == "three_parallel_two_intersecting"
+        for T, solutions in _check_poses(robot, 5, seed=int(rng.integers(1 << 30))):
+            reference = analytic.ur(T, *params)
+            assert _same_set(solutions.as_array(), reference.as_array(), 1e-9)
+
+
+@pytest.mark.parametrize("wrist", ["ZYZ", "ZYX", "ZXZ"])
+def test_elbow_arms_from_screws_with_each_wrist_convention(wrist):
+    rng = np.random.default_rng(len(wrist) + ord(wrist[1]))
+    for _ in range(3):
+        robot = _wrist_arm(rng, wrist)
+        assert analytic.solver_for(robot).kind == "spherical_two_intersecting"
+        for _, solutions in _check_poses(robot, 5, seed=int(rng.integers(1 << 30))):
+            assert len(solutions) == 8
+
+
+def test_offset_elbow_arms_use_the_two_parallel_class():
+    rng = np.random.default_rng(3)
+    for _ in range(4):
+        robot = _offset_elbow(rng)
+        assert analytic.solver_for(robot).kind == "spherical_two_parallel"
+        _check_poses(robot, 5, seed=int(rng.integers(1 << 30)))
+
+
+def test_skew_arms_with_a_spherical_wrist_use_the_search():
+    rng = np.random.default_rng(4)
+    for _ in range(3):
+        robot = _general_spherical(rng)
+        assert analytic.solver_for(robot).kind == "spherical"
+        _check_poses(robot, 4, seed=int(rng.integers(1 << 30)))
+
+
+def test_reversed_arms_spherical_shoulder_and_three_parallel_at_the_tool():
+    rng = np.random.default_rng(5)
+    for builder, kind in ((_random_puma, "spherical_two_intersecting"), (_random_ur, None)):
+        forward_robot, _ = builder(rng)
+        robot = _reversed_robot(forward_robot, "reversed")
+        solver = analytic.solver_for(robot)
+        if kind is not None:
+            assert (solver.kind, solver.reversed) == (kind, True)
+        _check_poses(robot, 5, seed=int(rng.integers(1 << 30)))
+
+
+def _reversed_puma(rng: np.random.Generator) -> redik.Robot:
+    return _reversed_robot(_random_puma(rng)[0], "spherical_shoulder")
+
+
+@pytest.mark.parametrize(
+    "builder",
+    [
+        _offset_elbow,
+        _general_spherical,
+        lambda rng: _wrist_arm(rng, "ZYX"),
+        lambda rng: _random_ur(rng)[0],
+        _reversed_puma,
+    ],
+    ids=["offset_elbow", "skew_spherical", "elbow_zyx", "random_ur", "spherical_shoulder"],
+)
+def test_solution_set_equals_many_random_seeded_iterative_solves(builder):
+    rng = np.random.default_rng(6)
+    robot = builder(rng)
+    solver = analytic.solver_for(robot)
+    for index in range(2):
+        T = robot.fk(robot.random_q(rng))
+        analytic_set = solver(T).as_array()
+        iterative = np.array([r.q for r in solve_all(robot, T, n_starts=120, seed=index)])
+        for q in iterative:
+            assert np.abs(robot.fk(q) - T).max() < 1e-5
+        # Iterative solutions converge to 1e-6 m / 1e-5 rad; near a singularity (the elbow
+        # almost folded) their joints are then only good to ~1e-3 and one solution can leave
+        # two clusters, so the sizes are not compared and the distance allows 5e-3.
+        assert _same_set(iterative, analytic_set, 5e-3, count=False), (
+            f"{robot.name}: solve_all found {len(iterative)}, closed form {len(analytic_set)}"
+        )
+
+
+def test_wrist_singularity_gives_a_family_whose_members_reach_the_target():
+    robot = _wrist_arm(np.random.default_rng(7), "ZYZ")
+    solver = analytic.solver_for(robot)
+    T = robot.fk(np.array([0.3, -0.4, 0.9, 0.5, 0.0, -0.2]))  # θ5 = 0: axes 4 and 6 aligned
+    solutions = solver(T, limits=None)
+    assert solutions.singular and solutions.families
+    family = solutions.families[0]
+    assert family.free == (3,)
+    for t in (-2.0, 0.0, 1.3):
+        member = family.at(t)
+        assert abs(wrap_angle(member[3] - t)) < 1e-12
+        assert np.abs(robot.fk(member) - T).max() <= FK_TOL
+
+
+def test_unreachable_target_is_empty_with_a_reason():
+    robot = redik.load("puma560")
+    solver = analytic.solver_for(robot, "decomposed")
+    T = robot.fk(robot.home)
+    T[:3, 3] = (3.0, 0.0, 0.0)
+    result = solver(T)
+    assert not result.reachable and len(result) == 0 and "no branch" in result.reason
+    assert solver.raw(T).shape == (0, 6)
+
+
+def test_joint_limits_filter_like_the_dedicated_solver():
+    robot = redik.load("ur5e")
+    solver = analytic.solver_for(robot, "decomposed")
+    T = robot.fk(robot.random_q(np.random.default_rng(8)))
+    lower, upper = np.full(6, -1.0), np.full(6, 1.0)
+    ours = solver(T, limits=(lower, upper)).as_array()
+    theirs = analytic.solver_for(robot)(T, limits=(lower, upper)).as_array()
+    assert _same_set(ours, theirs, 1e-9)
+    assert all(np.all((q >= lower) & (q <= upper)) for q in solver.raw(T, limits=(lower, upper)))
+
+
+def test_bad_input_is_refused_with_redik_errors():
+    solver = analytic.solver_for(redik.load("ur5e"), "decomposed")
+    T = np.eye(4)
+    T[0, 0] = np.nan
+    with pytest.raises(InvalidInput):
+        solver(T)
+    with pytest.raises(InvalidInput):
+        solver.raw(T)
+    skewed = np.eye(4)
+    skewed[0, 1] = 0.3
+    with pytest.raises(InvalidPose):
+        solver.raw(skewed)
+    with pytest.raises(InvalidInput):
+        solver.raw(np.eye(3))
+    with pytest.raises(InvalidInput):
+        solver(np.eye(4), limits="none")
+    with pytest.raises(InvalidInput):
+        solver.raw(np.eye(4), limits="none")
+
+
+def test_a_near_rotation_is_projected_with_a_warning_on_both_paths():
+    robot = redik.load("ur5e")
+    solver = analytic.solver_for(robot, "decomposed")
+    T = robot.fk(robot.random_q(np.random.default_rng(11)))
+    typed = T.copy()
+    typed[:3, :3] = np.round(T[:3, :3], 4)  # a rotation typed with 4 decimals
+    with pytest.warns(NearRotationWarning):
+        raw = solver.raw(typed, limits=None)
+    with pytest.warns(NearRotationWarning):
+        labelled = solver(typed, limits=None)
+    assert len(raw) >= 1 and _same_set(raw, labelled.as_array(), 1e-12)
+    assert all(np.abs(robot.fk(q)[:3, 3] - T[:3, 3]).max() < 1e-3 for q in raw)
+
+
+def test_arms_without_a_decomposition_are_refused():
+    with pytest.raises(ModelError, match="prismatic"):
+        analytic.solver_for(redik.load("stanford_arm"), "decomposed")
+    with pytest.raises(InvalidInput, match="no closed-form solver for 'panda'"):
+        analytic.solver_for(redik.load("panda"))
+    rng = np.random.default_rng(9)
+    rows = tuple(
+        DHRow(rng.uniform(0.1, 0.4), rng.uniform(-0.2, 0.2), rng.uniform(0.3, 1.2))
+        for _ in range(6)
+    )
+    with pytest.raises(ModelError, match="no closed-form decomposition"):
+        analytic.solver_for(_dh_robot(rows, "general_6r"))
+
+
+def test_ur5e_parameters_reach_eight_solutions():
+    robot = _dh_robot(ur_rows(*UR5E), "ur5e_dh")
+    counts = [len(s) for _, s in _check_poses(robot, 10, seed=10)]
+    assert max(counts) == 8
+
+
+def test_wrist_centre_on_the_first_axis_leaves_theta1_free():
+    base, upper, fore, tool = 0.3, 0.4, 0.35, 0.1
+    centre = (upper + fore, 0, base)
+    axes = [(0, 0, 1), (0, 1, 0), (0, 1, 0), (0, 0, 1), (0, 1, 0), (0, 0, 1)]
+    points = [(0, 0, 0), (0, 0, base), (upper, 0, base), centre, centre, centre]
+    M = np.eye(4)
+    M[:3, 3] = (upper + fore, 0, base + tool)
+    robot = _screw_robot(axes, points, M, "elbow_zyz")
+    T = robot.fk(np.array([0.2, 0.3, 0.9, 0.4, 0.8, -0.3]))
+    T[:3, 3] = np.array([0, 0, base + 0.5]) + T[:3, :3] @ np.array([0, 0, tool])
+    solutions = analytic.solver_for(robot)(T, limits=None)
+    assert len(solutions) == 4 and len(solutions.families) == 4
+    for family in solutions.families:
+        assert family.free == (0,)
+        for t in (-1.0, 0.5, 2.5):
+            member = family.at(t)
+            assert abs(wrap_angle(member[0] - t)) < 1e-12
+            assert np.abs(robot.fk(member) - T).max() <= FK_TOL
+
+
+def test_ur_wrist_singularity_is_polished_and_equals_the_ur_solver():
+    """θ5 = 0 makes SP4 ill-conditioned (θ5 to √ε); the Gauss–Newton polish restores it."""
+    robot = redik.load("ur5e")
+    T = robot.fk(np.array([0.3, -1.0, 1.2, 0.4, 0.0, 0.7]))
+    ours = analytic.solver_for(robot, "decomposed")(T, limits=None)
+    theirs = analytic.solver_for(robot)(T, limits=None)
+    regular = np.array([q.q for q in ours if not q.singular])
+    assert _same_set(regular, np.array([q.q for q in theirs if not q.singular]), 1e-9)
+    # The singular representatives differ (θ6 is arbitrary): each of the UR solver's is the
+    # member of one of our families at its θ6.
+    assert len(ours.families) == 2 == len(theirs.families)
+    for q in (q for q in theirs if q.singular):
+        assert min(_distance(f.at(q[5]), q) for f in ours.families) < 1e-7
+    for family in ours.families:
+        assert family.free == (5,)
+        for t in (-1.0, 2.0):
+            member = family.at(t)
+            assert abs(wrap_angle(member[5] - t)) < 1e-12
+            assert np.abs(robot.fk(member) - T).max() <= FK_TOL
