@@ -401,6 +401,8 @@ class _Run:
             fd_step = positive(fd_step, "fd_step")
         self.x_d = _finite_vector(x_d, "x_d")
         self.q = _finite_vector(q0, "q0").copy()
+        if self.q.size == 0:
+            raise InvalidInput("q0 must hold at least one joint value, got an empty vector")
         self.f = f
         self.jac = jac
         self.fd_step, self.fd_scheme = fd_step, fd_scheme

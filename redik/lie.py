@@ -34,6 +34,13 @@ matrix ``M`` with ``d = max|MᵀM − I|``:
 
 The bottom row of a pose must be ``[0, 0, 0, 1]`` within 1e-6 in both modes, and its
 translation within ±:data:`MAX_COORDINATE` (1e10 m, MuJoCo's ``mjMAXVAL``).
+
+Validation happens once, at the boundary: :func:`as_rotation`, :func:`as_pose`,
+:func:`as_vector`, :func:`as_quaternion`, :func:`check_rotations`, :func:`real_array` (and
+:func:`wrap_angle`, :func:`closest_rotation`, :func:`rotation_defect`, which refuse
+non-numeric input) raise :class:`~redik.exceptions.InvalidInput` subclasses. The maps
+(``exp``/``log``, adjoint, inverse, metrics, interpolation) sit in solver loops and, like
+MuJoCo's ``mju_*``, take validated float input unchecked.
 """
 
 from __future__ import annotations
@@ -89,7 +96,7 @@ def _rotation_defect(R: np.ndarray) -> tuple[float, float]:
 def rotation_defect(R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(max|RᵀR − I|, det R)`` of a (..., 3, 3) stack, each of shape (...): how far each
     matrix is from SO(3), as the tolerance policy above measures it."""
-    R = np.asarray(R, dtype=float)
+    R = _matrix_stack(R, "R")
     with np.errstate(invalid="ignore", over="ignore"):
         gram = np.einsum("...ki,...kj->...ij", R, R) - np.eye(3)
         return np.abs(gram).max(axis=(-2, -1)), np.linalg.det(R)
@@ -103,9 +110,20 @@ def closest_rotation(R: np.ndarray) -> np.ndarray:
     Higham, *Matrix nearness problems*, 1989, §3; Umeyama, IEEE TPAMI 13(4), 1991, for the
     determinant sign). For ``det R > 0`` it is the orthogonal polar factor ``R (RᵀR)^{-1/2}``.
     """
-    U, _, Vt = np.linalg.svd(np.asarray(R, dtype=float))
+    R = _matrix_stack(R, "R")
+    if not np.isfinite(R).all():
+        raise InvalidRotation(f"R must be finite to be projected onto SO(3), got {R.tolist()}")
+    U, _, Vt = np.linalg.svd(R)
     U[..., :, 2] *= np.where(np.linalg.det(U @ Vt) < 0.0, -1.0, 1.0)[..., None]
     return U @ Vt
+
+
+def _matrix_stack(R: object, name: str) -> np.ndarray:
+    """``R`` as a float (..., 3, 3) array, or :class:`InvalidRotation` naming its shape."""
+    R = real_array(R, name, InvalidRotation)
+    if R.ndim < 2 or R.shape[-2:] != (3, 3):
+        raise InvalidRotation(f"{name} must have shape (..., 3, 3), got {R.shape}")
+    return R
 
 
 def _refusal(name: str, defect: float, det: float, strict: bool) -> str:
@@ -154,7 +172,9 @@ def check_rotations(
     projected (one warning for all of them); ``accepted`` (B,) is False for the refused
     matrices (left unchanged).
     """
-    R = np.asarray(R, dtype=float)
+    R = _matrix_stack(R, name)
+    if R.ndim != 3:
+        raise InvalidRotation(f"{name} must have shape (B, 3, 3), got {R.shape}")
     defect, det = rotation_defect(R)
     with np.errstate(invalid="ignore"):
         exact = (defect <= ROTATION_TOLERANCE) & (np.abs(det - 1.0) <= ROTATION_TOLERANCE)
@@ -504,7 +524,7 @@ def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
     if isinstance(angle, float | int) and not isinstance(angle, bool):
         r = math.fmod(angle, _TWO_PI) if math.isfinite(angle) else math.nan
         return r - _TWO_PI if r > math.pi else (r + _TWO_PI if r <= -math.pi else r)
-    a = np.asarray(angle, dtype=float)
+    a = real_array(angle, "angle")
     with np.errstate(invalid="ignore"):
         r = np.fmod(a, _TWO_PI)
         wrapped = np.where(r > math.pi, r - _TWO_PI, np.where(r <= -math.pi, r + _TWO_PI, r))

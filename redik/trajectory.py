@@ -36,6 +36,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from ._validate import positive
 from .exceptions import InvalidInput
 from .lie import as_pose, interpolate_pose, pose_errors, real_array, so3_exp
 from .pose_ik import solve_pose
@@ -43,6 +44,9 @@ from .result import IKResult
 from .robot import Robot
 
 TIME_SCALINGS = ("linear", "cubic", "quintic")
+
+MAX_SAMPLES = 10_000_000
+"""Most samples :meth:`Path.sample_times` returns (10⁷: 16 GB of poses, a day at 100 Hz)."""
 
 Solver = Callable[[np.ndarray, np.ndarray], IKResult]
 """``solver(T_target, q_start) -> IKResult``: one IK solve warm-started at ``q_start``."""
@@ -75,9 +79,14 @@ class Path:
 
     def sample_times(self, rate: float) -> np.ndarray:
         """Times at ``rate`` Hz from the start to the end, both included."""
-        if not rate > 0.0:
-            raise InvalidInput(f"rate must be positive (Hz), got {rate!r}")
-        count = int(np.ceil(self.duration * rate - 1e-9))
+        rate = positive(rate, "rate", unit="Hz")
+        count = float(np.ceil(self.duration * rate - 1e-9))
+        if not count < MAX_SAMPLES:
+            raise InvalidInput(
+                f"{self.duration:g} s at {rate:g} Hz is {count:.3g} samples, more than "
+                f"MAX_SAMPLES = {MAX_SAMPLES:g}"
+            )
+        count = int(count)
         return np.linspace(self.start_time, self.end_time, count + 1)
 
     def sample(self, rate: float) -> tuple[np.ndarray, np.ndarray]:

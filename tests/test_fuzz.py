@@ -30,13 +30,13 @@ from redik.analytic import BatchSolutions, IKSolutions
 from redik.result import STATUSES
 
 FUZZ = settings(
-    max_examples=120,
+    max_examples=250,
     deadline=None,
     derandomize=True,
     database=None,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
 )
-SLOW = settings(FUZZ, max_examples=40)
+SLOW = settings(FUZZ, max_examples=80)
 
 EXTREMES = [math.nan, math.inf, -math.inf, 1e300, -1e300, 1e-300, -1e-300, 0.0, -0.0, 1e-12]
 
@@ -112,8 +112,16 @@ def check_result(out: object, robot: redik.Robot | None = None, limited: bool = 
         _finite(out, "returned array")
 
 
-def holds(call: Callable[[], object], robot: redik.Robot | None = None, limited: bool = True):
-    """Run ``call`` under the contract; the result, or None when it raised a RedikError."""
+def holds(
+    call: Callable[[], object],
+    robot: redik.Robot | None = None,
+    limited: bool = True,
+    elementwise: bool = False,
+):
+    """Run ``call`` under the contract; the result, or None when it raised a RedikError.
+
+    ``elementwise`` marks a numeric function (``wrap_angle``, ``rotation_defect``) that maps
+    NaN to NaN by design: its output is then not checked for finiteness."""
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # a stray RuntimeWarning/ComplexWarning is a failure
         warnings.simplefilter("ignore", redik.RedikWarning)  # documented repairs
@@ -123,7 +131,8 @@ def holds(call: Callable[[], object], robot: redik.Robot | None = None, limited:
             event(f"refused: {type(error).__name__}")
             return None
     event(f"returned {type(out).__name__}")
-    check_result(out, robot, limited)
+    if not elementwise:
+        check_result(out, robot, limited)
     return out
 
 
@@ -265,6 +274,10 @@ def test_lie_validators(R, T, strict):
     holds(lambda: lie.as_pose(T, strict=strict))
     holds(lambda: lie.as_vector(R, 3, "x"))
     holds(lambda: lie.as_quaternion(R))
+    holds(lambda: lie.closest_rotation(R))
+    holds(lambda: lie.rotation_defect(T), elementwise=True)
+    holds(lambda: lie.check_rotations(np.asarray(R)[None] if isinstance(R, np.ndarray) else R))
+    holds(lambda: lie.wrap_angle(R), elementwise=True)
 
 
 @FUZZ
@@ -707,3 +720,20 @@ def test_explore_self_motion_refuses_junk_options(panda):
     for kwargs, message in bad:
         with pytest.raises(redik.InvalidInput, match=message):
             redik.explore_self_motion(panda, T, n_starts=1, **kwargs)
+
+
+def test_path_sampling_refuses_an_infinite_rate_or_too_many_samples():
+    # Found by test_cartesian_path_and_follow_path at 250 examples: rate=inf raised
+    # OverflowError (int of inf); times [0, 1e300] would allocate 1e302 samples.
+    path = redik.CartesianPath([np.eye(4), np.eye(4)])
+    with pytest.raises(redik.InvalidInput, match="rate must be a finite positive number"):
+        path.sample(math.inf)
+    with pytest.raises(redik.InvalidInput, match="MAX_SAMPLES"):
+        redik.CartesianPath([np.eye(4), np.eye(4)], [0.0, 1e300]).sample(1.0)
+
+
+def test_newton_refuses_an_empty_q0():
+    # Found by test_newton_and_gradient at 250 examples: q0=[] gave a 2 × 0 Jacobian and a
+    # raw numpy ValueError inside np.linalg.solve.
+    with pytest.raises(redik.InvalidInput, match="q0 must hold at least one"):
+        redik.newton(lambda q: np.array([1.0, 2.0]), [0.0, 1.0], [])

@@ -359,3 +359,20 @@ def test_analytic_wraps_with_the_same_function():
     from redik import analytic
 
     assert analytic.wrap_angle is lie.wrap_angle
+
+
+def test_the_policy_helpers_refuse_non_numeric_input():
+    # Found by the fuzzing of lie's public helpers: np.linalg.svd / np.fmod raised raw
+    # TypeErrors and ValueErrors on strings, None and ragged lists.
+    for junk in ("", None, [[1.0], [2.0, 3.0]], np.zeros(3) + 1j):
+        for helper in (lie.closest_rotation, lie.rotation_defect, lie.check_rotations):
+            with pytest.raises(InvalidRotation):
+                helper(junk)
+        with pytest.raises(InvalidInput, match="angle"):
+            lie.wrap_angle(junk)
+    with pytest.raises(InvalidRotation, match=r"\(\.\.\., 3, 3\)"):
+        lie.closest_rotation(np.eye(4))
+    with pytest.raises(InvalidRotation, match="finite"):
+        lie.closest_rotation(np.full((3, 3), np.nan))
+    with pytest.raises(InvalidRotation, match=r"\(B, 3, 3\)"):
+        lie.check_rotations(np.eye(3))
