@@ -524,10 +524,15 @@ def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
     if isinstance(angle, float | int) and not isinstance(angle, bool):
         r = math.fmod(angle, _TWO_PI) if math.isfinite(angle) else math.nan
         return r - _TWO_PI if r > math.pi else (r + _TWO_PI if r <= -math.pi else r)
-    a = real_array(angle, "angle")
+    a = (
+        angle
+        if type(angle) is np.ndarray and angle.dtype == np.float64
+        else real_array(angle, "angle")
+    )
     with np.errstate(invalid="ignore"):
         r = np.fmod(a, _TWO_PI)
-        wrapped = np.where(r > math.pi, r - _TWO_PI, np.where(r <= -math.pi, r + _TWO_PI, r))
+        # k·2π with k ∈ {−1, 0, 1} is exact, and so is r − k·2π.
+        wrapped = r - _TWO_PI * ((r > math.pi).astype(float) - (r <= -math.pi))
     return float(wrapped) if wrapped.ndim == 0 else wrapped
 
 
