@@ -442,6 +442,9 @@ def test_analytic_solvers(ur5e, data, strict, limits):
     solver = redik.analytic.solver_for(ur5e)
     chosen = {"junk": (np.zeros(6), np.full(5, np.nan)), "robot": "robot", None: None}[limits]
     holds(lambda: solver(T, limits=chosen, strict=strict))
+    decomposed = redik.analytic.solver_for(ur5e, "decomposed")
+    holds(lambda: decomposed(T, limits=chosen, strict=strict))
+    holds(lambda: decomposed.raw(T, limits=chosen, strict=strict))
     params = redik.analytic.UR5E
     holds(lambda: redik.analytic.ur(T, *params, strict=strict))
     holds(lambda: redik.analytic.puma(T, 0.43, 0.02, 0.15, 0.43, strict=strict))

@@ -258,6 +258,7 @@ def _families(strict: bool):
     """Each family's pose entry point, as ``accepts(T) -> bool`` (True: used, False: refused)."""
     robot = redik.load("ur5e")
     solver = redik.analytic.solver_for(robot)
+    decomposed = redik.analytic.solver_for(robot, "decomposed")
 
     def batch(T):
         result = redik.solve_batch(robot, T[None], restarts=0, max_iterations=1, strict=strict)
@@ -266,6 +267,8 @@ def _families(strict: bool):
     return {
         "lie.as_pose": lambda T: lie.as_pose(T, strict=strict),
         "analytic.solver_for": lambda T: solver(T, strict=strict),
+        "analytic decomposed": lambda T: decomposed(T, strict=strict),
+        "analytic decomposed raw": lambda T: decomposed.raw(T, strict=strict),
         "analytic.ur": lambda T: redik.analytic.ur(T, *redik.analytic.UR5E, strict=strict),
         "analytic.ur_batch": lambda T: redik.analytic.ur_batch(
             T[None], *redik.analytic.UR5E, strict=strict
