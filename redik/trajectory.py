@@ -38,7 +38,15 @@ import numpy as np
 
 from ._validate import positive
 from .exceptions import InvalidInput
-from .lie import as_pose, interpolate_pose, pose_errors, real_array, so3_exp
+from .lie import (
+    MAX_COORDINATE,
+    as_pose,
+    as_vector,
+    interpolate_pose,
+    pose_errors,
+    real_array,
+    so3_exp,
+)
 from .pose_ik import solve_pose
 from .result import IKResult
 from .robot import Robot
@@ -130,7 +138,7 @@ class CartesianPath(Path):
             )
         if np.any(np.diff(self.times) <= 0.0):
             raise InvalidInput(f"waypoint times must increase strictly, got {self.times.tolist()}")
-        if time_scaling not in TIME_SCALINGS:
+        if not isinstance(time_scaling, str) or time_scaling not in TIME_SCALINGS:
             raise InvalidInput(f"time_scaling must be one of {TIME_SCALINGS}, got {time_scaling!r}")
         self.time_scaling = time_scaling
 
@@ -182,20 +190,23 @@ class CircularPath(Path):
         time_scaling: str = "quintic",
     ):
         self.T_start = as_pose(T_start, "T_start")
-        self.center = np.asarray(center, dtype=float)
-        normal = np.asarray(normal, dtype=float)
-        if self.center.shape != (3,) or normal.shape != (3,) or np.linalg.norm(normal) == 0.0:
-            raise InvalidInput("center and normal must be 3-vectors, normal non-zero")
+        self.center = as_vector(center, 3, "center")
+        normal = as_vector(normal, 3, "normal")
+        if np.abs(self.center).max() > MAX_COORDINATE or not np.abs(normal).max() > 0.0:
+            raise InvalidInput(
+                f"center must be within ±{MAX_COORDINATE:g} m and normal non-zero, got "
+                f"{self.center.tolist()} and {normal.tolist()}"
+            )
+        normal = normal / np.abs(normal).max()  # no overflow in the norm
         self.axis = normal / np.linalg.norm(normal)
         offset = self.T_start[:3, 3] - self.center
         self.offset = offset - (offset @ self.axis) * self.axis  # in the circle's plane
         if np.linalg.norm(self.offset) < 1e-9:
             raise InvalidInput("the start position lies on the circle's axis (radius 0)")
-        if not duration > 0.0:
-            raise InvalidInput(f"duration must be positive, got {duration!r}")
-        if time_scaling not in TIME_SCALINGS:
+        duration = positive(duration, "duration", unit="s")
+        if not isinstance(time_scaling, str) or time_scaling not in TIME_SCALINGS:
             raise InvalidInput(f"time_scaling must be one of {TIME_SCALINGS}, got {time_scaling!r}")
-        self.start_time, self.end_time = 0.0, float(duration)
+        self.start_time, self.end_time = 0.0, duration
         self.time_scaling = time_scaling
 
     @property

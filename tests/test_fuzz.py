@@ -521,6 +521,13 @@ def test_cartesian_path_and_follow_path(panda, data, times, rate):
     waypoints = data.draw(
         mostly(st.lists(targets(panda), min_size=2, max_size=3), st.lists(targets(panda)), junk())
     )
+    center = data.draw(mostly(st.just([0.3, 0.0, 0.5]), st.lists(number, max_size=4), junk()))
+    normal = data.draw(mostly(st.just([0.0, 0.0, 1.0]), st.lists(number, max_size=4), junk()))
+    duration = data.draw(mostly(st.just(1.0), number, junk()))
+    start = waypoints[0] if isinstance(waypoints, list) and waypoints else waypoints
+    circle = holds(lambda: redik.CircularPath(start, center, normal, duration))
+    if circle is not None:
+        holds(lambda: circle.sample(rate), elementwise=not math.isfinite(rate))
     path = holds(lambda: redik.CartesianPath(waypoints, times))
     if path is None:
         return
@@ -740,3 +747,21 @@ def test_newton_refuses_an_empty_q0():
     # raw numpy ValueError inside np.linalg.solve.
     with pytest.raises(redik.InvalidInput, match="q0 must hold at least one"):
         redik.newton(lambda q: np.array([1.0, 2.0]), [0.0, 1.0], [])
+
+
+def test_circular_path_refuses_junk_center_normal_and_duration():
+    # Found by test_cartesian_path_and_follow_path once CircularPath was added: center=""
+    # and normal="" raised raw ValueErrors, duration=None a comparison TypeError.
+    T = np.eye(4)
+    T[0, 3] = 0.5
+    for kwargs, message in (
+        ({"center": ""}, "center must hold real numbers"),
+        ({"normal": ""}, "normal must hold real numbers"),
+        ({"normal": [0.0, 0.0, 0.0]}, "normal non-zero"),
+        ({"duration": None}, "duration must be a finite positive number"),
+    ):
+        arguments = {"center": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, 1.0], "duration": 1.0}
+        with pytest.raises(redik.InvalidInput, match=message):
+            redik.CircularPath(T, **{**arguments, **kwargs})
+    path = redik.CircularPath(T, [0.0, 0.0, 0.0], [0.0, 0.0, 1e300], 1.0)  # no overflow
+    assert path.radius == pytest.approx(0.5)
