@@ -349,11 +349,11 @@ class Robot:
             return self.ee
         if isinstance(name, Frame):
             return name
+        if not isinstance(name, str):
+            raise UnknownFrame(f"a frame is named by a string, got {name!r}")
         cached = self._frames.get(name)
         if cached is not None:
             return cached
-        if not isinstance(name, str):
-            raise UnknownFrame(f"a frame is named by a string, got {name!r}")
         prefix, _, rest = name.partition(":")
         kinds, bare = ((prefix,), rest) if rest and prefix in FRAME_KINDS else (FRAME_KINDS, name)
         for candidate in kinds:
@@ -362,7 +362,7 @@ class Robot:
                 resolved = Frame(name, candidate, index)
                 break
         else:
-            raise loading.unknown_frame(self.model, name, f"model {self.name!r}", ("site", "body"))
+            raise loading.unknown_frame(self.model, name, f"model {self.name!r}", kinds)
         self._frames[name] = resolved
         return resolved
 

@@ -161,6 +161,10 @@ def test_geom_frames(whole):
     geom = mujoco.mj_name2id(whole.model, mujoco.mjtObj.mjOBJ_GEOM, "left_hand_geom")
     np.testing.assert_allclose(T[:3, 3], data.geom_xpos[geom])
     np.testing.assert_allclose(T[:3, :3], data.geom_xmat[geom].reshape(3, 3))
+    with pytest.raises(UnknownFrame, match="no geom named 'geom:nothing'.*geoms: .'table'"):
+        whole.frame("geom:nothing")
+    with pytest.raises(UnknownFrame, match="named by a string"):
+        whole.frame(["left_ee"])
 
 
 def test_two_hands_at_priority_0_posture_at_priority_1(whole):
