@@ -301,6 +301,22 @@ def test_collision_limit_default_pairs_and_bad_input(model):
         redik.CollisionAvoidanceLimit(minimum_distance=0.1, detection_distance=0.05)
     with pytest.raises(InvalidInput, match="gain"):
         redik.CollisionAvoidanceLimit(gain=0.0)
+    with pytest.raises(InvalidInput, match="minimum_distance must be a number, got 'a'"):
+        redik.CollisionAvoidanceLimit(minimum_distance="a")
+    with pytest.raises(InvalidInput, match="minimum_distance must be finite and >= 0"):
+        redik.CollisionAvoidanceLimit(minimum_distance=-0.01)
+    with pytest.raises(InvalidInput, match="geom_pairs must be a list of pairs"):
+        redik.CollisionAvoidanceLimit("table")
+    with pytest.raises(InvalidInput, match=r"geom_pairs\[0\] must be a pair"):
+        redik.CollisionAvoidanceLimit([5])
+    with pytest.raises(InvalidInput, match=r"geom_pairs\[0\]\[0\]: a geom group is a non-empty"):
+        redik.CollisionAvoidanceLimit([([], ["table"])]).bind(whole)
+    with pytest.raises(ModelError, match="no geom or body matches 'x\\*'"):
+        redik.CollisionAvoidanceLimit([(["x*"], ["table"])]).bind(whole)
+    # Pairs that all drop out (parent and child; nothing moves them apart) are a mistake.
+    for pairs in ([(["torso"], ["left_upper"])], [(["table"], ["table"])]):
+        with pytest.raises(ModelError, match="leave no pair to check"):
+            redik.CollisionAvoidanceLimit(pairs).bind(whole)
 
 
 def test_mink_tasks_and_mink_interop_on_a_floating_base(whole):

@@ -45,7 +45,7 @@ from __future__ import annotations
 
 import fnmatch
 import itertools
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 
 import mujoco
 import numpy as np
@@ -91,11 +91,9 @@ class CollisionAvoidanceLimit(InequalityLimit):
         detection_distance: float = 0.05,
         gain: float = 0.5,
     ):
-        minimum_distance, detection_distance, gain = (
-            float(minimum_distance),
-            float(detection_distance),
-            float(gain),
-        )
+        minimum_distance = _as_number(minimum_distance, "minimum_distance")
+        detection_distance = _as_number(detection_distance, "detection_distance")
+        gain = _as_number(gain, "gain")
         if not (np.isfinite(minimum_distance) and minimum_distance >= 0.0):
             raise InvalidInput(f"minimum_distance must be finite and >= 0, got {minimum_distance}")
         if not (np.isfinite(detection_distance) and detection_distance > minimum_distance):
@@ -105,7 +103,17 @@ class CollisionAvoidanceLimit(InequalityLimit):
             )
         if not 0.0 < gain <= 1.0:
             raise InvalidInput(f"gain must be in (0, 1], got {gain}")
-        self.geom_pairs = geom_pairs
+        if geom_pairs is not None:
+            if isinstance(geom_pairs, str) or not isinstance(geom_pairs, Collection):
+                raise InvalidInput(
+                    f"geom_pairs must be a list of pairs (group_a, group_b), got {geom_pairs!r}"
+                )
+            for index, pair in enumerate(geom_pairs):
+                if isinstance(pair, str) or not isinstance(pair, Sequence) or len(pair) != 2:
+                    raise InvalidInput(
+                        f"geom_pairs[{index}] must be a pair of groups, got {pair!r}"
+                    )
+        self.geom_pairs = None if geom_pairs is None else list(geom_pairs)
         self.minimum_distance = minimum_distance
         self.detection_distance = detection_distance
         self.gain = gain
@@ -126,10 +134,6 @@ class CollisionAvoidanceLimit(InequalityLimit):
         else:
             pairs = []
             for index, pair in enumerate(self.geom_pairs):
-                if len(pair) != 2:
-                    raise InvalidInput(
-                        f"geom_pairs[{index}] must be a pair of groups, got {pair!r}"
-                    )
                 group_a = _geom_ids(robot, pair[0], f"geom_pairs[{index}][0]")
                 group_b = _geom_ids(robot, pair[1], f"geom_pairs[{index}][1]")
                 for a, b in itertools.product(group_a, group_b):
@@ -141,6 +145,12 @@ class CollisionAvoidanceLimit(InequalityLimit):
                         continue
                     pairs.append((min(a, b), max(a, b)))
             pairs = sorted(set(pairs))
+            if not pairs:
+                raise ModelError(
+                    f"geom_pairs {list(self.geom_pairs)!r} leave no pair to check on "
+                    f"{robot!r}: every pair is on bodies no moved joint separates, on welded or "
+                    "parent and child bodies, or fails MuJoCo's contype/conaffinity test"
+                )
         self.pairs = np.array(pairs, dtype=int).reshape(-1, 2)
         rbound = model.geom_rbound
         self._bounded = (rbound[self.pairs[:, 0]] > 0.0) & (rbound[self.pairs[:, 1]] > 0.0)
@@ -233,6 +243,13 @@ class CollisionAvoidanceLimit(InequalityLimit):
             )
 
 
+def _as_number(value, name: str) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise InvalidInput(f"{name} must be a number, got {value!r}") from None
+
+
 def _geom_name(model: mujoco.MjModel, geom: int) -> str:
     """The geom's name, else ``"<body>#<id>"`` (URDF collision geoms have no name)."""
     name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, geom)
@@ -293,6 +310,8 @@ def _geom_ids(robot: Robot, group: GeomGroup, where: str) -> list[int]:
     """Geom ids of a group of geom or body names."""
     if isinstance(group, str):
         group = [group]
+    if not isinstance(group, Sequence) or not group:
+        raise InvalidInput(f"{where}: a geom group is a non-empty list of names, got {group!r}")
     model = robot.model
     ids: list[int] = []
     for name in group:
