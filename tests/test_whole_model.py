@@ -161,7 +161,7 @@ def test_geom_frames(whole):
     geom = mujoco.mj_name2id(whole.model, mujoco.mjtObj.mjOBJ_GEOM, "left_hand_geom")
     np.testing.assert_allclose(T[:3, 3], data.geom_xpos[geom])
     np.testing.assert_allclose(T[:3, :3], data.geom_xmat[geom].reshape(3, 3))
-    with pytest.raises(UnknownFrame, match="no geom named 'geom:nothing'.*geoms: .'table'"):
+    with pytest.raises(UnknownFrame, match=r"no geom named 'geom:nothing'.*geoms: \['table'"):
         whole.frame("geom:nothing")
     with pytest.raises(UnknownFrame, match="named by a string"):
         whole.frame(["left_ee"])
