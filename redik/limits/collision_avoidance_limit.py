@@ -155,10 +155,17 @@ class CollisionAvoidanceLimit(InequalityLimit):
         rbound = model.geom_rbound
         self._bounded = (rbound[self.pairs[:, 0]] > 0.0) & (rbound[self.pairs[:, 1]] > 0.0)
         self._radii = rbound[self.pairs[:, 0]] + rbound[self.pairs[:, 1]]
+        # Per-step scratch: the rows of every pair that may become active, written in place.
+        body = model.geom_bodyid
+        self._pair_list = [(int(a), int(b), int(body[a]), int(body[b])) for a, b in self.pairs]
         self._fromto = np.zeros(6)
+        self._normal = np.zeros(3)
         self._floor = np.full(len(self.pairs), self.minimum_distance)
         self._jac1 = np.zeros((3, model.nv))
         self._jac2 = np.zeros((3, model.nv))
+        self._row = np.zeros(model.nv)
+        self._G = np.zeros((len(self.pairs), robot.dof))
+        self._h = np.zeros(len(self.pairs))
         return super().bind(robot, tolerance)
 
     def _candidates(self, data: mujoco.MjData, distmax: float) -> np.ndarray:
@@ -174,7 +181,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         data = self.robot.data
         out = np.full(len(self.pairs), distmax)
         for i in self._candidates(data, distmax):
-            a, b = self.pairs[i]
+            a, b, _, _ = self._pair_list[i]
             out[i] = mujoco.mj_geomDistance(self.robot.model, data, a, b, distmax, self._fromto)
         return out
 
@@ -193,34 +200,40 @@ class CollisionAvoidanceLimit(InequalityLimit):
     def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
         robot = self.robot
         model, data = robot.model, robot.data
-        rows, bounds = [], []
-        fromto, jac1, jac2 = self._fromto, self._jac1, self._jac2
-        columns = robot.dof_indices
-        self._floor.fill(self.minimum_distance)
-        for i in self._candidates(data, self.detection_distance):
-            a, b = self.pairs[i]
-            d = mujoco.mj_geomDistance(model, data, a, b, self.detection_distance, fromto)
-            if d >= self.detection_distance:
+        fromto, normal, jac1, jac2, row = (
+            self._fromto,
+            self._normal,
+            self._jac1,
+            self._jac2,
+            self._row,
+        )
+        G, h, columns = self._G, self._h, robot.dof_indices
+        detection, minimum = self.detection_distance, self.minimum_distance
+        self._floor.fill(minimum)
+        count = 0
+        for i in self._candidates(data, detection):
+            a, b, body_a, body_b = self._pair_list[i]
+            d = mujoco.mj_geomDistance(model, data, a, b, detection, fromto)
+            if d >= detection:
                 continue
-            self._floor[i] = min(self.minimum_distance, d)
-            normal = fromto[3:] - fromto[:3]
-            length = float(np.linalg.norm(normal))
-            if length < 1e-12:  # touching: separate the geom centres instead
-                normal = data.geom_xpos[b] - data.geom_xpos[a]
-                length = float(np.linalg.norm(normal))
-                if length < 1e-12:
+            self._floor[i] = min(minimum, d)
+            np.subtract(fromto[3:], fromto[:3], out=normal)
+            if mujoco.mju_normalize3(normal) < 1e-12:  # touching: separate the geom centres
+                np.subtract(data.geom_xpos[b], data.geom_xpos[a], out=normal)
+                if mujoco.mju_normalize3(normal) < 1e-12:
                     continue
             elif d < 0.0:
-                normal = -normal  # penetrating: the nearest points are crossed over
-            normal = normal / length
-            mujoco.mj_jac(model, data, jac1, None, fromto[:3], model.geom_bodyid[a])
-            mujoco.mj_jac(model, data, jac2, None, fromto[3:], model.geom_bodyid[b])
-            row = -(normal @ (jac2 - jac1))[columns]
-            rows.append(row)
-            bounds.append(self.gain * (d - self.minimum_distance))
-        if not rows:
+                np.negative(normal, out=normal)  # penetrating: the nearest points cross over
+            mujoco.mj_jac(model, data, jac1, None, fromto[:3], body_a)
+            mujoco.mj_jac(model, data, jac2, None, fromto[3:], body_b)
+            jac1 -= jac2
+            np.dot(normal, jac1, out=row)  # -nᵀ(J₂ − J₁) over the model's nv columns
+            np.take(row, columns, out=G[count])
+            h[count] = self.gain * (d - minimum)
+            count += 1
+        if count == 0:
             return None
-        return np.array(rows), np.array(bounds)
+        return G[:count].copy(), h[:count].copy()
 
     def admits(self) -> bool:
         """No pair closer than ``minimum_distance`` at the current state, unless it was
@@ -229,7 +242,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         model, data = robot.model, robot.data
         tolerance = 1e-6  # 1 µm: what a distance query resolves on meshes
         for i in self._candidates(data, self.minimum_distance):
-            a, b = self.pairs[i]
+            a, b, _, _ = self._pair_list[i]
             d = mujoco.mj_geomDistance(model, data, a, b, self.minimum_distance, self._fromto)
             if d < self._floor[i] - tolerance:
                 return False
