@@ -194,6 +194,17 @@ def test_posture_reaches_a_floating_configuration(whole):
     np.testing.assert_allclose(whole.difference(q_nominal, result.q), 0.0, atol=1e-8)
 
 
+def test_posture_refuses_a_zero_quaternion(whole):
+    q = whole.home.copy()
+    q[7:11] = 0.0  # the neck's ball joint
+    with pytest.raises(redik.InvalidConfiguration, match=r"q_nominal\[7:11\] is a zero quaternion"):
+        redik.PostureTask(q).bind(whole)
+    task = redik.PostureTask().bind(whole)
+    with pytest.raises(redik.InvalidConfiguration, match="zero quaternion"):
+        task.set_target(q)
+    np.testing.assert_array_equal(task.q_nominal, whole.home)
+
+
 def test_step_is_a_tangent_vector(whole):
     problem = redik.Problem(whole, [redik.PositionTask([0.3, 0.4, 1.3], frame="left_ee")])
     dq = problem.step(whole.home)
