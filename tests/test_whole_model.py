@@ -222,6 +222,9 @@ def test_velocity_limit_by_joint_bounds_every_dof_of_a_ball_joint(whole):
     assert limit.max_velocity[6:9].tolist() == [0.5] * 3
     assert limit.max_velocity[whole.dof_names.index("left_elbow")] == 1.0
     assert np.isinf(limit.max_velocity[:6]).all()
+    for bad in ("fast", {"neck": "fast"}, [1.0, "fast"]):
+        with pytest.raises(InvalidInput, match="max_velocity must be a number"):
+            redik.VelocityLimit(bad).bind(whole)
 
 
 def test_manipulability_needs_a_chain(whole):
