@@ -192,6 +192,34 @@ def test_g1_two_hands_with_feet_held_and_no_collision(g1):
     assert trajectory.q.shape == (11, g1.nq)
 
 
+def test_g1_frame_errors_and_jacobians_are_minks(g1):
+    """On the floating base: PoseTask's error and Jacobian equal mink's FrameTask's at the
+    same mink.Configuration (nv columns) and on redik's own state (dof columns, here = nv)."""
+    import mink
+
+    from redik.tasks.kinematics import KinematicState
+
+    rng = np.random.default_rng(7)
+    configuration = mink.Configuration(g1.model)
+    state = KinematicState.for_robot(g1)
+    for frame in ("left_rubber_hand", "pelvis", "right_ankle_roll_link"):
+        for _ in range(3):
+            q, q_target = g1.random_q(rng), g1.random_q(rng)
+            T = g1.fk(q_target, frame)
+            ours = redik.PoseTask(T, frame=frame).bind(g1)
+            theirs = mink.FrameTask(frame, "body", position_cost=1.0, orientation_cost=1.0)
+            theirs.set_target(mink.SE3.from_matrix(T))
+            configuration.update(g1.full_qpos(q))
+            e, J = theirs.compute_error(configuration), theirs.compute_jacobian(configuration)
+            assert np.abs(e).max() > 0.1  # far from the target: the log-map Jacobian matters
+            np.testing.assert_allclose(ours.compute_error(configuration), e, atol=1e-12)
+            np.testing.assert_allclose(ours.compute_jacobian(configuration), J, atol=1e-12)
+            state.update(q)
+            e_state, J_state = ours.error_and_jacobian(state)
+            np.testing.assert_allclose(e_state, e, atol=1e-12)
+            np.testing.assert_allclose(J_state, J, atol=1e-12)
+
+
 def test_g1_hand_chain_runs_compiled_dls(g1):
     chain = g1.chain("left_rubber_hand")
     assert chain.joint_names[0] == "waist_yaw_joint" and chain.flat

@@ -359,6 +359,30 @@ def test_mink_tasks_and_mink_interop_on_a_floating_base(whole):
     np.testing.assert_allclose(J_ours[6:], J_theirs[6:], atol=1e-12)
 
 
+@pytest.mark.parametrize(
+    ("frame", "kind", "mink_name"),
+    [("left_ee", "site", "left_ee"), ("geom:right_fore_geom", "geom", "right_fore_geom")],
+)
+def test_frame_task_on_sites_and_geoms_is_minks(whole, frame, kind, mink_name):
+    import mink
+
+    rng = np.random.default_rng(10)
+    configuration = mink.Configuration(whole.model)
+    T = whole.fk(whole.random_q(rng), frame)
+    ours = redik.PoseTask(T, frame=frame).bind(whole)
+    theirs = mink.FrameTask(mink_name, kind, position_cost=1.0, orientation_cost=1.0)
+    theirs.set_target(mink.SE3.from_matrix(T))
+    for _ in range(3):
+        configuration.update(whole.full_qpos(whole.random_q(rng)))
+        e = theirs.compute_error(configuration)
+        assert np.abs(e).max() > 0.1
+        np.testing.assert_allclose(ours.compute_error(configuration), e, atol=1e-12)
+        np.testing.assert_allclose(
+            ours.compute_jacobian(configuration), theirs.compute_jacobian(configuration),
+            atol=1e-12,
+        )  # fmt: skip
+
+
 def test_solve_all_on_a_whole_model_returns_whole_configurations(whole):
     chain = whole.chain("right_ee", whole.home)
     T = chain.fk(chain.clip(chain.home + 0.4))
