@@ -177,9 +177,13 @@ class Robot:
         self.nq = len(self._qpos_adr)
         self.flat = self.nq == self.dof
         dof_names, dof_joints, revolute, lower, upper = [], [], [], [], []
-        scalar_dofs, scalar_q = [], []
+        scalar_dofs, scalar_q, quaternion_q, free_q = [], [], [], []
         q_offset = 0
         for j, t, joint_name in zip(joint_ids, types, self.joint_names, strict=True):
+            if t == _FREE:
+                free_q.append(q_offset)
+            if t in (_FREE, _BALL):
+                quaternion_q.append(q_offset + (3 if t == _FREE else 0))
             if t in _CHAIN_JOINT_TYPES:
                 scalar_dofs.append(len(dof_names))
                 scalar_q.append(q_offset)
@@ -205,6 +209,9 @@ class Robot:
         # Hinge and slide entries: their tangent coordinate and their index in q.
         self._scalar_dofs = np.array(scalar_dofs, dtype=int)
         self._scalar_q = np.array(scalar_q, dtype=int)
+        # Where a ball or free joint's quaternion, and a free joint's position, start in q.
+        self._quaternion_q = tuple(quaternion_q)
+        self._free_q = tuple(free_q)
         for array in (self.lower, self.upper, self.revolute):
             array.setflags(write=False)
 
@@ -451,24 +458,13 @@ class Robot:
         if not np.all(np.isfinite(q)):
             raise InvalidConfiguration(f"{name} holds NaN or inf: {q.tolist()}")
         if not self.flat:
-            for start in self._quaternion_starts():
+            for start in self._quaternion_q:
                 if np.linalg.norm(q[start : start + 4]) < 1e-9:
                     raise InvalidConfiguration(
                         f"{name}[{start}:{start + 4}] is a zero quaternion (a ball or free "
                         "joint's orientation must be a unit quaternion (w, x, y, z))"
                     )
         return q
-
-    def _quaternion_starts(self) -> list[int]:
-        """Indices in ``q`` where a ball or free joint's quaternion starts."""
-        starts, offset = [], 0
-        for joint_type in self.joint_types:
-            if joint_type == "free":
-                starts.append(offset + 3)
-            elif joint_type == "ball":
-                starts.append(offset)
-            offset += {"free": 7, "ball": 4}.get(joint_type, 1)
-        return starts
 
     def scalar_values(self, q: np.ndarray) -> np.ndarray:
         """Per tangent coordinate: the hinge and slide values of ``q``, 0 on ball/free dofs.
@@ -506,7 +502,7 @@ class Robot:
         q = np.array(q, dtype=float)
         index = self._scalar_q
         q[index] = np.clip(q[index], self.lower[self._scalar_dofs], self.upper[self._scalar_dofs])
-        for start in self._quaternion_starts():
+        for start in self._quaternion_q:
             q[start : start + 4] /= np.linalg.norm(q[start : start + 4])
         return q
 
@@ -562,15 +558,11 @@ class Robot:
         rows = np.atleast_2d(tangent)
         out = np.tile(self.home, (rows.shape[0], 1))
         out[:, self._scalar_q] = rows[:, self._scalar_dofs]
-        offset = 0
-        for joint_type in self.joint_types:
-            if joint_type == "free":
-                out[:, offset : offset + 3] += rng.uniform(-1.0, 1.0, (rows.shape[0], 3))
-            if joint_type in ("free", "ball"):
-                start = offset + (3 if joint_type == "free" else 0)
-                quat = rng.normal(size=(rows.shape[0], 4))
-                out[:, start : start + 4] = quat / np.linalg.norm(quat, axis=1, keepdims=True)
-            offset += {"free": 7, "ball": 4}.get(joint_type, 1)
+        for start in self._free_q:
+            out[:, start : start + 3] += rng.uniform(-1.0, 1.0, (rows.shape[0], 3))
+        for start in self._quaternion_q:
+            quat = rng.normal(size=(rows.shape[0], 4))
+            out[:, start : start + 4] = quat / np.linalg.norm(quat, axis=1, keepdims=True)
         return out[0] if size is None else out
 
     @property
