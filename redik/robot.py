@@ -438,6 +438,12 @@ class Robot:
         """
         if chain.model is not self.model:
             raise InvalidInput(f"{chain!r} is not a chain of {self!r}'s model")
+        outside = sorted(set(chain.joint_names) - set(self.joint_names))
+        if outside:
+            raise InvalidInput(
+                f"{chain!r} moves joints {outside} that {self!r} does not: their values "
+                "would be lost"
+            )
         qpos = chain.data.qpos.copy() if q is None else self.full_qpos(self.check_q(q))
         qpos[chain.qpos_indices] = chain.check_q(q_chain, "q_chain")
         return qpos[self._qpos_adr]

@@ -264,6 +264,13 @@ def test_chain_of_a_whole_model_runs_the_fast_paths(whole):
     np.testing.assert_array_equal(chain.q_of(qpos), qpos[chain.qpos_indices])
     with pytest.raises(redik.InvalidConfiguration, match=r"model\.nq"):
         chain.q_of(q[:5])
+    # A chain with joints this robot holds cannot be embedded into it.
+    arms = redik.Robot(whole.model, joints=["left_*"], fixed=["left_elbow"])
+    with pytest.raises(InvalidInput, match=r"moves joints \['left_elbow'\]"):
+        arms.embed(whole.chain("left_ee", q), np.zeros(6))
+    held = arms.chain("left_ee")  # the held elbow stays out of the chain
+    assert "left_elbow" not in held.joint_names and held.dof == 5
+    np.testing.assert_array_equal(arms.embed(held, np.zeros(5))[:5], np.zeros(5))
 
 
 def _collision_problem(model, with_limit: bool, minimum_distance: float = 0.01):
