@@ -340,6 +340,34 @@ def test_collision_limit_default_pairs_and_bad_input(model):
             redik.CollisionAvoidanceLimit(pairs).bind(whole)
 
 
+def _geom_pair_names(limit):
+    model = limit.robot.model
+    return {
+        tuple(mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) for g in pair)
+        for pair in limit.pairs
+    }
+
+
+def test_collision_pairs_follow_mujocos_exclude_and_filterparent():
+    hands = ("left_hand_geom", "right_hand_geom")
+    parent_child = ("torso_geom", "left_upper_geom")
+    excluded = TORSO_XML.replace(
+        "</worldbody>",
+        '</worldbody><contact><exclude body1="right_hand" body2="left_hand"/></contact>',
+    )
+    robot = redik.Robot(mujoco.MjModel.from_xml_string(excluded), joints="all")
+    names = _geom_pair_names(redik.CollisionAvoidanceLimit().bind(robot))
+    assert hands not in names and ("left_hand_geom", "right_fore_geom") in names
+    with pytest.raises(ModelError, match="leave no pair"):
+        redik.CollisionAvoidanceLimit([(["left_hand"], ["right_hand"])]).bind(robot)
+    unfiltered = TORSO_XML.replace(
+        "<worldbody>", '<option><flag filterparent="disable"/></option><worldbody>'
+    )
+    robot = redik.Robot(mujoco.MjModel.from_xml_string(unfiltered), joints="all")
+    names = _geom_pair_names(redik.CollisionAvoidanceLimit().bind(robot))
+    assert parent_child in names and hands in names
+
+
 def test_mink_tasks_and_mink_interop_on_a_floating_base(whole):
     import mink
 

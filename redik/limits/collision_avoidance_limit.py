@@ -67,11 +67,9 @@ class CollisionAvoidanceLimit(InequalityLimit):
             patterns such as ``"left_*"``); every
             geom of ``group_a`` is kept away from every geom of ``group_b`` (a group paired
             with itself: self-collision within it); pairs MuJoCo would not collide
-            (``contype``/``conaffinity``, welded, parent and child) are dropped. None:
-            every pair of geoms that may
-            collide — passing MuJoCo's ``contype``/``conaffinity`` test, not on the same
-            or welded bodies, not on a parent and child body — of which at least one is
-            moved by the robot (self-collision and obstacles from the model's geoms),
+            (``contype``/``conaffinity``, welded, parent and child, ``<exclude>``) are
+            dropped. None: every pair of geoms that MuJoCo may collide — by the same
+            filters — of which at least one is moved by the robot (self-collision and obstacles from the model's geoms),
             less the pairs already closer than ``minimum_distance`` at the robot's
             ``home`` (overlapping collision shapes of neighbouring links, which a URDF
             often has: the "collide by default" pairs MoveIt's setup assistant disables).
@@ -123,27 +121,16 @@ class CollisionAvoidanceLimit(InequalityLimit):
         model = robot.model
         mover = _moving_ancestor(robot)
         if self.geom_pairs is None:
-            candidates = itertools.combinations(range(model.ngeom), 2)
-            pairs = [
-                (a, b)
-                for a, b in candidates
-                if mover[model.geom_bodyid[a]] != mover[model.geom_bodyid[b]]
-                and _may_collide(model, a, b)
-            ]
+            a, b = np.triu_indices(model.ngeom, 1)
+            pairs = _collidable_pairs(model, mover, a, b)
             pairs = _apart_at_home(robot, pairs, self.minimum_distance)
         else:
             pairs = []
             for index, pair in enumerate(self.geom_pairs):
                 group_a = _geom_ids(robot, pair[0], f"geom_pairs[{index}][0]")
                 group_b = _geom_ids(robot, pair[1], f"geom_pairs[{index}][1]")
-                for a, b in itertools.product(group_a, group_b):
-                    # Geoms that no joint of the robot moves apart keep their distance;
-                    # MuJoCo's filters (as mink applies them) drop the rest.
-                    if mover[model.geom_bodyid[a]] == mover[model.geom_bodyid[b]]:
-                        continue
-                    if not _may_collide(model, a, b):
-                        continue
-                    pairs.append((min(a, b), max(a, b)))
+                a, b = np.array(list(itertools.product(group_a, group_b))).T
+                pairs += _collidable_pairs(model, mover, a, b)
             pairs = sorted(set(pairs))
             if not pairs:
                 raise ModelError(
@@ -298,25 +285,31 @@ def _apart_at_home(
     ]
 
 
-def _welded(model: mujoco.MjModel, a: int, b: int) -> bool:
-    return model.body_weldid[model.geom_bodyid[a]] == model.body_weldid[model.geom_bodyid[b]]
-
-
-def _may_collide(model: mujoco.MjModel, a: int, b: int) -> bool:
-    """MuJoCo's own filters: contype/conaffinity, same weld, parent–child welds."""
-    if not (
-        model.geom_contype[a] & model.geom_conaffinity[b]
-        or model.geom_contype[b] & model.geom_conaffinity[a]
-    ):
-        return False
-    if _welded(model, a, b):
-        return False
-    weld_a = model.body_weldid[model.geom_bodyid[a]]
-    weld_b = model.body_weldid[model.geom_bodyid[b]]
-    parent_a = model.body_weldid[model.body_parentid[weld_a]]
-    parent_b = model.body_weldid[model.body_parentid[weld_b]]
-    # MuJoCo skips parent–child contacts unless the parent is the world (obstacles).
-    return not ((parent_a == weld_b and weld_b != 0) or (parent_b == weld_a and weld_a != 0))
+def _collidable_pairs(
+    model: mujoco.MjModel, mover: np.ndarray, a: np.ndarray, b: np.ndarray
+) -> list[tuple[int, int]]:
+    """The pairs ``(min, max)`` of geoms ``a[i]``, ``b[i]`` that the robot's joints can move
+    relative to each other (different moving ancestors) and that MuJoCo's own filters let
+    collide (``mj_collision``'s broad phase): contype/conaffinity, not the same weld, not a
+    parent and child weld unless the parent is the world (or ``filterparent`` is disabled),
+    not an ``<exclude>`` body pair. mink applies the first three, and drops the world's
+    children too."""
+    body = model.geom_bodyid
+    body_a, body_b = body[a], body[b]
+    keep = mover[body_a] != mover[body_b]
+    contype, conaffinity = model.geom_contype, model.geom_conaffinity
+    keep &= ((contype[a] & conaffinity[b]) | (contype[b] & conaffinity[a])) != 0
+    weld = model.body_weldid
+    weld_a, weld_b = weld[body_a], weld[body_b]
+    keep &= weld_a != weld_b
+    if not model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_FILTERPARENT:
+        parent_a, parent_b = weld[model.body_parentid[weld_a]], weld[model.body_parentid[weld_b]]
+        keep &= ~(((parent_a == weld_b) | (parent_b == weld_a)) & (weld_a != 0) & (weld_b != 0))
+    if model.nexclude:
+        signature = (np.minimum(body_a, body_b) << 16) + np.maximum(body_a, body_b)
+        keep &= ~np.isin(signature, model.exclude_signature)
+    low, high = np.minimum(a, b)[keep], np.maximum(a, b)[keep]
+    return list(zip(low.tolist(), high.tolist(), strict=True))
 
 
 def _geom_ids(robot: Robot, group: GeomGroup, where: str) -> list[int]:
