@@ -205,6 +205,23 @@ def test_posture_refuses_a_zero_quaternion(whole):
     np.testing.assert_array_equal(task.q_nominal, whole.home)
 
 
+def test_posture_jacobian_is_exact_along_the_error_only(whole):
+    """q ⊖ r across the free and ball joints: d/dh of e(q ⊕ h δ) is J_r⁻¹(e) δ, not δ, but
+    equals δ along δ = −e (the posture task's identity Jacobian gives exact descent)."""
+    rng = np.random.default_rng(11)
+    reference, q = whole.random_q(rng), whole.random_q(rng)
+    e = whole.difference(reference, q)
+    h = 1e-6
+
+    def derivative(direction):
+        return (whole.difference(reference, whole.integrate(q, h * direction)) - e) / h
+
+    np.testing.assert_allclose(derivative(-e), -e, atol=1e-5)
+    jacobian = np.array([derivative(column) for column in np.eye(whole.dof)]).T
+    assert np.abs(jacobian - np.eye(whole.dof)).max() > 0.1  # not the identity far from r
+    np.testing.assert_allclose(jacobian[:3, :3], np.eye(3), atol=1e-5)  # base position: exact
+
+
 def test_step_is_a_tangent_vector(whole):
     problem = redik.Problem(whole, [redik.PositionTask([0.3, 0.4, 1.3], frame="left_ee")])
     dq = problem.step(whole.home)
