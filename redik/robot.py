@@ -151,6 +151,12 @@ class Robot:
                 else _match_joints(model, [joints] if isinstance(joints, str) else joints,
                                    "joints", self.name)
             )  # fmt: skip
+            named_both = sorted(_exact_names(joints) & _exact_names(fixed))
+            if named_both:
+                raise InvalidInput(
+                    f"joints {named_both} are named both in joints= (to move) and in fixed= "
+                    "(to hold); name each in one of them"
+                )
             joint_ids = sorted(set(selected) - fixed_ids)
             if not joint_ids:
                 raise ModelError(
@@ -763,6 +769,15 @@ def _match_joints(
             )
         selected.extend(hits)
     return sorted(set(selected))
+
+
+def _exact_names(patterns: str | Sequence[str] | None) -> set[str]:
+    """The entries of a joints= or fixed= argument that are names, not patterns."""
+    if patterns is None or patterns == "all":
+        return set()
+    if isinstance(patterns, str):
+        patterns = [patterns]
+    return {p for p in patterns if isinstance(p, str) and not any(c in p for c in "*?[")}
 
 
 def _model_name(model: mujoco.MjModel) -> str:

@@ -98,6 +98,10 @@ def test_joint_subsets_by_pattern(model):
         redik.Robot(model, joints=["left_*"], fixed=["left_*"])
     with pytest.raises(InvalidInput, match="joints must be 'all'"):
         redik.Robot(model, joints=5)
+    with pytest.raises(InvalidInput, match=r"joints \['left_elbow'\] are named both"):
+        redik.Robot(model, joints=["left_elbow", "right_elbow"], fixed=["left_elbow"])
+    # A pattern that also covers a fixed joint is how a subset is carved out: no error.
+    assert "left_elbow" not in redik.Robot(model, joints="left_*", fixed="left_elbow").joint_names
     with pytest.raises(ModelError, match=r"fixed: no joint .* matches 'nek'"):
         redik.Robot(model, joints="all", fixed=["nek"])
     with pytest.raises(UnknownFrame):
