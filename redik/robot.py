@@ -52,7 +52,7 @@ import numpy as np
 
 from . import loading
 from .exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
-from .lie import skew
+from .lie import real_array, skew
 
 JACOBIAN_REFERENCES = ("space", "body", "world")
 FRAME_KINDS = ("site", "body", "geom")
@@ -459,7 +459,7 @@ class Robot:
 
     def check_q(self, q: np.ndarray, name: str = "q") -> np.ndarray:
         """``q`` as a float vector of length ``nq``, or raise :class:`InvalidConfiguration`."""
-        q = np.asarray(q, dtype=float)
+        q = real_array(q, name, InvalidConfiguration)
         if q.shape != (self.nq,):
             what = f"joints {list(self.joint_names)}"
             if not self.flat:
@@ -681,7 +681,7 @@ class Robot:
         """This robot's ``q`` read from a full ``qpos``; default its own ``data.qpos``: the
         last forward kinematics' configuration or, for a fresh chain of :meth:`chain`, the
         values it was cut at."""
-        qpos = self.data.qpos if qpos is None else np.asarray(qpos, dtype=float)
+        qpos = self.data.qpos if qpos is None else real_array(qpos, "qpos", InvalidConfiguration)
         if qpos.shape != (self.model.nq,):
             raise InvalidConfiguration(
                 f"qpos must have shape ({self.model.nq},) (model.nq), got {qpos.shape}"

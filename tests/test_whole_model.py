@@ -236,6 +236,11 @@ def test_step_is_a_tangent_vector(whole):
     q[3:7] = 0.0
     with pytest.raises(redik.InvalidConfiguration, match="zero quaternion"):
         problem.solve(q)
+    for bad in ("home", [*whole.home[:-1], "x"], whole.home + 0j):
+        with pytest.raises(redik.InvalidConfiguration, match=r"q must .*real numbers"):
+            whole.fk(bad, "left_ee")
+    with pytest.raises(redik.InvalidConfiguration, match=r"qpos must .*real numbers"):
+        whole.q_of("qpos")
 
 
 def test_velocity_limit_by_joint_bounds_every_dof_of_a_ball_joint(whole):
