@@ -175,7 +175,7 @@ def test_g1_two_hands_with_feet_held_and_no_collision(g1):
     assert g1.within_limits(result.q)
     assert collisions.minimum_distance_at(result.q)[0] >= 0.01 - 1e-6
     free = redik.Problem(g1, [*tasks, redik.PostureTask(priority=1)]).solve(g1.home)
-    assert free.success and collisions.minimum_distance_at(free.q)[0] < 0.0  # arm in torso
+    assert free.success and collisions.minimum_distance_at(free.q)[0] < 0.0  # shoulder in torso
 
     # A path: both hands rise 10 cm, the feet still held; warm-started QP solves.
     up = make_pose(np.eye(3), [0.0, 0.0, 0.1])
