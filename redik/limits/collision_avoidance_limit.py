@@ -64,15 +64,15 @@ class CollisionAvoidanceLimit(InequalityLimit):
 
     Args:
         geom_pairs: Pairs ``(group_a, group_b)`` of geom groups (geom or body names, or
-            patterns such as ``"left_*"``); every
-            geom of ``group_a`` is kept away from every geom of ``group_b`` (a group paired
-            with itself: self-collision within it); pairs MuJoCo would not collide
-            (``contype``/``conaffinity``, welded, parent and child, ``<exclude>``) are
-            dropped. None: every pair of geoms that MuJoCo may collide — by the same
-            filters — of which at least one is moved by the robot (self-collision and obstacles from the model's geoms),
-            less the pairs already closer than ``minimum_distance`` at the robot's
-            ``home`` (overlapping collision shapes of neighbouring links, which a URDF
-            often has: the "collide by default" pairs MoveIt's setup assistant disables).
+            patterns such as ``"left_*"``); every geom of ``group_a`` is kept away from
+            every geom of ``group_b`` (a group paired with itself: self-collision within
+            it); pairs MuJoCo would not collide (``contype``/``conaffinity``, welded, parent
+            and child, ``<exclude>``) are dropped. None: every pair of geoms that MuJoCo may
+            collide — by the same filters — of which at least one is moved by the robot
+            (self-collision and obstacles from the model's geoms), less the pairs already
+            closer than ``minimum_distance`` at the robot's ``home`` (overlapping collision
+            shapes of neighbouring links, which a URDF often has: the "collide by default"
+            pairs MoveIt's setup assistant disables).
         minimum_distance: ``d_s`` (m), the distance to keep; ≥ 0.
         detection_distance: ``d_i`` (m), the distance under which a pair is constrained;
             > ``minimum_distance``.
