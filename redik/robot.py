@@ -29,9 +29,9 @@ angular velocity in the body frame). They are related by MuJoCo's exponential ma
 :math:`Q \oplus ω = Q \otimes \exp(ω/2)`, Solà et al., *A micro Lie theory*, 2018),
 which reduce to ``q + Δq`` and ``q₁ − q₀`` for hinge and slide joints. A robot without
 ball or free joints is ``flat`` (``nq == dof``) and takes the plain-vector shortcuts.
-Joint position limits exist for hinge and slide joints only (MuJoCo's ball-joint range is
-a cone on the rotation angle; a free joint has none): ``lower``/``upper`` are per tangent
-coordinate, ``±inf`` on ball and free joints, as mink's ``ConfigurationLimit`` does.
+Joint position boxes exist for hinge and slide joints only: ``lower``/``upper`` are per
+tangent coordinate, ``±inf`` on ball and free joints. A ball joint's range is a cone on its
+rotation angle, which :class:`redik.BallJointLimit` enforces; a free joint has none.
 
 Forward kinematics runs ``mj_kinematics`` and ``mj_comPos`` (the latter fills the ``cdof``
 that ``mj_jac*`` reads) on the robot's own ``MjData`` and reads the Jacobian with

@@ -243,6 +243,44 @@ def test_step_is_a_tangent_vector(whole):
         whole.q_of("qpos")
 
 
+def _neck_angle(q):
+    rotation = np.zeros(3)
+    mujoco.mju_quat2Vel(rotation, q[7:11], 1.0)
+    return float(np.linalg.norm(rotation))
+
+
+def test_ball_joint_limit_keeps_every_iterate_inside_the_cone(whole):
+    """The neck's range is a 1.2 rad cone; the posture asks for 1.5 rad from the identity."""
+    import mink
+
+    target = whole.home.copy()
+    target[7:11] = [np.cos(0.75), np.sin(0.75), 0.0, 0.0]
+    posture = [redik.PostureTask(target, priority=0)]
+    free = redik.Problem(whole, posture).solve(whole.home)
+    assert _neck_angle(free.q) == pytest.approx(1.5)
+    # mink's ConfigurationLimit has the same row but none at the identity: its first step
+    # leaves the cone.
+    theirs = redik.Problem(
+        whole, posture, [redik.PositionLimit(), mink.ConfigurationLimit(whole.model, gain=1.0)]
+    )
+    assert max(_neck_angle(q) for q in theirs.solve(whole.home).history) > 1.4
+    limit = redik.BallJointLimit(margin=0.05)
+    result = redik.Problem(whole, posture, [redik.PositionLimit(), limit]).solve(whole.home)
+    assert limit.joint_names == ("neck",)
+    assert _neck_angle(result.q) == pytest.approx(1.15, abs=1e-6)
+    assert max(_neck_angle(q) for q in result.history) <= 1.15 + 1e-9
+    # Online steps from outside the cone pull the joint back.
+    q = target.copy()
+    problem = redik.Problem(whole, [redik.PostureTask(target, priority=0)], [limit])
+    for _ in range(5):
+        q = whole.integrate(q, problem.step(q))
+    assert _neck_angle(q) == pytest.approx(1.15, abs=1e-6)
+    with pytest.raises(InvalidInput, match="leaves no cone"):
+        redik.BallJointLimit(margin=1.3).bind(whole)
+    with pytest.raises(InvalidInput, match="margin must be a number"):
+        redik.BallJointLimit(margin="wide")
+
+
 def test_velocity_limit_by_joint_bounds_every_dof_of_a_ball_joint(whole):
     limit = redik.VelocityLimit({"neck": 0.5, "left_elbow": 1.0}).bind(whole)
     assert limit.max_velocity[6:9].tolist() == [0.5] * 3
