@@ -38,22 +38,17 @@ robot = redik.Robot(mujoco.MjModel.from_xml_string(XML), joints="all")
 print(robot, robot.joint_types)
 
 
-def shoulder_angle(q):
-    rotation = np.zeros(3)
-    mujoco.mju_quat2Vel(rotation, q[:4], 1.0)
-    return float(np.linalg.norm(rotation))
-
-
 # The straight arm turned 1.4 rad about z: the target of the hand.
 q_far = robot.home.copy()
 q_far[:4] = [np.cos(0.7), 0.0, 0.0, np.sin(0.7)]
 target = robot.fk(q_far, "ee")[:3, 3]
 tasks = [redik.PositionTask(target, frame="ee"), redik.PostureTask(priority=1)]
 
-for limits in ([redik.PositionLimit()], [redik.PositionLimit(), redik.BallJointLimit()]):
+cone = redik.BallJointLimit().bind(robot)
+for limits in ([redik.PositionLimit()], [redik.PositionLimit(), cone]):
     result = redik.Problem(robot, tasks, limits).solve(robot.home, max_iter=200)
     miss = np.linalg.norm(robot.fk(result.q, "ee")[:3, 3] - target)
-    largest = max(shoulder_angle(q) for q in result.history)
+    largest = max(cone.angles_at(q)[0] for q in result.history)
     names = " + ".join(type(limit).__name__ for limit in limits)
-    print(f"{names}: {result.status}, shoulder {shoulder_angle(result.q):.3f} rad ", end="")
+    print(f"{names}: {result.status}, shoulder {cone.angles_at(result.q)[0]:.3f} rad ", end="")
     print(f"(largest over the iterates {largest:.3f}), hand {miss * 1000:.1f} mm from target")

@@ -243,12 +243,6 @@ def test_step_is_a_tangent_vector(whole):
         whole.q_of("qpos")
 
 
-def _neck_angle(q):
-    rotation = np.zeros(3)
-    mujoco.mju_quat2Vel(rotation, q[7:11], 1.0)
-    return float(np.linalg.norm(rotation))
-
-
 def test_ball_joint_limit_keeps_every_iterate_inside_the_cone(whole):
     """The neck's range is a 1.2 rad cone; the posture asks for 1.5 rad from the identity."""
     import mink
@@ -256,6 +250,14 @@ def test_ball_joint_limit_keeps_every_iterate_inside_the_cone(whole):
     target = whole.home.copy()
     target[7:11] = [np.cos(0.75), np.sin(0.75), 0.0, 0.0]
     posture = [redik.PostureTask(target, priority=0)]
+    limit = redik.BallJointLimit(margin=0.05)
+    with pytest.raises(InvalidInput, match="not bound"):
+        limit.angles_at(target)
+    limit.bind(whole)
+
+    def _neck_angle(q):
+        return float(limit.angles_at(q)[0])
+
     free = redik.Problem(whole, posture).solve(whole.home)
     assert _neck_angle(free.q) == pytest.approx(1.5)
     # mink's ConfigurationLimit has the same row but none at the identity: its first step
@@ -264,7 +266,6 @@ def test_ball_joint_limit_keeps_every_iterate_inside_the_cone(whole):
         whole, posture, [redik.PositionLimit(), mink.ConfigurationLimit(whole.model, gain=1.0)]
     )
     assert max(_neck_angle(q) for q in theirs.solve(whole.home).history) > 1.4
-    limit = redik.BallJointLimit(margin=0.05)
     result = redik.Problem(whole, posture, [redik.PositionLimit(), limit]).solve(whole.home)
     assert limit.joint_names == ("neck",)
     assert _neck_angle(result.q) == pytest.approx(1.15, abs=1e-6)

@@ -80,6 +80,16 @@ class BallJointLimit(InequalityLimit):
         self._h = np.zeros(len(joints))
         return super().bind(robot, tolerance)
 
+    def angles_at(self, q: np.ndarray) -> np.ndarray:
+        """The rotation angle (rad) of each joint of :attr:`joint_names` at ``q``."""
+        if self.robot is None:
+            raise InvalidInput(
+                "BallJointLimit is not bound: pass it to a redik.Problem or call "
+                "limit.bind(robot) first"
+            )
+        qpos = self.robot.full_qpos(self.robot.check_q(q))
+        return np.array([self._angle(qpos, i) for i in range(len(self._columns))])
+
     def _angle(self, qpos: np.ndarray, i: int) -> float:
         """The rotation angle of joint ``i``; its rotation vector left in ``_rotation``."""
         start = self._qpos[i]
