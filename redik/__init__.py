@@ -37,7 +37,13 @@ from .exceptions import (
     UnknownFrame,
 )
 from .iterative import finite_difference_jacobian, gradient, hybrid, newton
-from .limits import CollisionAvoidanceLimit, MinkLimit, PositionLimit, VelocityLimit
+from .limits import (
+    BallJointLimit,
+    CollisionAvoidanceLimit,
+    MinkLimit,
+    PositionLimit,
+    VelocityLimit,
+)
 from .model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
 from .pose_ik import solve_all, solve_pose
 from .problem import Problem
@@ -62,6 +68,7 @@ __version__ = "0.1.0"
 __all__ = [
     "STATUSES",
     "BackendError",
+    "BallJointLimit",
     "BatchResult",
     "CartesianPath",
     "CircularPath",

@@ -143,7 +143,7 @@ def test_bad_inputs_raise_redik_errors(arm, tmp_path):
         arm.fk(np.full(7, np.nan))
     with pytest.raises(InvalidConfiguration, match="NaN"):
         arm.jacobian([0, 0, 0, np.inf, 0, 0, 0])
-    with pytest.raises(UnknownFrame, match="no site or body named 'nowhere'"):
+    with pytest.raises(UnknownFrame, match="no site or body or geom named 'nowhere'"):
         arm.fk(np.zeros(7), frame="nowhere")
     with pytest.raises(InvalidInput, match="reference"):
         arm.jacobian(np.zeros(7), reference="hybrid")

@@ -36,7 +36,7 @@ class PostureTask(JointSpaceTask):
         if self._q_nominal_given is None:
             self.reference = robot.home.copy()
         else:
-            self.reference = robot.clip(lie.as_vector(self._q_nominal_given, robot.nq, "q_nominal"))
+            self.reference = _nominal(robot, self._q_nominal_given)
         return self
 
     @property
@@ -47,5 +47,10 @@ class PostureTask(JointSpaceTask):
     def set_target(self, q_nominal) -> None:
         """Replace the nominal posture (validated against the bound robot)."""
         robot = self._require_robot()
-        self.reference = robot.clip(lie.as_vector(q_nominal, robot.nq, "q_nominal"))
+        self.reference = _nominal(robot, q_nominal)
         self.version += 1
+
+
+def _nominal(robot: Robot, q_nominal) -> np.ndarray:
+    """``q_nominal`` checked (shape, finite, no zero quaternion) and clipped into the limits."""
+    return robot.clip(robot.check_q(lie.as_vector(q_nominal, robot.nq, "q_nominal"), "q_nominal"))
