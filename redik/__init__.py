@@ -6,6 +6,7 @@ Conventions (frames, twist order, units) are in :mod:`redik.conventions`.
 from . import (
     analytic,
     batch,
+    criteria,
     dh,
     lie,
     limits,
@@ -97,6 +98,7 @@ __all__ = [
     "analytic",
     "available_backends",
     "batch",
+    "criteria",
     "dh",
     "dh_to_mjcf",
     "explore_self_motion",

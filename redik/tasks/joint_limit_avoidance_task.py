@@ -16,7 +16,8 @@ Hessian are
 The task enters the QP through them, as the residual :math:`e = \sqrt2\, s ⊙ (q - \bar q)`
 with :math:`J = \sqrt2\, \mathrm{diag}(s)`, so :math:`φ = \|e\|^2/2`, :math:`J^\top J =
 ∇^2φ` and :math:`J^\top e = ∇φ`: its objective :math:`w^2 (\tfrac12 Δq^\top ∇^2φ\, Δq +
-α ∇φ^\top Δq)` is a (damped, for :math:`α < 1`) Newton step on :math:`w^2 φ`.
+α ∇φ^\top Δq)` is a (damped, for :math:`α < 1`) Newton step on :math:`w^2 φ`. The potential
+and its derivatives are those of :mod:`redik.criteria`.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ import math
 
 import numpy as np
 
+from .. import criteria
 from ..robot import Robot
 from .joint_space_task import JointSpaceTask
 
@@ -46,10 +48,7 @@ class JointLimitAvoidanceTask(JointSpaceTask):
 
     def bind(self, robot: Robot) -> JointLimitAvoidanceTask:
         super().bind(robot)
-        limited = np.isfinite(robot.lower) & np.isfinite(robot.upper)
-        span = np.where(limited, robot.upper - robot.lower, 1.0)
-        self.scale = np.where(limited & (span > 0.0), 1.0 / span, 0.0)
-        middle = 0.5 * (np.where(limited, robot.lower, 0.0) + np.where(limited, robot.upper, 0.0))
+        self.scale, middle = criteria.joint_limit_scaling(robot.lower, robot.upper)
         if robot.flat:
             self.reference = middle
         else:  # a configuration: the middle on hinges and slides (s = 0 elsewhere)
@@ -64,14 +63,14 @@ class JointLimitAvoidanceTask(JointSpaceTask):
 
     def value(self, q: np.ndarray) -> float:
         """The potential ``φ(q)``."""
-        return float(
-            np.sum((self.scale * self._require_robot().difference(self.reference, q)) ** 2)
-        )
+        deviation = self._require_robot().difference(self.reference, q)
+        return criteria.joint_limit_potential(deviation, self.scale)
 
     def gradient(self, q: np.ndarray) -> np.ndarray:
         """``∇φ(q) = 2 s² ⊙ (q − q̄)``."""
-        return 2.0 * self.scale**2 * self._require_robot().difference(self.reference, q)
+        deviation = self._require_robot().difference(self.reference, q)
+        return criteria.joint_limit_potential_gradient(deviation, self.scale)
 
     def hessian(self) -> np.ndarray:
         """``∇²φ = 2 diag(s²)`` (constant)."""
-        return np.diag(2.0 * self.scale**2)
+        return criteria.joint_limit_potential_hessian(self.scale)
