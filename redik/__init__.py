@@ -56,7 +56,7 @@ from .tasks import (
     PositionTask,
     PostureTask,
 )
-from .trajectory import CartesianPath, CircularPath, JointTrajectory, follow_path
+from .trajectory import CartesianPath, CircularPath, JointTrajectory, PosePath, follow_path
 
 __version__ = "0.1.0"
 
@@ -83,6 +83,7 @@ __all__ = [
     "ModelWarning",
     "NearRotationWarning",
     "OrientationTask",
+    "PosePath",
     "PoseTask",
     "PositionLimit",
     "PositionTask",

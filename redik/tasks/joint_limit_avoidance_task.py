@@ -29,6 +29,7 @@ import numpy as np
 from .. import criteria
 from ..robot import Robot
 from .joint_space_task import JointSpaceTask
+from .task import weight_or_cost
 
 
 class JointLimitAvoidanceTask(JointSpaceTask):
@@ -37,13 +38,14 @@ class JointLimitAvoidanceTask(JointSpaceTask):
     A joint-space task (:mod:`redik.tasks.joint_space_task`) with ``d = √2 s``, ``r = q̄``.
 
     Args:
-        weight: Scalar or per-joint weight ``w`` (the objective scales with ``w²``).
+        weight: Scalar or per-joint weight ``w`` (the objective scales with ``w²``; default 1).
         gain: Newton step fraction ``α ∈ [0, 1]``.
         priority: Priority level, 0 highest.
+        cost: mink's name for ``weight`` (give one of them).
     """
 
-    def __init__(self, weight=1.0, gain: float = 1.0, priority: int = 1):
-        super().__init__(weight, gain, priority)
+    def __init__(self, weight=None, gain: float = 1.0, priority: int = 1, *, cost=None):
+        super().__init__(weight_or_cost(weight, cost), gain, priority)
         self.scale = np.empty(0)
 
     def bind(self, robot: Robot) -> JointLimitAvoidanceTask:

@@ -23,7 +23,7 @@ from .. import criteria
 from ..exceptions import InvalidInput
 from ..robot import Frame, Robot
 from .kinematics import KinematicState
-from .task import Task, as_weight
+from .task import Task, as_weight, weight_or_cost
 
 
 class ManipulabilityTask(Task):
@@ -31,16 +31,25 @@ class ManipulabilityTask(Task):
 
     Args:
         frame: Site or body name; None is the robot's end-effector.
-        weight: Scalar or per-joint weight ``w`` (the objective scales with ``w²``).
+        weight: Scalar or per-joint weight ``w`` (the objective scales with ``w²``; default 1).
         gain: Gradient step ``α`` (radians per unit of manipulability gradient), ≥ 0.
         priority: Priority level, 0 highest.
+        cost: mink's name for ``weight`` (give one of them).
     """
 
-    def __init__(self, frame: str | None = None, weight=1.0, gain: float = 1.0, priority=1):
+    def __init__(
+        self,
+        frame: str | None = None,
+        weight=None,
+        gain: float = 1.0,
+        priority=1,
+        *,
+        cost=None,
+    ):
         super().__init__(priority)
         self.frame_name = frame
         self.frame: Frame | None = None
-        self._weight_spec = weight
+        self._weight_spec = weight_or_cost(weight, cost)
         self.weight = np.empty(0)
         self.gain = float(gain)
         if not np.isfinite(self.gain) or self.gain < 0.0:
