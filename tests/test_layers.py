@@ -27,6 +27,7 @@ with its reason; the test fails when a new violation appears *and* when a listed
 from __future__ import annotations
 
 import ast
+import re
 import sys
 from pathlib import Path
 
@@ -263,3 +264,18 @@ def test_a_violation_is_detected(monkeypatch, tmp_path):
     assert "a higher layer" in found[("probe", "tasks.task")]
     assert ("probe", "batch.solve") in found
     assert set(found) - {("probe", "tasks.task"), ("probe", "batch.solve")} == set(ALLOWED)
+
+
+def test_readme_architecture_table_states_these_layers():
+    readme = (ROOT.parent / "README.md").read_text(encoding="utf-8")
+    section = readme.split("## Architecture", 1)[1].split("\n## ", 1)[0]
+    rows = re.findall(r"^\| ([a-z ]+) \| (.+) \|$", section, flags=re.MULTILINE)[1:]  # no header
+    names = [name for name, _ in LAYERS if name != "package"]
+    assert [name for name, _ in rows] == names
+    for index, (_, cell) in enumerate(rows):
+        while re.search(r"\([^()]*\)", cell):
+            cell = re.sub(r"\([^()]*\)", "", cell)  # submodules and comments in parentheses
+        for token in re.findall(r"`([^`]+)`", cell):
+            module = token.rstrip("/").replace("/", ".")
+            assert module in MODULES, f"README names redik/{token}, which does not exist"
+            assert layer_of(module) == index, f"README puts redik/{token} in {names[index]}"
