@@ -114,6 +114,10 @@ class Robot:
         revolute: Per tangent coordinate, True for rotations (hinge, ball, a free joint's
             angular part).
         home: The ``home`` keyframe's values (else ``qpos0``), clipped into the limits.
+        solver_cache: What solvers compile once per robot and frame (e.g. the chain of
+            :func:`redik.solve_pose`'s ``"dls"`` kernel), kept here so it lives and dies
+            with the robot. Like :attr:`data`, it makes a robot unsafe to share between
+            threads.
     """
 
     def __init__(
@@ -230,6 +234,7 @@ class Robot:
         self._qpos_a = np.zeros(model.nq)
         self._qpos_b = np.zeros(model.nq)
         self._qvel = np.zeros(model.nv)
+        self.solver_cache: dict[object, object] = {}
 
     # ----------------------------------------------------------------------------------
     # Construction
