@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+import warnings
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -69,10 +70,12 @@ def time_scaling(tau: float, kind: str) -> float:
     return tau * tau * tau * (10.0 + tau * (-15.0 + 6.0 * tau))
 
 
-class Path:
+class PosePath:
     """A timed pose path: :meth:`pose` at any time from ``start_time`` to ``end_time``.
 
     Subclasses define :meth:`pose`, ``start_time`` and ``end_time``; sampling is shared.
+    (Named ``Path`` before 0.2, a name that clashed with :class:`pathlib.Path`; the old name
+    still works and warns, for one release.)
     """
 
     start_time: float
@@ -103,7 +106,7 @@ class Path:
         return times, np.array([self.pose(t) for t in times])
 
 
-class CartesianPath(Path):
+class CartesianPath(PosePath):
     """A path through timed waypoint poses: straight lines in position, SLERP in rotation.
 
     Args:
@@ -172,7 +175,7 @@ class CartesianPath(Path):
         return float(self.times[-1])
 
 
-class CircularPath(Path):
+class CircularPath(PosePath):
     """The end-effector moving once around a circle, orientation held.
 
     The circle passes through ``T_start``'s position, around ``center``, in the plane normal
@@ -364,7 +367,7 @@ def limit_contacts(times: np.ndarray, q: np.ndarray, robot: Robot, margin: float
 
 def follow_path(
     robot: Robot,
-    path: Path,
+    path: PosePath,
     q0: np.ndarray,
     solver: Solver | None = None,
     *,
@@ -434,3 +437,20 @@ def follow_path(
         singular_crossings=singular_crossings(times, sigma_min, singular_tol),
         limit_contacts=limit_contacts(times, qs, robot, limit_margin),
     )
+
+
+_DEPRECATED = {"Path": ("PosePath", PosePath)}
+
+
+def __getattr__(name: str):
+    """Deprecated names, kept for one release with a :class:`DeprecationWarning`."""
+    if name in _DEPRECATED:
+        new_name, value = _DEPRECATED[name]
+        warnings.warn(
+            f"redik.trajectory.{name} is deprecated (it clashes with pathlib.Path); "
+            f"use redik.trajectory.{new_name}",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

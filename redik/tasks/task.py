@@ -22,7 +22,15 @@ This is mink's task protocol (``mink.Task``: ``compute_error``, ``compute_jacobi
 ``cost`` = :math:`w`, ``gain``), so a redik task can be handed to ``mink.solve_ik`` and a
 mink task to :class:`redik.Problem`. Weights multiply the residual, as mink's ``cost``
 does: the objective scales with :math:`w^2`. A weight is a scalar or one value per error
-component. Tasks that are not least squares (:class:`ManipulabilityTask`) implement
+component.
+
+**Vocabulary.** redik's canonical word is *weight* (``weight=``, ``position_weight=``,
+:meth:`ResidualTask.set_weight`); mink's *cost* is accepted everywhere as a synonym
+(``cost=``, ``position_cost=``, ``set_cost``, ``set_position_cost``), so code written
+for mink reads the same. The stored vector is ``task.cost``, the attribute mink reads.
+Giving both names at once is an error.
+
+Tasks that are not least squares (:class:`ManipulabilityTask`) implement
 :meth:`Task.add_objective` directly.
 
 A task names frames, not ids; :meth:`Task.bind` resolves them against a
@@ -59,6 +67,18 @@ def as_weight(weight, size: int, name: str) -> np.ndarray:
     if not np.all((array >= 0.0) & (array <= MAX_WEIGHT)):  # NaN fails too
         raise InvalidInput(f"{name} must be in [0, {MAX_WEIGHT:g}], got {array.tolist()}")
     return np.broadcast_to(array, (size,)).copy()
+
+
+def weight_or_cost(weight, cost, weight_name: str = "weight", cost_name: str = "cost"):
+    """The weight given under redik's name or mink's (default 1); refuses both at once."""
+    if cost is None:
+        return 1.0 if weight is None else weight
+    if weight is not None:
+        raise InvalidInput(
+            f"give {weight_name}= or {cost_name}= (mink's name for it), not both: "
+            f"{weight_name}={weight!r}, {cost_name}={cost!r}"
+        )
+    return cost
 
 
 def as_gain(gain: float) -> float:
@@ -168,6 +188,10 @@ class ResidualTask(Task, MinkTask):
         ``cost`` in place: cached products are refreshed through :attr:`version`."""
         self.cost[:] = as_weight(weight, self.k, f"{type(self).__name__} weight")
         self.version += 1
+
+    def set_cost(self, cost) -> None:
+        """mink's name for :meth:`set_weight`."""
+        self.set_weight(cost)
 
     @abc.abstractmethod
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
