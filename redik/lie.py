@@ -375,6 +375,37 @@ def so3_log(R: np.ndarray) -> np.ndarray:
     return np.array([x * scale, y * scale, z * scale])
 
 
+def rotation_log(Rd: np.ndarray, R: np.ndarray, out: np.ndarray) -> np.ndarray:
+    r"""Write ``ω = log(R_d Rᵀ)^∨`` (``3 × A``) into ``out`` and return the angles ``‖ω‖``.
+
+    From the skew part ``s = sin θ u`` and ``cos θ = (tr − 1)/2``, ``θ = atan2(‖s‖, cos θ)``
+    is accurate at every angle; near ``θ = π``, where ``s`` loses its direction, the axis
+    comes from the symmetric part ``(E + Eᵀ)/2 − cos θ I = (1 − cos θ) u uᵀ``. The batch is
+    last (``R_d``, ``R`` are ``3 × 3 × A``): one vector operation per entry over the batch.
+    :func:`so3_log` is the one-rotation form (through MuJoCo's quaternion); the compiled
+    scalar twin is :func:`redik.kinematics.compiled.pose_error`, tested equal to this one.
+    """
+    E = np.einsum("ikb,jkb->ijb", Rd, R)
+    out[0] = 0.5 * (E[2, 1] - E[1, 2])
+    out[1] = 0.5 * (E[0, 2] - E[2, 0])
+    out[2] = 0.5 * (E[1, 0] - E[0, 1])
+    cos = 0.5 * (E[0, 0] + E[1, 1] + E[2, 2] - 1.0)
+    sin = np.sqrt(np.einsum("ib,ib->b", out, out))
+    angle = np.arctan2(sin, cos)
+    scale = np.divide(angle, sin, out=np.ones_like(angle), where=sin > 1e-300)
+    out *= scale
+    flipped = np.flatnonzero((cos < 0.0) & (sin < 1e-6))
+    if flipped.size:
+        sym = 0.5 * (E[:, :, flipped] + E[:, :, flipped].transpose(1, 0, 2))
+        sym -= np.eye(3)[:, :, None] * cos[flipped]
+        column = np.argmax(np.diagonal(sym).T, axis=0)
+        picked = np.take_along_axis(sym, column[None, None], axis=1)[:, 0]
+        axis = picked / np.sqrt(np.einsum("ib,ib->b", picked, picked))
+        sign = np.where(np.einsum("ib,ib->b", axis, out[:, flipped]) < 0.0, -1.0, 1.0)
+        out[:, flipped] = axis * (sign * angle[flipped])
+    return angle
+
+
 def _v_matrices(omega: np.ndarray) -> tuple[np.ndarray, float, float]:
     """``[ω]`` with the coefficients of ``V(ω) = I + c1 [ω] + c2 [ω]²``."""
     W = skew(omega)

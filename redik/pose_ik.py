@@ -46,10 +46,10 @@ Methods
         ``‖e‖`` (then ``μ`` shrinks), otherwise it is rejected and ``μ`` grows; an attempt
         that stops making progress ends early and a restart takes over, from the nearest
         in pose of ``candidates`` random configurations. The attempts and restarts run in
-        the compiled kernel of :mod:`redik.batch.kernel` — the same code as
+        the compiled kernel of :mod:`redik.kinematics.dls` — the same code as
         :func:`redik.batch.solve_batch` — on the robot's chain compiled once per frame.
     ``"qp"``
-        Dispatched to :func:`redik.qp.solve.solve_pose_qp` (the QP core).
+        Dispatched to :func:`redik.pose_qp.solve_pose_qp` (the QP core).
 
 Error
     ``"transpose"``, ``"hybrid"`` and ``"dls"`` drive the world-frame error
@@ -88,10 +88,10 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from .batch import kernel
 from .batch.chain import Chain
-from .batch.solve import BatchOptions
 from .exceptions import InvalidInput
+from .kinematics import dls as kernel
+from .kinematics.dls import BatchOptions
 from .lie import adjoint, as_pose, inverse, pose_errors, se3_log, skew, so3_log, wrap_angle
 from .result import IKResult
 from .robot import Frame, Robot
@@ -166,7 +166,7 @@ def solve_pose(
             ``"newton"``: ``form`` ("body" or "space"), ``step``, ``stop`` ("pose" or the
             textbook's "twist", see the module docstring);
             ``"transpose"``: ``step`` ("armijo" or a number); ``"hybrid"``: ``switch_error``;
-            ``"qp"``: passed on to :func:`redik.qp.solve.solve_pose_qp`.
+            ``"qp"``: passed on to :func:`redik.pose_qp.solve_pose_qp`.
 
     Returns:
         An :class:`~redik.result.IKResult`; ``restarts`` counts the attempts after the first,
@@ -202,10 +202,10 @@ def solve_pose(
 
     if method == "qp":
         try:
-            from .qp.solve import solve_pose_qp
+            from .pose_qp import solve_pose_qp
         except ImportError as error:
             raise InvalidInput(
-                f"method 'qp' needs redik.qp.solve.solve_pose_qp, which is not available ({error})"
+                f"method 'qp' needs redik.pose_qp.solve_pose_qp, which is not available ({error})"
             ) from None
         return solve_pose_qp(
             robot, T_target, q_start, pos_tol=pos_tol, rot_tol=rot_tol, max_iter=max_iter,
@@ -490,7 +490,7 @@ class _FrameSolver:
         seed: int | np.random.Generator | None,
         options: dict,
     ) -> IKResult:
-        """Every attempt in :func:`redik.batch.kernel.solve_one`; the joints that do not move
+        """Every attempt in :func:`redik.kinematics.dls.solve_one`; the joints that do not move
         the frame stay at ``q_start``. Success is decided by the kernel's FK of the returned
         ``q`` (tested equal to MuJoCo's, ``tests/test_batch_kernel.py``); MuJoCo's only when
         ``q`` was shifted by 2π into the limits afterwards."""

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 import redik
-from redik.batch import Chain, forward_kinematics, kernel, solve_batch
+from redik.batch import Chain, forward_kinematics, solve_batch
+from redik.kinematics import compiled, dls
 from redik.pose_ik import solve_pose
 
 from .test_batch_kinematics import ROBOTS
@@ -28,8 +29,8 @@ def _kernel_pose_and_jacobian(chain: Chain, q: np.ndarray) -> tuple[np.ndarray, 
         np.empty((6, n)),
     )
     base, links, revolute = chain.kernel_arrays()[:3]
-    kernel.chain_kinematics(base, links, revolute, q, R, p, axes, origins)
-    kernel.world_jacobian(revolute, p, axes, origins, J)
+    compiled.chain_kinematics(base, links, revolute, q, R, p, axes, origins)
+    compiled.world_jacobian(revolute, p, axes, origins, J)
     return redik.lie.make_pose(R, p), J
 
 
@@ -55,7 +56,7 @@ def test_chain_to_another_frame_matches_mujoco(rng):
 
 
 def test_kernel_pose_error_matches_the_batched_rotation_log(rng):
-    from redik.batch.solve import rotation_log
+    from redik.lie import rotation_log
     from redik.workspace import random_rotations
 
     Rd, R = random_rotations(50, seed=3), random_rotations(50, seed=4)
@@ -66,7 +67,7 @@ def test_kernel_pose_error_matches_the_batched_rotation_log(rng):
     pd, p = rng.standard_normal((50, 3)), rng.standard_normal((50, 3))
     e = np.empty(6)
     for i in range(50):
-        position, angle = kernel.pose_error(Rd[i], pd[i], R[i], p[i], e)
+        position, angle = compiled.pose_error(Rd[i], pd[i], R[i], p[i], e)
         np.testing.assert_allclose(e[:3], pd[i] - p[i], atol=1e-15)
         assert position == pytest.approx(np.linalg.norm(pd[i] - p[i]), rel=1e-14)
         assert angle == pytest.approx(angles[i], abs=1e-12)
@@ -83,11 +84,35 @@ def test_damped_solve_solves_the_damped_normal_equations(n, rng):
         free = rng.random(n) > 0.3
         damping = rng.uniform(1e-6, 1.0)
         dq = np.empty(n)
-        kernel.damped_solve(J, free, e, damping, np.empty((m, m)), np.empty(m), dq)
+        dls.damped_solve(J, free, e, damping, np.empty((m, m)), np.empty(m), dq)
         Jf = J * free
         expected = np.linalg.solve(Jf.T @ Jf + damping * np.eye(n), Jf.T @ e)
         np.testing.assert_allclose(dq, expected, rtol=1e-8, atol=1e-10)
         np.testing.assert_array_equal(dq[~free], 0.0)
+
+
+def test_damped_solve_equals_its_numpy_twin_damped_step(rng):
+    # The compiled one-target step and the batched numpy one are the same formula.
+    J, e = rng.standard_normal((6, 7, 20)), rng.standard_normal((6, 20))
+    damping = rng.uniform(1e-6, 1.0, 20)
+    batched = dls.damped_step(J, e, damping)
+    free, dq = np.ones(7, dtype=bool), np.empty(7)
+    for b in range(20):
+        J_b = np.ascontiguousarray(J[:, :, b])
+        dls.damped_solve(J_b, free, e[:, b].copy(), damping[b], np.empty((6, 6)), np.empty(6), dq)
+        np.testing.assert_allclose(dq, batched[:, b], rtol=1e-9, atol=1e-12)
+
+
+def test_the_old_homes_re_export_the_moved_kernel():
+    from redik.batch import kernel, solve
+    from redik.redundancy import corrector
+
+    for name in kernel.__all__:
+        home = compiled if hasattr(compiled, name) else dls
+        assert getattr(kernel, name) is getattr(home, name)
+    assert solve.BatchOptions is dls.BatchOptions
+    assert solve.damped_step is corrector.damped_step is dls.damped_step
+    assert solve.rotation_log is redik.lie.rotation_log
 
 
 def test_results_do_not_depend_on_chunks_or_threads():

@@ -143,7 +143,7 @@ def test_status_names_follow_redik_statuses():
 
 
 def test_rotation_log_matches_lie_at_every_angle(rng):
-    from redik.batch.solve import rotation_log
+    from redik.lie import rotation_log
     from redik.workspace import random_rotations
 
     R = random_rotations(200, seed=1)
@@ -166,7 +166,7 @@ def test_rotation_log_matches_lie_at_every_angle(rng):
 
 @pytest.mark.parametrize("size", [10, 1000])  # the LAPACK path and the batched Cholesky
 def test_damped_step_solves_the_damped_normal_equations(size, rng):
-    from redik.batch.solve import damped_step
+    from redik.kinematics.dls import damped_step
 
     J = rng.standard_normal((6, 7, size))
     e = rng.standard_normal((6, size))

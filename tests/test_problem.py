@@ -9,8 +9,8 @@ import redik
 from redik import lie
 from redik.exceptions import InvalidConfiguration, InvalidInput
 from redik.limits import PositionLimit, VelocityLimit
+from redik.pose_qp import solve_pose_qp
 from redik.problem import Problem
-from redik.qp import solve_pose_qp
 from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
 from redik.trajectory import CircularPath
 
@@ -296,7 +296,7 @@ def test_patience_ends_an_attempt_that_stops_making_progress(panda):
 
 
 def test_solve_pose_qp_restarts_from_the_nearest_candidate(panda, rng):
-    from redik.qp.solve import _nearest_start
+    from redik.pose_qp import _nearest_start
 
     task = PoseTask(panda.fk(panda.random_q(rng)))
     problem = Problem(panda, [task])  # binds the task to the robot

@@ -2,8 +2,8 @@
 
 - :mod:`~redik.batch.chain` compiles a robot's MuJoCo chain once into arrays;
 - :mod:`~redik.batch.kinematics` evaluates FK and Jacobians over a whole batch;
-- :mod:`~redik.batch.kernel` is the compiled (numba) damped least-squares solve of one target,
-  shared with :func:`redik.solve_pose`;
+- :mod:`redik.kinematics.dls` is the compiled (numba) damped least-squares solve of one
+  target, shared with :func:`redik.solve_pose` (:mod:`~redik.batch.kernel` re-exports it);
 - :mod:`~redik.batch.solve` runs it on a batch (:func:`solve_batch`);
 - :mod:`~redik.batch.engines` spreads chunks over this process, a process pool or Ray.
 """

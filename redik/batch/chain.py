@@ -80,7 +80,7 @@ class Chain:
         return self.base[:3, 3].copy(), radius
 
     def kernel_arrays(self) -> tuple[np.ndarray, ...]:
-        """The arrays :mod:`redik.batch.kernel` takes, in its order; the last marks limited
+        """The arrays :mod:`redik.kinematics.dls` takes, in its order; the last marks limited
         hinges whose range spans a full turn (the kernel wraps them by 2π)."""
         periodic = (
             self.revolute

@@ -2,8 +2,8 @@ r"""Damped least squares over a batch of pose targets: :func:`solve_batch`.
 
 Every target runs its own Levenberg–Marquardt solve (Nocedal & Wright §10.3; Buss,
 *Introduction to inverse kinematics with Jacobian transpose, pseudoinverse and damped least
-squares methods*, 2004) in the compiled kernel of :mod:`redik.batch.kernel`, which states the
-iteration, the joint-limit handling and the restarts:
+squares methods*, 2004) in the compiled kernel of :mod:`redik.kinematics.dls`, which states
+the iteration, the joint-limit handling and the restarts:
 
 .. math::
 
@@ -24,21 +24,24 @@ rot_tol`` and ``q`` within the limits, checked by a fresh FK of the returned ``q
 from __future__ import annotations
 
 import dataclasses
-import math
 from collections.abc import Callable
 
 import numba
 import numpy as np
 
 from ..exceptions import InvalidInput
+from ..kinematics import dls
+from ..kinematics.compiled import valid_targets
+from ..kinematics.dls import BatchOptions
+from ..kinematics.dls import damped_step as damped_step  # re-exported: its old home
 from ..lie import MAX_COORDINATE, ROTATION_TOLERANCE, check_rotations, real_array
+from ..lie import rotation_log as rotation_log  # re-exported: its old home
 from ..robot import Robot
-from . import kernel
 from .chain import Chain
 from .engines import ENGINES, default_workers, map_chunks
 
 BATCH_STATUSES = ("converged", "stalled", "max_iterations", "invalid", "diverged")
-"""Status names by code (those of :mod:`redik.batch.kernel`). All but ``"invalid"`` are
+"""Status names by code (those of :mod:`redik.kinematics.dls`). All but ``"invalid"`` are
 those of :data:`redik.result.STATUSES`; ``"invalid"`` marks a target that is not a finite
 rigid transform (it is not solved)."""
 
@@ -48,76 +51,6 @@ METHODS = ("dls",)
 CHUNK_SIZE_RANGE = (1024, 16384)
 """Bounds of the automatic chunk size: enough targets to keep every thread busy, few enough
 to bound memory and to give every worker a share of a 10k batch."""
-
-
-@dataclasses.dataclass(frozen=True)
-class BatchOptions:
-    """Settings of the damped least squares (see :mod:`redik.batch.kernel`).
-
-    Attributes:
-        pos_tol: Position tolerance (m).
-        rot_tol: Rotation tolerance (rad).
-        max_iterations: Iterations per attempt before a target is re-seeded.
-        restarts: Random re-seeds per target after its first attempt.
-        damping: ``μ`` at the start of each attempt (``λ = μ‖e‖² + λ_min``).
-        min_damping, max_damping: ``λ_min``, and the ``λ`` past which an attempt has stalled.
-        patience, progress: An attempt whose ``‖e‖²`` fell by less than the fraction
-            ``progress`` over the last ``patience`` iterations has stalled.
-        candidates: Each restart starts from the nearest in pose of this many random
-            configurations (1: a uniform random start).
-
-    The defaults were tuned on 20k random targets of panda, iiwa14 and ur5e: ``μ`` = 0.1 and
-    16 candidates cut the iterations per solve by a fifth against ``μ`` = 1 and uniform
-    starts; a patience of 8 (not 5) and 100 restarts take panda's hardest 0.1–0.2 % of
-    targets (near its limits, where progress is slow) to 100 % for 6 % more iterations.
-    """
-
-    pos_tol: float = 1e-6
-    rot_tol: float = 1e-5
-    max_iterations: int = 60
-    restarts: int = 100
-    damping: float = 0.1
-    min_damping: float = 1e-9
-    max_damping: float = 1e6
-    patience: int = 8
-    progress: float = 0.5
-    candidates: int = 16
-
-    def __post_init__(self) -> None:
-        for name in ("pos_tol", "rot_tol", "damping", "min_damping", "max_damping", "progress"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not (
-                isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0
-            ):
-                raise InvalidInput(f"{name} must be a positive number, got {value!r}")
-        integers = (("max_iterations", 1), ("restarts", 0), ("patience", 1), ("candidates", 1))
-        for name, minimum in integers:
-            value = getattr(self, name)
-            integer = isinstance(value, (int, np.integer)) and not isinstance(value, bool)
-            if not integer or value < minimum:
-                raise InvalidInput(f"{name} must be an integer ≥ {minimum}, got {value!r}")
-
-    def kernel_settings(self, bounded: bool = True) -> tuple[np.ndarray, np.ndarray]:
-        """The float and integer settings arrays of :mod:`redik.batch.kernel` (the reach
-        excess ``REACH`` starts at 0: :func:`redik.solve_pose` sets it per target; a target
-        is valid within :data:`redik.lie.ROTATION_TOLERANCE`, as :func:`redik.lie.as_pose`
-        checks one pose)."""
-        settings = np.empty(8)
-        settings[kernel.POS_TOL] = self.pos_tol
-        settings[kernel.ROT_TOL] = self.rot_tol
-        settings[kernel.DAMPING] = self.damping
-        settings[kernel.MIN_DAMPING] = self.min_damping
-        settings[kernel.MAX_DAMPING] = self.max_damping
-        settings[kernel.REQUIRED] = math.sqrt(1.0 - min(self.progress, 1.0))
-        settings[kernel.REACH] = 0.0
-        settings[kernel.TARGET_TOL] = ROTATION_TOLERANCE
-        counts = np.empty(5, dtype=np.int64)
-        counts[kernel.CANDIDATES] = self.candidates
-        counts[kernel.MAX_ITER] = self.max_iterations
-        counts[kernel.RESTARTS] = self.restarts
-        counts[kernel.PATIENCE] = self.patience
-        counts[kernel.BOUNDED] = int(bounded)
-        return settings, counts
 
 
 @dataclasses.dataclass
@@ -202,7 +135,7 @@ def check_targets(T_targets: np.ndarray, strict: bool = False) -> tuple[np.ndarr
     # Compiled and on every core: the exact rigid transforms, nearly all of a batch (a serial
     # numpy pass took a tenth of the time of the solves). The policy then only sees the rest.
     valid = np.empty(len(T), dtype=bool)
-    kernel.valid_targets(T, ROTATION_TOLERANCE, valid)
+    valid_targets(T, ROTATION_TOLERANCE, valid)
     if valid.all():
         return T, valid
     rest = np.flatnonzero(~valid)
@@ -242,83 +175,6 @@ def check_seeds(chain: Chain, q0: np.ndarray | None, size: int) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------------------
-# Vectorised pieces (batch last: a vector per target is a column), for callers that iterate
-# a whole batch in numpy themselves (redundancy's BatchCorrector)
-
-_SMALL_BATCH = 256
-
-
-def rotation_log(Rd: np.ndarray, R: np.ndarray, out: np.ndarray) -> np.ndarray:
-    r"""Write ``ω = log(R_d Rᵀ)^∨`` (``3 × A``) into ``out`` and return the angles ``‖ω‖``.
-
-    From the skew part ``s = sin θ u`` and ``cos θ = (tr − 1)/2``, ``θ = atan2(‖s‖, cos θ)``
-    is accurate at every angle; near ``θ = π``, where ``s`` loses its direction, the axis
-    comes from the symmetric part ``(E + Eᵀ)/2 − cos θ I = (1 − cos θ) u uᵀ``.
-    """
-    E = np.einsum("ikb,jkb->ijb", Rd, R)
-    out[0] = 0.5 * (E[2, 1] - E[1, 2])
-    out[1] = 0.5 * (E[0, 2] - E[2, 0])
-    out[2] = 0.5 * (E[1, 0] - E[0, 1])
-    cos = 0.5 * (E[0, 0] + E[1, 1] + E[2, 2] - 1.0)
-    sin = np.sqrt(np.einsum("ib,ib->b", out, out))
-    angle = np.arctan2(sin, cos)
-    scale = np.divide(angle, sin, out=np.ones_like(angle), where=sin > 1e-300)
-    out *= scale
-    flipped = np.flatnonzero((cos < 0.0) & (sin < 1e-6))
-    if flipped.size:
-        sym = 0.5 * (E[:, :, flipped] + E[:, :, flipped].transpose(1, 0, 2))
-        sym -= np.eye(3)[:, :, None] * cos[flipped]
-        column = np.argmax(np.diagonal(sym).T, axis=0)
-        picked = np.take_along_axis(sym, column[None, None], axis=1)[:, 0]
-        axis = picked / np.sqrt(np.einsum("ib,ib->b", picked, picked))
-        sign = np.where(np.einsum("ib,ib->b", axis, out[:, flipped]) < 0.0, -1.0, 1.0)
-        out[:, flipped] = axis * (sign * angle[flipped])
-    return angle
-
-
-def damped_step(J: np.ndarray, e: np.ndarray, damping: np.ndarray) -> np.ndarray:
-    r"""``Δq = Jᵀ (J Jᵀ + λ I)⁻¹ e`` for every column: ``J`` is ``6 × n × A``, ``e`` ``6 × A``.
-
-    The symmetric positive-definite ``6 × 6`` systems are solved by Cholesky ``L Lᵀ``,
-    forward and back substitution, each entry one vector operation over the batch; below
-    ``_SMALL_BATCH`` columns by LAPACK, one system after another.
-    """
-    m, _, size = J.shape
-    if size < _SMALL_BATCH:
-        # Few columns: numpy's call overhead dominates, so one LAPACK call per system wins.
-        Jb = J.transpose(2, 0, 1)
-        A = Jb @ Jb.transpose(0, 2, 1)
-        A[:, range(m), range(m)] += damping[:, None]
-        return np.einsum("bik,bi->kb", Jb, np.linalg.solve(A, e.T[..., None])[..., 0])
-    L: list[list[np.ndarray]] = [[] for _ in range(m)]
-    for j in range(m):
-        diagonal = np.einsum("kb,kb->b", J[j], J[j]) + damping
-        for k in range(j):
-            diagonal -= L[j][k] * L[j][k]
-        np.sqrt(diagonal, out=diagonal)
-        inverse = 1.0 / diagonal
-        for i in range(j + 1, m):
-            entry = np.einsum("kb,kb->b", J[i], J[j])  # (J Jᵀ)[i, j]
-            for k in range(j):
-                entry -= L[i][k] * L[j][k]
-            entry *= inverse
-            L[i].append(entry)
-        L[j].append(diagonal)
-    y: list[np.ndarray] = []
-    for i in range(m):
-        value = e[i].copy()
-        for k in range(i):
-            value -= L[i][k] * y[k]
-        y.append(value / L[i][i])
-    x: list[np.ndarray] = [y[0]] * m
-    for i in reversed(range(m)):
-        value = y[i].copy()
-        for k in range(i + 1, m):
-            value -= L[k][i] * x[k]
-        x[i] = value / L[i][i]
-    return np.einsum("ikb,ib->kb", J, np.array(x))
-
-
 # --------------------------------------------------------------------------------------
 # One chunk
 
@@ -337,7 +193,7 @@ def solve_chunk(
     ``T_targets`` is ``B × 4 × 4``, ``q0`` ``B × n`` within limits, the targets ``first …
     first + B − 1`` of the batch; their random re-seeds depend on ``key`` and those indices
     alone. ``parallel`` spreads the targets over numba's threads. A target that is not a
-    finite rigid transform (:func:`redik.batch.kernel.valid_target`, checked in the
+    finite rigid transform (:func:`redik.kinematics.compiled.valid_target`, checked in the
     compiled code beside the solve) gets status ``"invalid"``.
     """
     T = np.ascontiguousarray(T_targets, dtype=float)
@@ -351,7 +207,7 @@ def solve_chunk(
         np.empty(size),
     )
     settings, counts = options.kernel_settings()
-    solve = kernel.solve_parallel if parallel else kernel.solve_serial
+    solve = dls.solve_parallel if parallel else dls.solve_serial
     solve(
         chain.kernel_arrays(), T, np.ascontiguousarray(q0, dtype=float),
         np.int64(first), np.uint64(key), settings, counts, results,
@@ -359,7 +215,7 @@ def solve_chunk(
     q, status, iterations, restarts, position, rotation = results
     return BatchResult(
         q=q,
-        success=status == kernel.CONVERGED,
+        success=status == dls.CONVERGED,
         position_error=position,
         rotation_error=rotation,
         iterations=iterations,

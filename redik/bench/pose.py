@@ -207,9 +207,9 @@ def _print_table(rows: list[tuple[str, str, str, float, np.ndarray]]) -> None:
 def _redik_solver(robot: Robot, method: str) -> Solver | None:
     if method == "qp":
         try:
-            from ..qp.solve import solve_pose_qp  # noqa: F401
+            from ..pose_qp import solve_pose_qp  # noqa: F401
         except ImportError:
-            print("note: method 'qp' skipped (redik.qp.solve is not available)")
+            print("note: method 'qp' skipped (redik.pose_qp is not available)")
             return None
 
     def solve(T_target: np.ndarray, q0: np.ndarray, index: int) -> np.ndarray:

@@ -7,7 +7,6 @@ back-ends in :mod:`redik.qp.backends`.
 from .backends import Backend, FallbackChain, available_backends, make_backend
 from .hierarchy import solve_lexicographic
 from .problem_data import QP
-from .solve import solve_pose_qp
 
 __all__ = [
     "QP",
@@ -16,5 +15,4 @@ __all__ = [
     "available_backends",
     "make_backend",
     "solve_lexicographic",
-    "solve_pose_qp",
 ]

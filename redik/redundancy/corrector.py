@@ -29,8 +29,8 @@ import numpy as np
 
 from ..batch.chain import Chain
 from ..batch.kinematics import chain_poses, world_jacobian
-from ..batch.solve import damped_step, rotation_log
-from ..lie import inverse, pose_errors, se3_log, wrap_angle
+from ..kinematics.dls import damped_step
+from ..lie import inverse, pose_errors, rotation_log, se3_log, wrap_angle
 from .criteria import periodic_joints
 
 if TYPE_CHECKING:

@@ -13,7 +13,7 @@ so the two give the same step.
 
 The error is :math:`\log` of :math:`T^{-1} T_d = (R^\top R_d,\; R^\top (p_d - p))`: the
 rotation part :math:`ω = R^\top \log(R_d R^\top)` from the world-frame error of the compiled
-solver kernel (:func:`redik.batch.kernel.pose_error`, robust at every angle), the translation
+solver kernel (:func:`redik.kinematics.compiled.pose_error`, robust at every angle), the translation
 part :math:`v = V(ω)^{-1} R^\top (p_d - p)` as in :func:`redik.lie.se3_log`. Error, body
 Jacobian and the 6 × 6 inverse Jacobian (closed form, :mod:`redik.tasks.frame_task`) are
 fused in one compiled function, :func:`pose_residual`: this residual is the bulk of a QP step,
@@ -28,7 +28,7 @@ import numba
 import numpy as np
 
 from .. import lie
-from ..batch.kernel import pose_error
+from ..kinematics.compiled import pose_error
 from .frame_task import FrameTask, se3_left_jacobian_inverse_entries
 from .kinematics import KinematicState
 from .task import as_weight, weight_or_cost

@@ -11,15 +11,21 @@ against a limit — ends early, and a restart takes over from the nearest in pos
 ``‖p − p_d‖² + w²‖R − R_d‖²_F / 2 ≈ ‖p − p_d‖² + (w θ)²`` with ``w`` = 0.5 m per rad (as
 :mod:`redik.batch`'s restarts), so few iterations are spent on hopeless starts. Each
 attempt also has its own budget, ``max_iter``.
+
+It lives in the solvers layer beside :mod:`redik.problem`, which it drives (its old home
+``redik.qp.solve`` sat below ``problem`` and imported it: a cycle); :mod:`redik.qp` is the
+QP core only.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..exceptions import InvalidInput
-from ..result import IKResult
-from ..robot import Robot
+from .exceptions import InvalidInput
+from .problem import Problem
+from .result import IKResult
+from .robot import Robot
+from .tasks.pose_task import PoseTask
 
 _OPTIONS = (
     "backend",
@@ -74,9 +80,6 @@ def solve_pose_qp(
     Raises:
         InvalidInput: an unknown option or a bad target/``q0``.
     """
-    from ..problem import Problem
-    from ..tasks.pose_task import PoseTask
-
     unknown = sorted(set(options) - set(_OPTIONS))
     if unknown:
         raise InvalidInput(f"unknown options {unknown} for method='qp'; known: {list(_OPTIONS)}")
