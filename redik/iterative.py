@@ -581,21 +581,59 @@ def _step(run: _Run, J: np.ndarray, d: np.ndarray, step: float | str) -> IKResul
             f"{run.norm:.3g}"
         )  # fmt: skip
     F = run.merit(run.e)
-    alpha = 1.0
-    for _ in range(ARMIJO_MAX_TRIALS):
-        dq = alpha * d
-        if q_tol is not None and float(np.linalg.norm(dq)) <= q_tol:
-            return run.result("stalled", f"‖Δq‖ ≤ q_tol = {q_tol:g} with ‖e‖ = {run.norm:.3g}")
-        trial = run.q + dq
+    accepted = []
+
+    def merit_at(alpha: float) -> float:
+        trial = run.q + alpha * d
         evaluated = run.evaluate(trial)
-        if evaluated is not None and not run.blown_up(trial, evaluated[2]):
-            if run.merit(evaluated[1]) <= F + ARMIJO_SUFFICIENT_DECREASE * alpha * slope:
-                run.accept(trial, *evaluated)
-                return None
-        alpha *= ARMIJO_SHRINK
+        if evaluated is None or run.blown_up(trial, evaluated[2]):
+            return math.inf
+        accepted[:] = [trial, evaluated]
+        return run.merit(evaluated[1])
+
+    norm_d = float(np.linalg.norm(d))  # ‖λd‖ ≤ q_tol ⟺ λ ≤ q_tol / ‖d‖
+    if q_tol is None:
+        min_alpha = 0.0
+    else:
+        min_alpha = math.inf if norm_d <= q_tol else q_tol / norm_d
+    alpha, outcome = armijo_backtrack(merit_at, F, slope, min_alpha=min_alpha)
+    if alpha is not None:
+        run.accept(accepted[0], *accepted[1])
+        return None
+    if outcome == "too_small":
+        return run.result("stalled", f"‖Δq‖ ≤ q_tol = {q_tol:g} with ‖e‖ = {run.norm:.3g}")
     return run.result(
         "stalled", f"no Armijo step decreases ‖e‖ = {run.norm:.3g} (slope {slope:.3g})"
     )
+
+
+def armijo_backtrack(
+    merit_at: Callable[[float], float],
+    F: float,
+    slope: float,
+    alpha: float = 1.0,
+    *,
+    trials: int = ARMIJO_MAX_TRIALS,
+    min_alpha: float = 0.0,
+) -> tuple[float | None, str]:
+    r"""Backtracking line search: the first ``λ = α₀ ρᵏ`` (``k < trials``) with
+    ``F(λ) ≤ F + c λ ∇Fᵀd`` (Nocedal & Wright Alg. 3.1; ``c`` =
+    :data:`ARMIJO_SUFFICIENT_DECREASE`, ``ρ`` = :data:`ARMIJO_SHRINK`).
+
+    ``merit_at(λ)`` is the merit at ``q + λ d`` (NaN or inf for a trial that cannot be
+    used: it is rejected); ``slope`` is ``∇Fᵀd < 0``. Returns ``(λ, "accepted")``,
+    ``(None, "too_small")`` when ``λ`` fell to ``min_alpha`` or below before a trial was
+    accepted (the step is negligible), or ``(None, "exhausted")`` after ``trials``
+    rejections. The one Armijo search of redik: :func:`solve` here and the
+    ``"transpose"``/``"hybrid"`` methods of :func:`redik.solve_pose` use it.
+    """
+    for _ in range(trials):
+        if alpha <= min_alpha:
+            return None, "too_small"
+        if merit_at(alpha) <= F + ARMIJO_SUFFICIENT_DECREASE * alpha * slope:
+            return alpha, "accepted"
+        alpha *= ARMIJO_SHRINK
+    return None, "exhausted"
 
 
 def _move(run: _Run, q: np.ndarray) -> IKResult | None:

@@ -284,8 +284,41 @@ def as_quaternion(quat: np.ndarray, name: str = "quat", tol: float = 1e-6) -> np
 
 
 def skew(w: np.ndarray) -> np.ndarray:
-    """The 3×3 skew-symmetric matrix ``[w]`` with ``[w] x = w × x``."""
-    return np.array([[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]])
+    """The 3×3 skew-symmetric matrix ``[w]`` with ``[w] x = w × x`` (``… × 3 × 3`` for a
+    stack ``w`` of ``… × 3``)."""
+    if np.ndim(w) == 1:
+        return np.array([[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]])
+    w = np.asarray(w, dtype=float)
+    S = np.zeros((*w.shape[:-1], 3, 3))
+    S[..., 0, 1], S[..., 0, 2], S[..., 1, 2] = -w[..., 2], w[..., 1], -w[..., 0]
+    S[..., 1, 0], S[..., 2, 0], S[..., 2, 1] = w[..., 2], -w[..., 1], w[..., 0]
+    return S
+
+
+def world_jacobian_to(
+    reference: str, J: np.ndarray, R: np.ndarray, p: np.ndarray, out: np.ndarray | None = None
+) -> np.ndarray:
+    r"""The ``"world"`` Jacobian ``J`` (``… × 6 × n``) of a frame at ``(R, p)`` (``… × 3 × 3``,
+    ``… × 3``) in ``reference`` (:mod:`redik.conventions`), into ``out`` (may be ``J``).
+
+    ``"space"``: ``v_s = ṗ − ω × p = ṗ + [p] ω``, so ``J_s = [[I, [p]], [0, I]] J``;
+    ``"body"``: ``J_b = blockdiag(Rᵀ, Rᵀ) J``; ``"world"``: ``J`` itself. The one home of
+    this conversion (robot, batch kinematics, pose IK's Newton forms, redundancy).
+    """
+    if out is None:
+        out = np.empty(np.shape(J))
+    if reference == "space":
+        out[..., :3, :] = J[..., :3, :] + skew(p) @ J[..., 3:, :]
+        out[..., 3:, :] = J[..., 3:, :]
+    elif reference == "body":
+        Rt = np.swapaxes(R, -1, -2)
+        np.matmul(Rt, J[..., :3, :], out=out[..., :3, :])
+        np.matmul(Rt, J[..., 3:, :], out=out[..., 3:, :])
+    elif reference == "world":
+        out[...] = J
+    else:
+        raise InvalidInput(f"reference must be 'space', 'body' or 'world', got {reference!r}")
+    return out
 
 
 def make_pose(R: np.ndarray, p: np.ndarray) -> np.ndarray:
@@ -428,22 +461,36 @@ def se3_exp(xi: np.ndarray) -> np.ndarray:
 def se3_log(T: np.ndarray) -> np.ndarray:
     """``ξ = (v, ω)`` with ``exp(ξ) = T`` and ``‖ω‖ ≤ π`` (Modern Robotics §3.3.3.2).
 
-    ``v = V(ω)⁻¹ p`` with ``V⁻¹ = I − ½[ω] + (1/θ²)(1 − (θ/2) cot(θ/2)) [ω]²``.
+    ``v = V(ω)⁻¹ p`` (:func:`apply_inverse_v`).
     """
     omega = so3_log(T[:3, :3])
-    W = skew(omega)
-    theta2 = float(omega @ omega)
-    theta = math.sqrt(theta2)
-    if theta < _SMALL_ANGLE:
-        c = 1.0 / 12.0 + theta2 / 720.0
-    else:
-        half = 0.5 * theta
-        c = (1.0 - half * math.cos(half) / math.sin(half)) / theta2
-    Vinv = np.eye(3) - 0.5 * W + c * (W @ W)
+    wx, wy, wz = omega.tolist()
     xi = np.empty(6)
-    xi[:3] = Vinv @ T[:3, 3]
+    xi[:3] = apply_inverse_v(wx, wy, wz, T[0, 3], T[1, 3], T[2, 3])
     xi[3:] = omega
     return xi
+
+
+def apply_inverse_v(
+    wx: float, wy: float, wz: float, dx: float, dy: float, dz: float
+) -> tuple[float, float, float]:
+    r"""``V(ω)⁻¹ d = d − ½ ω × d + c ω × (ω × d)``, the linear part of an SE(3) log.
+
+    ``V⁻¹ = I − ½[ω] + c [ω]²`` with ``c = (1 − (θ/2) cot(θ/2)) / θ²``, ``θ = ‖ω‖``
+    (Modern Robotics §3.3.3.2), and the series ``c = 1/12 + θ²/720`` below ``θ = 1e-6``.
+    Scalar code, so that numba compiles the same source for the compiled pose residual
+    (:data:`redik.kinematics.compiled.apply_inverse_v`, tested equal): the one home of
+    this formula.
+    """
+    theta2 = wx * wx + wy * wy + wz * wz
+    if theta2 < _SMALL_ANGLE * _SMALL_ANGLE:
+        c = 1.0 / 12.0 + theta2 / 720.0
+    else:
+        half = 0.5 * math.sqrt(theta2)
+        c = (1.0 - half * math.cos(half) / math.sin(half)) / theta2
+    ax, ay, az = wy * dz - wz * dy, wz * dx - wx * dz, wx * dy - wy * dx  # ω × d
+    bx, by, bz = wy * az - wz * ay, wz * ax - wx * az, wx * ay - wy * ax  # ω × (ω × d)
+    return dx - 0.5 * ax + c * bx, dy - 0.5 * ay + c * by, dz - 0.5 * az + c * bz
 
 
 # --------------------------------------------------------------------------------------

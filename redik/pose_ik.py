@@ -90,9 +90,20 @@ import numpy as np
 
 from .batch.chain import Chain
 from .exceptions import InvalidInput
+from .iterative import armijo_backtrack
 from .kinematics import dls as kernel
 from .kinematics.dls import BatchOptions
-from .lie import adjoint, as_pose, inverse, pose_errors, se3_log, skew, so3_log, wrap_angle
+from .lie import (
+    adjoint,
+    apply_inverse_v,
+    as_pose,
+    inverse,
+    pose_errors,
+    se3_log,
+    so3_log,
+    world_jacobian_to,
+    wrap_angle,
+)
 from .result import IKResult
 from .robot import Frame, Robot
 
@@ -119,7 +130,6 @@ _OPTIONS = {
     "hybrid": _HYBRID_OPTIONS,
 }
 
-_ARMIJO_C = 1e-4
 _ARMIJO_TRIALS = 30
 
 
@@ -618,10 +628,8 @@ def _newton(options: dict) -> Iteration:
         T: np.ndarray, J: np.ndarray, T_target: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
         V_b = se3_log(inverse(T) @ T_target)  # body error twist, (v, ω)
-        R, p = T[:3, :3], T[:3, 3]
-        if form == "body":
-            return V_b, np.vstack((R.T @ J[:3], R.T @ J[3:]))
-        return adjoint(T) @ V_b, np.vstack((J[:3] + skew(p) @ J[3:], J[3:]))
+        J_form = world_jacobian_to(form, J, T[:3, :3], T[:3, 3])
+        return (V_b if form == "body" else adjoint(T) @ V_b), J_form
 
     def done(problem: _Problem, T: np.ndarray, V: np.ndarray) -> bool:
         if stop == "twist":  # ‖v‖ ≤ ε_v and ‖ω‖ ≤ ε_ω, V = (v, ω)
@@ -672,31 +680,36 @@ def _transpose_step(
 ) -> tuple[np.ndarray, float] | None:
     """One gradient step ``q + α Jᵀe`` evaluated into ``trial = (T, J, e)``.
 
-    Armijo: start from Buss's ``α₀ = ⟨e, JJᵀe⟩/‖JJᵀe‖²`` and halve until
-    ``‖e(q + αg)‖² ≤ ‖e‖² − 2cα‖g‖²``. Returns ``(q_new, ‖e_new‖²)``, or None when no trial
-    decreases the error (or every trial is non-finite).
+    Armijo (:func:`redik.iterative.armijo_backtrack`): start from Buss's
+    ``α₀ = ⟨e, JJᵀe⟩/‖JJᵀe‖²`` and halve until ``‖e(q + αg)‖² ≤ ‖e‖² − 2cα‖g‖²``.
+    Returns ``(q_new, ‖e_new‖²)``, or None when no trial decreases the error (or every
+    trial is non-finite).
     """
     T_trial, J_trial, e_trial = trial
     g = J.T @ e
     slope = float(g @ g)
-    if step == "armijo":
-        Jg = J @ g
-        curvature = float(Jg @ Jg)
-        alpha = slope / curvature if curvature > 0.0 else 1.0
-        trials = _ARMIJO_TRIALS
-    else:
-        alpha, trials = float(step), 1
-    for _ in range(trials):
-        q_new = problem.project(q + alpha * g)
-        problem.robot.kinematics(q_new, problem.frame, T_trial, J_trial)
+    last = [q]
+
+    def squared_error_at(alpha: float) -> float:
+        last[0] = problem.project(q + alpha * g)
+        problem.robot.kinematics(last[0], problem.frame, T_trial, J_trial)
         problem.world_error(T_trial, e_trial)
-        E_new = float(e_trial @ e_trial)
-        if step != "armijo":
-            return (q_new, E_new) if math.isfinite(E_new) else None
-        if E_new <= E - 2.0 * _ARMIJO_C * alpha * slope:
-            return q_new, E_new
-        alpha *= 0.5
-    return None
+        return float(e_trial @ e_trial)
+
+    if step != "armijo":
+        E_new = squared_error_at(step)
+        return (last[0], E_new) if math.isfinite(E_new) else None
+    Jg = J @ g
+    curvature = float(Jg @ Jg)
+    # The merit ‖e‖² = 2F has the slope ∇(‖e‖²)ᵀg = −2‖g‖² along g = Jᵀe.
+    alpha, _ = armijo_backtrack(
+        squared_error_at,
+        E,
+        -2.0 * slope,
+        slope / curvature if curvature > 0.0 else 1.0,
+        trials=_ARMIJO_TRIALS,
+    )
+    return None if alpha is None else (last[0], float(e_trial @ e_trial))
 
 
 def _transpose(options: dict) -> Iteration:
@@ -841,20 +854,11 @@ def _body_twist_norm(e: np.ndarray) -> float:
 
     The body twist is ``ω_b = Rᵀ w`` and ``v_b = V(ω_b)⁻¹ Rᵀ d = Rᵀ V(w)⁻¹ d`` (``V`` is
     equivariant under rotation), so ``‖ξ_b‖² = ‖V(w)⁻¹ d‖² + ‖w‖²`` with
-    ``V⁻¹ = I − ½[w] + c [w]²`` as in :func:`redik.lie.se3_log`.
+    ``V⁻¹`` of :func:`redik.lie.apply_inverse_v`.
     """
     dx, dy, dz, wx, wy, wz = e.tolist()
-    theta2 = wx * wx + wy * wy + wz * wz
-    theta = math.sqrt(theta2)
-    if theta < 1e-6:
-        c = 1.0 / 12.0 + theta2 / 720.0
-    else:
-        half = 0.5 * theta
-        c = (1.0 - half * math.cos(half) / math.sin(half)) / theta2
-    ax, ay, az = wy * dz - wz * dy, wz * dx - wx * dz, wx * dy - wy * dx  # w × d
-    bx, by, bz = wy * az - wz * ay, wz * ax - wx * az, wx * ay - wy * ax  # w × (w × d)
-    vx, vy, vz = dx - 0.5 * ax + c * bx, dy - 0.5 * ay + c * by, dz - 0.5 * az + c * bz
-    return math.sqrt(vx * vx + vy * vy + vz * vz + theta2)
+    vx, vy, vz = apply_inverse_v(wx, wy, wz, dx, dy, dz)
+    return math.sqrt(vx * vx + vy * vy + vz * vz + wx * wx + wy * wy + wz * wz)
 
 
 def _same_stationary_point(

@@ -52,7 +52,7 @@ import numpy as np
 
 from . import loading
 from .exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
-from .lie import MAX_COORDINATE, real_array, skew
+from .lie import MAX_COORDINATE, real_array, world_jacobian_to
 
 JACOBIAN_REFERENCES = ("space", "body", "world")
 FRAME_KINDS = ("site", "body", "geom")
@@ -623,12 +623,7 @@ class Robot:
         J = np.empty((6, self.dof))
         self.world_jacobian_into(resolved, J)
         R, p = self._pose_views(resolved)
-        if reference == "space":
-            J[:3] += skew(p) @ J[3:]
-        elif reference == "body":
-            J[:3] = R.T @ J[:3]
-            J[3:] = R.T @ J[3:]
-        return J
+        return world_jacobian_to(reference, J, R, p, out=J)
 
     # ----------------------------------------------------------------------------------
     # Kinematics, unchecked hot path (the caller validates once, outside its loop)

@@ -379,3 +379,45 @@ def test_the_policy_helpers_refuse_non_numeric_input():
         lie.closest_rotation(np.full((3, 3), np.nan))
     with pytest.raises(InvalidRotation, match=r"\(B, 3, 3\)"):
         lie.check_rotations(np.eye(3))
+
+
+def test_apply_inverse_v_inverts_v_and_its_compiled_twin_agrees(rng):
+    from redik.kinematics.compiled import apply_inverse_v
+
+    for angle in (0.0, 1e-9, 1e-7, 2e-6, 1e-3, 0.5, 2.0, np.pi - 1e-6):
+        axis = rng.standard_normal(3)
+        omega, p = angle * axis / np.linalg.norm(axis), rng.standard_normal(3)
+        W = lie.skew(omega)
+        t2 = angle**2  # MR (3.86); its coefficients by their series where they cancel
+        a = 0.5 - t2 / 24 + t2**2 / 720 if angle < 1e-2 else (1 - math.cos(angle)) / t2
+        b = (
+            1 / 6 - t2 / 120 + t2**2 / 5040
+            if angle < 1e-2
+            else (angle - math.sin(angle)) / t2 / angle
+        )
+        V = np.eye(3) + a * W + b * W @ W
+        v = lie.apply_inverse_v(*omega, *p)
+        np.testing.assert_allclose(V @ v, p, rtol=0, atol=1e-12 * max(1.0, 1.0 / (np.pi - angle)))
+        np.testing.assert_allclose(apply_inverse_v(*omega, *p), v, rtol=1e-14, atol=1e-15)
+
+
+@pytest.mark.parametrize("batch", [(), (5,), (2, 3)])
+def test_world_jacobian_to_matches_the_adjoint_relations(batch, rng):
+    n = 4
+    J = rng.standard_normal((*batch, 6, n))
+    R = lie.so3_exp(rng.standard_normal(3)) * np.ones((*batch, 1, 1))
+    p = rng.standard_normal((*batch, 3))
+    body = lie.world_jacobian_to("body", J, R, p)
+    space = lie.world_jacobian_to("space", J, R, p)
+    for index in np.ndindex(*batch):
+        T = lie.make_pose(R[index], p[index])
+        # world (ṗ, ω) → body (Rᵀṗ, Rᵀω) → space = Ad_T body.
+        expected_body = np.vstack((R[index].T @ J[index][:3], R[index].T @ J[index][3:]))
+        np.testing.assert_allclose(body[index], expected_body, atol=1e-12)
+        np.testing.assert_allclose(space[index], lie.adjoint(T) @ expected_body, atol=1e-12)
+    np.testing.assert_array_equal(lie.world_jacobian_to("world", J, R, p), J)
+    in_place = J.copy()
+    lie.world_jacobian_to("body", in_place, R, p, out=in_place)
+    np.testing.assert_allclose(in_place, body, atol=1e-15)
+    with pytest.raises(InvalidInput, match="reference"):
+        lie.world_jacobian_to("hybrid", J, R, p)

@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..exceptions import InvalidConfiguration, InvalidInput
+from ..lie import world_jacobian_to
 from ..robot import JACOBIAN_REFERENCES
 from .chain import Chain
 
@@ -116,15 +117,7 @@ def jacobian(chain: Chain, q: np.ndarray, reference: str = "space") -> np.ndarra
         raise InvalidInput(f"reference must be one of {JACOBIAN_REFERENCES}, got {reference!r}")
     R, p, axes, origins = chain_poses(chain, _as_batch(chain, q))
     J = world_jacobian(chain, p, axes, origins)
-    if reference == "space":
-        w = J[3:]
-        px, py, pz = p[0][None], p[1][None], p[2][None]
-        J[0] += py * w[2] - pz * w[1]
-        J[1] += pz * w[0] - px * w[2]
-        J[2] += px * w[1] - py * w[0]
-    elif reference == "body":
-        # Rᵀ v per joint: (Rᵀ)[i, k] = R[k, i].
-        J = np.concatenate(
-            [np.einsum("kib,knb->inb", R, J[:3]), np.einsum("kib,knb->inb", R, J[3:])]
-        )
-    return J.transpose(2, 0, 1)
+    J = J.transpose(2, 0, 1)  # batch first
+    if reference == "world":
+        return J
+    return world_jacobian_to(reference, J, R.transpose(2, 0, 1), p.T)

@@ -27,6 +27,7 @@ import math
 
 import numba
 
+from .. import lie
 from ..lie import MAX_COORDINATE
 
 COMPILE = {"cache": True, "error_model": "numpy", "fastmath": {"contract"}}
@@ -36,6 +37,9 @@ a Python exception, so divisions carry no checks; fused multiply-adds are allowe
 reassociation: results stay reproducible)."""
 
 _COMPILE = COMPILE
+
+apply_inverse_v = numba.njit(**COMPILE)(lie.apply_inverse_v)
+"""The compiled twin of :func:`redik.lie.apply_inverse_v` (the same source, compiled)."""
 
 
 @numba.njit(**_COMPILE)

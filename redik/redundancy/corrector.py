@@ -30,7 +30,7 @@ import numpy as np
 from ..batch.chain import Chain
 from ..batch.kinematics import chain_poses, world_jacobian
 from ..kinematics.dls import damped_step
-from ..lie import inverse, pose_errors, rotation_log, se3_log, wrap_angle
+from ..lie import inverse, pose_errors, rotation_log, se3_log, world_jacobian_to, wrap_angle
 from .criteria import periodic_joints
 
 if TYPE_CHECKING:
@@ -79,8 +79,7 @@ class Corrector:
         """Body error twist, position error and rotation angle at ``q``; fills ``_J_body``."""
         self.robot.kinematics(q, self.frame, self._T, self._J)
         R = self._T[:3, :3]
-        np.matmul(R.T, self._J[:3], out=self._J_body[:3])
-        np.matmul(R.T, self._J[3:], out=self._J_body[3:])
+        world_jacobian_to("body", self._J, R, self._T[:3, 3], out=self._J_body)
         xi = se3_log(inverse(self._T) @ self.T_target)
         position_error = math.dist(self._T[:3, 3], self.T_target[:3, 3])
         return xi, position_error, float(np.linalg.norm(xi[3:]))

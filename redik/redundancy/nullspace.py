@@ -41,7 +41,7 @@ from ..criteria import (  # noqa: F401 - re-exported: the criteria's former home
     posture_gradient,
 )
 from ..exceptions import InvalidInput
-from ..lie import as_pose, as_vector, inverse, pose_errors, real_array, se3_log
+from ..lie import as_pose, as_vector, inverse, pose_errors, real_array, se3_log, world_jacobian_to
 from ..result import IKResult
 
 if TYPE_CHECKING:
@@ -180,8 +180,7 @@ def gradient_projection_ik(
     for _ in range(max_iterations):
         robot.kinematics(q, resolved, T, J)
         R = T[:3, :3]
-        J_body[:3] = R.T @ J[:3]
-        J_body[3:] = R.T @ J[3:]
+        world_jacobian_to("body", J, R, T[:3, 3], out=J_body)
         xi = se3_log(inverse(T) @ T_target)
         errors.append(float(np.linalg.norm(xi)))
         J_pinv = pseudo_inverse(J_body)

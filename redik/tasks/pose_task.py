@@ -22,13 +22,11 @@ and as Python scalar code it cost about half of one.
 
 from __future__ import annotations
 
-import math
-
 import numba
 import numpy as np
 
 from .. import lie
-from ..kinematics.compiled import pose_error
+from ..kinematics.compiled import apply_inverse_v, pose_error
 from .frame_task import FrameTask, se3_left_jacobian_inverse_entries
 from .kinematics import KinematicState
 from .task import as_weight, weight_or_cost
@@ -62,17 +60,8 @@ def pose_residual(R, p, R_d, p_d, J_world, row_scale, error_scale, A, b):
     wx = R[0, 0] * world[3] + R[1, 0] * world[4] + R[2, 0] * world[5]
     wy = R[0, 1] * world[3] + R[1, 1] * world[4] + R[2, 1] * world[5]
     wz = R[0, 2] * world[3] + R[1, 2] * world[4] + R[2, 2] * world[5]
-    theta2 = wx * wx + wy * wy + wz * wz
-    if theta2 < 1e-12:
-        c = 1.0 / 12.0 + theta2 / 720.0
-    else:
-        half = 0.5 * math.sqrt(theta2)
-        c = (1.0 - half * math.cos(half) / math.sin(half)) / theta2
-    # v = V(ω)⁻¹ d = d − ½ ω × d + c ω × (ω × d)
-    cx, cy, cz = wy * dz - wz * dy, wz * dx - wx * dz, wx * dy - wy * dx
-    ccx, ccy, ccz = wy * cz - wz * cy, wz * cx - wx * cz, wx * cy - wy * cx
     e = np.empty(6)
-    e[0], e[1], e[2] = dx - 0.5 * cx + c * ccx, dy - 0.5 * cy + c * ccy, dz - 0.5 * cz + c * ccz
+    e[0], e[1], e[2] = apply_inverse_v(wx, wy, wz, dx, dy, dz)  # v = V(ω)⁻¹ d
     e[3], e[4], e[5] = wx, wy, wz
     F = se3_left_jacobian_inverse_entries(e[0], e[1], e[2], wx, wy, wz)
     column = np.empty(6)
