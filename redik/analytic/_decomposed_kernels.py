@@ -79,6 +79,12 @@ POLISH_STEPS = 3
 SEARCH_SAMPLES = 720
 BISECTIONS = 60
 
+#: Golden-section steps refining a local minimum of ``|f|`` (a possible double root; 0.618⁸⁰
+#: of the two-sample bracket is below rounding), and how small ``|f|`` (m) must get there to
+#: count as a root. The branch built there is then checked by FK like any other.
+GOLDEN_STEPS = 80
+TOUCH_TOL = 1e-9
+
 
 @numba.njit(cache=True)
 def _row(G, i):
@@ -342,6 +348,39 @@ def _search_residual(G, pw, t1, tol):
 
 
 @numba.njit(cache=True)
+def _branch_residual(G, pw, t1, tol, branch):
+    """``f+`` (branch 0) or ``f−`` (branch 1) of :func:`_search_residual` at θ1."""
+    ra, rb, _, _, _ = _search_residual(G, pw, t1, tol)
+    return ra if branch == 0 else rb
+
+
+@numba.njit(cache=True)
+def _touch(G, pw, low, high, tol, branch):
+    r"""``(θ1, f(θ1))`` at the minimum of ``|f|`` on [low, high] by golden-section search.
+
+    At a double root :math:`f ≈ c(θ - θ^*)^2`, so θ* is found only to about √ε, but the pose
+    error of the branch built there is ``|f|`` itself (every other constraint is met by the
+    subproblems), which this drives to rounding.
+    """
+    ratio = 0.5 * (math.sqrt(5.0) - 1.0)
+    x1 = high - ratio * (high - low)
+    x2 = low + ratio * (high - low)
+    f1 = abs(_branch_residual(G, pw, x1, tol, branch))
+    f2 = abs(_branch_residual(G, pw, x2, tol, branch))
+    for _ in range(GOLDEN_STEPS):
+        if f1 <= f2:
+            high, x2, f2 = x2, x1, f1
+            x1 = high - ratio * (high - low)
+            f1 = abs(_branch_residual(G, pw, x1, tol, branch))
+        else:
+            low, x1, f1 = x1, x2, f2
+            x2 = low + ratio * (high - low)
+            f2 = abs(_branch_residual(G, pw, x2, tol, branch))
+    root = x1 if f1 <= f2 else x2
+    return root, _branch_residual(G, pw, root, tol, branch)
+
+
+@numba.njit(cache=True)
 def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
     r"""Spherical wrist (axes 4, 5, 6 meet at ``w``), general axes 1–3: a 1-D search on θ1.
 
@@ -351,8 +390,11 @@ def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
     & Wen 2022 §IV). Each ``f±`` is sampled at :data:`SEARCH_SAMPLES` points of θ1 and every
     sign change refined by bisection; a root is kept only if SP3 was within reach there
     (the clipped residual is continuous, so roots at the edge of reach are not lost). A root
-    where ``f`` touches zero without changing sign (a double root, at the boundary between
-    2 and 0 solutions) can be missed. Slot = 2·(root index, by θ1) + wrist.
+    where ``f`` touches zero without changing sign (a double root, where two arm solutions
+    merge at the boundary between 2 and 0 of them) is found at each local minimum of ``|f|``
+    between samples of one sign: golden-section search (:func:`_touch`) drives ``|f|`` down
+    and the root is kept if it falls below :data:`TOUCH_TOL`. Slot = 2·(root index, by θ1)
+    + wrist.
     """
     z0, z1, z2, p = _target(T, G)
     h2, h3 = _row(G, 1), _row(G, 2)
@@ -367,19 +409,18 @@ def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
     found = 0
     step = 2.0 * math.pi / SEARCH_SAMPLES
     start = -math.pi
-    previous_a, previous_b, _, _, _ = _search_residual(G, pw, start, tol)
+    samples = np.empty((2, SEARCH_SAMPLES + 1))
+    for k in range(SEARCH_SAMPLES + 1):
+        samples[0, k], samples[1, k], _, _, _ = _search_residual(G, pw, start + k * step, tol)
     for k in range(1, SEARCH_SAMPLES + 1):
         t = start + k * step
-        ra, rb, _, _, _ = _search_residual(G, pw, t, tol)
         for branch in range(2):
-            before = previous_a if branch == 0 else previous_b
-            now = ra if branch == 0 else rb
+            before, now = samples[branch, k - 1], samples[branch, k]
             if before == 0.0 or (before < 0.0) != (now < 0.0):
                 low, high, f_low = t - step, t, before
                 for _ in range(BISECTIONS):
                     middle = 0.5 * (low + high)
-                    ma, mb, _, _, _ = _search_residual(G, pw, middle, tol)
-                    f_middle = ma if branch == 0 else mb
+                    f_middle = _branch_residual(G, pw, middle, tol, branch)
                     if (f_middle < 0.0) == (f_low < 0.0):
                         low, f_low = middle, f_middle
                     else:
@@ -389,11 +430,22 @@ def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
                 if elbow != OUT and found < roots.shape[0] and now != 0.0:
                     roots[found], branches[found] = root, branch
                     found += 1
-        previous_a, previous_b = ra, rb
+            elif abs(now) <= abs(before):
+                # A local minimum of |f| with no sign change on either side: f may touch zero
+                # between the samples (a double root, where two arm solutions merge). The
+                # residual is 2π-periodic: the sample after θ1 = π is the one after −π.
+                after = samples[branch, k + 1 if k < SEARCH_SAMPLES else 1]
+                if abs(now) <= abs(after) and (now < 0.0) == (after < 0.0):
+                    root, value = _touch(G, pw, t - step, t + step, tol, branch)
+                    _, _, _, _, elbow = _search_residual(G, pw, root, tol)
+                    if abs(value) <= TOUCH_TOL and elbow != OUT and found < roots.shape[0]:
+                        roots[found], branches[found] = root, branch + 2  # + 2: a double root
+                        found += 1
     h1, a1 = _row(G, 0), _row(G, 6)
     order = np.argsort(roots[:found])
     for index in range(found):
-        t1, branch = roots[order[index]], branches[order[index]]
+        t1, branch = roots[order[index]], branches[order[index]] % 2
+        double = branches[order[index]] >= 2
         _, _, t3a, t3b, elbow = _search_residual(G, pw, t1, tol)
         t3 = t3a if branch == 0 else t3b
         v = sub(rotate(h1, -t1, sub(pw, a1)), sub(a2, a1))
@@ -401,7 +453,7 @@ def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
         t2, _ = sp1(h2, u, v)
         slot = 2 * index
         free[slot] = -1
-        pos = _status_of(0 if elbow != BOUNDARY else 1)
+        pos = _status_of(1 if (elbow == BOUNDARY or double) else 0)
         cs = (math.cos(t1), math.sin(t1), math.cos(t2), math.sin(t2), math.cos(t3), math.sin(t3))
         _wrist(
             G, z, y, (t1, t2, t3), cs, fix_joint, fix_value, tol, slot, q, status, free, stage, pos
