@@ -422,3 +422,14 @@ def test_search_finds_double_roots_where_two_arm_solutions_merge():
         nearest = min(solutions, key=lambda s: _distance(s, q))
         assert _distance(nearest, q) <= 1e-6 and nearest.singular
         checked += 1
+
+
+def test_raw_takes_any_array_like_target_without_compiling_a_new_kernel():
+    robot = redik.load("puma560")
+    solver = analytic.solver_for(robot, "decomposed")
+    T = robot.fk(robot.random_q(np.random.default_rng(13)))
+    expected = solver.raw(T, limits=None)
+    for variant in (T.tolist(), np.asfortranarray(T), np.repeat(T, 2, axis=0)[::2]):
+        assert _same_set(solver.raw(variant, limits=None), expected, 1e-12)
+    # One compiled signature: other arrays are converted by the caller, not compiled for.
+    assert len(decomposed.kernels.solve_raw.signatures) == 1

@@ -714,12 +714,35 @@ def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
 
 
 @numba.njit(cache=True)
+def _is_pose(T):
+    """Whether ``T`` is finite with bottom row (0, 0, 0, 1) and an orthonormal, det +1
+    rotation block as it is (to :data:`redik.lie.ROTATION_TOLERANCE`)."""
+    for i in range(4):
+        for j in range(4):
+            if not math.isfinite(T[i, j]):
+                return False
+    if T[3, 0] != 0.0 or T[3, 1] != 0.0 or T[3, 2] != 0.0 or T[3, 3] != 1.0:
+        return False
+    for j in range(3):
+        for k in range(j, 3):
+            product = T[0, j] * T[0, k] + T[1, j] * T[1, k] + T[2, j] * T[2, k]
+            if abs(product - (1.0 if j == k else 0.0)) > ROTATION_TOLERANCE:
+                return False
+    c0 = (T[0, 0], T[1, 0], T[2, 0])
+    c1 = (T[0, 1], T[1, 1], T[2, 1])
+    return dot(cross(c0, c1), (T[0, 2], T[1, 2], T[2, 2])) > 0.0
+
+
+@numba.njit(numba.float64[:, :](numba.float64[:, ::1], numba.float64[::1]), cache=True)
 def solve_raw(T, plan):
     """The fast path: every verified solution within the limits (each angle moved by the
     smallest multiple of 2π that brings it into range), duplicates (within the duplicate
     tolerance per joint, modulo 2π) dropped, as a (k, 6) array in slot order — or a (0, 0)
-    array when ``T`` is not a finite rigid transform to be used as it is (nothing is solved:
-    the caller raises, or projects a near-rotation as :mod:`redik.lie` does and calls again).
+    array when ``T`` is not a 4 × 4 finite rigid transform to be used as it is (nothing is
+    solved: the caller raises, or projects a near-rotation as :mod:`redik.lie` does and calls
+    again). Compiled for one signature only (C-contiguous float64 ``T``): any other array or
+    object raises ``TypeError`` at the call instead of compiling a new specialisation, and the
+    caller converts it after its checks.
 
     ``plan`` packs everything but the target into one array (one argument keeps the call
     cheap): the (17, 3) geometry ``G`` row by row, the lower and upper limits, then the
@@ -731,7 +754,7 @@ def solve_raw(T, plan):
     settings = plan[GEOMETRY_SIZE + 12 :]
     kind, reverse = int(settings[KIND]), settings[REVERSE] != 0.0
     tol, verify_tol, duplicate_tol = settings[TOL], settings[VERIFY], settings[DUPLICATE]
-    if not _is_pose(T):
+    if T.shape[0] != 4 or T.shape[1] != 4 or not _is_pose(T):
         return np.empty((0, 0))
     q, status, _, _ = solve_slots(kind, reverse, T, G, -1, 0.0, tol, verify_tol)
     out = q  # compacted in place: row ``count`` ≤ ``slot`` is written after ``slot`` is read
@@ -743,6 +766,9 @@ def solve_raw(T, plan):
         inside = True
         for j in range(6):
             value = q[slot, j]
+            if lower[j] <= value <= upper[j]:  # the usual case: no turn to find
+                out[count, j] = value
+                continue
             turns = min(
                 max(np.ceil((lower[j] - value) / two_pi), 0.0),
                 np.floor((upper[j] - value) / two_pi),
@@ -768,23 +794,3 @@ def solve_raw(T, plan):
         if not repeated:
             count += 1
     return out[:count]
-
-
-@numba.njit(cache=True)
-def _is_pose(T):
-    """Whether ``T`` is finite with bottom row (0, 0, 0, 1) and an orthonormal, det +1
-    rotation block as it is (to :data:`redik.lie.ROTATION_TOLERANCE`)."""
-    for i in range(4):
-        for j in range(4):
-            if not math.isfinite(T[i, j]):
-                return False
-    if T[3, 0] != 0.0 or T[3, 1] != 0.0 or T[3, 2] != 0.0 or T[3, 3] != 1.0:
-        return False
-    for j in range(3):
-        for k in range(j, 3):
-            product = T[0, j] * T[0, k] + T[1, j] * T[1, k] + T[2, j] * T[2, k]
-            if abs(product - (1.0 if j == k else 0.0)) > ROTATION_TOLERANCE:
-                return False
-    c0 = (T[0, 0], T[1, 0], T[2, 0])
-    c1 = (T[0, 1], T[1, 1], T[2, 1])
-    return dot(cross(c0, c1), (T[0, 2], T[1, 2], T[2, 2])) > 0.0

@@ -254,21 +254,21 @@ class DecomposedSolver:
         """Every solution as a (k, 6) array, compiled end to end: verified by FK, wrapped to
         (−π, π] (or moved by 2π into the limits), within ``limits`` (``"robot"``, None or
         ``(lower, upper)``), duplicates dropped, in slot order. No labels or families."""
-        if T.__class__ is not np.ndarray or T.dtype is not _FLOAT64 or T.shape != (4, 4):
-            T = _checks.pose(T, "target")
-        if tol != DEFAULT_TOL or not (limits is None or limits.__class__ is str):
-            plan = self._plan(self._limits(limits), _checks.length(tol, "tol", allow_zero=True))
-        elif limits is None:
+        # The common calls take two identity tests to their plan; anything else is checked.
+        if limits is None and tol is DEFAULT_TOL:
             plan = self._unbounded_plan
-        elif limits == "robot":
+        elif limits.__class__ is str and limits == "robot" and tol is DEFAULT_TOL:
             plan = self._robot_plan
         else:
-            raise InvalidInput(f"limits must be 'robot', None or (lower, upper), got {limits!r}")
-        q = kernels.solve_raw(T, plan)
+            plan = self._plan(self._limits(limits), _checks.length(tol, "tol", allow_zero=True))
+        try:
+            q = kernels.solve_raw(T, plan)
+        except TypeError:  # not a C-contiguous float64 array (a list, integers, a view, …)
+            q = _NOTHING
         if q.shape[1] == 0:
             # Raises the error that names what is wrong, or projects a near-rotation (with
             # redik.lie's warning) that is then solved.
-            q = kernels.solve_raw(_checks.pose(T, "target"), plan)
+            q = kernels.solve_raw(np.ascontiguousarray(_checks.pose(T, "target")), plan)
         return q
 
     def __call__(
@@ -345,7 +345,7 @@ class DecomposedSolver:
 
 
 _UNBOUNDED = (np.full(6, -np.inf), np.full(6, np.inf))
-_FLOAT64 = np.dtype(np.float64)
+_NOTHING = np.empty((0, 0))
 
 
 def decomposed_solver(
