@@ -435,7 +435,12 @@ def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
                 # between the samples (a double root, where two arm solutions merge). The
                 # residual is 2π-periodic: the sample after θ1 = π is the one after −π.
                 after = samples[branch, k + 1 if k < SEARCH_SAMPLES else 1]
-                if abs(now) <= abs(after) and (now < 0.0) == (after < 0.0):
+                # Near its minimum f ≈ m + c(θ − θ*)², so |f(θk)| − |m| ≤ c h² = D/2 with D the
+                # second difference of |f|: a zero is possible only if |f(θk)| ≤ D/2 (factor
+                # 4 of margin for the curvature varying across the bracket).
+                curvature = abs(before) - 2.0 * abs(now) + abs(after)
+                plausible = abs(now) <= 2.0 * curvature
+                if abs(now) <= abs(after) and (now < 0.0) == (after < 0.0) and plausible:
                     root, value = _touch(G, pw, t - step, t + step, tol, branch)
                     _, _, _, _, elbow = _search_residual(G, pw, root, tol)
                     if abs(value) <= TOUCH_TOL and elbow != OUT and found < roots.shape[0]:
