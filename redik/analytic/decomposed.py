@@ -16,7 +16,9 @@ are):
     axes 2 ∥ 3 ∥ 4 and axes 5, 6 meet (Universal Robots): SP4, SP4, SP1, SP1, SP3, SP1.
 ``spherical``
     spherical wrist, any axes 1–3: a 1-D search on θ1 (every sign change of two continuous
-    residuals, refined by bisection), then SP3, SP1 and the wrist.
+    residuals, refined by bisection, and every local minimum of their magnitude that
+    touches zero — a double root, where two arm solutions merge at a singularity — refined
+    by golden section), then SP3, SP1 and the wrist.
 
 Arms outside these classes are refused with :class:`~redik.exceptions.ModelError`: a general
 6R (no three axes meeting or parallel) needs a 2-D search or an elimination to a degree-16
