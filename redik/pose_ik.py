@@ -88,6 +88,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from ._validate import positive
 from .batch import kernel
 from .batch.chain import Chain
 from .batch.solve import BatchOptions
@@ -189,9 +190,10 @@ def solve_pose(
     q_start = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
     if method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
-    for name, tol in (("pos_tol", pos_tol), ("rot_tol", rot_tol)):
-        if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
-            raise InvalidInput(f"{name} must be a positive number, got {tol!r}")
+    pos_tol, rot_tol = (
+        positive(pos_tol, "pos_tol", unit="m"),
+        positive(rot_tol, "rot_tol", unit="rad"),
+    )
     max_iter = _count(MAX_ITER[method] if max_iter is None else max_iter, "max_iter", 1)
     restarts = _count(RESTARTS[method] if restarts is None else restarts, "restarts", 0)
     resolved = robot.frame(frame)
@@ -295,8 +297,7 @@ def solve_all(
         return results
     T_target = as_pose(T_target, "T_target", strict=strict)  # once, not per start
     n_starts = _count(n_starts, "n_starts", 1)
-    if not (isinstance(cluster_tol, (int, float)) and cluster_tol > 0):
-        raise InvalidInput(f"cluster_tol must be a positive number, got {cluster_tol!r}")
+    cluster_tol = positive(cluster_tol, "cluster_tol")
     rng = np.random.default_rng(seed)
     periodic = robot.revolute & ((robot.upper - robot.lower) >= 2.0 * np.pi)
     solutions: list[IKResult] = []
@@ -606,7 +607,7 @@ def _newton(options: dict) -> Iteration:
     form = options["form"]
     if form not in ("body", "space"):
         raise InvalidInput(f"form must be 'body' or 'space', got {form!r}")
-    step = _positive(options["step"], "step")
+    step = positive(options["step"], "step")
     stop = options["stop"]
     if stop not in ("pose", "twist"):
         raise InvalidInput(f"stop must be 'pose' or 'twist' (Modern Robotics' rule), got {stop!r}")
@@ -699,7 +700,7 @@ def _transpose_step(
 def _transpose(options: dict) -> Iteration:
     step = options["step"]
     if step != "armijo":
-        step = _positive(step, "step")
+        step = positive(step, "step")
 
     def iterate(problem: _Problem, q: np.ndarray, max_iter: int) -> _Attempt:
         return _gradient_then_newton(problem, q, max_iter, step, switch_error=0.0)
@@ -708,7 +709,7 @@ def _transpose(options: dict) -> Iteration:
 
 
 def _hybrid(options: dict) -> Iteration:
-    switch_error = _positive(options["switch_error"], "switch_error")
+    switch_error = positive(options["switch_error"], "switch_error")
 
     def iterate(problem: _Problem, q: np.ndarray, max_iter: int) -> _Attempt:
         return _gradient_then_newton(problem, q, max_iter, "armijo", switch_error)
@@ -927,12 +928,6 @@ def _shift_into_limits(robot: Robot, q: np.ndarray) -> np.ndarray:
         if shifted <= robot.upper[i]:
             q[i] = shifted
     return q
-
-
-def _positive(value: object, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
-        raise InvalidInput(f"{name} must be a positive number, got {value!r}")
-    return float(value)
 
 
 def _count(value: object, name: str, minimum: int) -> int:
