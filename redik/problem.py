@@ -9,7 +9,8 @@ lexicographically (:mod:`redik.qp.hierarchy`) with the chosen back-end
 
 **Limits are never left.** The position box is shrunk by the back-end's tolerance and
 :math:`q + Δq` is then clipped into the joint limits, so every configuration ``step`` leads
-to and ``solve`` returns lies within them (:mod:`redik.limits.position_limit`).
+to and ``solve`` returns lies within them (:mod:`redik.limits.position_limit`). The default
+limits also hold every limited ball joint in its cone (:mod:`redik.limits.ball_joint_limit`).
 
 **Whole models.** On a robot with ball or free joints (a floating base), ``q`` has
 ``robot.nq`` entries and ``Δq`` ``robot.dof`` (the tangent space): ``solve`` steps by
@@ -33,7 +34,8 @@ import numpy as np
 from scipy.optimize import nnls
 
 from .exceptions import InfeasibleProblem, InvalidConfiguration, InvalidInput
-from .limits import BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
+from .limits import BallJointLimit, BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
+from .limits.ball_joint_limit import limited_ball_joints
 from .qp.assembly import Assembly
 from .qp.backends import Backend, make_backend
 from .qp.hierarchy import free_directions, row_null_space, solve_lexicographic
@@ -111,8 +113,9 @@ class Problem:
         tasks: redik tasks and/or mink tasks (``mink.FrameTask``, ``mink.ComTask``…). Tasks
             of equal ``priority`` are weighted and summed; priorities are strict. A single
             task is accepted as the list of it, ``Problem(robot, PoseTask(T))``.
-        limits: redik or mink limits; None is ``[PositionLimit()]``, ``[]`` is none; a
-            single limit is the list of it.
+        limits: redik or mink limits; None is the robot's own ranges, ``[PositionLimit()]``
+            plus a :class:`~redik.limits.BallJointLimit` when it moves limited ball joints
+            (whose cones no box holds); ``[]`` is none; a single limit is the list of it.
         backend: A back-end name, a list of names (a fallback chain) or a
             :class:`~redik.qp.backends.Backend` (see :func:`~redik.qp.backends.make_backend`);
             an instance serves one priority level only, since back-ends keep per-QP state
@@ -178,11 +181,10 @@ class Problem:
         self._rows0 = level0.A if level0.least_squares and len(self.levels) > 1 else None
         tolerance = max(b.tolerance for b in self.backends)
 
-        limits = (
-            [PositionLimit()]
-            if limits is None
-            else _as_list(limits, "limits", "compute_qp_inequalities")
-        )
+        if limits is None:
+            limits = [PositionLimit()] + ([BallJointLimit()] if limited_ball_joints(robot) else [])
+        else:
+            limits = _as_list(limits, "limits", "compute_qp_inequalities")
         self.limits: list[Limit] = []
         for limit in limits:
             if not isinstance(limit, Limit):

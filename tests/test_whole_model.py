@@ -258,8 +258,15 @@ def test_ball_joint_limit_keeps_every_iterate_inside_the_cone(whole):
     def _neck_angle(q):
         return float(limit.angles_at(q)[0])
 
-    free = redik.Problem(whole, posture).solve(whole.home)
+    free = redik.Problem(whole, posture, [redik.PositionLimit()]).solve(whole.home)
     assert _neck_angle(free.q) == pytest.approx(1.5)
+    # The default limits hold the cone (no margin): a box alone would not.
+    default = redik.Problem(whole, posture)
+    assert [type(limit).__name__ for limit in default.limits] == ["PositionLimit", "BallJointLimit"]
+    held = default.solve(whole.home)
+    assert _neck_angle(held.q) == pytest.approx(1.2, abs=1e-6)
+    assert max(_neck_angle(q) for q in held.history) <= 1.2
+    assert [type(limit).__name__ for limit in redik.Problem(whole, posture, []).limits] == []
     # mink's ConfigurationLimit has the same row but none at the identity: its first step
     # leaves the cone.
     theirs = redik.Problem(
