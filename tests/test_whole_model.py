@@ -501,6 +501,24 @@ def test_solve_all_on_a_whole_model_returns_whole_configurations(whole):
         np.testing.assert_array_equal(result.q[:7], whole.home[:7])  # the base held
 
 
+def test_solve_all_and_solve_pose_hold_the_other_joints_at_the_same_q0(whole):
+    rng = np.random.default_rng(7)
+    q0 = whole.clip(whole.integrate(whole.home, 0.3 * rng.standard_normal(whole.dof)))
+    chain = whole.chain("right_ee", q0)  # the held joints at q0: its poses are q0's
+    T = chain.fk(chain.clip(chain.q_of() + 0.3))
+    held = ~np.isin(whole.qpos_indices, chain.qpos_indices)
+    single = redik.solve_pose(whole, T, q0, frame="right_ee", seed=0)
+    assert single.success, single.message
+    np.testing.assert_array_equal(single.q[held], q0[held])
+    results = redik.solve_all(whole, T, n_starts=4, seed=0, frame="right_ee", q0=q0)
+    assert results
+    for result in results:
+        np.testing.assert_array_equal(result.q[held], q0[held])
+        assert pose_errors(whole.fk(result.q, "right_ee"), T)[0] < 1e-6
+    # q0 is the first start: its solution (the one solve_pose finds from it) is among them.
+    assert min(np.abs(r.q - single.q).max() for r in results) < 1e-3
+
+
 BALL_ARM_XML = """
 <mujoco model="ball_arm">
   <compiler angle="radian"/>
