@@ -383,8 +383,11 @@ class Problem:
 
         Converged means: every frame task of level 0 within ``pos_tol`` (m) and
         ``rot_tol`` (rad) — position and rotation errors of :mod:`redik.conventions` —
-        and every other level-0 task that has a target (a mink task, say) with
-        ``‖e‖ ≤ pos_tol``. Joint-space regularisers (posture, joint-limit avoidance,
+        and every other level-0 task that has a target (a mink task) with
+        ``‖W e‖ ≤ pos_tol``, ``W = diag(cost)`` its cost-weighted error — what its QP
+        term asks for: a component of zero cost (the height of a ``mink.ComTask`` with
+        cost ``[1, 1, 0]``) is not waited for, and the backtracking measures the same
+        weighted error. Joint-space regularisers (posture, joint-limit avoidance,
         damping) and gradient tasks have no target and are not waited for. With frame tasks
         on several frames (two hands, the feet) the reported position and rotation errors
         are the largest. With no target at level 0, the solve converges when the step taken
@@ -620,7 +623,9 @@ class Problem:
             if J is not None:
                 task.residual_into(self._state, e, J)
             else:
-                e = task.compute_error(self._configuration)
+                # A mink task asks for its cost-weighted error (mink's W = diag(cost)): a
+                # component of zero cost (the height of a ComTask) is no part of its target.
+                e = task.cost * task.compute_error(self._configuration)
             norm_squared = float(e @ e)
             squared += norm_squared
             if is_frame:
