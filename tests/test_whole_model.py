@@ -624,3 +624,25 @@ def test_chain_of_a_model_with_unnamed_and_bracketed_joints():
     assert robot.joint_names[0] == "joint0"
     chain = robot.chain("right_ee")
     assert "right_elbow[1]" in chain.joint_names and chain.dof == 6
+
+
+def test_joint_space_terms_are_computed_once_per_target_not_per_step(whole, monkeypatch):
+    """On a whole model the posture's factor ``α w²d²`` was recomputed (allocated) per task
+    every step; it changes only with the task's target or weight."""
+    posture = redik.PostureTask(priority=1)
+    problem = redik.Problem(whole, [redik.PoseTask(whole.fk(whole.home, "left_ee"),
+                                                   frame="left_ee"), posture])  # fmt: skip
+    calls = []
+    original = posture.diagonal_terms
+    monkeypatch.setattr(posture, "diagonal_terms", lambda: calls.append(1) or original())
+    rng = np.random.default_rng(3)
+    q = whole.clip(whole.integrate(whole.home, 0.2 * rng.standard_normal(whole.dof)))
+    steps = [problem.step(q) for _ in range(4)]
+    assert len(calls) == 1
+    # The gradient is still the posture's α w²d² ⊙ (q ⊖ r): a lone posture level steps to r.
+    alone = redik.Problem(whole, [redik.PostureTask(whole.home, priority=0)], limits=[])
+    np.testing.assert_allclose(whole.integrate(q, alone.step(q)), whole.home, atol=1e-5)
+    posture.set_target(q)
+    problem.step(q)
+    assert len(calls) == 2
+    np.testing.assert_allclose(steps[0], steps[-1])
