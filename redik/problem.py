@@ -287,8 +287,12 @@ class Problem:
         max_step: float | None = None,
         lm_damping: float = 0.0,
         error_damping: float = 0.0,
+        objectives: list | None = None,
     ):
-        objectives = self._assembly.objectives(self._state, self._configuration)
+        """The step at the current state (``q``); ``objectives``, when given, are this
+        state's (:meth:`_stationarity` just built them) and are not rebuilt."""
+        if objectives is None:
+            objectives = self._assembly.objectives(self._state, self._configuration)
         if error_damping > 0.0:
             b0 = self._assembly.levels[0].b  # level 0's weighted residual rows, just built
             lm_damping += error_damping * float(b0 @ b0)
@@ -461,22 +465,30 @@ class Problem:
         converged, error, position_error, rotation_error = self._level0_errors(pos_tol, rot_tol)
         errors = [error]
         stationarity: list[float] = []
+        stationarity_at_q = False  # `stationarity` is that of the current q
         iterations = 0
         mu = lm_damping
         status = "max_iterations"
         while True:
+            # The state is at q here. Once level 0 converged, the objectives that measure
+            # the lower levels' stationarity are also those of the next step: built once.
+            objectives = None
             if converged and self._targets:
                 if not finish_lower:
                     status = "converged"
                     break
-                stationarity = self._stationarity(q, dt)
+                objectives = self._assembly.objectives(self._state, self._configuration)
+                stationarity = self._stationarity(q, dt, objectives)
+                stationarity_at_q = True
                 if max(stationarity) <= stationarity_tol:
                     status = "converged"
                     break
             if iterations >= max_iter:
                 status = "converged" if converged and self._targets else "max_iterations"
                 break
-            dq = self._step(q, dt, max_step, mu * error * error if self._targets else 0.0)
+            dq = self._step(
+                q, dt, max_step, mu * error * error if self._targets else 0.0, 0.0, objectives
+            )
             # Backtracking on the level-0 error: far from the target a full Gauss–Newton
             # step overshoots (into the limits, or into a two-point cycle). Scaling the
             # whole lexicographic Δq keeps every level's direction; q + αΔq stays in the
@@ -505,6 +517,7 @@ class Problem:
             if mu > 0.0:
                 mu = max(mu * 0.5, _MU_MIN) if alpha == 1.0 else min(mu * 8.0, _MU_MAX)
             q = trial
+            stationarity_at_q = False
             iterations += 1
             history.append(q.copy())
             converged, error, position_error, rotation_error = result
@@ -524,9 +537,8 @@ class Problem:
             if step_norm < q_tol:
                 status = "converged" if converged else "stalled"
                 break
-        if finish_lower:
+        if finish_lower and not stationarity_at_q:
             stationarity = self._stationarity(q, dt)
-            self._update(q)
         stationary = not stationarity or max(stationarity) <= (stationarity_tol or np.inf)
         message = self._message(status, position_error, rotation_error, error)
         if status == "converged" and not stationary:
@@ -571,9 +583,12 @@ class Problem:
         _check_dt(dt)
         return self._stationarity(q, dt)
 
-    def _stationarity(self, q: np.ndarray, dt: float | None) -> list[float]:
-        self._update(q)
-        objectives = self._assembly.objectives(self._state, self._configuration)
+    def _stationarity(self, q: np.ndarray, dt: float | None, objectives=None) -> list[float]:
+        """:meth:`stationarity`; with ``objectives`` (built at ``q``, the current state)
+        nothing is recomputed."""
+        if objectives is None:
+            self._update(q)
+            objectives = self._assembly.objectives(self._state, self._configuration)
         n = self.robot.dof
         # Active limits as rows a_i of a_i·Δq ≤ 0.
         active = []
