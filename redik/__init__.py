@@ -6,6 +6,7 @@ Conventions (frames, twist order, units) are in :mod:`redik.conventions`.
 from . import (
     analytic,
     batch,
+    criteria,
     dh,
     lie,
     limits,
@@ -61,7 +62,7 @@ from .tasks import (
     PositionTask,
     PostureTask,
 )
-from .trajectory import CartesianPath, CircularPath, JointTrajectory, follow_path
+from .trajectory import CartesianPath, CircularPath, JointTrajectory, PosePath, follow_path
 
 __version__ = "0.1.0"
 
@@ -89,6 +90,7 @@ __all__ = [
     "ModelWarning",
     "NearRotationWarning",
     "OrientationTask",
+    "PosePath",
     "PoseTask",
     "PositionLimit",
     "PositionTask",
@@ -105,6 +107,7 @@ __all__ = [
     "analytic",
     "available_backends",
     "batch",
+    "criteria",
     "dh",
     "dh_to_mjcf",
     "explore_self_motion",

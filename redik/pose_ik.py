@@ -188,8 +188,11 @@ def solve_pose(
             frame=frame, **method_options,
         )  # fmt: skip
     q_start = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
-    if method not in METHODS:
+    if not isinstance(method, str) or method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
+    if not isinstance(respect_limits, bool | np.bool_):
+        raise InvalidInput(f"respect_limits must be True or False, got {respect_limits!r}")
+    _check_seed(seed)
     pos_tol, rot_tol = (
         positive(pos_tol, "pos_tol", unit="m"),
         positive(rot_tol, "rot_tol", unit="rad"),
@@ -935,6 +938,17 @@ def _shift_into_limits(robot: Robot, q: np.ndarray) -> np.ndarray:
         if shifted <= robot.upper[i]:
             q[i] = shifted
     return q
+
+
+def _check_seed(seed: object) -> None:
+    """Refuse what ``np.random.default_rng`` would fail on deep inside a solve."""
+    try:
+        np.random.default_rng(seed)
+    except (TypeError, ValueError) as error:
+        raise InvalidInput(
+            f"seed must be None, a non-negative integer or a numpy Generator, got {seed!r} "
+            f"({error})"
+        ) from None
 
 
 def _count(value: object, name: str, minimum: int) -> int:

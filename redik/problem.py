@@ -33,7 +33,7 @@ import mink
 import numpy as np
 from scipy.optimize import nnls
 
-from .exceptions import InfeasibleProblem, InvalidConfiguration, InvalidInput
+from .exceptions import InfeasibleProblem, InvalidInput
 from .limits import BallJointLimit, BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
 from .limits.ball_joint_limit import limited_ball_joints
 from .qp.assembly import Assembly
@@ -80,13 +80,8 @@ def _is_real(value) -> bool:
 
 
 def _joint_vector(robot: Robot, q, name: str) -> np.ndarray:
-    """``robot.check_q``, with a non-numeric ``q`` an :class:`InvalidConfiguration` too."""
-    try:
-        q = np.asarray(q, dtype=float)
-    except (TypeError, ValueError):
-        raise InvalidConfiguration(
-            f"{name} must be a vector of {robot.dof} joint values, got {q!r}"
-        ) from None
+    """``robot.check_q``: a non-numeric (string, complex, object, ragged) ``q`` is an
+    :class:`InvalidConfiguration` there too."""
     return robot.check_q(q, name)
 
 
@@ -99,9 +94,12 @@ def _as_list(items, name: str, marker: str) -> list:
     """``items`` as a list; one object having ``marker`` (a task, a limit) is the list of it."""
     if hasattr(items, marker) or isinstance(items, Limit):
         return [items]
-    if isinstance(items, str | bytes) or not hasattr(items, "__iter__"):
-        raise InvalidInput(f"{name} must be a list (or a single one), got {items!r}")
-    return list(items)
+    try:
+        if isinstance(items, str | bytes):
+            raise TypeError
+        return list(items)
+    except TypeError:  # None, a number, a 0-d array
+        raise InvalidInput(f"{name} must be a list (or a single one), got {items!r}") from None
 
 
 class Problem:

@@ -52,7 +52,7 @@ import numpy as np
 
 from . import loading
 from .exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
-from .lie import real_array, skew
+from .lie import MAX_COORDINATE, real_array, skew
 
 JACOBIAN_REFERENCES = ("space", "body", "world")
 FRAME_KINDS = ("site", "body", "geom")
@@ -463,7 +463,9 @@ class Robot:
     # Joint vectors
 
     def check_q(self, q: np.ndarray, name: str = "q") -> np.ndarray:
-        """``q`` as a float vector of length ``nq``, or raise :class:`InvalidConfiguration`."""
+        """``q`` as a finite real vector of length ``nq``, within ``±``
+        :data:`redik.lie.MAX_COORDINATE`, or raise :class:`InvalidConfiguration` naming the
+        value (complex, string and object arrays are refused, not cast)."""
         q = real_array(q, name, InvalidConfiguration)
         if q.shape != (self.nq,):
             what = f"joints {list(self.joint_names)}"
@@ -474,6 +476,10 @@ class Robot:
             )
         if not np.all(np.isfinite(q)):
             raise InvalidConfiguration(f"{name} holds NaN or inf: {q.tolist()}")
+        if np.any(np.abs(q) > MAX_COORDINATE):
+            raise InvalidConfiguration(
+                f"{name} holds values beyond ±{MAX_COORDINATE:g} (MuJoCo's mjMAXVAL): {q.tolist()}"
+            )
         if not self.flat:
             for start in self._quaternion_q:
                 if np.linalg.norm(q[start : start + 4]) < 1e-9:

@@ -42,6 +42,8 @@ import math
 import numba
 import numpy as np
 
+from ..lie import MAX_COORDINATE
+
 CONVERGED, STALLED, MAX_ITERATIONS, INVALID, DIVERGED = range(5)
 """Status codes, shared with :data:`redik.batch.solve.BATCH_STATUSES`."""
 
@@ -78,11 +80,16 @@ def _next_uniform(state: np.ndarray) -> float:
 @numba.njit(**_COMPILE)
 def valid_target(T, tol):
     """True when ``T`` is a finite rigid transform: last row ``[0, 0, 0, 1]``, ``RᵀR = I``
-    and ``det R = 1``, each within ``tol`` (the checks of :func:`redik.lie.as_pose`)."""
+    and ``det R = 1``, each within ``tol``, and a translation within ``±MAX_COORDINATE``
+    (the checks of :func:`redik.lie.as_pose`)."""
     for a in range(4):
         for b in range(4):
             if not math.isfinite(T[a, b]):
                 return False
+    if abs(T[0, 3]) > MAX_COORDINATE or abs(T[1, 3]) > MAX_COORDINATE:
+        return False
+    if abs(T[2, 3]) > MAX_COORDINATE:
+        return False
     if abs(T[3, 0]) > tol or abs(T[3, 1]) > tol or abs(T[3, 2]) > tol or abs(T[3, 3] - 1.0) > tol:
         return False
     for a in range(3):

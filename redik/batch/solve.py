@@ -31,11 +31,11 @@ import numba
 import numpy as np
 
 from ..exceptions import InvalidInput
-from ..lie import ROTATION_TOLERANCE, check_rotations, real_array
+from ..lie import MAX_COORDINATE, ROTATION_TOLERANCE, check_rotations, real_array
 from ..robot import Robot
 from . import kernel
 from .chain import Chain
-from .engines import default_workers, map_chunks
+from .engines import ENGINES, default_workers, map_chunks
 
 BATCH_STATUSES = ("converged", "stalled", "max_iterations", "invalid", "diverged")
 """Status names by code (those of :mod:`redik.batch.kernel`). All but ``"invalid"`` are
@@ -186,7 +186,8 @@ class BatchResult:
 def check_targets(T_targets: np.ndarray, strict: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """``(T, valid)``: the targets as a float ``B × 4 × 4`` array and a per-target mask.
 
-    A target is valid when it is finite, ends with ``[0, 0, 0, 1]`` and has a rotation block
+    A target is valid when it is finite, ends with ``[0, 0, 0, 1]``, has a translation within
+    ``±``:data:`redik.lie.MAX_COORDINATE` and a rotation block
     accepted by :mod:`redik.lie`'s tolerance policy, as :func:`redik.lie.as_pose` checks one
     pose: near-rotations come back projected onto SO(3) (one warning), or invalid when
     ``strict``. Malformed targets are reported, not raised.
@@ -208,7 +209,8 @@ def check_targets(T_targets: np.ndarray, strict: bool = False) -> tuple[np.ndarr
     with np.errstate(invalid="ignore"):
         finite = np.isfinite(T[rest]).all(axis=(1, 2))
         bottom = np.abs(T[rest, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1, initial=0.0)
-        well_formed = finite & (bottom <= ROTATION_TOLERANCE)
+        far = np.abs(T[rest, :3, 3]).max(axis=1, initial=0.0)
+        well_formed = finite & (bottom <= ROTATION_TOLERANCE) & (far <= MAX_COORDINATE)
     block = np.where(well_formed[:, None, None], T[rest, :3, :3], np.eye(3))
     R, accepted = check_rotations(block, "T_targets[:, :3, :3]", strict=strict)
     if R is not block:
@@ -216,6 +218,10 @@ def check_targets(T_targets: np.ndarray, strict: bool = False) -> tuple[np.ndarr
         T[rest, :3, :3] = np.where(well_formed[:, None, None], R, T[rest, :3, :3])
     valid[rest] = well_formed & accepted
     return T, valid
+
+
+def _is_integer(value: object) -> bool:
+    return isinstance(value, int | np.integer) and not isinstance(value, bool)
 
 
 def check_seeds(chain: Chain, q0: np.ndarray | None, size: int) -> np.ndarray:
@@ -227,7 +233,7 @@ def check_seeds(chain: Chain, q0: np.ndarray | None, size: int) -> np.ndarray:
     n = chain.dof
     if q0 is None:
         q0 = chain.home
-    q0 = np.asarray(q0, dtype=float)
+    q0 = real_array(q0, "q0")
     if q0.shape not in ((n,), (size, n)):
         raise InvalidInput(f"q0 must have shape ({n},) or ({size}, {n}), got {q0.shape}")
     if not np.all(np.isfinite(q0)):
@@ -412,10 +418,17 @@ def solve_batch(
         InvalidInput: ``T_targets`` is not ``B × 4 × 4``, a bad ``q0``, method, engine or
             tolerance.
     """
-    if method not in METHODS:
+    if not isinstance(method, str) or method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
-    if chunk_size is not None and chunk_size < 1:
-        raise InvalidInput(f"chunk_size must be a positive integer, got {chunk_size!r}")
+    if not isinstance(engine, str) or engine not in ENGINES:
+        raise InvalidInput(f"engine must be one of {ENGINES}, got {engine!r}")
+    for name, count in (("chunk_size", chunk_size), ("workers", workers)):
+        if count is not None and not (_is_integer(count) and count >= 1):
+            raise InvalidInput(f"{name} must be a positive integer or None, got {count!r}")
+    if not (seed is None or isinstance(seed, np.random.SeedSequence) or _is_integer(seed)) or (
+        _is_integer(seed) and seed < 0
+    ):
+        raise InvalidInput(f"seed must be None, an integer ≥ 0 or a SeedSequence, got {seed!r}")
     chain = robot if isinstance(robot, Chain) else Chain.from_robot(robot)
     options = BatchOptions(
         pos_tol=pos_tol, rot_tol=rot_tol, restarts=restarts, max_iterations=max_iterations

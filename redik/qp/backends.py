@@ -193,7 +193,11 @@ class DaqpBackend(Backend):
                 blower=lower if bounded else None,
             )
             self._check(exitflag, qp, "update")
-        x, _, exitflag, _ = self._model.solve()
+        try:
+            x, _, exitflag, _ = self._model.solve()
+        except (RuntimeError, IndexError) as error:  # a state the checks above did not catch
+            self._model = None
+            raise self._error(f"{type(error).__name__}: {error}", qp) from None
         self._check(exitflag, qp, "solve")
         return self._checked(x, qp)
 
@@ -437,10 +441,15 @@ def make_backend(spec: str | Sequence[str] | Backend, **settings) -> Backend:
     if isinstance(spec, Backend):
         return spec
     if not isinstance(spec, str):
-        if not isinstance(spec, Sequence) or not all(isinstance(name, str) for name in spec):
+        if (
+            isinstance(spec, bytes)
+            or not isinstance(spec, Sequence)
+            or not spec
+            or not all(isinstance(name, str) for name in spec)
+        ):
             raise BackendError(
-                f"a back-end is a name, a list of names or a Backend, got {spec!r}; "
-                f"available names: {available_backends()}"
+                f"a back-end is a name, a list of names or a Backend (a non-empty list), "
+                f"got {spec!r}; available names: {available_backends()}"
             )
         return FallbackChain([make_backend(name, **settings) for name in spec])
     try:
