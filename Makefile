@@ -31,9 +31,12 @@ $(STAMP): pyproject.toml $(LOCK)
 demo: $(STAMP)
 	$(BIN)/redik demo --out $(OUT)
 
+# ruff, and the import-layer contract (tests/test_layers.py: a module may import only from
+# its own or a lower layer; README's Architecture section lists the layers).
 lint: $(STAMP)
 	$(BIN)/ruff check redik tests examples tasks
 	$(BIN)/ruff format --check redik tests examples tasks
+	$(BIN)/python -m pytest -q -p no:cacheprovider tests/test_layers.py
 
 # The regression scenes run first so that pytest's summary is the last line CI reads.
 test: lint check

@@ -44,7 +44,8 @@ distance, pair = collisions.minimum_distance_at(result.q)
 print(f"closest geoms {pair}: {distance * 1000:.1f} mm apart ({len(collisions.pairs)} pairs)")
 print("within joint limits:", robot.within_limits(result.q))
 
-# The same stack without the collision limit reaches the hands too, with an arm in the torso.
+# The same stack without the collision limit reaches the hands too, but a shoulder link ends
+# inside the torso (by 1.1 mm: the printed distance is negative).
 free = redik.Problem(robot, tasks).solve(q0, max_iter=200)
 distance, pair = collisions.minimum_distance_at(free.q)
 print(f"without the limit: {free.summary()}; closest geoms {pair}: {distance * 1000:.1f} mm")

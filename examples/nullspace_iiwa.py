@@ -10,12 +10,8 @@ Run: python examples/nullspace_iiwa.py
 import numpy as np
 
 import redik
-from redik.redundancy import (
-    joint_limit_distance,
-    joint_limit_distance_gradient,
-    joint_limit_margin,
-    nullspace_velocity,
-)
+from redik.criteria import joint_limit_distance, joint_limit_distance_gradient, joint_limit_margin
+from redik.redundancy import nullspace_velocity
 
 robot = redik.load("iiwa14")
 q = np.array([0.4, 1.2, -1.5, -1.6, 2.2, 1.0, 0.3])

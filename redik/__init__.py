@@ -6,6 +6,7 @@ Conventions (frames, twist order, units) are in :mod:`redik.conventions`.
 from . import (
     analytic,
     batch,
+    criteria,
     dh,
     lie,
     limits,
@@ -37,10 +38,16 @@ from .exceptions import (
     UnknownFrame,
 )
 from .iterative import finite_difference_jacobian, gradient, hybrid, newton
-from .limits import CollisionAvoidanceLimit, MinkLimit, PositionLimit, VelocityLimit
+from .limits import (
+    BallJointLimit,
+    CollisionAvoidanceLimit,
+    MinkLimit,
+    PositionLimit,
+    VelocityLimit,
+)
 from .model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
 from .pose_ik import solve_all, solve_pose
-from .problem import Problem
+from .problem import Problem, QPResult
 from .qp import available_backends, make_backend
 from .redundancy import SelfMotion, explore_self_motion, nullspace_velocity
 from .result import STATUSES, IKResult
@@ -55,13 +62,14 @@ from .tasks import (
     PositionTask,
     PostureTask,
 )
-from .trajectory import CartesianPath, CircularPath, JointTrajectory, follow_path
+from .trajectory import CartesianPath, CircularPath, JointTrajectory, PosePath, follow_path
 
 __version__ = "0.1.0"
 
 __all__ = [
     "STATUSES",
     "BackendError",
+    "BallJointLimit",
     "BatchResult",
     "CartesianPath",
     "CircularPath",
@@ -82,11 +90,13 @@ __all__ = [
     "ModelWarning",
     "NearRotationWarning",
     "OrientationTask",
+    "PosePath",
     "PoseTask",
     "PositionLimit",
     "PositionTask",
     "PostureTask",
     "Problem",
+    "QPResult",
     "RedikError",
     "RedikWarning",
     "Robot",
@@ -97,6 +107,7 @@ __all__ = [
     "analytic",
     "available_backends",
     "batch",
+    "criteria",
     "dh",
     "dh_to_mjcf",
     "explore_self_motion",

@@ -111,6 +111,10 @@ MAX_GROWTH = 1e8
 FD_SCHEMES = ("central", "forward")
 """The finite-difference schemes of :func:`finite_difference_jacobian`."""
 
+_MAX_MAGNITUDE = 1e150
+"""Largest ``|x_d|``, ``|q0|`` entry and ``‖e‖`` taken: ``‖e‖²`` (Armijo's test) stays finite.
+A larger error at an iterate counts as non-finite (the step is refused)."""
+
 
 def finite_difference_jacobian(
     f: TaskFunction,
@@ -397,6 +401,8 @@ class _Run:
             fd_step = positive(fd_step, "fd_step")
         self.x_d = _finite_vector(x_d, "x_d")
         self.q = _finite_vector(q0, "q0").copy()
+        if self.q.size == 0:
+            raise InvalidInput("q0 must hold at least one joint value, got an empty vector")
         self.f = f
         self.jac = jac
         self.fd_step, self.fd_scheme = fd_step, fd_scheme
@@ -409,7 +415,7 @@ class _Run:
                 f"but x_d has length {r}"
             )
         self.K = _gain(gain, r)
-        x = np.asarray(f(self.q.copy()), dtype=float)
+        x = real_array(f(self.q.copy()), "f(q0)")
         if x.shape != self.x_d.shape:
             raise InvalidInput(
                 f"f(q0) has shape {x.shape} but x_d has shape {self.x_d.shape}; "
@@ -418,15 +424,18 @@ class _Run:
         self.x = x
         self._J0 = None  # jac(q0), checked here and used by the first iteration
         if jac is not None:
-            J = np.asarray(jac(self.q.copy()), dtype=float)
+            J = real_array(jac(self.q.copy()), "jac(q0)")
             expected = (r, self.q.size)
             if J.shape != expected:
                 raise InvalidInput(f"jac(q0) must have shape {expected} (r × n), got {J.shape}")
             self._J0 = J
         self.e = self.x_d - x
-        self.norm = float(np.linalg.norm(self.e))
-        if not math.isfinite(self.norm):
-            raise InvalidInput(f"f(q0) holds NaN or inf: {x.tolist()}")
+        with np.errstate(over="ignore", invalid="ignore"):
+            self.norm = float(np.linalg.norm(self.e))
+        if not self.norm <= _MAX_MAGNITUDE:
+            raise InvalidInput(
+                f"f(q0) must be finite with ‖x_d − f(q0)‖ ≤ {_MAX_MAGNITUDE:g}, got {x.tolist()}"
+            )
         self.history = [self.q.copy()]
         self.errors = [self.norm]
         self.q_bound = options.max_growth * max(1.0, float(np.max(np.abs(self.q), initial=0.0)))
@@ -444,8 +453,9 @@ class _Run:
         return float(np.linalg.norm(self.e[:3])), float(np.linalg.norm(self.e[3:]))
 
     def merit(self, e: np.ndarray) -> float:
-        """``F = ½ eᵀKe``."""
-        return 0.5 * float(e @ (self.K @ e))
+        """``F = ½ eᵀKe`` (inf where it overflows: such a trial is never accepted)."""
+        with np.errstate(over="ignore", invalid="ignore"):
+            return 0.5 * float(e @ (self.K @ e))
 
     def jacobian(self) -> np.ndarray | None:
         if self._J0 is not None:
@@ -457,13 +467,15 @@ class _Run:
         return J if np.all(np.isfinite(J)) else None
 
     def evaluate(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, float] | None:
-        """``(x, e, ‖e‖)`` at ``q``, or None when ``q`` or ``f(q)`` is not finite."""
+        """``(x, e, ‖e‖)`` at ``q``, or None when ``q`` or ``f(q)`` is not finite (or so
+        large that ``‖e‖²`` overflows)."""
         if not np.all(np.isfinite(q)):
             return None
         x = np.asarray(self.f(q.copy()), dtype=float)
         e = self.x_d - x
-        norm = float(np.linalg.norm(e))
-        return (x, e, norm) if math.isfinite(norm) else None
+        with np.errstate(over="ignore", invalid="ignore"):
+            norm = float(np.linalg.norm(e))
+        return (x, e, norm) if norm <= _MAX_MAGNITUDE else None
 
     def blown_up(self, q: np.ndarray, norm: float) -> bool:
         return float(np.max(np.abs(q), initial=0.0)) > self.q_bound or norm > self.e_bound
@@ -559,7 +571,10 @@ def _step(run: _Run, J: np.ndarray, d: np.ndarray, step: float | str) -> IKResul
         if q_tol is not None and float(np.linalg.norm(dq)) <= q_tol:
             return run.result("stalled", f"‖Δq‖ ≤ q_tol = {q_tol:g} with ‖e‖ = {run.norm:.3g}")
         return _move(run, run.q + dq)
-    slope = -float(run.e @ (run.K @ (J @ d)))  # ∇Fᵀd
+    with np.errstate(over="ignore", invalid="ignore"):
+        slope = -float(run.e @ (run.K @ (J @ d)))  # ∇Fᵀd
+    if not math.isfinite(slope):
+        return run.result("diverged", f"the slope ∇Fᵀd overflows at ‖e‖ = {run.norm:.3g}")
     if not slope < 0.0:
         return run.result(
             "stalled", f"the direction does not decrease ½eᵀKe (slope {slope:.3g}); ‖e‖ = "
@@ -636,7 +651,10 @@ def _finite_vector(x: np.ndarray, name: str) -> np.ndarray:
     x = np.atleast_1d(real_array(x, name))
     if x.ndim != 1:
         raise InvalidInput(f"{name} must be a vector, got shape {x.shape}")
-    return as_vector(x, x.size, name)
+    x = as_vector(x, x.size, name)
+    if np.abs(x).max(initial=0.0) > _MAX_MAGNITUDE:
+        raise InvalidInput(f"{name} must be within ±{_MAX_MAGNITUDE:g} (‖e‖² overflows): {x}")
+    return x
 
 
 def _step_option(step: object, name: str) -> float | str:

@@ -32,7 +32,15 @@ matrix ``M`` with ``d = max|MᵀM − I|``:
 * anything else (NaN/inf, a reflection, a scaled or sheared matrix): refused with
   :class:`~redik.exceptions.InvalidRotation` or :class:`~redik.exceptions.InvalidPose`.
 
-The bottom row of a pose must be ``[0, 0, 0, 1]`` within 1e-6 in both modes.
+The bottom row of a pose must be ``[0, 0, 0, 1]`` within 1e-6 in both modes, and its
+translation within ±:data:`MAX_COORDINATE` (1e10 m, MuJoCo's ``mjMAXVAL``).
+
+Validation happens once, at the boundary: :func:`as_rotation`, :func:`as_pose`,
+:func:`as_vector`, :func:`as_quaternion`, :func:`check_rotations`, :func:`real_array` (and
+:func:`wrap_angle`, :func:`closest_rotation`, :func:`rotation_defect`, which refuse
+non-numeric input) raise :class:`~redik.exceptions.InvalidInput` subclasses. The maps
+(``exp``/``log``, adjoint, inverse, metrics, interpolation) sit in solver loops and, like
+MuJoCo's ``mju_*``, take validated float input unchecked.
 """
 
 from __future__ import annotations
@@ -56,6 +64,11 @@ rotation typed from a book with three or more decimals. Rounding each entry by `
 moves an entry of ``RᵀR`` by at most ``2 ‖column‖ ‖ε‖ ≤ 2√3 · 5e-4 ≈ 1.7e-3`` (Modern
 Robotics' IKinBody quiz target has 5.4e-5; four decimals give at most 1.7e-4), while two
 decimals give up to 1.7e-2 and are refused. A reflection is refused whatever its defect."""
+
+MAX_COORDINATE = mujoco.mjMAXVAL
+"""Largest magnitude (1e10) of a translation coordinate (m) or a joint value accepted at the
+boundary: MuJoCo's ``mjMAXVAL``, beyond which it calls a state diverged. Squares of much
+larger values overflow in the pose-error and QP arithmetic long before they mean anything."""
 
 _SMALL_ANGLE = 1e-6
 
@@ -83,7 +96,7 @@ def _rotation_defect(R: np.ndarray) -> tuple[float, float]:
 def rotation_defect(R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(max|RᵀR − I|, det R)`` of a (..., 3, 3) stack, each of shape (...): how far each
     matrix is from SO(3), as the tolerance policy above measures it."""
-    R = np.asarray(R, dtype=float)
+    R = _matrix_stack(R, "R")
     with np.errstate(invalid="ignore", over="ignore"):
         gram = np.einsum("...ki,...kj->...ij", R, R) - np.eye(3)
         return np.abs(gram).max(axis=(-2, -1)), np.linalg.det(R)
@@ -97,9 +110,20 @@ def closest_rotation(R: np.ndarray) -> np.ndarray:
     Higham, *Matrix nearness problems*, 1989, §3; Umeyama, IEEE TPAMI 13(4), 1991, for the
     determinant sign). For ``det R > 0`` it is the orthogonal polar factor ``R (RᵀR)^{-1/2}``.
     """
-    U, _, Vt = np.linalg.svd(np.asarray(R, dtype=float))
+    R = _matrix_stack(R, "R")
+    if not np.isfinite(R).all():
+        raise InvalidRotation(f"R must be finite to be projected onto SO(3), got {R.tolist()}")
+    U, _, Vt = np.linalg.svd(R)
     U[..., :, 2] *= np.where(np.linalg.det(U @ Vt) < 0.0, -1.0, 1.0)[..., None]
     return U @ Vt
+
+
+def _matrix_stack(R: object, name: str) -> np.ndarray:
+    """``R`` as a float (..., 3, 3) array, or :class:`InvalidRotation` naming its shape."""
+    R = real_array(R, name, InvalidRotation)
+    if R.ndim < 2 or R.shape[-2:] != (3, 3):
+        raise InvalidRotation(f"{name} must have shape (..., 3, 3), got {R.shape}")
+    return R
 
 
 def _refusal(name: str, defect: float, det: float, strict: bool) -> str:
@@ -122,7 +146,9 @@ def _checked_rotation_block(
     policy above, or raise ``error``."""
     defect, det = _rotation_defect(R)
     if not (math.isfinite(defect) and math.isfinite(det)):
-        raise error(f"{name} holds NaN or inf: {R.tolist()}")
+        if not np.isfinite(R).all():
+            raise error(f"{name} must be finite, holds NaN or inf: {R.tolist()}")
+        raise error(_refusal(name, defect, det, strict))  # entries so large RᵀR overflows
     if defect <= ROTATION_TOLERANCE and abs(det - 1.0) <= ROTATION_TOLERANCE:
         return None
     if strict or defect > NEAR_ROTATION_TOLERANCE or det <= 0.0:
@@ -146,7 +172,9 @@ def check_rotations(
     projected (one warning for all of them); ``accepted`` (B,) is False for the refused
     matrices (left unchanged).
     """
-    R = np.asarray(R, dtype=float)
+    R = _matrix_stack(R, name)
+    if R.ndim != 3:
+        raise InvalidRotation(f"{name} must have shape (B, 3, 3), got {R.shape}")
     defect, det = rotation_defect(R)
     with np.errstate(invalid="ignore"):
         exact = (defect <= ROTATION_TOLERANCE) & (np.abs(det - 1.0) <= ROTATION_TOLERANCE)
@@ -175,7 +203,7 @@ def as_rotation(R: np.ndarray, name: str = "R", *, strict: bool = False) -> np.n
     """
     R = real_array(R, name, InvalidRotation)
     if R.shape != (3, 3):
-        raise InvalidRotation(f"{name} must be a (3, 3) rotation matrix, got shape {R.shape}")
+        raise InvalidRotation(f"{name} must have shape (3, 3) (a rotation), got shape {R.shape}")
     projected = _checked_rotation_block(R, name, strict, InvalidRotation)
     return R if projected is None else projected
 
@@ -183,23 +211,29 @@ def as_rotation(R: np.ndarray, name: str = "R", *, strict: bool = False) -> np.n
 def as_pose(T: np.ndarray, name: str = "T", *, strict: bool = False) -> np.ndarray:
     """Return ``T`` as a float (4, 4) rigid transform, under the tolerance policy above.
 
-    The bottom row must be ``[0, 0, 0, 1]`` within :data:`ROTATION_TOLERANCE`; a near-rotation
+    The bottom row must be ``[0, 0, 0, 1]`` within :data:`ROTATION_TOLERANCE` and the
+    translation within ``±``:data:`MAX_COORDINATE`; a near-rotation
     block is returned projected onto SO(3) (in a copy, with a
     :class:`~redik.exceptions.NearRotationWarning`) unless ``strict``.
 
     Raises:
-        InvalidPose: wrong shape or dtype, non-finite entries, bad bottom row, or a rotation
-            block that is not a rotation.
+        InvalidPose: wrong shape or dtype, non-finite entries, bad bottom row, a translation
+            beyond :data:`MAX_COORDINATE`, or a rotation block that is not a rotation.
     """
     T = real_array(T, name, InvalidPose)
     if T.shape != (4, 4):
-        raise InvalidPose(f"{name} must be a (4, 4) homogeneous transform, got shape {T.shape}")
+        raise InvalidPose(f"{name} must have shape (4, 4) (a rigid transform), got shape {T.shape}")
     rows = T.tolist()
     if not math.isfinite(sum(rows[0]) + sum(rows[1]) + sum(rows[2]) + sum(rows[3])):
-        raise InvalidPose(f"{name} holds NaN or inf: {rows}")
+        raise InvalidPose(f"{name} must be finite, holds NaN or inf: {rows}")
     x, y, z, w = rows[3]
     if max(abs(x), abs(y), abs(z), abs(w - 1.0)) > ROTATION_TOLERANCE:
         raise InvalidPose(f"{name} must have the bottom row [0, 0, 0, 1], got {rows[3]}")
+    if max(abs(rows[0][3]), abs(rows[1][3]), abs(rows[2][3])) > MAX_COORDINATE:
+        raise InvalidPose(
+            f"{name} has a translation beyond ±{MAX_COORDINATE:g} m (MuJoCo's mjMAXVAL): "
+            f"{[rows[0][3], rows[1][3], rows[2][3]]}"
+        )
     projected = _checked_rotation_block(T[:3, :3], f"{name}[:3, :3]", strict, InvalidPose)
     if projected is None:
         return T
@@ -470,10 +504,36 @@ def euler_difference(R_a: np.ndarray, R_b: np.ndarray, convention: str = "xyz") 
     return wrap_angle(diff)
 
 
+_TWO_PI = 2.0 * math.pi
+
+
 def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
-    """Wrap angles to (−π, π]."""
-    wrapped = np.pi - np.mod(np.pi - np.asarray(angle, dtype=float), 2.0 * np.pi)
-    return float(wrapped) if np.ndim(wrapped) == 0 else wrapped
+    """Angles wrapped to (−π, π]: ``a − 2πk`` for the integer ``k`` that lands there
+    (elementwise on arrays; a float for a scalar).
+
+    Exact in floating point, with ``π`` and ``2π`` the doubles ``math.pi`` and
+    ``2 * math.pi``: ``fmod`` is exact, and so is the final shift by ``±2π`` (Sterbenz's lemma,
+    the remainder being within a factor 2 of ``2π``). So ``±π`` and every odd multiple of
+    ``π`` give ``π``, ``wrap(−a) = −wrap(a)`` away from ``π``, a tiny angle is returned
+    unchanged, and a large one loses nothing to an intermediate rounding (the textbook
+    ``π − ((π − a) mod 2π)`` rounds ``π − a`` first: at ``a = 1e300`` it is off by π).
+    The double ``2π`` differs from the real one by 2.4e-16, so for large ``|a|`` the result
+    differs from the real-number remainder by ``k · 2.4e-16 < ulp(a) / 2``: less than the
+    rounding of the input itself. NaN and ±inf give NaN.
+    """
+    if isinstance(angle, float | int) and not isinstance(angle, bool):
+        r = math.fmod(angle, _TWO_PI) if math.isfinite(angle) else math.nan
+        return r - _TWO_PI if r > math.pi else (r + _TWO_PI if r <= -math.pi else r)
+    a = (
+        angle
+        if type(angle) is np.ndarray and angle.dtype == np.float64
+        else real_array(angle, "angle")
+    )
+    with np.errstate(invalid="ignore"):
+        r = np.fmod(a, _TWO_PI)
+        # k·2π with k ∈ {−1, 0, 1} is exact, and so is r − k·2π.
+        wrapped = r - _TWO_PI * ((r > math.pi).astype(float) - (r <= -math.pi))
+    return float(wrapped) if wrapped.ndim == 0 else wrapped
 
 
 def pose_errors(T: np.ndarray, T_target: np.ndarray) -> tuple[float, float]:

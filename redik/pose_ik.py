@@ -81,13 +81,14 @@ Success
 from __future__ import annotations
 
 import math
-import weakref
+import secrets
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 
+from ._validate import positive
 from .batch import kernel
 from .batch.chain import Chain
 from .batch.solve import BatchOptions
@@ -173,9 +174,10 @@ def solve_pose(
         ``history`` is that of the returned attempt.
 
     Raises:
-        InvalidPose: ``T_target`` is not a finite rigid transform.
+        InvalidPose: ``T_target`` is not a finite rigid transform (or not numbers at all).
         InvalidConfiguration: ``q0`` has the wrong length or is not finite.
-        InvalidInput: unknown method or option, or a non-positive tolerance or budget.
+        InvalidInput: unknown method or option, a non-positive tolerance or budget, or a
+            ``frame`` that no joint of the chain moves (such as ``"world"``).
         UnknownFrame: ``frame`` names no site or body.
     """
     T_target = as_pose(T_target, "T_target", strict=strict)
@@ -186,14 +188,19 @@ def solve_pose(
             frame=frame, **method_options,
         )  # fmt: skip
     q_start = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
-    if method not in METHODS:
+    if not isinstance(method, str) or method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
-    for name, tol in (("pos_tol", pos_tol), ("rot_tol", rot_tol)):
-        if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
-            raise InvalidInput(f"{name} must be a positive number, got {tol!r}")
+    if not isinstance(respect_limits, bool | np.bool_):
+        raise InvalidInput(f"respect_limits must be True or False, got {respect_limits!r}")
+    _check_seed(seed)
+    pos_tol, rot_tol = (
+        positive(pos_tol, "pos_tol", unit="m"),
+        positive(rot_tol, "rot_tol", unit="rad"),
+    )
     max_iter = _count(MAX_ITER[method] if max_iter is None else max_iter, "max_iter", 1)
     restarts = _count(RESTARTS[method] if restarts is None else restarts, "restarts", 0)
     resolved = robot.frame(frame)
+    frame_solver = _FrameSolver.of(robot, resolved)  # refuses a frame no joint moves
 
     if method == "qp":
         try:
@@ -208,22 +215,26 @@ def solve_pose(
             **method_options,
         )  # fmt: skip
 
-    options = dict(_OPTIONS[method])
-    unknown = sorted(set(method_options) - set(options))
-    if unknown:
-        raise InvalidInput(
-            f"unknown option(s) {unknown} for method {method!r}; it takes {sorted(options)}"
-        )
-    options.update(method_options)
+    if method_options:
+        unknown = sorted(set(method_options) - set(_OPTIONS[method]))
+        if unknown:
+            raise InvalidInput(
+                f"unknown option(s) {unknown} for method {method!r}; "
+                f"it takes {sorted(_OPTIONS[method])}"
+            )
+    if method == "dls":
+        return frame_solver.solve_dls(
+            T_target, q_start, pos_tol, rot_tol, max_iter, restarts, respect_limits, seed,
+            method_options,
+        )  # fmt: skip
+    options = {**_OPTIONS[method], **method_options}
     problem = _Problem(robot, resolved, T_target, pos_tol, rot_tol, respect_limits)
     q_start = problem.project(q_start)
-    if method == "dls":
-        return _solve_dls(problem, q_start, max_iter, restarts, seed, options)
     iterate = _ITERATIONS[method](options)
     attempts = [iterate(problem, q_start, max_iter)]
     reach = 0.0
     if attempts[0].status != "converged":
-        reach = _reach_excess(robot, resolved, problem.p_d)
+        reach = frame_solver.reach_excess(problem.p_d)
         if reach > 0.0:
             restarts = min(restarts, 2)  # a closest q is all there is to find
         rng = np.random.default_rng(seed)
@@ -261,9 +272,10 @@ def solve_all(
     frame: str | Frame | None = None,
     cluster_tol: float = 1e-3,
     strict: bool = False,
+    q0: np.ndarray | None = None,
     **method_options: object,
 ) -> list[IKResult]:
-    """The distinct solutions reached from ``n_starts`` random starts.
+    """The distinct solutions reached from ``n_starts`` starts: ``q0`` if given, then random.
 
     Each start is solved by :func:`solve_pose` without restarts; the successful results are
     clustered: two solutions are the same when every joint differs by at most
@@ -271,32 +283,37 @@ def solve_all(
     without limits or whose range spans more than 2π. A redundant arm has a continuum of
     solutions: the list then samples it.
 
+    On a whole-model robot (:mod:`redik.robot`) the solutions are those of its chain to
+    ``frame``, every other joint held at its value in ``q0`` (default ``robot.home``) — as
+    :func:`solve_pose` holds them — and each ``q`` is the whole robot's.
+
     Returns:
         The successful results, one per cluster (the most accurate), ordered by
         ``‖log(T⁻¹ T_d)‖`` — empty when no start converged.
     """
-    if not robot.is_chain:  # the chain to the frame, the other joints at home
-        chain = robot.chain(robot.frame(frame), robot.home)
+    if not robot.is_chain:  # the chain to the frame, the other joints at q0 (else home)
+        q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
+        chain = robot.chain(robot.frame(frame), q_whole)
         results = solve_all(
             chain, T_target, n_starts, seed, method, pos_tol, rot_tol, max_iter,
-            respect_limits, None, cluster_tol, strict, **method_options,
+            respect_limits, None, cluster_tol, strict,
+            None if q0 is None else chain.q_of(), **method_options,
         )  # fmt: skip
         for result in results:
-            result.q = robot.embed(chain, result.q, robot.home)
-            result.history = np.array(
-                [robot.embed(chain, row, robot.home) for row in result.history]
-            )
+            result.q = robot.embed(chain, result.q, q_whole)
+            result.history = np.array([robot.embed(chain, row, q_whole) for row in result.history])
         return results
     T_target = as_pose(T_target, "T_target", strict=strict)  # once, not per start
     n_starts = _count(n_starts, "n_starts", 1)
-    if not (isinstance(cluster_tol, (int, float)) and cluster_tol > 0):
-        raise InvalidInput(f"cluster_tol must be a positive number, got {cluster_tol!r}")
+    cluster_tol = positive(cluster_tol, "cluster_tol")
+    first = None if q0 is None else robot.check_q(q0, "q0")
     rng = np.random.default_rng(seed)
     periodic = robot.revolute & ((robot.upper - robot.lower) >= 2.0 * np.pi)
     solutions: list[IKResult] = []
-    for _ in range(n_starts):
+    for start in range(n_starts):
+        q_start = first if start == 0 and first is not None else robot.random_q(rng)
         result = solve_pose(
-            robot, T_target, robot.random_q(rng), method=method, pos_tol=pos_tol,
+            robot, T_target, q_start, method=method, pos_tol=pos_tol,
             rot_tol=rot_tol, max_iter=max_iter, restarts=0, respect_limits=respect_limits,
             frame=frame, **method_options,
         )  # fmt: skip
@@ -425,90 +442,171 @@ class _Outcome:
 # Damped least squares (Levenberg–Marquardt), in the compiled kernel
 
 
-_CHAINS: weakref.WeakKeyDictionary[Robot, dict[Frame, tuple[Chain, tuple]]] = (
-    weakref.WeakKeyDictionary()
-)
+class _FrameSolver:
+    """What every solve placing one frame of one robot reuses, built on first use and kept
+    in the robot's :attr:`~redik.robot.Robot.solver_cache`: the joints that move the frame,
+    its reach, and for ``"dls"`` the compiled chain, the kernel's settings arrays (validated
+    by :class:`BatchOptions` once per combination of options) and the kernel's output
+    buffers. A ``"dls"`` solve then validates its arguments once, makes one compiled call
+    and allocates only its result (10–15 µs of Python around the kernel)."""
 
+    def __init__(self, robot: Robot, frame: Frame) -> None:
+        self.robot = robot
+        self.frame = frame
+        self.columns = _moving_columns(robot, frame)
+        if self.columns.size == 0:
+            raise InvalidInput(
+                f"no joint of {robot.name!r} moves frame {frame.name!r} (the chain joints are "
+                f"{list(robot.joint_names)}), so no q can place it; name a site or body "
+                f"below one of them"
+            )
+        self.every_joint = self.columns.size == robot.dof
+        self.origin, self.reach = _reach(robot, frame, self.columns)
+        self._kernel_arrays: tuple | None = None
+        self._buffers: tuple[np.ndarray, ...] = ()
+        self._settings: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
 
-def _compiled_chain(robot: Robot, frame: Frame) -> tuple[Chain, tuple]:
-    """``robot``'s chain to ``frame`` and its kernel arrays, compiled once per robot."""
-    chains = _CHAINS.setdefault(robot, {})
-    if frame not in chains:
-        chain = Chain.from_robot(robot, frame)
-        chains[frame] = (chain, chain.kernel_arrays())
-    return chains[frame]
+    @classmethod
+    def of(cls, robot: Robot, frame: Frame) -> _FrameSolver:
+        """The robot's solver for ``frame``, built on first use.
 
+        Raises:
+            InvalidInput: no joint of the robot's chain moves ``frame``.
+        """
+        key = ("pose_ik", frame)
+        solver = robot.solver_cache.get(key)
+        if solver is None:
+            solver = robot.solver_cache[key] = cls(robot, frame)
+        return solver  # type: ignore[return-value]
 
-_SETTINGS: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+    def reach_excess(self, p_d: np.ndarray) -> float:
+        """How far (m) ``p_d`` lies beyond the chain's reach (0 inside; see :func:`_reach`)."""
+        if not math.isfinite(self.reach):
+            return 0.0
+        excess = math.dist(p_d.tolist(), self.origin) - self.reach
+        return excess if excess > 1e-9 * max(1.0, self.reach) else 0.0
 
+    def solve_dls(
+        self,
+        T_target: np.ndarray,
+        q_start: np.ndarray,
+        pos_tol: float,
+        rot_tol: float,
+        max_iter: int,
+        restarts: int,
+        respect_limits: bool,
+        seed: int | np.random.Generator | None,
+        options: dict,
+    ) -> IKResult:
+        """Every attempt in :func:`redik.batch.kernel.solve_one`; the joints that do not move
+        the frame stay at ``q_start``. Success is decided by the kernel's FK of the returned
+        ``q`` (tested equal to MuJoCo's, ``tests/test_batch_kernel.py``); MuJoCo's only when
+        ``q`` was shifted by 2π into the limits afterwards."""
+        robot = self.robot
+        arrays, (history, errors, q_chain, e) = self._compiled(max_iter)
+        floats, counts = self._kernel_settings(
+            pos_tol, rot_tol, max_iter, restarts, respect_limits, options
+        )
+        reach = self.reach_excess(T_target[:3, 3])
+        if reach > 0.0:
+            floats = floats.copy()
+            floats[kernel.REACH] = reach
+        if respect_limits and not self.every_joint:
+            q_start = np.clip(q_start, robot.lower, robot.upper)  # the kernel clips its own
+        start = q_start if self.every_joint else q_start[self.columns]
+        status, iterations, used, length, summary = kernel.solve_one(
+            arrays, T_target, start, _kernel_key(seed), floats, counts, q_chain, history,
+            errors, e,
+        )  # fmt: skip
+        error_min, error_max, stationary, diverged, position_error, rotation_error, inside = summary
+        if self.every_joint:
+            q = q_chain.copy()
+            path = history[1, :length].copy()
+        else:
+            q = q_start.copy()
+            q[self.columns] = q_chain
+            path = np.repeat(q[None], length, axis=0)
+            path[:, self.columns] = history[1, :length]
+        if not respect_limits:
+            shifted = _shift_into_limits(robot, q)
+            if shifted is not q:
+                q, e = shifted, np.empty(6)
+                problem = _Problem(robot, self.frame, T_target, pos_tol, rot_tol, False)
+                T = np.eye(4)
+                robot.kinematics(q, self.frame, T)
+                position_error, rotation_error = problem.world_error(T, e)
+            inside = robot.within_limits(q)
+        success = (
+            position_error <= pos_tol
+            and rotation_error <= rot_tol
+            and (inside or not respect_limits)
+        )
+        status, message = _verdict(
+            success, inside, position_error, rotation_error, reach,
+            _same_stationary_point(used + 1, error_min, error_max, stationary), diverged,
+            used + 1, iterations,
+        )  # fmt: skip
+        return IKResult(
+            q=q,
+            success=success,
+            status=status,
+            iterations=iterations,
+            error=_body_twist_norm(e),
+            position_error=position_error,
+            rotation_error=rotation_error,
+            history=path,
+            error_history=errors[1, :length].copy(),
+            restarts=used,
+            method="dls",
+            message=message,
+        )
 
-def _kernel_settings(
-    pos_tol: float, rot_tol: float, max_iter: int, restarts: int, bounded: bool, options: dict
-) -> tuple[np.ndarray, np.ndarray]:
-    """The kernel's settings arrays, validated by :class:`BatchOptions` once per combination
-    (a solve takes ~50 µs: validating every call would be a sizeable share)."""
-    key = (pos_tol, rot_tol, max_iter, restarts, bounded, *sorted(options.items()))
-    if key not in _SETTINGS:
-        if len(_SETTINGS) > 256:
-            _SETTINGS.clear()
-        _SETTINGS[key] = BatchOptions(
-            pos_tol=pos_tol, rot_tol=rot_tol, max_iterations=max_iter, restarts=restarts,
-            **options,
-        ).kernel_settings(bounded)  # fmt: skip
-    return _SETTINGS[key]
+    def _compiled(self, max_iter: int) -> tuple[tuple, tuple[np.ndarray, ...]]:
+        """The kernel's chain arrays (compiled on first use) and output buffers
+        ``(history, errors, q, e)``, the history long enough for ``max_iter``."""
+        if self._kernel_arrays is None:
+            chain = Chain.from_robot(self.robot, self.frame)
+            self._kernel_arrays = chain.kernel_arrays()
+        if not self._buffers or self._buffers[1].shape[1] < max_iter + 1:
+            n = self.columns.size
+            self._buffers = (
+                np.empty((2, max_iter + 1, n)), np.empty((2, max_iter + 1)), np.empty(n),
+                np.empty(6),
+            )  # fmt: skip
+        return self._kernel_arrays, self._buffers
+
+    def _kernel_settings(
+        self,
+        pos_tol: float,
+        rot_tol: float,
+        max_iter: int,
+        restarts: int,
+        bounded: bool,
+        options: dict,
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The kernel's settings arrays for these arguments, validated once."""
+        key = (pos_tol, rot_tol, max_iter, restarts, bounded)
+        if options:
+            key += tuple(sorted(options.items()))
+        settings = self._settings.get(key)
+        if settings is None:
+            if len(self._settings) >= 64:
+                self._settings.clear()
+            settings = BatchOptions(
+                pos_tol=pos_tol, rot_tol=rot_tol, max_iterations=max_iter, restarts=restarts,
+                **{**_DLS_OPTIONS, **options},
+            ).kernel_settings(bounded)  # fmt: skip
+            self._settings[key] = settings
+        return settings
 
 
 def _kernel_key(seed: int | np.random.Generator | None) -> np.uint64:
     """The kernel generator's 64-bit state from ``seed`` (reproducible for an int)."""
     if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
         return np.uint64(int(seed) % 2**64)
+    if seed is None:
+        return np.uint64(secrets.randbits(64))
     return np.uint64(np.random.default_rng(seed).integers(2**63))
-
-
-def _solve_dls(
-    problem: _Problem,
-    q_start: np.ndarray,
-    max_iter: int,
-    restarts: int,
-    seed: int | np.random.Generator | None,
-    options: dict,
-) -> IKResult:
-    """Every attempt in :func:`redik.batch.kernel.solve_one`; the joints that do not move
-    the frame stay at ``q_start``."""
-    robot, frame = problem.robot, problem.frame
-    chain, arrays = _compiled_chain(robot, frame)
-    reach = _reach_excess(robot, frame, problem.p_d)
-    floats, counts = _kernel_settings(
-        problem.pos_tol, problem.rot_tol, max_iter, restarts, problem.respect_limits, options
-    )
-    if reach > 0.0:
-        floats = floats.copy()
-        floats[kernel.REACH] = reach
-    columns, n = chain.columns, chain.dof
-    history, errors = np.empty((2, max_iter + 1, n)), np.empty((2, max_iter + 1))
-    q_chain, e = np.empty(n), np.empty(6)
-    _, iterations, used, length, summary = kernel.solve_one(
-        arrays, problem.T_target, q_start[columns], _kernel_key(seed), floats, counts, q_chain,
-        history, errors, e,
-    )  # fmt: skip
-    error_min, error_max, stationary, diverged, position_error, rotation_error = summary
-    q = q_start.copy()
-    q[columns] = q_chain
-    full_history = np.repeat(q_start[None], length, axis=0)
-    full_history[:, columns] = history[1, :length]
-    outcome = _Outcome(
-        q=q,
-        history=full_history,
-        errors=errors[1, :length].copy(),
-        iterations=iterations,
-        attempts=used + 1,
-        same_stationary_point=_same_stationary_point(used + 1, error_min, error_max, stationary),
-        all_diverged=diverged,
-        e=e,
-        position_error=position_error,
-        rotation_error=rotation_error,
-    )
-    return _finish(problem, outcome, "dls", reach)
 
 
 # --------------------------------------------------------------------------------------
@@ -519,7 +617,7 @@ def _newton(options: dict) -> Iteration:
     form = options["form"]
     if form not in ("body", "space"):
         raise InvalidInput(f"form must be 'body' or 'space', got {form!r}")
-    step = _positive(options["step"], "step")
+    step = positive(options["step"], "step")
     stop = options["stop"]
     if stop not in ("pose", "twist"):
         raise InvalidInput(f"stop must be 'pose' or 'twist' (Modern Robotics' rule), got {stop!r}")
@@ -612,7 +710,7 @@ def _transpose_step(
 def _transpose(options: dict) -> Iteration:
     step = options["step"]
     if step != "armijo":
-        step = _positive(step, "step")
+        step = positive(step, "step")
 
     def iterate(problem: _Problem, q: np.ndarray, max_iter: int) -> _Attempt:
         return _gradient_then_newton(problem, q, max_iter, step, switch_error=0.0)
@@ -621,7 +719,7 @@ def _transpose(options: dict) -> Iteration:
 
 
 def _hybrid(options: dict) -> Iteration:
-    switch_error = _positive(options["switch_error"], "switch_error")
+    switch_error = positive(options["switch_error"], "switch_error")
 
     def iterate(problem: _Problem, q: np.ndarray, max_iter: int) -> _Attempt:
         return _gradient_then_newton(problem, q, max_iter, "armijo", switch_error)
@@ -688,50 +786,61 @@ def _finish(problem: _Problem, outcome: _Outcome, method: str, reach: float) -> 
     if q is not outcome.q:
         T, e = np.eye(4), np.empty(6)
         robot.kinematics(q, problem.frame, T)
-        problem.world_error(T, e)
-        position_error, rotation_error = pose_errors(T, problem.T_target)
+        position_error, rotation_error = problem.world_error(T, e)
     inside = robot.within_limits(q)
     success = problem.within(position_error, rotation_error) and (
         inside or not problem.respect_limits
     )
-    iterations, attempts = outcome.iterations, outcome.attempts
-    closest = f"closest pose found: {position_error:.3g} m, {rotation_error:.3g} rad away"
-    message = ""
-    if success:
-        status = "converged"
-        if not inside:
-            message = "q is outside the joint limits (respect_limits=False)"
-    elif reach > 0.0:
-        status = "unreachable"
-        message = (
-            f"the target is {reach:.3g} m beyond the reach of the chain from its first joint; "
-            f"{closest}"
-        )
-    elif outcome.same_stationary_point:
-        status = "unreachable"
-        message = (
-            f"all {attempts} attempts stopped at the same error with a vanishing "
-            f"gradient Jᵀe; {closest}"
-        )
-    elif outcome.all_diverged:
-        status = "diverged"
-        message = f"every attempt produced NaN or inf; {closest}"
-    else:
-        status = "max_iterations"
-        message = f"no attempt of {attempts} converged ({iterations} iterations); {closest}"
+    status, message = _verdict(
+        success, inside, position_error, rotation_error, reach,
+        outcome.same_stationary_point, outcome.all_diverged, outcome.attempts,
+        outcome.iterations,
+    )  # fmt: skip
     return IKResult(
         q=q.copy(),
         success=success,
         status=status,
-        iterations=iterations,
+        iterations=outcome.iterations,
         error=_body_twist_norm(e),
         position_error=position_error,
         rotation_error=rotation_error,
         history=outcome.history,
         error_history=outcome.errors,
-        restarts=attempts - 1,
+        restarts=outcome.attempts - 1,
         method=method,
         message=message,
+    )
+
+
+def _verdict(
+    success: bool,
+    inside: bool,
+    position_error: float,
+    rotation_error: float,
+    reach: float,
+    same_stationary_point: bool,
+    all_diverged: bool,
+    attempts: int,
+    iterations: int,
+) -> tuple[str, str]:
+    """``(status, message)`` of a solve from what its attempts found (module docstring)."""
+    if success:
+        return "converged", "" if inside else "q is outside the joint limits (respect_limits=False)"
+    closest = f"closest pose found: {position_error:.3g} m, {rotation_error:.3g} rad away"
+    if reach > 0.0:
+        return "unreachable", (
+            f"the target is {reach:.3g} m beyond the reach of the chain from its first joint; "
+            f"{closest}"
+        )
+    if same_stationary_point:
+        return "unreachable", (
+            f"all {attempts} attempts stopped at the same error with a vanishing "
+            f"gradient Jᵀe; {closest}"
+        )
+    if all_diverged:
+        return "diverged", f"every attempt produced NaN or inf; {closest}"
+    return "max_iterations", (
+        f"no attempt of {attempts} converged ({iterations} iterations); {closest}"
     )
 
 
@@ -742,7 +851,7 @@ def _body_twist_norm(e: np.ndarray) -> float:
     equivariant under rotation), so ``‖ξ_b‖² = ‖V(w)⁻¹ d‖² + ‖w‖²`` with
     ``V⁻¹ = I − ½[w] + c [w]²`` as in :func:`redik.lie.se3_log`.
     """
-    dx, dy, dz, wx, wy, wz = (float(value) for value in e)
+    dx, dy, dz, wx, wy, wz = e.tolist()
     theta2 = wx * wx + wy * wy + wz * wz
     theta = math.sqrt(theta2)
     if theta < 1e-6:
@@ -770,40 +879,45 @@ def _same_stationary_point(
     )
 
 
-_REACH: weakref.WeakKeyDictionary[Robot, dict[str, tuple[np.ndarray, float]]] = (
-    weakref.WeakKeyDictionary()
-)
+def _moving_columns(robot: Robot, frame: Frame) -> np.ndarray:
+    """Where the joints that move ``frame`` (those on its path to the world) sit in ``q``."""
+    model = robot.model
+    body = int(model.site_bodyid[frame.id]) if frame.kind == "site" else frame.id
+    path = set()
+    while body > 0:
+        path.add(body)
+        body = int(model.body_parentid[body])
+    joint_of_qpos = {int(adr): joint for joint, adr in enumerate(model.jnt_qposadr)}
+    return np.array(
+        [
+            column
+            for column, adr in enumerate(robot.qpos_indices)
+            if int(model.jnt_bodyid[joint_of_qpos[int(adr)]]) in path
+        ],
+        dtype=int,
+    )
 
 
-def _reach_excess(robot: Robot, frame: Frame, p_d: np.ndarray) -> float:
-    """How far (m) ``p_d`` lies beyond the chain's reach from its first joint (≤ 0 inside).
+def _reach(robot: Robot, frame: Frame, columns: np.ndarray) -> tuple[tuple[float, ...], float]:
+    """``(a_1, r)``: no ``q`` puts ``frame`` farther than ``r`` from the first joint's anchor.
 
     The distance between the anchors of two consecutive hinges is constant (each hinge
     rotates everything after it about a line through its own anchor), so ``‖p − a_1‖`` is at
     most the sum of the anchor-to-anchor distances and the last anchor-to-frame distance,
     plus the full travel of every slide joint. Unlimited slides make the reach infinite.
     """
-    cache = _REACH.setdefault(robot, {})
-    if frame.name not in cache:
-        model, data = robot.model, mujoco.MjData(robot.model)
-        data.qpos[robot.qpos_indices] = robot.midrange
-        mujoco.mj_kinematics(model, data)
-        joint_ids = [int(np.flatnonzero(model.jnt_qposadr == adr)[0]) for adr in robot.qpos_indices]
-        anchors = data.xanchor[joint_ids]
-        if frame.kind == "site":
-            point = data.site_xpos[frame.id]
-        else:
-            point = data.xpos[frame.id]
-        points = np.vstack((anchors, point))
-        reach = float(np.sum(np.linalg.norm(np.diff(points, axis=0), axis=1)))
-        travel = (robot.upper - robot.lower)[~robot.revolute]
-        reach += float(np.sum(travel))  # inf for an unlimited slide
-        cache[frame.name] = (anchors[0].copy(), reach)
-    origin, reach = cache[frame.name]
-    if not math.isfinite(reach):
-        return 0.0
-    excess = float(np.linalg.norm(p_d - origin)) - reach
-    return excess if excess > 1e-9 * max(1.0, reach) else 0.0
+    model, data = robot.model, mujoco.MjData(robot.model)
+    data.qpos[:] = robot.full_qpos(robot.midrange)
+    mujoco.mj_kinematics(model, data)
+    joint_of_qpos = {int(adr): joint for joint, adr in enumerate(model.jnt_qposadr)}
+    joints = [joint_of_qpos[int(robot.qpos_indices[column])] for column in columns]
+    anchors = data.xanchor[joints]
+    point = data.site_xpos[frame.id] if frame.kind == "site" else data.xpos[frame.id]
+    points = np.vstack((anchors, point))
+    reach = float(np.sum(np.linalg.norm(np.diff(points, axis=0), axis=1)))
+    travel = (robot.upper - robot.lower)[columns][~robot.revolute[columns]]
+    reach += float(np.sum(travel))  # inf for an unlimited slide
+    return tuple(anchors[0].tolist()), reach
 
 
 # --------------------------------------------------------------------------------------
@@ -826,10 +940,15 @@ def _shift_into_limits(robot: Robot, q: np.ndarray) -> np.ndarray:
     return q
 
 
-def _positive(value: object, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
-        raise InvalidInput(f"{name} must be a positive number, got {value!r}")
-    return float(value)
+def _check_seed(seed: object) -> None:
+    """Refuse what ``np.random.default_rng`` would fail on deep inside a solve."""
+    try:
+        np.random.default_rng(seed)
+    except (TypeError, ValueError) as error:
+        raise InvalidInput(
+            f"seed must be None, a non-negative integer or a numpy Generator, got {seed!r} "
+            f"({error})"
+        ) from None
 
 
 def _count(value: object, name: str, minimum: int) -> int:

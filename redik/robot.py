@@ -29,9 +29,9 @@ angular velocity in the body frame). They are related by MuJoCo's exponential ma
 :math:`Q \oplus ω = Q \otimes \exp(ω/2)`, Solà et al., *A micro Lie theory*, 2018),
 which reduce to ``q + Δq`` and ``q₁ − q₀`` for hinge and slide joints. A robot without
 ball or free joints is ``flat`` (``nq == dof``) and takes the plain-vector shortcuts.
-Joint position limits exist for hinge and slide joints only (MuJoCo's ball-joint range is
-a cone on the rotation angle; a free joint has none): ``lower``/``upper`` are per tangent
-coordinate, ``±inf`` on ball and free joints, as mink's ``ConfigurationLimit`` does.
+Joint position boxes exist for hinge and slide joints only: ``lower``/``upper`` are per
+tangent coordinate, ``±inf`` on ball and free joints. A ball joint's range is a cone on its
+rotation angle, which :class:`redik.BallJointLimit` enforces; a free joint has none.
 
 Forward kinematics runs ``mj_kinematics`` and ``mj_comPos`` (the latter fills the ``cdof``
 that ``mj_jac*`` reads) on the robot's own ``MjData`` and reads the Jacobian with
@@ -52,7 +52,7 @@ import numpy as np
 
 from . import loading
 from .exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
-from .lie import skew
+from .lie import MAX_COORDINATE, real_array, skew
 
 JACOBIAN_REFERENCES = ("space", "body", "world")
 FRAME_KINDS = ("site", "body", "geom")
@@ -114,6 +114,10 @@ class Robot:
         revolute: Per tangent coordinate, True for rotations (hinge, ball, a free joint's
             angular part).
         home: The ``home`` keyframe's values (else ``qpos0``), clipped into the limits.
+        solver_cache: What solvers compile once per robot and frame (e.g. the chain of
+            :func:`redik.solve_pose`'s ``"dls"`` kernel), kept here so it lives and dies
+            with the robot. Like :attr:`data`, it makes a robot unsafe to share between
+            threads.
     """
 
     def __init__(
@@ -151,6 +155,12 @@ class Robot:
                 else _match_joints(model, [joints] if isinstance(joints, str) else joints,
                                    "joints", self.name)
             )  # fmt: skip
+            named_both = sorted(_exact_names(joints) & _exact_names(fixed))
+            if named_both:
+                raise InvalidInput(
+                    f"joints {named_both} are named both in joints= (to move) and in fixed= "
+                    "(to hold); name each in one of them"
+                )
             joint_ids = sorted(set(selected) - fixed_ids)
             if not joint_ids:
                 raise ModelError(
@@ -177,9 +187,13 @@ class Robot:
         self.nq = len(self._qpos_adr)
         self.flat = self.nq == self.dof
         dof_names, dof_joints, revolute, lower, upper = [], [], [], [], []
-        scalar_dofs, scalar_q = [], []
+        scalar_dofs, scalar_q, quaternion_q, free_q = [], [], [], []
         q_offset = 0
         for j, t, joint_name in zip(joint_ids, types, self.joint_names, strict=True):
+            if t == _FREE:
+                free_q.append(q_offset)
+            if t in (_FREE, _BALL):
+                quaternion_q.append(q_offset + (3 if t == _FREE else 0))
             if t in _CHAIN_JOINT_TYPES:
                 scalar_dofs.append(len(dof_names))
                 scalar_q.append(q_offset)
@@ -205,6 +219,9 @@ class Robot:
         # Hinge and slide entries: their tangent coordinate and their index in q.
         self._scalar_dofs = np.array(scalar_dofs, dtype=int)
         self._scalar_q = np.array(scalar_q, dtype=int)
+        # Where a ball or free joint's quaternion, and a free joint's position, start in q.
+        self._quaternion_q = tuple(quaternion_q)
+        self._free_q = tuple(free_q)
         for array in (self.lower, self.upper, self.revolute):
             array.setflags(write=False)
 
@@ -230,6 +247,7 @@ class Robot:
         self._qpos_a = np.zeros(model.nq)
         self._qpos_b = np.zeros(model.nq)
         self._qvel = np.zeros(model.nv)
+        self.solver_cache: dict[object, object] = {}
 
     # ----------------------------------------------------------------------------------
     # Construction
@@ -349,11 +367,11 @@ class Robot:
             return self.ee
         if isinstance(name, Frame):
             return name
+        if not isinstance(name, str):
+            raise UnknownFrame(f"a frame is named by a string, got {name!r}")
         cached = self._frames.get(name)
         if cached is not None:
             return cached
-        if not isinstance(name, str):
-            raise UnknownFrame(f"a frame is named by a string, got {name!r}")
         prefix, _, rest = name.partition(":")
         kinds, bare = ((prefix,), rest) if rest and prefix in FRAME_KINDS else (FRAME_KINDS, name)
         for candidate in kinds:
@@ -362,7 +380,7 @@ class Robot:
                 resolved = Frame(name, candidate, index)
                 break
         else:
-            raise loading.unknown_frame(self.model, name, f"model {self.name!r}", ("site", "body"))
+            raise loading.unknown_frame(self.model, name, f"model {self.name!r}", kinds)
         self._frames[name] = resolved
         return resolved
 
@@ -431,6 +449,12 @@ class Robot:
         """
         if chain.model is not self.model:
             raise InvalidInput(f"{chain!r} is not a chain of {self!r}'s model")
+        outside = sorted(set(chain.joint_names) - set(self.joint_names))
+        if outside:
+            raise InvalidInput(
+                f"{chain!r} moves joints {outside} that {self!r} does not: their values "
+                "would be lost"
+            )
         qpos = chain.data.qpos.copy() if q is None else self.full_qpos(self.check_q(q))
         qpos[chain.qpos_indices] = chain.check_q(q_chain, "q_chain")
         return qpos[self._qpos_adr]
@@ -439,8 +463,10 @@ class Robot:
     # Joint vectors
 
     def check_q(self, q: np.ndarray, name: str = "q") -> np.ndarray:
-        """``q`` as a float vector of length ``nq``, or raise :class:`InvalidConfiguration`."""
-        q = np.asarray(q, dtype=float)
+        """``q`` as a finite real vector of length ``nq``, within ``±``
+        :data:`redik.lie.MAX_COORDINATE`, or raise :class:`InvalidConfiguration` naming the
+        value (complex, string and object arrays are refused, not cast)."""
+        q = real_array(q, name, InvalidConfiguration)
         if q.shape != (self.nq,):
             what = f"joints {list(self.joint_names)}"
             if not self.flat:
@@ -450,25 +476,18 @@ class Robot:
             )
         if not np.all(np.isfinite(q)):
             raise InvalidConfiguration(f"{name} holds NaN or inf: {q.tolist()}")
+        if np.any(np.abs(q) > MAX_COORDINATE):
+            raise InvalidConfiguration(
+                f"{name} holds values beyond ±{MAX_COORDINATE:g} (MuJoCo's mjMAXVAL): {q.tolist()}"
+            )
         if not self.flat:
-            for start in self._quaternion_starts():
+            for start in self._quaternion_q:
                 if np.linalg.norm(q[start : start + 4]) < 1e-9:
                     raise InvalidConfiguration(
                         f"{name}[{start}:{start + 4}] is a zero quaternion (a ball or free "
                         "joint's orientation must be a unit quaternion (w, x, y, z))"
                     )
         return q
-
-    def _quaternion_starts(self) -> list[int]:
-        """Indices in ``q`` where a ball or free joint's quaternion starts."""
-        starts, offset = [], 0
-        for joint_type in self.joint_types:
-            if joint_type == "free":
-                starts.append(offset + 3)
-            elif joint_type == "ball":
-                starts.append(offset)
-            offset += {"free": 7, "ball": 4}.get(joint_type, 1)
-        return starts
 
     def scalar_values(self, q: np.ndarray) -> np.ndarray:
         """Per tangent coordinate: the hinge and slide values of ``q``, 0 on ball/free dofs.
@@ -506,7 +525,7 @@ class Robot:
         q = np.array(q, dtype=float)
         index = self._scalar_q
         q[index] = np.clip(q[index], self.lower[self._scalar_dofs], self.upper[self._scalar_dofs])
-        for start in self._quaternion_starts():
+        for start in self._quaternion_q:
             q[start : start + 4] /= np.linalg.norm(q[start : start + 4])
         return q
 
@@ -562,15 +581,11 @@ class Robot:
         rows = np.atleast_2d(tangent)
         out = np.tile(self.home, (rows.shape[0], 1))
         out[:, self._scalar_q] = rows[:, self._scalar_dofs]
-        offset = 0
-        for joint_type in self.joint_types:
-            if joint_type == "free":
-                out[:, offset : offset + 3] += rng.uniform(-1.0, 1.0, (rows.shape[0], 3))
-            if joint_type in ("free", "ball"):
-                start = offset + (3 if joint_type == "free" else 0)
-                quat = rng.normal(size=(rows.shape[0], 4))
-                out[:, start : start + 4] = quat / np.linalg.norm(quat, axis=1, keepdims=True)
-            offset += {"free": 7, "ball": 4}.get(joint_type, 1)
+        for start in self._free_q:
+            out[:, start : start + 3] += rng.uniform(-1.0, 1.0, (rows.shape[0], 3))
+        for start in self._quaternion_q:
+            quat = rng.normal(size=(rows.shape[0], 4))
+            out[:, start : start + 4] = quat / np.linalg.norm(quat, axis=1, keepdims=True)
         return out[0] if size is None else out
 
     @property
@@ -677,7 +692,7 @@ class Robot:
         """This robot's ``q`` read from a full ``qpos``; default its own ``data.qpos``: the
         last forward kinematics' configuration or, for a fresh chain of :meth:`chain`, the
         values it was cut at."""
-        qpos = self.data.qpos if qpos is None else np.asarray(qpos, dtype=float)
+        qpos = self.data.qpos if qpos is None else real_array(qpos, "qpos", InvalidConfiguration)
         if qpos.shape != (self.model.nq,):
             raise InvalidConfiguration(
                 f"qpos must have shape ({self.model.nq},) (model.nq), got {qpos.shape}"
@@ -765,6 +780,15 @@ def _match_joints(
             )
         selected.extend(hits)
     return sorted(set(selected))
+
+
+def _exact_names(patterns: str | Sequence[str] | None) -> set[str]:
+    """The entries of a joints= or fixed= argument that are names, not patterns."""
+    if patterns is None or patterns == "all":
+        return set()
+    if isinstance(patterns, str):
+        patterns = [patterns]
+    return {p for p in patterns if isinstance(p, str) and not any(c in p for c in "*?[")}
 
 
 def _model_name(model: mujoco.MjModel) -> str:

@@ -6,11 +6,11 @@ The MJCF files are in the repository's ``scenes/`` folder (shipped inside the wh
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from . import models
-from ._validate import path as checked_path
-from .exceptions import ModelError
+from .exceptions import InvalidInput, ModelError
 from .robot import Robot
 
 _PACKAGE = Path(__file__).resolve().parent
@@ -36,25 +36,47 @@ _THIRD_PARTY = {
 }
 
 
-def scene_path(name: str | Path) -> Path:
+def scene_path(name: str | os.PathLike[str]) -> Path:
     """Path of a scene given its bundled name (``"panda"``), a path to any MJCF/URDF file, or a
     third-party model ``"example-robot-data:<name>"`` / ``"pybullet_data:<name>"``
-    (:mod:`redik.models`)."""
-    path = checked_path(name, "the scene name")
+    (:mod:`redik.models`).
+
+    Raises:
+        InvalidInput: ``name`` is neither a string nor a path.
+        ModelError: no bundled scene has that name and no file has that path.
+    """
+    if not isinstance(name, str | os.PathLike) or not str(name).strip():
+        raise InvalidInput(
+            f"a robot is named by a bundled scene name (one of {list_scenes()}), the path of "
+            f"an MJCF/URDF file or 'example-robot-data:<name>', got {name!r} (the scene name)"
+        )
+    path = Path(name)
     package, colon, model = str(name).partition(":")
     if colon and package in _THIRD_PARTY:
         return _THIRD_PARTY[package](model)
-    if path.suffix in (".xml", ".urdf", ".mjcf") or path.exists():
-        if not path.is_file():
+    try:
+        is_file = path.is_file()
+        exists = is_file or path.exists()
+    except (OSError, ValueError):  # a name too long for the file system, or a NUL byte
+        is_file = exists = False
+    if path.suffix in (".xml", ".urdf", ".mjcf") or exists:
+        if not is_file:
             raise ModelError(f"robot file not found: {str(path)!r}")
         return path
     bundled = scenes_dir() / f"{name}.xml"
-    if not bundled.is_file():
-        raise ModelError(f"no bundled scene named {str(name)!r}; available: {list_scenes()}")
+    try:
+        found = bundled.is_file()
+    except (OSError, ValueError):
+        found = False
+    if not found:
+        raise ModelError(
+            f"no bundled scene named {str(name)[:200]!r} and no file at that path; bundled "
+            f"scenes: {list_scenes()} (or give the path of an MJCF/URDF file)"
+        )
     return bundled
 
 
-def load(name: str | Path, ee: str | None = None, **options) -> Robot:
+def load(name: str | os.PathLike[str], ee: str | None = None, **options) -> Robot:
     """Load a bundled scene by name (``redik.load("panda")``) or any MJCF/URDF file by path.
 
     ``name`` is anything :func:`scene_path` accepts; ``options`` go to
@@ -62,5 +84,10 @@ def load(name: str | Path, ee: str | None = None, **options) -> Robot:
     ``package_paths``, ``floating_base``, ``keep_fixed_links``)::
 
         redik.load("example-robot-data:ur5", ee="tool0", meshes=False)
+
+    Raises:
+        InvalidInput: ``name`` is neither a string nor a path.
+        ModelError: no such scene or file, or MuJoCo cannot compile it.
+        UnknownFrame: ``ee`` names no site or body of the model.
     """
     return Robot.from_file(scene_path(name), ee=ee, **options)

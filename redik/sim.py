@@ -94,7 +94,7 @@ from .exceptions import InvalidInput, ModelError, TrackingWarning, warn
 from .lie import pose_errors
 from .plot import new_figure, save_figure
 from .robot import Robot
-from .trajectory import Path as PosePath
+from .trajectory import PosePath
 
 COMMANDS = ("position", "integrate")
 
@@ -479,7 +479,7 @@ def simulate(
     elif callable(reference):
         pose_at, start = reference, 0.0
     else:
-        raise InvalidInput(f"reference must be a trajectory.Path or t -> T, got {reference!r}")
+        raise InvalidInput(f"reference must be a trajectory.PosePath or t -> T, got {reference!r}")
     duration = positive(duration, "duration", unit="s")
     control_rate = positive(control_rate, "control_rate", unit="Hz")
     motor_bandwidth = positive(motor_bandwidth, "motor_bandwidth", unit="rad/s")

@@ -32,17 +32,30 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+import warnings
 from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from ._validate import positive
 from .exceptions import InvalidInput
-from .lie import as_pose, interpolate_pose, pose_errors, so3_exp
+from .lie import (
+    MAX_COORDINATE,
+    as_pose,
+    as_vector,
+    interpolate_pose,
+    pose_errors,
+    real_array,
+    so3_exp,
+)
 from .pose_ik import solve_pose
 from .result import IKResult
 from .robot import Robot
 
 TIME_SCALINGS = ("linear", "cubic", "quintic")
+
+MAX_SAMPLES = 10_000_000
+"""Most samples :meth:`Path.sample_times` returns (10⁷: 16 GB of poses, a day at 100 Hz)."""
 
 Solver = Callable[[np.ndarray, np.ndarray], IKResult]
 """``solver(T_target, q_start) -> IKResult``: one IK solve warm-started at ``q_start``."""
@@ -57,10 +70,12 @@ def time_scaling(tau: float, kind: str) -> float:
     return tau * tau * tau * (10.0 + tau * (-15.0 + 6.0 * tau))
 
 
-class Path:
+class PosePath:
     """A timed pose path: :meth:`pose` at any time from ``start_time`` to ``end_time``.
 
     Subclasses define :meth:`pose`, ``start_time`` and ``end_time``; sampling is shared.
+    (Named ``Path`` before 0.2, a name that clashed with :class:`pathlib.Path`; the old name
+    still works and warns, for one release.)
     """
 
     start_time: float
@@ -75,9 +90,14 @@ class Path:
 
     def sample_times(self, rate: float) -> np.ndarray:
         """Times at ``rate`` Hz from the start to the end, both included."""
-        if not rate > 0.0:
-            raise InvalidInput(f"rate must be positive (Hz), got {rate!r}")
-        count = int(np.ceil(self.duration * rate - 1e-9))
+        rate = positive(rate, "rate", unit="Hz")
+        count = float(np.ceil(self.duration * rate - 1e-9))
+        if not count < MAX_SAMPLES:
+            raise InvalidInput(
+                f"{self.duration:g} s at {rate:g} Hz is {count:.3g} samples, more than "
+                f"MAX_SAMPLES = {MAX_SAMPLES:g}"
+            )
+        count = int(count)
         return np.linspace(self.start_time, self.end_time, count + 1)
 
     def sample(self, rate: float) -> tuple[np.ndarray, np.ndarray]:
@@ -86,7 +106,7 @@ class Path:
         return times, np.array([self.pose(t) for t in times])
 
 
-class CartesianPath(Path):
+class CartesianPath(PosePath):
     """A path through timed waypoint poses: straight lines in position, SLERP in rotation.
 
     Args:
@@ -105,17 +125,23 @@ class CartesianPath(Path):
         times: Sequence[float] | None = None,
         time_scaling: str = "linear",
     ):
-        if len(poses) < 2:
-            raise InvalidInput(f"a path needs at least two waypoint poses, got {len(poses)}")
+        try:
+            count = -1 if isinstance(poses, str | bytes) else len(poses)
+        except TypeError:  # None, a number, a 0-d array
+            count = -1
+        if count < 2:
+            raise InvalidInput(f"a path needs at least two waypoint poses (4 × 4), got {poses!r}")
         self.poses = np.array([as_pose(T, name=f"poses[{i}]") for i, T in enumerate(poses)])
-        self.times = np.arange(len(poses), dtype=float) if times is None else np.array(times, float)
+        self.times = (
+            np.arange(len(poses), dtype=float) if times is None else real_array(times, "times")
+        )
         if self.times.shape != (len(poses),) or not np.all(np.isfinite(self.times)):
             raise InvalidInput(
                 f"times must be {len(poses)} finite numbers (one per pose), got {times!r}"
             )
         if np.any(np.diff(self.times) <= 0.0):
             raise InvalidInput(f"waypoint times must increase strictly, got {self.times.tolist()}")
-        if time_scaling not in TIME_SCALINGS:
+        if not isinstance(time_scaling, str) or time_scaling not in TIME_SCALINGS:
             raise InvalidInput(f"time_scaling must be one of {TIME_SCALINGS}, got {time_scaling!r}")
         self.time_scaling = time_scaling
 
@@ -149,7 +175,7 @@ class CartesianPath(Path):
         return float(self.times[-1])
 
 
-class CircularPath(Path):
+class CircularPath(PosePath):
     """The end-effector moving once around a circle, orientation held.
 
     The circle passes through ``T_start``'s position, around ``center``, in the plane normal
@@ -167,20 +193,23 @@ class CircularPath(Path):
         time_scaling: str = "quintic",
     ):
         self.T_start = as_pose(T_start, "T_start")
-        self.center = np.asarray(center, dtype=float)
-        normal = np.asarray(normal, dtype=float)
-        if self.center.shape != (3,) or normal.shape != (3,) or np.linalg.norm(normal) == 0.0:
-            raise InvalidInput("center and normal must be 3-vectors, normal non-zero")
+        self.center = as_vector(center, 3, "center")
+        normal = as_vector(normal, 3, "normal")
+        if np.abs(self.center).max() > MAX_COORDINATE or not np.abs(normal).max() > 0.0:
+            raise InvalidInput(
+                f"center must be within ±{MAX_COORDINATE:g} m and normal non-zero, got "
+                f"{self.center.tolist()} and {normal.tolist()}"
+            )
+        normal = normal / np.abs(normal).max()  # no overflow in the norm
         self.axis = normal / np.linalg.norm(normal)
         offset = self.T_start[:3, 3] - self.center
         self.offset = offset - (offset @ self.axis) * self.axis  # in the circle's plane
         if np.linalg.norm(self.offset) < 1e-9:
             raise InvalidInput("the start position lies on the circle's axis (radius 0)")
-        if not duration > 0.0:
-            raise InvalidInput(f"duration must be positive, got {duration!r}")
-        if time_scaling not in TIME_SCALINGS:
+        duration = positive(duration, "duration", unit="s")
+        if not isinstance(time_scaling, str) or time_scaling not in TIME_SCALINGS:
             raise InvalidInput(f"time_scaling must be one of {TIME_SCALINGS}, got {time_scaling!r}")
-        self.start_time, self.end_time = 0.0, float(duration)
+        self.start_time, self.end_time = 0.0, duration
         self.time_scaling = time_scaling
 
     @property
@@ -338,7 +367,7 @@ def limit_contacts(times: np.ndarray, q: np.ndarray, robot: Robot, margin: float
 
 def follow_path(
     robot: Robot,
-    path: Path,
+    path: PosePath,
     q0: np.ndarray,
     solver: Solver | None = None,
     *,
@@ -408,3 +437,20 @@ def follow_path(
         singular_crossings=singular_crossings(times, sigma_min, singular_tol),
         limit_contacts=limit_contacts(times, qs, robot, limit_margin),
     )
+
+
+_DEPRECATED = {"Path": ("PosePath", PosePath)}
+
+
+def __getattr__(name: str):
+    """Deprecated names, kept for one release with a :class:`DeprecationWarning`."""
+    if name in _DEPRECATED:
+        new_name, value = _DEPRECATED[name]
+        warnings.warn(
+            f"redik.trajectory.{name} is deprecated (it clashes with pathlib.Path); "
+            f"use redik.trajectory.{new_name}",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import itertools
 import math
 import warnings
+from fractions import Fraction
 
 import mink
 import numpy as np
@@ -257,6 +258,7 @@ def _families(strict: bool):
     """Each family's pose entry point, as ``accepts(T) -> bool`` (True: used, False: refused)."""
     robot = redik.load("ur5e")
     solver = redik.analytic.solver_for(robot)
+    decomposed = redik.analytic.solver_for(robot, "decomposed")
 
     def batch(T):
         result = redik.solve_batch(robot, T[None], restarts=0, max_iterations=1, strict=strict)
@@ -265,6 +267,8 @@ def _families(strict: bool):
     return {
         "lie.as_pose": lambda T: lie.as_pose(T, strict=strict),
         "analytic.solver_for": lambda T: solver(T, strict=strict),
+        "analytic decomposed": lambda T: decomposed(T, strict=strict),
+        "analytic decomposed raw": lambda T: decomposed.raw(T, strict=strict),
         "analytic.ur": lambda T: redik.analytic.ur(T, *redik.analytic.UR5E, strict=strict),
         "analytic.ur_batch": lambda T: redik.analytic.ur_batch(
             T[None], *redik.analytic.UR5E, strict=strict
@@ -308,3 +312,70 @@ def test_every_solver_family_accepts_and_refuses_the_same_matrices(strict):
         expected = cases[case][1]
         assert accepted == expected, (family, case)
         assert projected == (accepted and case not in ("exact",)), (family, case)
+
+
+# --------------------------------------------------------------------------------------
+# Angle wrapping
+
+
+def _exact_remainder(a: float) -> float:
+    """``a − 2πk`` in (−π, π] computed in rational arithmetic with the double 2π."""
+    two_pi = Fraction(2 * math.pi)
+    r = Fraction(a) - two_pi * math.floor(Fraction(a) / two_pi)
+    return float(r - two_pi if r > two_pi / 2 else r)
+
+
+@pytest.mark.parametrize(
+    "angle",
+    [math.pi, -math.pi, 3 * math.pi, -3 * math.pi, 5 * math.pi, 1e6, -1e6, 1e300, -1e300,
+     2 * math.pi, -1e-20, 1e-300, math.nextafter(-math.pi, 0), math.nextafter(math.pi, 4),
+     math.nextafter(-math.pi, -4), 0.5, -2.5],
+)  # fmt: skip
+def test_wrap_angle_is_exact_and_in_range(angle):
+    for wrapped in (lie.wrap_angle(angle), lie.wrap_angle(np.array([angle]))[0]):
+        assert -math.pi < wrapped <= math.pi
+        assert wrapped == _exact_remainder(angle)
+    if abs(math.remainder(angle, math.pi)) == 0 and math.fmod(angle / math.pi, 2) != 0:
+        assert lie.wrap_angle(angle) == math.pi  # ±π, ±3π, ±5π: exactly π
+
+
+def test_wrap_angle_never_returns_minus_pi_and_is_odd(rng):
+    # Just above −π + 2πk, the textbook π − ((π − a) mod 2π) rounds the mod up to 2π.
+    angles = np.concatenate(
+        [
+            np.nextafter(np.pi * np.arange(-41, 42, 2), np.inf),
+            np.nextafter(np.pi * np.arange(-41, 42, 2), -np.inf),
+            rng.uniform(-1e3, 1e3, 10_000),
+        ]
+    )
+    wrapped = lie.wrap_angle(angles)
+    assert np.all(wrapped > -np.pi) and np.all(wrapped <= np.pi)
+    inner = np.abs(wrapped) < np.pi
+    np.testing.assert_array_equal(lie.wrap_angle(-angles)[inner], -wrapped[inner])
+    np.testing.assert_allclose(np.exp(1j * wrapped), np.exp(1j * angles), atol=1e-12)
+    assert np.isnan(lie.wrap_angle([np.nan, np.inf, -np.inf])).all()
+    assert np.isnan(lie.wrap_angle(np.inf))
+    assert isinstance(lie.wrap_angle(3), float) and lie.wrap_angle(3) == 3.0
+
+
+def test_analytic_wraps_with_the_same_function():
+    from redik import analytic
+
+    assert analytic.wrap_angle is lie.wrap_angle
+
+
+def test_the_policy_helpers_refuse_non_numeric_input():
+    # Found by the fuzzing of lie's public helpers: np.linalg.svd / np.fmod raised raw
+    # TypeErrors and ValueErrors on strings, None and ragged lists.
+    for junk in ("", None, [[1.0], [2.0, 3.0]], np.zeros(3) + 1j):
+        for helper in (lie.closest_rotation, lie.rotation_defect, lie.check_rotations):
+            with pytest.raises(InvalidRotation):
+                helper(junk)
+        with pytest.raises(InvalidInput, match="angle"):
+            lie.wrap_angle(junk)
+    with pytest.raises(InvalidRotation, match=r"\(\.\.\., 3, 3\)"):
+        lie.closest_rotation(np.eye(4))
+    with pytest.raises(InvalidRotation, match="finite"):
+        lie.closest_rotation(np.full((3, 3), np.nan))
+    with pytest.raises(InvalidRotation, match=r"\(B, 3, 3\)"):
+        lie.check_rotations(np.eye(3))

@@ -10,6 +10,7 @@ import redik
 from redik.exceptions import InfeasibleProblem, InvalidInput
 from redik.limits import InequalityLimit, MinkLimit, PositionLimit, VelocityLimit
 from redik.problem import Problem
+from redik.qp import available_backends
 from redik.tasks import PoseTask, PositionTask, PostureTask
 
 
@@ -111,3 +112,37 @@ def test_contradictory_rows_are_reported_infeasible(backend):
     problem = Problem(robot, [PoseTask(robot.fk(robot.home))], [EmptySet()], backend=backend)
     with pytest.raises(InfeasibleProblem, match="infeasible"):
         problem.step(robot.home)
+
+
+@pytest.mark.parametrize("backend", available_backends())
+def test_no_iterate_leaves_the_limits_on_any_backend(backend):
+    """Targets just inside the limits pull iterates against them; whatever the back-end's
+    accuracy (its declared tolerance shrinks the box), every iterate stays within."""
+    robot = redik.load("panda")
+    rng = np.random.default_rng(11)
+    problem = Problem(robot, [PoseTask(np.eye(4))], backend=backend)
+    for _ in range(3):
+        q_target = robot.random_q(rng)
+        joints = rng.choice(robot.dof, size=2, replace=False)  # two joints at a limit
+        q_target[joints] = np.where(rng.random(2) < 0.5, robot.lower[joints], robot.upper[joints])
+        problem.tasks[0].set_target(robot.fk(q_target))
+        result = problem.solve(robot.random_q(rng), max_iter=30)
+        assert np.all(result.history >= robot.lower) and np.all(result.history <= robot.upper)
+
+
+class ZeroRow(InequalityLimit):
+    """0 · Δq ≤ −1: a row no step satisfies, which DAQP refuses at its set-up."""
+
+    def inequalities(self, state, dt):
+        return np.zeros((1, self.robot.dof)), np.array([-1.0])
+
+
+def test_a_row_refused_at_the_backend_set_up_is_infeasible_not_a_raw_error():
+    robot = redik.load("panda")
+    target = robot.fk(robot.clip(robot.home + 0.1))
+    problem = Problem(robot, [PoseTask(target)], [PositionLimit(), ZeroRow()])
+    for _ in range(2):
+        with pytest.raises(InfeasibleProblem, match=r"'daqp'.*infeasible"):
+            problem.step(robot.home)
+    with pytest.raises(InfeasibleProblem, match=r"'daqp'.*infeasible"):
+        problem.solve(robot.home)

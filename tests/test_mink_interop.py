@@ -11,7 +11,15 @@ from redik.exceptions import InvalidInput
 from redik.limits import MinkLimit, PositionLimit
 from redik.problem import Problem
 from redik.qp.backends import QPSOLVERS_SETTINGS
-from redik.tasks import JointLimitAvoidanceTask, PoseTask, PositionTask, PostureTask
+from redik.tasks import (
+    DampingTask,
+    JointLimitAvoidanceTask,
+    ManipulabilityTask,
+    OrientationTask,
+    PoseTask,
+    PositionTask,
+    PostureTask,
+)
 
 DAMPING = 1e-6
 
@@ -101,3 +109,73 @@ def test_an_unbound_redik_task_in_mink_says_what_to_do(arm):
     configuration = mink.Configuration(arm.model)
     with pytest.raises(InvalidInput, match=r"task.bind\(robot\)"):
         PoseTask(np.eye(4)).compute_error(configuration)
+
+
+def test_minks_cost_vocabulary_is_accepted_beside_redik_weight(rng):
+    robot = redik.load("panda")
+    q, T = next(iter(targets(robot, rng, 1)))
+    q_nominal = robot.random_q(rng)
+    in_mink_words = [
+        PoseTask(T, position_cost=[1, 2, 3], orientation_cost=0.5),
+        PostureTask(q_nominal, cost=0.1, priority=0),
+        JointLimitAvoidanceTask(cost=0.3, priority=0),
+        DampingTask(cost=0.2, priority=0),
+    ]
+    in_redik_words = [
+        PoseTask(T, position_weight=[1, 2, 3], orientation_weight=0.5),
+        PostureTask(q_nominal, weight=0.1, priority=0),
+        JointLimitAvoidanceTask(weight=0.3, priority=0),
+        DampingTask(weight=0.2, priority=0),
+    ]
+    step_mink = Problem(robot, in_mink_words, limits=[]).step(q)
+    np.testing.assert_array_equal(step_mink, Problem(robot, in_redik_words, limits=[]).step(q))
+    for mink_task, redik_task in zip(in_mink_words, in_redik_words, strict=True):
+        np.testing.assert_array_equal(mink_task.cost, redik_task.cost)
+    pose = in_mink_words[0]
+    pose.set_position_cost(4.0)
+    pose.set_orientation_cost([1, 2, 3])
+    np.testing.assert_array_equal(pose.cost, [4, 4, 4, 1, 2, 3])
+    posture = in_mink_words[1]
+    posture.set_cost(0.7)
+    np.testing.assert_array_equal(posture.cost, np.full(7, 0.7))
+    manipulability = ManipulabilityTask(cost=0.4).bind(robot)
+    np.testing.assert_array_equal(manipulability.weight, np.full(7, 0.4))
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda: PostureTask(weight=1.0, cost=1.0),
+        lambda: PositionTask([0, 0, 0.5], weight=1.0, cost=2.0),
+        lambda: OrientationTask(np.eye(3), weight=1.0, cost=2.0),
+        lambda: ManipulabilityTask(weight=1.0, cost=2.0),
+        lambda: PoseTask(np.eye(4), position_weight=1.0, position_cost=1.0),
+    ],
+)
+def test_weight_and_cost_together_are_refused(make):
+    with pytest.raises(InvalidInput, match="not both"):
+        make()
+
+
+def test_mink_tasks_converge_on_their_cost_weighted_error():
+    # A component of zero cost is no part of the target: the QP leaves it free, so the
+    # unweighted error (the CoM height, the frame's rotation) never vanished and the solve
+    # stalled instead of converging.
+    robot = redik.load("panda")
+    configuration = mink.Configuration(robot.model, robot.full_qpos(robot.home))
+    com = mink.ComTask(cost=[1.0, 1.0, 0.0])
+    target = configuration.data.subtree_com[1] + [0.03, -0.02, 0.3]  # 30 cm too high
+    com.set_target(target)
+    result = Problem(robot, [com]).solve(robot.home)
+    assert result.status == "converged", result.message
+    configuration.update(robot.full_qpos(result.q))
+    reached = configuration.data.subtree_com[1]
+    np.testing.assert_allclose(reached[:2], target[:2], atol=1e-6)
+    assert abs(reached[2] - target[2]) > 0.1  # the height was not asked for
+    frame = mink.FrameTask("ee", "site", position_cost=1.0, orientation_cost=0.0)
+    T = robot.fk(robot.clip(robot.home + 0.2))
+    frame.set_target(mink.SE3.from_matrix(T @ redik.lie.make_pose(redik.lie.so3_exp([0.3, 0, 0]),
+                                                                  np.zeros(3))))  # fmt: skip
+    result = Problem(robot, [frame]).solve(robot.home)
+    assert result.status == "converged", result.message
+    assert np.linalg.norm(robot.fk(result.q)[:3, 3] - T[:3, 3]) < 1e-6

@@ -187,6 +187,42 @@ def test_bad_targets_raise(arm, T_target):
 
 
 @pytest.mark.parametrize(
+    "T_target",
+    ["abc", None, [[1.0, 0.0], "x"], {"p": 1.0}, np.eye(4, dtype=complex), object()],
+    ids=["string", "none", "ragged", "dict", "complex", "object"],
+)
+def test_targets_that_are_not_numeric_matrices_name_the_value(arm, T_target):
+    """Issue 11: ``solve_pose(robot, "abc")`` raised numpy's raw ValueError."""
+    for method in ("dls", "newton"):
+        with pytest.raises(InvalidPose, match="T_target") as raised:
+            solve_pose(arm, T_target, method=method)
+        assert "real numbers" in str(raised.value)
+    with pytest.raises(InvalidPose, match="abc"):
+        solve_pose(arm, "abc")
+
+
+@pytest.mark.parametrize("method", ["dls", "newton", "hybrid", "transpose"])
+def test_a_frame_no_joint_moves_is_refused(method):
+    """Issue 11: ``frame="world"`` ran 1608 iterations instead of saying it cannot move."""
+    robot = redik.load("panda")
+    with pytest.raises(InvalidInput, match="world") as raised:
+        solve_pose(robot, np.eye(4), frame="world", method=method)
+    assert "no joint" in str(raised.value)
+    with pytest.raises(InvalidInput, match="world"):
+        solve_all(robot, np.eye(4), frame="world", n_starts=1)
+
+
+def test_a_frame_some_joints_move_is_solved_with_those_joints():
+    robot = redik.load("panda")
+    q_goal = robot.random_q(np.random.default_rng(2))
+    T_target = robot.fk(q_goal, "link3")
+    result = solve_pose(robot, T_target, frame="link3", seed=0)
+    assert result.success, result.message
+    assert np.allclose(robot.fk(result.q, "link3"), T_target, atol=1e-5)
+    assert np.array_equal(result.q[3:], robot.home[3:])  # joints 4-7 do not move link3
+
+
+@pytest.mark.parametrize(
     "kwargs",
     [
         {"method": "secant"},
@@ -254,3 +290,37 @@ def test_solve_all_compares_unlimited_angles_modulo_two_pi():
 def test_solve_all_rejects_bad_counts(arm):
     with pytest.raises(InvalidInput):
         solve_all(arm, arm.fk(arm.home), n_starts=0)
+
+
+def test_dls_results_own_their_arrays_though_the_solver_state_is_reused(rng):
+    """The compiled chain and buffers live on the robot; no result aliases them."""
+    robot = redik.load("panda")
+    first_target, second_target = (robot.fk(robot.random_q(rng)) for _ in range(2))
+    first = solve_pose(robot, first_target, seed=0)
+    q, history, errors = first.q.copy(), first.history.copy(), first.error_history.copy()
+    assert len(robot.solver_cache) == 1
+    second = solve_pose(robot, second_target, robot.random_q(rng), seed=1)
+    assert first.success and second.success
+    np.testing.assert_array_equal(first.q, q)
+    np.testing.assert_array_equal(first.history, history)
+    np.testing.assert_array_equal(first.error_history, errors)
+    assert len(robot.solver_cache) == 1  # the same frame reuses its solver
+    assert not redik.load("panda").solver_cache  # another robot owns its own
+
+
+def test_scalar_options_take_numpy_numbers_and_refuse_bools_nan_and_inf():
+    robot = redik.load("panda")
+    T = robot.fk(robot.clip(robot.home + 0.1))
+    for method, options in (("newton", {"step": np.float64(1.0)}),
+                            ("transpose", {"step": np.float32(0.5)}),
+                            ("hybrid", {"switch_error": np.float64(0.1)})):  # fmt: skip
+        result = solve_pose(robot, T, method=method, pos_tol=np.float64(1e-6), seed=0, **options)
+        assert result.success, (method, result.message)
+    assert solve_all(robot, T, n_starts=20, seed=0, cluster_tol=np.float64(1e-3))
+    for bad in (True, float("nan"), float("inf"), "1", -1.0):
+        with pytest.raises(InvalidInput, match="step must be a finite positive number"):
+            solve_pose(robot, T, method="newton", step=bad)
+        with pytest.raises(InvalidInput, match="pos_tol must be a finite positive number"):
+            solve_pose(robot, T, pos_tol=bad)
+        with pytest.raises(InvalidInput, match="cluster_tol must be a finite positive number"):
+            solve_all(robot, T, n_starts=1, cluster_tol=bad)

@@ -152,6 +152,210 @@ def test_a_backend_instance_cannot_be_shared_by_priority_levels(panda):
     Problem(panda, stack[:1], backend=make_backend("daqp")).step(panda.home)  # one level: fine
 
 
+def test_a_single_task_or_limit_is_the_list_of_it(panda):
+    T = panda.fk(panda.home)
+    problem = Problem(panda, PoseTask(T), PositionLimit())
+    assert problem.levels == [0] and len(problem.tasks) == 1 and len(problem.limits) == 1
+    np.testing.assert_allclose(problem.step(panda.home), 0.0, atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("arguments", "match"),
+    [
+        ({"tasks": 3}, "tasks must be a list"),
+        ({"tasks": "PoseTask"}, "tasks must be a list"),
+        ({"tasks": ()}, "at least one task"),
+        ({"limits": 1.0}, "limits must be a list"),
+        ({"damping": float("nan")}, "damping"),
+        ({"damping": "1e-6"}, "damping"),
+        ({"rank_tol": -1.0}, "rank_tol"),
+        ({"backend_options": 1e-9}, "backend_options"),
+    ],
+)
+def test_constructor_arguments_are_checked(panda, arguments, match):
+    kwargs = {"tasks": [PoseTask(np.eye(4))], **arguments}
+    with pytest.raises(InvalidInput, match=match):
+        Problem(panda, **kwargs)
+
+
+def test_unknown_or_malformed_backend_is_a_backend_error(panda):
+    for backend in ("nope", ["daqp", "nope"], 7, [None]):
+        with pytest.raises(redik.BackendError, match="available"):
+            Problem(panda, PoseTask(np.eye(4)), backend=backend)
+
+
+@pytest.mark.parametrize(
+    ("arguments", "error", "match"),
+    [
+        ({"q0": np.zeros(6)}, InvalidConfiguration, "7"),
+        ({"q0": np.full(7, np.nan)}, InvalidConfiguration, ""),
+        ({"q0": "home"}, InvalidInput, ""),
+        ({"dt": 0.0}, InvalidInput, "dt"),
+        ({"dt": -0.01}, InvalidInput, "dt"),
+        ({"dt": float("inf")}, InvalidInput, "dt"),
+        ({"pos_tol": -1.0}, InvalidInput, "pos_tol"),
+        ({"rot_tol": float("nan")}, InvalidInput, "rot_tol"),
+        ({"q_tol": "0"}, InvalidInput, "q_tol"),
+        ({"max_iter": 2.5}, InvalidInput, "max_iter"),
+        ({"max_iter": -1}, InvalidInput, "max_iter"),
+        ({"max_step": 0.0}, InvalidInput, "max_step"),
+        ({"max_step": float("nan")}, InvalidInput, "max_step"),
+        ({"lm_damping": "0.1"}, InvalidInput, "lm_damping"),
+    ],
+)
+def test_solve_arguments_are_checked(panda, arguments, error, match):
+    problem = Problem(panda, PoseTask(panda.fk(panda.home)))
+    kwargs = {"q0": panda.home, **arguments}
+    with pytest.raises(error, match=match):
+        problem.solve(**kwargs)
+
+
+def test_step_checks_dt_and_q(panda):
+    problem = Problem(panda, PoseTask(panda.fk(panda.home)))
+    for dt in (0.0, -1.0, float("nan"), "0.01"):
+        with pytest.raises(InvalidInput, match="dt"):
+            problem.step(panda.home, dt=dt)
+    with pytest.raises(InvalidConfiguration):
+        problem.step(np.append(panda.home, 0.0))
+    with pytest.raises(InvalidConfiguration):
+        problem.step(np.full(7, np.inf))
+
+
+def test_solve_finishes_the_lower_level_at_the_constrained_optimum(panda, rng):
+    """Pose at priority 0, posture at priority 1: the returned q minimises the posture cost
+    subject to the pose (an independent SLSQP solve agrees); stopping at level-0
+    convergence leaves the posture cost higher and the stationarity condition unmet."""
+    from scipy.optimize import minimize
+
+    for _ in range(3):
+        q0 = np.clip(panda.random_q(rng), panda.lower + 0.3, panda.upper - 0.3)
+        T = panda.fk(np.clip(q0 + rng.uniform(-0.3, 0.3, 7), panda.lower, panda.upper))
+        q_nominal = np.clip(q0 + rng.uniform(-0.5, 0.5, 7), panda.lower, panda.upper)
+        problem = Problem(panda, [PoseTask(T), PostureTask(q_nominal, gain=0.2, priority=1)])
+        result = problem.solve(q0, max_iter=300)
+        early = problem.solve(q0, max_iter=300, stationarity_tol=None)
+        assert result.success and result.stationary and len(result.stationarity) == 1
+        assert result.stationarity[0] <= 1e-8
+        assert problem.stationarity(result.q)[0] == pytest.approx(result.stationarity[0])
+        assert early.success and problem.stationarity(early.q)[0] > 1e-6
+
+        def cost(q, q_nominal=q_nominal):
+            return 0.5 * float(np.sum((q - q_nominal) ** 2))
+
+        assert cost(result.q) < cost(early.q) - 1e-5
+
+        def pose_residual(q, T=T):
+            F = panda.fk(q)
+            return np.concatenate([F[:3, 3] - T[:3, 3], lie.so3_log(F[:3, :3].T @ T[:3, :3])])
+
+        reference = minimize(
+            cost,
+            early.q,
+            method="SLSQP",
+            constraints=[{"type": "eq", "fun": pose_residual}],
+            bounds=list(zip(panda.lower, panda.upper, strict=True)),
+            options={"ftol": 1e-14, "maxiter": 500},
+        )
+        assert reference.success and np.max(np.abs(pose_residual(reference.x))) < 1e-10
+        np.testing.assert_allclose(result.q, reference.x, atol=1e-6)
+        assert cost(result.q) == pytest.approx(cost(reference.x), abs=1e-9)
+
+
+def test_stationarity_is_reported_as_unmet_when_the_budget_runs_out(panda, rng):
+    q0, T = nearby_targets(panda, rng, 1)[0]
+    problem = Problem(panda, [PoseTask(T), PostureTask(panda.home, gain=0.05, priority=1)])
+    early = problem.solve(q0, stationarity_tol=None)
+    result = problem.solve(q0, max_iter=early.iterations + 2)
+    assert result.success and result.status == "converged"
+    assert not result.stationary and result.stationarity[0] > 1e-8
+    assert "not stationary" in result.message
+    single = Problem(panda, [PoseTask(T)]).solve(q0)
+    assert single.stationary and single.stationarity == []
+    with pytest.raises(InvalidInput, match="stationarity_tol"):
+        problem.solve(q0, stationarity_tol=0.0)
+
+
+def test_patience_ends_an_attempt_that_stops_making_progress(panda):
+    far = np.eye(4)
+    far[:3, 3] = (3.0, 0.0, 0.0)  # out of reach: the error plateaus
+    problem = Problem(panda, [PoseTask(far)])
+    patient = problem.solve(panda.home, max_iter=200, patience=5)
+    assert patient.status == "stalled" and patient.iterations < 60
+    squared = patient.error_history**2
+    # It stopped at the first iteration where ‖e‖² was not halved over the last 5...
+    assert squared[-1] > 0.5 * squared[-6]
+    # ... and not before.
+    assert all(squared[k] <= 0.5 * squared[k - 5] for k in range(5, len(squared) - 1))
+    assert problem.solve(panda.home, max_iter=60).iterations > patient.iterations
+    for patience in (0, 2.5, True):
+        with pytest.raises(InvalidInput, match="patience"):
+            problem.solve(panda.home, patience=patience)
+    for progress in (0.0, 1.0, float("nan")):
+        with pytest.raises(InvalidInput, match="progress"):
+            problem.solve(panda.home, patience=3, progress=progress)
+
+
+def test_solve_pose_qp_restarts_from_the_nearest_candidate(panda, rng):
+    from redik.qp.solve import _nearest_start
+
+    task = PoseTask(panda.fk(panda.random_q(rng)))
+    problem = Problem(panda, [task])  # binds the task to the robot
+    start = _nearest_start(panda, task, np.random.default_rng(5), 32)
+    candidates = panda.random_q(np.random.default_rng(5), size=32)
+    distances = [
+        np.sum((panda.fk(q)[:3, 3] - task.target[:3, 3]) ** 2)
+        + 0.125 * np.sum((panda.fk(q)[:3, :3] - task.target[:3, :3]) ** 2)
+        for q in candidates
+    ]
+    np.testing.assert_array_equal(start, candidates[int(np.argmin(distances))])
+    assert problem.levels == [0]
+    with pytest.raises(InvalidInput, match="candidates"):
+        solve_pose_qp(panda, task.target, panda.home, candidates=0)
+
+
+def test_the_stationarity_test_accounts_for_active_limits(panda):
+    """The posture optimum rests on a joint limit, where the gradient projected onto the
+    pose's null space is not zero but points out of the box: still stationary."""
+    from scipy.optimize import minimize
+
+    rng = np.random.default_rng(5)
+    for joint in (2, 5):
+        q_star = np.clip(panda.random_q(rng), panda.lower + 0.3, panda.upper - 0.3)
+        q_star[joint] = panda.upper[joint]
+        T = panda.fk(q_star)
+        # n spans the self-motion at q_star; a posture reference displaced along n (but not
+        # in the limited joint) makes descent along the self-motion push that joint up.
+        n = np.linalg.svd(panda.jacobian(q_star))[2][-1]
+        n *= np.sign(n[joint])
+        offset = 0.2 * n
+        offset[joint] = 0.0
+        tasks = [PoseTask(T), PostureTask(q_star + offset, priority=1)]
+        start = q_star.copy()
+        start[joint] -= 0.05
+        result = Problem(panda, tasks).solve(start, max_iter=300)
+        assert result.success and result.stationary and result.stationarity == [0.0]
+        assert result.q[joint] == pytest.approx(panda.upper[joint], abs=1e-8)
+        # Without the limits, the same point is not stationary: the cone made the difference.
+        assert Problem(panda, tasks, limits=[]).stationarity(result.q)[0] > 1e-3
+        # The projection is the problem's own (NNLS), not the back-end's: the same with any.
+        assert Problem(panda, tasks, backend="proxsuite").stationarity(result.q) == [0.0]
+
+        def pose_residual(q, T=T):
+            F = panda.fk(q)
+            return np.concatenate([F[:3, 3] - T[:3, 3], lie.so3_log(F[:3, :3].T @ T[:3, :3])])
+
+        reference = minimize(
+            lambda q, r=q_star + offset: 0.5 * np.sum((q - r) ** 2),
+            start,
+            method="SLSQP",
+            constraints=[{"type": "eq", "fun": pose_residual}],
+            bounds=list(zip(panda.lower, panda.upper, strict=True)),
+            options={"ftol": 1e-14, "maxiter": 500},
+        )
+        assert reference.success
+        np.testing.assert_allclose(result.q, reference.x, atol=1e-5)
+
+
 # Online steps at the edge of the workspace (issue 11)
 
 MENAGERIE_PANDA_HOME = np.array([0.0, 0.0, 0.0, -1.57079, 0.0, 1.57079, -0.7853])
@@ -210,3 +414,10 @@ def test_step_damping_leaves_a_reachable_path_tracked(panda):
     assert np.allclose(v_damped, v_plain, atol=1e-3)
     with pytest.raises(InvalidInput, match="step_damping"):
         Problem(panda, [PoseTask(np.eye(4))], step_damping=-1.0)
+
+
+def test_qp_result_is_exported_with_the_problem():
+    robot = redik.load("panda")
+    result = redik.Problem(robot, redik.PoseTask(robot.fk(robot.home))).solve(robot.home)
+    assert isinstance(result, redik.QPResult) and isinstance(result, redik.IKResult)
+    assert "QPResult" in redik.__all__

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import cvxpy as cp
 import numpy as np
+import pytest
 
 import redik
 from redik.limits import PositionLimit
 from redik.problem import Problem
-from redik.qp import make_backend, solve_lexicographic
+from redik.qp import QP, make_backend, solve_lexicographic
 from redik.qp.hierarchy import free_directions
 from redik.tasks import (
     DampingTask,
@@ -129,3 +130,67 @@ def test_damping_task_at_the_lowest_level_gives_the_damped_minimum_norm_step(rng
     # part); the damping level then removes any null-space motion: Jᵀ(JJᵀ + εI)⁻¹.
     reference = -J.T @ np.linalg.solve(J @ J.T + problem.damping * np.eye(3), e)
     np.testing.assert_allclose(dq, reference, atol=1e-9)
+
+
+def test_row_null_space_spans_the_free_directions_and_defers_when_rank_deficient(rng):
+    from redik.qp.hierarchy import row_null_space
+
+    for m, n in ((6, 7), (3, 7), (5, 6)):
+        A = rng.normal(size=(m, n))
+        N = row_null_space(A, 1e-10)
+        assert N.shape == (n, n - m)
+        np.testing.assert_allclose(N.T @ N, np.eye(n - m), atol=1e-12)
+        np.testing.assert_allclose(A @ N, 0.0, atol=1e-12)
+        reference = free_directions(A.T @ A + 1e-6 * np.eye(n), np.zeros(n), 1e-10, 1e-6)
+        np.testing.assert_allclose(N @ N.T, reference @ reference.T, atol=1e-9)
+    singular = rng.normal(size=(6, 7))
+    singular[5] = singular[4]  # rank 5: the QR is not rank-revealing, eigh decides
+    assert row_null_space(singular, 1e-10) is None
+    assert free_directions(singular.T @ singular, np.zeros(7), 1e-10).shape == (7, 2)
+    assert row_null_space(rng.normal(size=(7, 7)), 1e-10) is None
+
+
+def test_the_one_variable_level_is_solved_exactly(rng):
+    from redik.qp.hierarchy import _solve_one_variable
+
+    reference = make_backend("quadprog")
+    for _ in range(500):
+        rows = int(rng.integers(1, 9))
+        a = rng.normal(size=rows) * (rng.random(rows) > 0.2)  # some rows do not involve z
+        lower, upper = -rng.exponential(size=rows), rng.exponential(size=rows)
+        lower[rng.random(rows) < 0.2] = -np.inf
+        upper[rng.random(rows) < 0.2] = np.inf
+        h, g = rng.exponential(), 3.0 * rng.normal()
+        z = _solve_one_variable(h, g, a.tolist(), lower.tolist(), upper.tolist())
+        qp = QP(np.array([[h]]), np.array([g]), C=a[:, None], l=lower, u=upper)
+        assert z == pytest.approx(reference.solve(qp)[0], abs=1e-9)
+    # A bound the previous level violated by its tolerance is relaxed to 0, not enforced.
+    assert _solve_one_variable(1.0, -1.0, [1.0], [-1.0], [-1e-12]) == 0.0
+
+
+def test_a_one_dimensional_lower_level_with_rows_matches_the_general_path():
+    # Level 0 fixes x0 + x1 = 1 and x2 = 0: one free direction, (1, −1, 0)/√2. Level 1
+    # wants x0 = 3; the row x0 − x1 ≤ 2 stops it at x = (1.5, −0.5, 0).
+    A0 = np.array([[1.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    eps = 1e-9
+    objectives = [
+        (A0.T @ A0 + eps * np.eye(3), -A0.T @ np.array([1.0, 0.0])),
+        (np.diag([1.0, 0.0, 0.0]) + eps * np.eye(3), -np.array([3.0, 0.0, 0.0])),
+    ]
+    C, l, u = np.array([[1.0, -1.0, 0.0]]), np.array([-np.inf]), np.array([2.0])
+    backends = [make_backend("daqp") for _ in objectives]
+    for rows0 in (A0, None):  # QR null space, eigendecomposition
+        x = solve_lexicographic(objectives, backends, C=C, l=l, u=u, damping=eps, rows0=rows0)
+        np.testing.assert_allclose(x, [1.5, -0.5, 0.0], atol=1e-6)
+
+
+def test_a_one_dimensional_lower_level_without_constraints():
+    A0 = np.array([[1.0, 1.0]])
+    eps = 1e-9
+    objectives = [
+        (A0.T @ A0 + eps * np.eye(2), -A0.T @ np.array([1.0])),
+        (np.diag([1.0, 0.0]) + eps * np.eye(2), -np.array([3.0, 0.0])),
+    ]
+    backends = [make_backend("daqp") for _ in objectives]
+    x = solve_lexicographic(objectives, backends, damping=eps, rows0=A0)
+    np.testing.assert_allclose(x, [3.0, -2.0], atol=1e-6)

@@ -143,7 +143,7 @@ def test_bad_inputs_raise_redik_errors(arm, tmp_path):
         arm.fk(np.full(7, np.nan))
     with pytest.raises(InvalidConfiguration, match="NaN"):
         arm.jacobian([0, 0, 0, np.inf, 0, 0, 0])
-    with pytest.raises(UnknownFrame, match="no site or body named 'nowhere'"):
+    with pytest.raises(UnknownFrame, match="no site or body or geom named 'nowhere'"):
         arm.fk(np.zeros(7), frame="nowhere")
     with pytest.raises(InvalidInput, match="reference"):
         arm.jacobian(np.zeros(7), reference="hybrid")
@@ -202,3 +202,22 @@ def test_builders_pass_their_options_on():
     assert redik.Robot.from_screws(screws, M, actuators=False).model.nu == 0
     with pytest.raises(TypeError):
         redik.Robot.from_screws(screws, M, bogus_option=1)
+
+
+@pytest.mark.parametrize(
+    ("q", "named"),
+    [
+        (np.array(["0"] * 7), "dtype <U1"),  # was parsed as numbers
+        (np.zeros(7) + 1j, "dtype complex128"),  # was cast, dropping the imaginary part
+        (np.zeros(7, dtype=object), "dtype object"),  # was accepted
+        ([0, 0, [1], 0, 0, 0, 0], "real numbers"),  # was a raw numpy ValueError
+        ([None] * 7, "dtype object"),
+        ([[0.0] * 7], r"got shape \(1, 7\)"),
+        (np.zeros(0), r"got shape \(0,\)"),
+        ([0, 0, 0, np.inf, 0, 0, 0], "NaN or inf"),
+    ],
+)
+def test_fk_and_jacobian_refuse_non_real_q_naming_it(arm, q, named):
+    for call in (arm.fk, arm.jacobian):
+        with pytest.raises(InvalidConfiguration, match=named):
+            call(q)

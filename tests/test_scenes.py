@@ -10,6 +10,7 @@ import mujoco
 import numpy as np
 import pytest
 
+import redik
 from redik import dh
 from redik.model_builder import read_dh
 from redik.scene_library import SCENES, write_scenes
@@ -242,3 +243,15 @@ def test_dexter8r_is_redundant_and_generic(rng):
                 separation[i, j] = max(separation[i, j], angle + offset)
     upper = np.triu_indices(8, 1)
     assert separation[upper].min() > 1e-3
+
+
+@pytest.mark.parametrize("name", [None, 5, b"panda", ["panda"], "", "   "])
+def test_load_refuses_what_is_not_a_name_or_path_saying_what_is_accepted(name):
+    with pytest.raises(redik.InvalidInput, match=r"bundled scene name \(one of \[.*'panda'"):
+        redik.load(name)
+
+
+@pytest.mark.parametrize("name", ["x" * 5000, "a\0b", "no_such_robot", "missing/robot"])
+def test_load_of_an_unknown_name_is_a_model_error_listing_the_scenes(name):
+    with pytest.raises(redik.ModelError, match=r"bundled scenes: \[.*'panda'.*MJCF/URDF"):
+        redik.load(name)

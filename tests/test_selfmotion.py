@@ -23,7 +23,7 @@ from redik.redundancy.corrector import (
     BatchCorrector,
     Corrector,
 )
-from redik.redundancy.selfmotion import _SampleIndex
+from redik.redundancy.selfmotion.index import SampleIndex
 
 
 def without_limits(scene: str) -> redik.Robot:
@@ -306,7 +306,7 @@ def test_explore_cli_writes_samples_summary_and_pictures(tmp_path, monkeypatch):
 
 def test_angles_a_hair_below_minus_pi_fit_the_periodic_box():
     # np.mod(q + π, 2π) rounds to exactly 2π one ulp below −π; cKDTree refused that value.
-    index = _SampleIndex(np.array([True, False]), 2)
+    index = SampleIndex(np.array([True, False]), 2)
     below = np.nextafter(-np.pi, -4.0)
     index.extend(np.random.default_rng(0).uniform(-3.0, 3.0, (100, 2)))
     index.extend(np.array([[below, 0.3], [below + 2 * np.pi * 3, 0.1]]))

@@ -9,7 +9,7 @@ import pytest
 
 import redik
 from redik.lie import make_pose, pose_errors, rotation_angle, so3_exp
-from redik.trajectory import CartesianPath, follow_path, joint_steps, time_scaling
+from redik.trajectory import CartesianPath, PosePath, follow_path, joint_steps, time_scaling
 
 
 def pose(rotation_vector, position) -> np.ndarray:
@@ -158,3 +158,13 @@ def test_branch_switch_is_flagged_as_discontinuous():
     trajectory = follow_path(robot, path, elbow_up, switching, rate=100.0)
     assert not trajectory.continuous
     assert trajectory.discontinuities.tolist() == [4]
+
+
+def test_path_is_a_deprecated_alias_of_pose_path():
+    assert issubclass(CartesianPath, PosePath) and redik.PosePath is PosePath
+    with pytest.warns(DeprecationWarning, match="use redik.trajectory.PosePath"):
+        assert redik.trajectory.Path is PosePath
+    with pytest.warns(DeprecationWarning, match="clashes with pathlib.Path"):
+        from redik.trajectory import Path  # noqa: F401
+    with pytest.raises(AttributeError, match="no attribute 'Paths'"):
+        _ = redik.trajectory.Paths

@@ -98,6 +98,10 @@ def test_joint_subsets_by_pattern(model):
         redik.Robot(model, joints=["left_*"], fixed=["left_*"])
     with pytest.raises(InvalidInput, match="joints must be 'all'"):
         redik.Robot(model, joints=5)
+    with pytest.raises(InvalidInput, match=r"joints \['left_elbow'\] are named both"):
+        redik.Robot(model, joints=["left_elbow", "right_elbow"], fixed=["left_elbow"])
+    # A pattern that also covers a fixed joint is how a subset is carved out: no error.
+    assert "left_elbow" not in redik.Robot(model, joints="left_*", fixed="left_elbow").joint_names
     with pytest.raises(ModelError, match=r"fixed: no joint .* matches 'nek'"):
         redik.Robot(model, joints="all", fixed=["nek"])
     with pytest.raises(UnknownFrame):
@@ -161,6 +165,10 @@ def test_geom_frames(whole):
     geom = mujoco.mj_name2id(whole.model, mujoco.mjtObj.mjOBJ_GEOM, "left_hand_geom")
     np.testing.assert_allclose(T[:3, 3], data.geom_xpos[geom])
     np.testing.assert_allclose(T[:3, :3], data.geom_xmat[geom].reshape(3, 3))
+    with pytest.raises(UnknownFrame, match=r"no geom named 'geom:nothing'.*geoms: \['table'"):
+        whole.frame("geom:nothing")
+    with pytest.raises(UnknownFrame, match="named by a string"):
+        whole.frame(["left_ee"])
 
 
 def test_two_hands_at_priority_0_posture_at_priority_1(whole):
@@ -190,6 +198,34 @@ def test_posture_reaches_a_floating_configuration(whole):
     np.testing.assert_allclose(whole.difference(q_nominal, result.q), 0.0, atol=1e-8)
 
 
+def test_posture_refuses_a_zero_quaternion(whole):
+    q = whole.home.copy()
+    q[7:11] = 0.0  # the neck's ball joint
+    with pytest.raises(redik.InvalidConfiguration, match=r"q_nominal\[7:11\] is a zero quaternion"):
+        redik.PostureTask(q).bind(whole)
+    task = redik.PostureTask().bind(whole)
+    with pytest.raises(redik.InvalidConfiguration, match="zero quaternion"):
+        task.set_target(q)
+    np.testing.assert_array_equal(task.q_nominal, whole.home)
+
+
+def test_posture_jacobian_is_exact_along_the_error_only(whole):
+    """q ⊖ r across the free and ball joints: d/dh of e(q ⊕ h δ) is J_r⁻¹(e) δ, not δ, but
+    equals δ along δ = −e (the posture task's identity Jacobian gives exact descent)."""
+    rng = np.random.default_rng(11)
+    reference, q = whole.random_q(rng), whole.random_q(rng)
+    e = whole.difference(reference, q)
+    h = 1e-6
+
+    def derivative(direction):
+        return (whole.difference(reference, whole.integrate(q, h * direction)) - e) / h
+
+    np.testing.assert_allclose(derivative(-e), -e, atol=1e-5)
+    jacobian = np.array([derivative(column) for column in np.eye(whole.dof)]).T
+    assert np.abs(jacobian - np.eye(whole.dof)).max() > 0.1  # not the identity far from r
+    np.testing.assert_allclose(jacobian[:3, :3], np.eye(3), atol=1e-5)  # base position: exact
+
+
 def test_step_is_a_tangent_vector(whole):
     problem = redik.Problem(whole, [redik.PositionTask([0.3, 0.4, 1.3], frame="left_ee")])
     dq = problem.step(whole.home)
@@ -200,6 +236,57 @@ def test_step_is_a_tangent_vector(whole):
     q[3:7] = 0.0
     with pytest.raises(redik.InvalidConfiguration, match="zero quaternion"):
         problem.solve(q)
+    for bad in ("home", [*whole.home[:-1], "x"], whole.home + 0j):
+        with pytest.raises(redik.InvalidConfiguration, match=r"q must .*real numbers"):
+            whole.fk(bad, "left_ee")
+    with pytest.raises(redik.InvalidConfiguration, match=r"qpos must .*real numbers"):
+        whole.q_of("qpos")
+
+
+def test_ball_joint_limit_keeps_every_iterate_inside_the_cone(whole):
+    """The neck's range is a 1.2 rad cone; the posture asks for 1.5 rad from the identity."""
+    import mink
+
+    target = whole.home.copy()
+    target[7:11] = [np.cos(0.75), np.sin(0.75), 0.0, 0.0]
+    posture = [redik.PostureTask(target, priority=0)]
+    limit = redik.BallJointLimit(margin=0.05)
+    with pytest.raises(InvalidInput, match="not bound"):
+        limit.angles_at(target)
+    limit.bind(whole)
+
+    def _neck_angle(q):
+        return float(limit.angles_at(q)[0])
+
+    free = redik.Problem(whole, posture, [redik.PositionLimit()]).solve(whole.home)
+    assert _neck_angle(free.q) == pytest.approx(1.5)
+    # The default limits hold the cone (no margin): a box alone would not.
+    default = redik.Problem(whole, posture)
+    assert [type(limit).__name__ for limit in default.limits] == ["PositionLimit", "BallJointLimit"]
+    held = default.solve(whole.home)
+    assert _neck_angle(held.q) == pytest.approx(1.2, abs=1e-6)
+    assert max(_neck_angle(q) for q in held.history) <= 1.2
+    assert [type(limit).__name__ for limit in redik.Problem(whole, posture, []).limits] == []
+    # mink's ConfigurationLimit has the same row but none at the identity: its first step
+    # leaves the cone.
+    theirs = redik.Problem(
+        whole, posture, [redik.PositionLimit(), mink.ConfigurationLimit(whole.model, gain=1.0)]
+    )
+    assert max(_neck_angle(q) for q in theirs.solve(whole.home).history) > 1.4
+    result = redik.Problem(whole, posture, [redik.PositionLimit(), limit]).solve(whole.home)
+    assert limit.joint_names == ("neck",)
+    assert _neck_angle(result.q) == pytest.approx(1.15, abs=1e-6)
+    assert max(_neck_angle(q) for q in result.history) <= 1.15 + 1e-9
+    # Online steps from outside the cone pull the joint back.
+    q = target.copy()
+    problem = redik.Problem(whole, [redik.PostureTask(target, priority=0)], [limit])
+    for _ in range(5):
+        q = whole.integrate(q, problem.step(q))
+    assert _neck_angle(q) == pytest.approx(1.15, abs=1e-6)
+    with pytest.raises(InvalidInput, match="leaves no cone"):
+        redik.BallJointLimit(margin=1.3).bind(whole)
+    with pytest.raises(InvalidInput, match="margin must be a number"):
+        redik.BallJointLimit(margin="wide")
 
 
 def test_velocity_limit_by_joint_bounds_every_dof_of_a_ball_joint(whole):
@@ -207,6 +294,9 @@ def test_velocity_limit_by_joint_bounds_every_dof_of_a_ball_joint(whole):
     assert limit.max_velocity[6:9].tolist() == [0.5] * 3
     assert limit.max_velocity[whole.dof_names.index("left_elbow")] == 1.0
     assert np.isinf(limit.max_velocity[:6]).all()
+    for bad in ("fast", {"neck": "fast"}, [1.0, "fast"]):
+        with pytest.raises(InvalidInput, match="max_velocity must be a number"):
+            redik.VelocityLimit(bad).bind(whole)
 
 
 def test_manipulability_needs_a_chain(whole):
@@ -246,6 +336,13 @@ def test_chain_of_a_whole_model_runs_the_fast_paths(whole):
     np.testing.assert_array_equal(chain.q_of(qpos), qpos[chain.qpos_indices])
     with pytest.raises(redik.InvalidConfiguration, match=r"model\.nq"):
         chain.q_of(q[:5])
+    # A chain with joints this robot holds cannot be embedded into it.
+    arms = redik.Robot(whole.model, joints=["left_*"], fixed=["left_elbow"])
+    with pytest.raises(InvalidInput, match=r"moves joints \['left_elbow'\]"):
+        arms.embed(whole.chain("left_ee", q), np.zeros(6))
+    held = arms.chain("left_ee")  # the held elbow stays out of the chain
+    assert "left_elbow" not in held.joint_names and held.dof == 5
+    np.testing.assert_array_equal(arms.embed(held, np.zeros(5))[:5], np.zeros(5))
 
 
 def _collision_problem(model, with_limit: bool, minimum_distance: float = 0.01):
@@ -297,6 +394,50 @@ def test_collision_limit_default_pairs_and_bad_input(model):
         redik.CollisionAvoidanceLimit(minimum_distance=0.1, detection_distance=0.05)
     with pytest.raises(InvalidInput, match="gain"):
         redik.CollisionAvoidanceLimit(gain=0.0)
+    with pytest.raises(InvalidInput, match="minimum_distance must be a number, got 'a'"):
+        redik.CollisionAvoidanceLimit(minimum_distance="a")
+    with pytest.raises(InvalidInput, match="minimum_distance must be finite and >= 0"):
+        redik.CollisionAvoidanceLimit(minimum_distance=-0.01)
+    with pytest.raises(InvalidInput, match="geom_pairs must be a list of pairs"):
+        redik.CollisionAvoidanceLimit("table")
+    with pytest.raises(InvalidInput, match=r"geom_pairs\[0\] must be a pair"):
+        redik.CollisionAvoidanceLimit([5])
+    with pytest.raises(InvalidInput, match=r"geom_pairs\[0\]\[0\]: a geom group is a non-empty"):
+        redik.CollisionAvoidanceLimit([([], ["table"])]).bind(whole)
+    with pytest.raises(ModelError, match="no geom or body matches 'x\\*'"):
+        redik.CollisionAvoidanceLimit([(["x*"], ["table"])]).bind(whole)
+    # Pairs that all drop out (parent and child; nothing moves them apart) are a mistake.
+    for pairs in ([(["torso"], ["left_upper"])], [(["table"], ["table"])]):
+        with pytest.raises(ModelError, match="leave no pair to check"):
+            redik.CollisionAvoidanceLimit(pairs).bind(whole)
+
+
+def _geom_pair_names(limit):
+    model = limit.robot.model
+    return {
+        tuple(mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) for g in pair)
+        for pair in limit.pairs
+    }
+
+
+def test_collision_pairs_follow_mujocos_exclude_and_filterparent():
+    hands = ("left_hand_geom", "right_hand_geom")
+    parent_child = ("torso_geom", "left_upper_geom")
+    excluded = TORSO_XML.replace(
+        "</worldbody>",
+        '</worldbody><contact><exclude body1="right_hand" body2="left_hand"/></contact>',
+    )
+    robot = redik.Robot(mujoco.MjModel.from_xml_string(excluded), joints="all")
+    names = _geom_pair_names(redik.CollisionAvoidanceLimit().bind(robot))
+    assert hands not in names and ("left_hand_geom", "right_fore_geom") in names
+    with pytest.raises(ModelError, match="leave no pair"):
+        redik.CollisionAvoidanceLimit([(["left_hand"], ["right_hand"])]).bind(robot)
+    unfiltered = TORSO_XML.replace(
+        "<worldbody>", '<option><flag filterparent="disable"/></option><worldbody>'
+    )
+    robot = redik.Robot(mujoco.MjModel.from_xml_string(unfiltered), joints="all")
+    names = _geom_pair_names(redik.CollisionAvoidanceLimit().bind(robot))
+    assert parent_child in names and hands in names
 
 
 def test_mink_tasks_and_mink_interop_on_a_floating_base(whole):
@@ -325,6 +466,30 @@ def test_mink_tasks_and_mink_interop_on_a_floating_base(whole):
     np.testing.assert_allclose(J_ours[6:], J_theirs[6:], atol=1e-12)
 
 
+@pytest.mark.parametrize(
+    ("frame", "kind", "mink_name"),
+    [("left_ee", "site", "left_ee"), ("geom:right_fore_geom", "geom", "right_fore_geom")],
+)
+def test_frame_task_on_sites_and_geoms_is_minks(whole, frame, kind, mink_name):
+    import mink
+
+    rng = np.random.default_rng(10)
+    configuration = mink.Configuration(whole.model)
+    T = whole.fk(whole.random_q(rng), frame)
+    ours = redik.PoseTask(T, frame=frame).bind(whole)
+    theirs = mink.FrameTask(mink_name, kind, position_cost=1.0, orientation_cost=1.0)
+    theirs.set_target(mink.SE3.from_matrix(T))
+    for _ in range(3):
+        configuration.update(whole.full_qpos(whole.random_q(rng)))
+        e = theirs.compute_error(configuration)
+        assert np.abs(e).max() > 0.1
+        np.testing.assert_allclose(ours.compute_error(configuration), e, atol=1e-12)
+        np.testing.assert_allclose(
+            ours.compute_jacobian(configuration), theirs.compute_jacobian(configuration),
+            atol=1e-12,
+        )  # fmt: skip
+
+
 def test_solve_all_on_a_whole_model_returns_whole_configurations(whole):
     chain = whole.chain("right_ee", whole.home)
     T = chain.fk(chain.clip(chain.home + 0.4))
@@ -334,6 +499,24 @@ def test_solve_all_on_a_whole_model_returns_whole_configurations(whole):
         assert result.q.shape == (whole.nq,)
         assert pose_errors(whole.fk(result.q, "right_ee"), T)[0] < 1e-6
         np.testing.assert_array_equal(result.q[:7], whole.home[:7])  # the base held
+
+
+def test_solve_all_and_solve_pose_hold_the_other_joints_at_the_same_q0(whole):
+    rng = np.random.default_rng(7)
+    q0 = whole.clip(whole.integrate(whole.home, 0.3 * rng.standard_normal(whole.dof)))
+    chain = whole.chain("right_ee", q0)  # the held joints at q0: its poses are q0's
+    T = chain.fk(chain.clip(chain.q_of() + 0.3))
+    held = ~np.isin(whole.qpos_indices, chain.qpos_indices)
+    single = redik.solve_pose(whole, T, q0, frame="right_ee", seed=0)
+    assert single.success, single.message
+    np.testing.assert_array_equal(single.q[held], q0[held])
+    results = redik.solve_all(whole, T, n_starts=4, seed=0, frame="right_ee", q0=q0)
+    assert results
+    for result in results:
+        np.testing.assert_array_equal(result.q[held], q0[held])
+        assert pose_errors(whole.fk(result.q, "right_ee"), T)[0] < 1e-6
+    # q0 is the first start: its solution (the one solve_pose finds from it) is among them.
+    assert min(np.abs(r.q - single.q).max() for r in results) < 1e-3
 
 
 BALL_ARM_XML = """
@@ -441,3 +624,25 @@ def test_chain_of_a_model_with_unnamed_and_bracketed_joints():
     assert robot.joint_names[0] == "joint0"
     chain = robot.chain("right_ee")
     assert "right_elbow[1]" in chain.joint_names and chain.dof == 6
+
+
+def test_joint_space_terms_are_computed_once_per_target_not_per_step(whole, monkeypatch):
+    """On a whole model the posture's factor ``α w²d²`` was recomputed (allocated) per task
+    every step; it changes only with the task's target or weight."""
+    posture = redik.PostureTask(priority=1)
+    problem = redik.Problem(whole, [redik.PoseTask(whole.fk(whole.home, "left_ee"),
+                                                   frame="left_ee"), posture])  # fmt: skip
+    calls = []
+    original = posture.diagonal_terms
+    monkeypatch.setattr(posture, "diagonal_terms", lambda: calls.append(1) or original())
+    rng = np.random.default_rng(3)
+    q = whole.clip(whole.integrate(whole.home, 0.2 * rng.standard_normal(whole.dof)))
+    steps = [problem.step(q) for _ in range(4)]
+    assert len(calls) == 1
+    # The gradient is still the posture's α w²d² ⊙ (q ⊖ r): a lone posture level steps to r.
+    alone = redik.Problem(whole, [redik.PostureTask(whole.home, priority=0)], limits=[])
+    np.testing.assert_allclose(whole.integrate(q, alone.step(q)), whole.home, atol=1e-5)
+    posture.set_target(q)
+    problem.step(q)
+    assert len(calls) == 2
+    np.testing.assert_allclose(steps[0], steps[-1])

@@ -16,7 +16,8 @@ from redik.exceptions import InvalidInput, InvalidPose
 
 
 def finite_array(value: object, name: str, shape: tuple[int | None, ...]) -> np.ndarray:
-    """``value`` as a finite float array of ``shape`` (``None`` matches any length)."""
+    """``value`` as a finite float array of ``shape`` (``None`` matches any length), entries
+    within ``±``:data:`redik.lie.MAX_COORDINATE` (larger ones overflow the kernels' squares)."""
     array = lie.real_array(value, name)
     if array.ndim != len(shape) or any(
         want is not None and got != want for got, want in zip(array.shape, shape, strict=True)
@@ -24,6 +25,11 @@ def finite_array(value: object, name: str, shape: tuple[int | None, ...]) -> np.
         raise InvalidInput(f"{name} must have shape {_shape(shape)}, got {array.shape}")
     if not np.all(np.isfinite(array)):
         raise InvalidInput(f"{name} must be finite, got {np.array2string(array, threshold=20)}")
+    if np.abs(array).max(initial=0.0) > lie.MAX_COORDINATE:
+        raise InvalidInput(
+            f"{name} must be within ±{lie.MAX_COORDINATE:g} (MuJoCo's mjMAXVAL), "
+            f"got {np.array2string(array, threshold=20)}"
+        )
     return array
 
 
@@ -45,37 +51,42 @@ def nonzero(value: object, name: str) -> float:
 
 
 def scalar(value: object, name: str) -> float:
-    """A finite real number (a signed DH offset, a coordinate, an angle)."""
-    if isinstance(value, float | int) and not isinstance(value, bool):
-        if not math.isfinite(value):
-            raise InvalidInput(f"{name} must be finite, got {value!r}")
-        return float(value)
-    if isinstance(value, bool) or np.ndim(value) != 0:
-        raise InvalidInput(f"{name} must be a real number, got {value!r}")
+    """A finite real number within ``±``:data:`redik.lie.MAX_COORDINATE` (a signed DH offset,
+    a coordinate, an angle)."""
     try:
+        if type(value) is not float and type(value) is not int:  # the fast path: no numpy
+            if isinstance(value, bool | str | bytes | complex) or np.ndim(value) != 0:
+                raise TypeError
         number = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # a ragged list, an int beyond float
         raise InvalidInput(f"{name} must be a real number, got {value!r}") from None
-    if not np.isfinite(number):
-        raise InvalidInput(f"{name} must be finite, got {number!r}")
+    if not (math.isfinite(number) and abs(number) <= lie.MAX_COORDINATE):
+        raise InvalidInput(
+            f"{name} must be finite and within ±{lie.MAX_COORDINATE:g}, got {number!r}"
+        )
     return number
 
 
 def rotation(value: object, name: str = "R", *, strict: bool = False) -> np.ndarray:
     """A 3×3 rotation matrix, under :mod:`redik.lie`'s tolerance policy (a near-rotation is
     projected onto SO(3) with a warning unless ``strict``)."""
-    return lie.as_rotation(finite_array(value, name, (3, 3)), name, strict=strict)
+    return lie.as_rotation(value, name, strict=strict)
 
 
 def pose(value: object, name: str = "T", *, strict: bool = False) -> np.ndarray:
     """A 4×4 rigid transform ``[[R, p], [0, 0, 0, 1]]``, under :mod:`redik.lie`'s policy."""
-    return lie.as_pose(finite_array(value, name, (4, 4)), name, strict=strict)
+    return lie.as_pose(value, name, strict=strict)
 
 
 def poses(value: object, name: str = "T", *, strict: bool = False) -> np.ndarray:
     """A (B, 4, 4) stack of rigid transforms, under :mod:`redik.lie`'s policy (near-rotations
     projected, one warning for the batch, unless ``strict``); the first bad one is named."""
-    T = finite_array(value, name, (None, 4, 4))
+    T = lie.real_array(value, name, InvalidPose)
+    if T.ndim != 3 or T.shape[1:] != (4, 4):
+        raise InvalidPose(f"{name} must have shape (B, 4, 4) (rigid transforms), got {T.shape}")
+    if not np.isfinite(T).all():
+        index = int(np.argmin(np.isfinite(T).all(axis=(1, 2))))
+        raise InvalidPose(f"{name}[{index}] must be finite, holds NaN or inf: {T[index].tolist()}")
     bottom = np.abs(T[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1, initial=0.0)
     if (bottom > lie.ROTATION_TOLERANCE).any():
         index = int(np.argmax(bottom))
@@ -83,6 +94,10 @@ def poses(value: object, name: str = "T", *, strict: bool = False) -> np.ndarray
             f"{name}[{index}] must be a rigid transform with bottom row [0, 0, 0, 1], "
             f"got {np.array2string(T[index, 3])}"
         )
+    far = np.abs(T[:, :3, 3]).max(axis=1, initial=0.0)
+    if (far > lie.MAX_COORDINATE).any():
+        index = int(np.argmax(far))
+        lie.as_pose(T[index], f"{name}[{index}]", strict=strict)  # raises, naming the bound
     block = T[:, :3, :3]
     R, accepted = lie.check_rotations(block, name, strict=strict)
     if not accepted.all():

@@ -7,7 +7,7 @@ representative, with its ``singular`` text and, where the solutions form a conti
 :class:`SolutionFamily` that generates the others. The batch solvers return a
 :class:`BatchSolutions` with a fixed label per slot.
 
-Angles are wrapped to (−π, π] (:func:`wrap_angle`); prismatic joints are left as they are.
+Angles are wrapped to (−π, π] (:func:`redik.lie.wrap_angle`); prismatic joints are left as they are.
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ from typing import NamedTuple, overload
 import numpy as np
 
 from redik.exceptions import InvalidInput
+from redik.lie import wrap_angle
 
 #: Default tolerance (metres) by which a target may lie outside the workspace and still be
 #: solved, clipped onto the boundary; also the size of a sine below which a configuration is
@@ -27,13 +28,6 @@ DEFAULT_TOL = 1e-10
 
 #: Two solutions closer than this (radians or metres, per joint, angles modulo 2π) are one.
 DUPLICATE_TOL = 1e-9
-
-
-def wrap_angle(angle: np.ndarray | float) -> np.ndarray:
-    """Wrap angles to (−π, π]: ``π − ((π − a) mod 2π)``."""
-    wrapped = np.pi - np.mod(np.pi - np.asarray(angle, dtype=float), 2.0 * np.pi)
-    # (π − a) mod 2π can round up to 2π for a just above −π + 2πk.
-    return np.where(wrapped <= -np.pi, wrapped + 2.0 * np.pi, wrapped)
 
 
 class JointSolution(np.ndarray):

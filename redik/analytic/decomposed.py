@@ -252,10 +252,15 @@ class DecomposedSolver:
             return tuple(f"arm{i + 1}-w{w}" for i in range(8) for w in "+-")
         return tuple(f"s{s}e{e}w{w}" for s in "+-" for e in "+-" for w in "+-")
 
-    def raw(self, T: np.ndarray, limits: Any = "robot", tol: float = DEFAULT_TOL) -> np.ndarray:
+    def raw(
+        self, T: np.ndarray, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
+    ) -> np.ndarray:
         """Every solution as a (k, 6) array, compiled end to end: verified by FK, wrapped to
         (−π, π] (or moved by 2π into the limits), within ``limits`` (``"robot"``, None or
-        ``(lower, upper)``), duplicates dropped, in slot order. No labels or families."""
+        ``(lower, upper)``), duplicates dropped, in slot order. No labels or families.
+        ``strict`` refuses a near-rotation instead of projecting it (:mod:`redik.lie`)."""
+        if strict:
+            T = np.ascontiguousarray(_checks.pose(T, "target", strict=True))
         # The common calls take two identity tests to their plan; anything else is checked.
         if limits is None and tol is DEFAULT_TOL:
             plan = self._unbounded_plan
@@ -270,15 +275,16 @@ class DecomposedSolver:
         if q.shape[1] == 0:
             # Raises the error that names what is wrong, or projects a near-rotation (with
             # redik.lie's warning) that is then solved.
-            q = kernels.solve_raw(np.ascontiguousarray(_checks.pose(T, "target")), plan)
+            T = _checks.pose(T, "target", strict=strict)
+            q = kernels.solve_raw(np.ascontiguousarray(T), plan)
         return q
 
     def __call__(
-        self, target: Any, *, limits: Any = "robot", tol: float = DEFAULT_TOL
+        self, target: Any, *, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
     ) -> IKSolutions:
         """Every solution of a world-frame target pose, labelled, with families at
         singularities (see :meth:`raw` for the arguments)."""
-        T = _checks.pose(target, "target")
+        T = _checks.pose(target, "target", strict=strict)
         lower, upper = self._limits(limits)
         kind = KINDS.index(self.kind)
         q, status, free, stage = kernels.solve_slots(

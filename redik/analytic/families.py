@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from redik import lie
 from redik.analytic import _checks
 from redik.analytic._solution import DEFAULT_TOL, IKSolutions, unreachable
 from redik.analytic.decomposed import DecomposedSolver, solver_from_robot
@@ -163,7 +164,7 @@ ALIASES = {"puma560": "puma", "ur5e": "ur", "stanford_arm": "stanford"}
 
 def family_of(name: str) -> Family:
     """The :class:`Family` called ``name`` or a scene name aliasing it (``"puma560"``)."""
-    key = ALIASES.get(name, name)
+    key = ALIASES.get(name, name) if isinstance(name, str) else None
     if key not in FAMILIES:
         raise InvalidInput(
             f"no closed-form solver for {name!r}; families: {sorted(FAMILIES)} "
@@ -229,7 +230,7 @@ class AnalyticSolver:
             tol: As in the family's solver.
             strict: Refuse a near-rotation instead of projecting it (:mod:`redik.lie`'s policy).
         """
-        array = np.asarray(target, dtype=float)
+        array = lie.real_array(target, "target")
         if array.shape == (3,) and self.family in ("planar_2r", "rrp_polar", "hexapod_leg"):
             T = np.eye(4)
             T[:3, 3] = _checks.finite_array(array, "target", (3,))
@@ -270,6 +271,8 @@ def solver_for(robot: Robot, family: str | None = None) -> AnalyticSolver | Deco
         ModelError: A parameter is missing, the model does not match the table, or no
             family fits (for a 6R arm: its geometry fits no decomposition class).
     """
+    if family is not None and not isinstance(family, str):
+        family_of(family)  # raises, naming the families
     if family == "decomposed" or (
         family is None and ALIASES.get(robot.name, robot.name) not in FAMILIES
     ):

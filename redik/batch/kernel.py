@@ -42,12 +42,19 @@ import math
 import numba
 import numpy as np
 
+from ..lie import MAX_COORDINATE
+
 CONVERGED, STALLED, MAX_ITERATIONS, INVALID, DIVERGED = range(5)
 """Status codes, shared with :data:`redik.batch.solve.BATCH_STATUSES`."""
 
 # Indices into the float and integer settings arrays (few arguments keep the call cheap).
-POS_TOL, ROT_TOL, DAMPING, MIN_DAMPING, MAX_DAMPING, REQUIRED, REACH = range(7)
+POS_TOL, ROT_TOL, DAMPING, MIN_DAMPING, MAX_DAMPING, REQUIRED, REACH, TARGET_TOL = range(8)
 MAX_ITER, RESTARTS, PATIENCE, BOUNDED, CANDIDATES = range(5)
+
+_COMPILE = {"cache": True, "error_model": "numpy", "fastmath": {"contract"}}
+"""Compiled once per machine; a division by zero gives inf or NaN as in numpy (every such
+result is caught as a non-finite step), not a Python exception, so divisions carry no
+checks; fused multiply-adds are allowed (no reassociation: results stay reproducible)."""
 
 _BLOCK = 16
 """Targets per parallel work item: small enough to balance the threads on hard tails."""
@@ -59,7 +66,7 @@ _STREAM = np.uint64(0xD1B54A32D192ED03)
 _TWO_TO_MINUS_53 = 2.0**-53
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def _next_uniform(state: np.ndarray) -> float:
     """A double in [0, 1) from the splitmix64 generator whose state is ``state[0]``."""
     state[0] += _GAMMA
@@ -70,7 +77,42 @@ def _next_uniform(state: np.ndarray) -> float:
     return float(z >> np.uint64(11)) * _TWO_TO_MINUS_53
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
+def valid_target(T, tol):
+    """True when ``T`` is a finite rigid transform: last row ``[0, 0, 0, 1]``, ``RᵀR = I``
+    and ``det R = 1``, each within ``tol``, and a translation within ``±MAX_COORDINATE``
+    (the checks of :func:`redik.lie.as_pose`)."""
+    for a in range(4):
+        for b in range(4):
+            if not math.isfinite(T[a, b]):
+                return False
+    if abs(T[0, 3]) > MAX_COORDINATE or abs(T[1, 3]) > MAX_COORDINATE:
+        return False
+    if abs(T[2, 3]) > MAX_COORDINATE:
+        return False
+    if abs(T[3, 0]) > tol or abs(T[3, 1]) > tol or abs(T[3, 2]) > tol or abs(T[3, 3] - 1.0) > tol:
+        return False
+    for a in range(3):
+        for b in range(a + 1):
+            product = T[0, a] * T[0, b] + T[1, a] * T[1, b] + T[2, a] * T[2, b]
+            if abs(product - (1.0 if a == b else 0.0)) > tol:
+                return False
+    det = (
+        T[0, 0] * (T[1, 1] * T[2, 2] - T[1, 2] * T[2, 1])
+        - T[0, 1] * (T[1, 0] * T[2, 2] - T[1, 2] * T[2, 0])
+        + T[0, 2] * (T[1, 0] * T[2, 1] - T[1, 1] * T[2, 0])
+    )
+    return abs(det - 1.0) <= tol
+
+
+@numba.njit(parallel=True, **_COMPILE)
+def valid_targets(T, tol, out):
+    """``out[t]`` = :func:`valid_target` of each ``T[t]`` (B × 4 × 4), over every thread."""
+    for t in numba.prange(T.shape[0]):
+        out[t] = valid_target(T[t], tol)
+
+
+@numba.njit(**_COMPILE)
 def chain_kinematics(base, links, revolute, q, R, p, axes, origins):
     """FK of the chain at ``q`` into ``R`` (3 × 3) and ``p``, with each joint's world axis
     and origin into ``axes`` and ``origins`` (n × 3)."""
@@ -98,7 +140,7 @@ def chain_kinematics(base, links, revolute, q, R, p, axes, origins):
                 R[a, b] = r0 * links[i, 0, b] + r1 * links[i, 1, b] + r2 * links[i, 2, b]
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def world_jacobian(revolute, p, axes, origins, J):
     """The world Jacobian (6 × n) from :func:`chain_kinematics`' axes and origins."""
     for i in range(revolute.shape[0]):
@@ -114,7 +156,7 @@ def world_jacobian(revolute, p, axes, origins, J):
             J[3, i] = J[4, i] = J[5, i] = 0.0
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def pose_error(Rd, pd, R, p, e):
     r"""Fill ``e = (p_d − p, log(R_d Rᵀ)^∨)``; return ``(‖p_d − p‖, rotation angle)``.
 
@@ -156,32 +198,56 @@ def pose_error(Rd, pd, R, p, e):
     return position, angle
 
 
-@numba.njit(cache=True)
-def damped_solve(J, free, e, damping, A, y, dq):
-    r"""``dq = J_fᵀ (J_f J_fᵀ + λI)⁻¹ e`` (``n ≥ 6``) or ``(J_fᵀJ_f + λI)⁻¹ J_fᵀ e``, where
-    ``J_f`` is ``J`` with the columns not ``free`` zeroed (their ``dq`` is 0).
+@numba.njit(**_COMPILE)
+def gram(J, G):
+    """The lower triangle of ``G = J Jᵀ`` (6 × 6) when ``n ≥ 6``, else of ``JᵀJ`` (n × n).
 
-    Cholesky ``A = L Lᵀ`` in place (lower triangle), then forward and back substitution.
+    It changes only when ``J`` does: an iteration whose trial is rejected, and each pass of
+    the clamping loop, solve with the same ``G`` (:func:`damped_solve_gram`).
+    """
+    n = J.shape[1]
+    if n >= 6:
+        for i in range(6):
+            for j in range(i + 1):
+                total = 0.0
+                for k in range(n):
+                    total += J[i, k] * J[j, k]
+                G[i, j] = total
+    else:
+        for i in range(n):
+            for j in range(i + 1):
+                total = 0.0
+                for k in range(6):
+                    total += J[k, i] * J[k, j]
+                G[i, j] = total
+
+
+@numba.njit(**_COMPILE)
+def damped_solve_gram(J, G, free, e, damping, A, y, dq):
+    r"""``dq = J_fᵀ (J_f J_fᵀ + λI)⁻¹ e`` (``n ≥ 6``) or ``(J_fᵀJ_f + λI)⁻¹ J_fᵀ e``, where
+    ``J_f`` is ``J`` with the columns not ``free`` zeroed (their ``dq`` is 0), from the Gram
+    matrix ``G`` of the whole ``J`` (:func:`gram`).
+
+    ``J_f J_fᵀ = G − Σ_k j_k j_kᵀ`` over the columns that are not free (``n ≥ 6``); for
+    ``n < 6`` their rows and columns of ``JᵀJ`` are dropped. Cholesky ``A = L Lᵀ`` in place
+    (lower triangle; the diagonal holds ``1 / L_jj``), then forward and back substitution.
     """
     n = J.shape[1]
     m = A.shape[0]
     if n >= 6:
         for i in range(6):
             for j in range(i + 1):
-                total = 0.0
-                for k in range(n):
-                    if free[k]:
-                        total += J[i, k] * J[j, k]
-                A[i, j] = total
+                A[i, j] = G[i, j]
             y[i] = e[i]
+        for k in range(n):
+            if not free[k]:
+                for i in range(6):
+                    for j in range(i + 1):
+                        A[i, j] -= J[i, k] * J[j, k]
     else:
         for i in range(n):
             for j in range(i + 1):
-                total = 0.0
-                if free[i] and free[j]:
-                    for k in range(6):
-                        total += J[k, i] * J[k, j]
-                A[i, j] = total
+                A[i, j] = G[i, j] if free[i] and free[j] else 0.0
             total = 0.0
             if free[i]:
                 for k in range(6):
@@ -191,23 +257,23 @@ def damped_solve(J, free, e, damping, A, y, dq):
         diagonal = A[j, j] + damping
         for k in range(j):
             diagonal -= A[j, k] * A[j, k]
-        diagonal = math.sqrt(diagonal)
-        A[j, j] = diagonal
+        inverse = 1.0 / math.sqrt(diagonal)
+        A[j, j] = inverse
         for i in range(j + 1, m):
             entry = A[i, j]
             for k in range(j):
                 entry -= A[i, k] * A[j, k]
-            A[i, j] = entry / diagonal
+            A[i, j] = entry * inverse
     for i in range(m):  # L z = y
         value = y[i]
         for k in range(i):
             value -= A[i, k] * y[k]
-        y[i] = value / A[i, i]
+        y[i] = value * A[i, i]
     for i in range(m - 1, -1, -1):  # Lᵀ x = z
         value = y[i]
         for k in range(i + 1, m):
             value -= A[k, i] * y[k]
-        y[i] = value / A[i, i]
+        y[i] = value * A[i, i]
     if n >= 6:
         for k in range(n):
             total = 0.0
@@ -220,7 +286,16 @@ def damped_solve(J, free, e, damping, A, y, dq):
             dq[k] = y[k]
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
+def damped_solve(J, free, e, damping, A, y, dq):
+    r"""``dq = J_fᵀ (J_f J_fᵀ + λI)⁻¹ e`` (``n ≥ 6``) or ``(J_fᵀJ_f + λI)⁻¹ J_fᵀ e``, where
+    ``J_f`` is ``J`` with the columns not ``free`` zeroed (their ``dq`` is 0)."""
+    G = np.empty_like(A)
+    gram(J, G)
+    damped_solve_gram(J, G, free, e, damping, A, y, dq)
+
+
+@numba.njit(**_COMPILE)
 def _workspace(n):
     m = 6 if n >= 6 else n
     return (
@@ -237,16 +312,17 @@ def _workspace(n):
         np.empty(6),  # rhs of the clamping loop
         np.empty(n, dtype=np.bool_),  # free
         np.empty(n),  # limit values of the clamping loop
+        np.empty((m, m)),  # G, the Gram matrix of J
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
     """One attempt from ``ws`` q[0]; returns ``(status, iterations, ‖e‖², ‖Jᵀe‖ at the
     end without components pushing against a limit)``. ``errors[k]`` is ``‖e‖`` after
     iteration ``k`` and, when ``record``, ``history[k]`` the iterate."""
     base, links, revolute, lower, upper, _, _, periodic = chain
-    A, y, dq, free = ws[7], ws[8], ws[9], ws[11]
+    A, y, dq, free, G = ws[7], ws[8], ws[9], ws[11], ws[13]
     J = ws[4][0]
     # The current iterate (c) and the trial (t): buffers swap on an accepted step.
     Rc, Rt, pc, pt = ws[0][0], ws[0][1], ws[1][0], ws[1][1]
@@ -261,6 +337,7 @@ def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
     swapped = False
     chain_kinematics(base, links, revolute, qc, Rc, pc, ac, oc)
     world_jacobian(revolute, pc, ac, oc, J)
+    gram(J, G)
     position, angle = pose_error(Rd, pd, Rc, pc, ec)
     E = 0.0
     for k in range(6):
@@ -279,7 +356,7 @@ def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
             break
         damping = mu * E + lambda_min
         free[:] = True
-        damped_solve(J, free, ec, damping, A, y, dq)
+        damped_solve_gram(J, G, free, ec, damping, A, y, dq)
         outside = False
         for j in range(n):
             qt[j] = qc[j] + dq[j]
@@ -301,6 +378,7 @@ def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
             ec, et, qc, qt = et, ec, qt, qc
             swapped = not swapped
             world_jacobian(revolute, pc, ac, oc, J)
+            gram(J, G)
             position, angle, E = trial_position, trial_angle, E_trial
             mu = max(0.5 * mu, 1e-12)
         else:
@@ -338,7 +416,7 @@ def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
     return status, iterations, E, math.sqrt(gradient)
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def _clamp(J, e, damping, q, qt, lower, upper, ws):
     """Joints that would leave their range stop at the limit; the others re-solve.
 
@@ -346,7 +424,7 @@ def _clamp(J, e, damping, q, qt, lower, upper, ws):
     its limits; instead each saturated joint's share of the error is handed to the joints
     still free: ``J_f Δq_f = e − J (q_lim − q)`` over the saturated columns.
     """
-    A, y, dq, rhs, free, limit_value = ws[7], ws[8], ws[9], ws[10], ws[11], ws[12]
+    A, y, dq, rhs, free, limit_value, G = ws[7], ws[8], ws[9], ws[10], ws[11], ws[12], ws[13]
     n = q.shape[0]
     free[:] = True
     for _ in range(n):
@@ -364,12 +442,12 @@ def _clamp(J, e, damping, q, qt, lower, upper, ws):
                 if not free[j]:
                     value -= J[k, j] * (limit_value[j] - q[j])
             rhs[k] = value
-        damped_solve(J, free, rhs, damping, A, y, dq)
+        damped_solve_gram(J, G, free, rhs, damping, A, y, dq)
         for j in range(n):
             qt[j] = q[j] + dq[j] if free[j] else limit_value[j]
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def _restart_seed(chain, Rd, pd, state, candidates, bounded, ws):
     """Into ``ws`` q[0]: the nearest in pose of ``candidates`` random configurations.
 
@@ -401,7 +479,7 @@ def _restart_seed(chain, Rd, pd, state, candidates, bounded, ws):
             q[0] = q[1]
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def _solve_target(chain, Rd, pd, q0, state, settings, counts, ws, out, history, errors, record):
     """Attempts from ``q0`` then from random configurations until one converges.
 
@@ -445,31 +523,38 @@ def _solve_target(chain, Rd, pd, q0, state, settings, counts, ws, out, history, 
     return best_status, total, attempts - 1, best_length, summary
 
 
-@numba.njit(cache=True)
+@numba.njit(**_COMPILE)
 def solve_one(chain, T, q0, key, settings, counts, out, history, errors, e):
-    """:func:`_solve_target` for one target ``T`` (4 × 4), recording the best attempt's
-    history into ``history[1]`` and ``errors[1]`` (``history`` is 2 × (max_iter + 1) × n).
+    """:func:`_solve_target` for one target ``T`` (4 × 4) from ``q0`` (clipped into the limits
+    when they are respected), recording the best attempt's history into ``history[1]`` and
+    ``errors[1]`` (``history`` is 2 × (at least max_iter + 1) × n).
 
     A fresh FK of the returned ``q`` fills ``e`` with the world error there; its position
-    and rotation errors are appended to the summary.
+    and rotation errors, and whether ``q`` is inside the limits, are appended to the summary.
     """
-    base, links, revolute = chain[0], chain[1], chain[2]
+    base, links, revolute, lower, upper = chain[0], chain[1], chain[2], chain[3], chain[4]
     n = revolute.shape[0]
     ws = _workspace(n)
     state = np.empty(1, dtype=np.uint64)
     state[0] = key
     Rd, pd = T[:3, :3], T[:3, 3]
+    start = np.empty(n)
+    for j in range(n):
+        start[j] = min(max(q0[j], lower[j]), upper[j]) if counts[BOUNDED] != 0 else q0[j]
     status, total, used, length, summary = _solve_target(
-        chain, Rd, pd, q0, state, settings, counts, ws, out, history, errors, True
+        chain, Rd, pd, start, state, settings, counts, ws, out, history, errors, True
     )
     R, p, axes, origins = ws[0][0], ws[1][0], ws[2][0], ws[3][0]
     chain_kinematics(base, links, revolute, out, R, p, axes, origins)
     position, angle = pose_error(Rd, pd, R, p, e)
-    return status, total, used, length, (*summary, position, angle)
+    inside = True
+    for j in range(n):
+        inside = inside and lower[j] <= out[j] <= upper[j]
+    return status, total, used, length, (*summary, position, angle, inside)
 
 
-@numba.njit(cache=True)
-def _solve_range(chain, T, valid, q0, first, key, settings, counts, start, stop, results):
+@numba.njit(**_COMPILE)
+def _solve_range(chain, T, q0, first, key, settings, counts, start, stop, results):
     q_out, status, iterations, restarts, position_error, rotation_error = results
     base, links, revolute, lower, upper = chain[0], chain[1], chain[2], chain[3], chain[4]
     n = revolute.shape[0]
@@ -482,7 +567,7 @@ def _solve_range(chain, T, valid, q0, first, key, settings, counts, start, stop,
     e = np.empty(6)
     for t in range(start, stop):
         q_out[t] = q0[t]
-        if not valid[t]:
+        if not valid_target(T[t], settings[TARGET_TOL]):
             status[t] = INVALID
             iterations[t] = restarts[t] = 0
             position_error[t] = rotation_error[t] = np.nan
@@ -508,14 +593,14 @@ def _solve_range(chain, T, valid, q0, first, key, settings, counts, start, stop,
         position_error[t], rotation_error[t] = position, angle
 
 
-@numba.njit(cache=True)
-def solve_serial(chain, T, valid, q0, first, key, settings, counts, results):
+@numba.njit(**_COMPILE)
+def solve_serial(chain, T, q0, first, key, settings, counts, results):
     """Solve every target of a chunk on this thread (see :func:`solve_parallel`)."""
-    _solve_range(chain, T, valid, q0, first, key, settings, counts, 0, T.shape[0], results)
+    _solve_range(chain, T, q0, first, key, settings, counts, 0, T.shape[0], results)
 
 
-@numba.njit(cache=True, parallel=True)
-def solve_parallel(chain, T, valid, q0, first, key, settings, counts, results):
+@numba.njit(parallel=True, **_COMPILE)
+def solve_parallel(chain, T, q0, first, key, settings, counts, results):
     """Solve every target of a chunk, blocks of targets spread over numba's threads.
 
     ``T`` (B × 4 × 4) are targets ``first … first + B − 1`` of the batch; ``results`` are
@@ -526,4 +611,4 @@ def solve_parallel(chain, T, valid, q0, first, key, settings, counts, results):
     for block in numba.prange(blocks):
         start = block * _BLOCK
         stop = min(size, start + _BLOCK)
-        _solve_range(chain, T, valid, q0, first, key, settings, counts, start, stop, results)
+        _solve_range(chain, T, q0, first, key, settings, counts, start, stop, results)

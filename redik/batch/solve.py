@@ -31,11 +31,11 @@ import numba
 import numpy as np
 
 from ..exceptions import InvalidInput
-from ..lie import ROTATION_TOLERANCE, check_rotations, real_array
+from ..lie import MAX_COORDINATE, ROTATION_TOLERANCE, check_rotations, real_array
 from ..robot import Robot
 from . import kernel
 from .chain import Chain
-from .engines import default_workers, map_chunks
+from .engines import ENGINES, default_workers, map_chunks
 
 BATCH_STATUSES = ("converged", "stalled", "max_iterations", "invalid", "diverged")
 """Status names by code (those of :mod:`redik.batch.kernel`). All but ``"invalid"`` are
@@ -99,8 +99,10 @@ class BatchOptions:
 
     def kernel_settings(self, bounded: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """The float and integer settings arrays of :mod:`redik.batch.kernel` (the reach
-        excess ``REACH`` starts at 0: :func:`redik.solve_pose` sets it per target)."""
-        settings = np.empty(7)
+        excess ``REACH`` starts at 0: :func:`redik.solve_pose` sets it per target; a target
+        is valid within :data:`redik.lie.ROTATION_TOLERANCE`, as :func:`redik.lie.as_pose`
+        checks one pose)."""
+        settings = np.empty(8)
         settings[kernel.POS_TOL] = self.pos_tol
         settings[kernel.ROT_TOL] = self.rot_tol
         settings[kernel.DAMPING] = self.damping
@@ -108,6 +110,7 @@ class BatchOptions:
         settings[kernel.MAX_DAMPING] = self.max_damping
         settings[kernel.REQUIRED] = math.sqrt(1.0 - min(self.progress, 1.0))
         settings[kernel.REACH] = 0.0
+        settings[kernel.TARGET_TOL] = ROTATION_TOLERANCE
         counts = np.empty(5, dtype=np.int64)
         counts[kernel.CANDIDATES] = self.candidates
         counts[kernel.MAX_ITER] = self.max_iterations
@@ -183,7 +186,8 @@ class BatchResult:
 def check_targets(T_targets: np.ndarray, strict: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """``(T, valid)``: the targets as a float ``B × 4 × 4`` array and a per-target mask.
 
-    A target is valid when it is finite, ends with ``[0, 0, 0, 1]`` and has a rotation block
+    A target is valid when it is finite, ends with ``[0, 0, 0, 1]``, has a translation within
+    ``±``:data:`redik.lie.MAX_COORDINATE` and a rotation block
     accepted by :mod:`redik.lie`'s tolerance policy, as :func:`redik.lie.as_pose` checks one
     pose: near-rotations come back projected onto SO(3) (one warning), or invalid when
     ``strict``. Malformed targets are reported, not raised.
@@ -194,16 +198,30 @@ def check_targets(T_targets: np.ndarray, strict: bool = False) -> tuple[np.ndarr
     T = real_array(T_targets, "T_targets")
     if T.ndim != 3 or T.shape[1:] != (4, 4):
         raise InvalidInput(f"T_targets must have shape (B, 4, 4), got {T.shape}")
+    T = np.ascontiguousarray(T)
+    # Compiled and on every core: the exact rigid transforms, nearly all of a batch (a serial
+    # numpy pass took a tenth of the time of the solves). The policy then only sees the rest.
+    valid = np.empty(len(T), dtype=bool)
+    kernel.valid_targets(T, ROTATION_TOLERANCE, valid)
+    if valid.all():
+        return T, valid
+    rest = np.flatnonzero(~valid)
     with np.errstate(invalid="ignore"):
-        finite = np.isfinite(T).all(axis=(1, 2))
-        bottom = np.abs(T[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1, initial=0.0)
-        well_formed = finite & (bottom <= ROTATION_TOLERANCE)
-    block = np.where(well_formed[:, None, None], T[:, :3, :3], np.eye(3))
+        finite = np.isfinite(T[rest]).all(axis=(1, 2))
+        bottom = np.abs(T[rest, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1, initial=0.0)
+        far = np.abs(T[rest, :3, 3]).max(axis=1, initial=0.0)
+        well_formed = finite & (bottom <= ROTATION_TOLERANCE) & (far <= MAX_COORDINATE)
+    block = np.where(well_formed[:, None, None], T[rest, :3, :3], np.eye(3))
     R, accepted = check_rotations(block, "T_targets[:, :3, :3]", strict=strict)
     if R is not block:
         T = T.copy()
-        T[:, :3, :3] = np.where(well_formed[:, None, None], R, T[:, :3, :3])
-    return T, well_formed & accepted
+        T[rest, :3, :3] = np.where(well_formed[:, None, None], R, T[rest, :3, :3])
+    valid[rest] = well_formed & accepted
+    return T, valid
+
+
+def _is_integer(value: object) -> bool:
+    return isinstance(value, int | np.integer) and not isinstance(value, bool)
 
 
 def check_seeds(chain: Chain, q0: np.ndarray | None, size: int) -> np.ndarray:
@@ -215,7 +233,7 @@ def check_seeds(chain: Chain, q0: np.ndarray | None, size: int) -> np.ndarray:
     n = chain.dof
     if q0 is None:
         q0 = chain.home
-    q0 = np.asarray(q0, dtype=float)
+    q0 = real_array(q0, "q0")
     if q0.shape not in ((n,), (size, n)):
         raise InvalidInput(f"q0 must have shape ({n},) or ({size}, {n}), got {q0.shape}")
     if not np.all(np.isfinite(q0)):
@@ -316,13 +334,14 @@ def solve_chunk(
 ) -> BatchResult:
     """Solve one chunk in this process: the unit of work of every engine.
 
-    ``T_targets`` is ``B × 4 × 4`` (invalid targets allowed), ``q0`` ``B × n`` within limits,
-    the targets ``first … first + B − 1`` of the batch; their random re-seeds depend on
-    ``key`` and those indices alone. ``parallel`` spreads the targets over numba's threads.
+    ``T_targets`` is ``B × 4 × 4``, ``q0`` ``B × n`` within limits, the targets ``first …
+    first + B − 1`` of the batch; their random re-seeds depend on ``key`` and those indices
+    alone. ``parallel`` spreads the targets over numba's threads. A target that is not a
+    finite rigid transform (:func:`redik.batch.kernel.valid_target`, checked in the
+    compiled code beside the solve) gets status ``"invalid"``.
     """
-    T, valid = check_targets(T_targets)
+    T = np.ascontiguousarray(T_targets, dtype=float)
     size = len(T)
-    T = np.ascontiguousarray(np.where(valid[:, None, None], T, np.eye(4)))
     results = (
         np.empty((size, chain.dof)),
         np.empty(size, dtype=np.int8),
@@ -334,7 +353,7 @@ def solve_chunk(
     settings, counts = options.kernel_settings()
     solve = kernel.solve_parallel if parallel else kernel.solve_serial
     solve(
-        chain.kernel_arrays(), T, valid, np.ascontiguousarray(q0, dtype=float),
+        chain.kernel_arrays(), T, np.ascontiguousarray(q0, dtype=float),
         np.int64(first), np.uint64(key), settings, counts, results,
     )  # fmt: skip
     q, status, iterations, restarts, position, rotation = results
@@ -399,16 +418,24 @@ def solve_batch(
         InvalidInput: ``T_targets`` is not ``B × 4 × 4``, a bad ``q0``, method, engine or
             tolerance.
     """
-    if method not in METHODS:
+    if not isinstance(method, str) or method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
-    if chunk_size is not None and chunk_size < 1:
-        raise InvalidInput(f"chunk_size must be a positive integer, got {chunk_size!r}")
+    if not isinstance(engine, str) or engine not in ENGINES:
+        raise InvalidInput(f"engine must be one of {ENGINES}, got {engine!r}")
+    for name, count in (("chunk_size", chunk_size), ("workers", workers)):
+        if count is not None and not (_is_integer(count) and count >= 1):
+            raise InvalidInput(f"{name} must be a positive integer or None, got {count!r}")
+    if not (seed is None or isinstance(seed, np.random.SeedSequence) or _is_integer(seed)) or (
+        _is_integer(seed) and seed < 0
+    ):
+        raise InvalidInput(f"seed must be None, an integer ≥ 0 or a SeedSequence, got {seed!r}")
     chain = robot if isinstance(robot, Chain) else Chain.from_robot(robot)
     options = BatchOptions(
         pos_tol=pos_tol, rot_tol=rot_tol, restarts=restarts, max_iterations=max_iterations
     )
     T, valid = check_targets(T_targets, strict)  # once here: one warning, not one per chunk
-    T = np.where(valid[:, None, None], T, np.nan)  # each chunk sees the refused as invalid
+    if not valid.all():
+        T = np.where(valid[:, None, None], T, np.nan)  # each chunk sees the refused as invalid
     size = len(T)
     seeds = check_seeds(chain, q0, size)
     if chunk_size is None:

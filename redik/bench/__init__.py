@@ -9,6 +9,7 @@ compare, ratios against a reference measured in the same run.
 from __future__ import annotations
 
 import importlib
+import os
 import pkgutil
 from types import ModuleType
 
@@ -20,3 +21,9 @@ def benchmarks() -> dict[str, ModuleType]:
         for info in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name)
         if not info.name.startswith("_")
     }
+
+
+def load_average(label: str) -> str:
+    """``label: 1-, 5- and 15-minute load averages (CPUs)``, to print beside a timing."""
+    one, five, fifteen = os.getloadavg()
+    return f"{label}: {one:.2f} {five:.2f} {fifteen:.2f} ({os.cpu_count()} CPUs)"

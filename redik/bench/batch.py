@@ -7,7 +7,9 @@ process pool (``engine="process"``; the pool is started before timing), and a su
 the single-target :func:`redik.pose_ik.solve_pose` in a Python loop. A *strict* solve meets
 ``pos_tol`` = 1e-6 m and ``rot_tol`` = 1e-5 rad within the joint limits. Rates are medians
 over ``--repeats`` runs of wall-clock time; the CPU-time rate (this process's CPU time, so
-shown for the in-process runs) is less disturbed by other load on a shared machine.
+shown for the in-process runs) is less disturbed by other load on a shared machine, and the
+load average is printed at start and end. The target (issue 14): at least 100,000 strict
+7-DoF solves per second on every core at ≥ 99.99 % strict success.
 """
 
 from __future__ import annotations
@@ -21,9 +23,10 @@ import numpy as np
 from ..batch import Chain, forward_kinematics, solve_batch
 from ..batch.engines import default_workers
 from ..scenes import load
+from . import load_average
 
-TARGET_RATE = 50_000
-TARGET_SUCCESS = 0.999
+TARGET_RATE = 100_000
+TARGET_SUCCESS = 0.9999
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -69,6 +72,7 @@ def _single_loop(robot, T: np.ndarray, seed: int) -> tuple[float, float] | None:
 def run(args: argparse.Namespace) -> int:
     workers = args.workers or default_workers()
     print(f"strict solves/s (pos 1e-6 m, rot 1e-5 rad, limits); {workers} workers")
+    print(load_average("load average at start"))
     print(f"{'robot':<8}{'batch':>8}{'engine':>20}{'wall /s':>11}{'cpu /s':>11}{'success':>10}")
     best: dict[str, tuple[float, float]] = {}
     for name in args.robots:
@@ -117,6 +121,7 @@ def run(args: argparse.Namespace) -> int:
             verdict = "meets" if rate >= TARGET_RATE else "misses"
             print(
                 f"{name} (7-DoF): best all-core rate {rate:,.0f}/s at {100 * success:.2f} % "
-                f"— {verdict} the {TARGET_RATE:,}/s target"
+                f"— {verdict} the {TARGET_RATE:,}/s target at ≥ {100 * TARGET_SUCCESS:.2f} %"
             )
+    print(load_average("load average at end"))
     return 0

@@ -14,12 +14,25 @@ Part 2 solves the FK targets (seeded random configurations, start at ``home``) t
 to bias the converged pose) — and reports success, median iterations, median time to
 converge and the worst joint-limit overshoot of any iterate. redik's strict-priority
 stack (joint-space tasks at priority 1) is reported beside them.
+
+Part 1b times the same three tasks as one weighted level and as two strict levels (pose,
+then posture and joint-limit avoidance), interleaved at the same ``q``: the price of strict
+priorities, as a ratio.
+
+Part 3 is the latency of ``solve_pose(method="qp")`` with its defaults (restarts included)
+over ``--latency-targets`` random reachable targets per robot, from ``home`` and from
+random seeds: success, p50/p95/p99/max of the CPU time of the calling thread (on a
+shared machine the wall time also counts the time slices other processes take: a 10 ms
+preemption in a 1 ms solve; its p99 is printed beside), the p99 iterations, and the CPU
+p99 in units of the median single QP step measured in the same run. One warm-up call
+precedes each robot's timings.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import os
 import statistics
 import time
 import warnings
@@ -28,6 +41,7 @@ import mink
 import numpy as np
 
 from .. import lie
+from ..exceptions import BackendError, InfeasibleProblem
 from ..limits import PositionLimit
 from ..problem import Problem
 from ..qp.backends import QPSOLVERS_SETTINGS, available_backends
@@ -43,12 +57,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--backends", nargs="+", default=None, help="default: all installed")
     parser.add_argument("--steps", type=int, default=400, help="timed steps per back-end")
     parser.add_argument("--targets", type=int, default=500, help="FK targets for part 2")
-    parser.add_argument("--converge-backends", nargs="+", default=["daqp", "proxsuite", "quadprog"])
+    parser.add_argument("--converge-backends", nargs="*", default=["daqp", "proxsuite", "quadprog"])
     parser.add_argument("--max-iter", type=int, default=200)
     parser.add_argument("--pos-tol", type=float, default=1e-6)
     parser.add_argument("--rot-tol", type=float, default=1e-5)
     parser.add_argument("--weight", type=float, default=1e-2, help="posture/limit weight, part 1")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--latency-robots", nargs="*", default=["panda", "iiwa14", "ur5e"])
+    parser.add_argument("--latency-targets", type=int, default=200)
 
 
 class _MinkStack:
@@ -129,6 +145,27 @@ def _time_steps(robot, backend: str, solver: str | None, args, targets) -> tuple
     return redik_us, mink_us
 
 
+def _time_priorities(robot, backend: str, args, targets) -> tuple[float, float]:
+    """Median step time of the same three tasks as one weighted level and as two strict
+    levels (pose, then posture + joint-limit avoidance), interleaved at the same ``q``."""
+    one = _redik_problem(robot, args.weight, backend, strict=False)
+    two = _redik_problem(robot, args.weight, backend, strict=True)
+    times: tuple[list, list] = ([], [])
+    steps_per_target = 8
+    for i in range(math.ceil(args.steps / steps_per_target)):
+        T = targets[i % len(targets)]
+        one.tasks[0].set_target(T)
+        two.tasks[0].set_target(T)
+        q = robot.home.copy()
+        for _ in range(steps_per_target):
+            for problem, record in zip((one, two), times, strict=True):
+                start = time.perf_counter()
+                dq = problem.step(q)
+                record.append(time.perf_counter() - start)
+            q = q + dq
+    return statistics.median(times[0]) * 1e6, statistics.median(times[1]) * 1e6
+
+
 def _converge_redik(robot, backend, args, targets, strict: bool) -> dict:
     weight = 1.0 if strict else 1e-4
     problem = _redik_problem(robot, weight, backend, strict)
@@ -193,6 +230,52 @@ def _summary(results, overshoot: float, total: float) -> dict:
     }
 
 
+def _latency(robot, args) -> list[dict]:
+    """``solve_pose(method="qp")`` wall times over random reachable targets, per seed mode."""
+    from ..pose_ik import solve_pose
+
+    rng = np.random.default_rng(args.seed)
+    targets = [robot.fk(q) for q in robot.random_q(rng, size=args.latency_targets)]
+    seeds = robot.random_q(rng, size=args.latency_targets)
+    solve_pose(robot, targets[0], method="qp")  # warm-up: imports, first allocations
+    step_problem = Problem(robot, [PoseTask(targets[0])], backend="daqp")
+    rows = []
+    for mode in ("home", "random"):
+        times, walls, successes, iterations, step_times = [], [], 0, [], []
+        for i, T in enumerate(targets):
+            q0 = robot.home if mode == "home" else seeds[i]
+            start, start_wall = time.thread_time(), time.perf_counter()
+            result = solve_pose(robot, T, q0, method="qp", seed=i)
+            times.append(time.thread_time() - start)
+            walls.append(time.perf_counter() - start_wall)
+            successes += result.success
+            iterations.append(result.iterations)
+            # A reference measured alongside: one QP step of the same robot.
+            start = time.thread_time()
+            step_problem.step(q0)
+            step_times.append(time.thread_time() - start)
+        ms = np.array(times) * 1e3
+        step_ms = statistics.median(step_times) * 1e3
+        rows.append(
+            {
+                "mode": mode,
+                "success": successes / len(targets),
+                "p50": float(np.percentile(ms, 50)),
+                "p95": float(np.percentile(ms, 95)),
+                "p99": float(np.percentile(ms, 99)),
+                "max": float(ms.max()),
+                "wall_p99": float(np.percentile(walls, 99)) * 1e3,
+                "iterations_p99": float(np.percentile(iterations, 99)),
+                "p99_steps": float(np.percentile(ms, 99)) / step_ms,
+            }
+        )
+    return rows
+
+
+def _load() -> str:
+    return " ".join(f"{value:.2f}" for value in os.getloadavg())
+
+
 def run(args: argparse.Namespace) -> int:
     with warnings.catch_warnings():
         # qpsolvers warns on every dense-to-sparse conversion mink's calls make.
@@ -205,16 +288,36 @@ def _run(args: argparse.Namespace) -> int:
     rng = np.random.default_rng(args.seed)
     targets = [robot.fk(q) for q in robot.random_q(rng, size=args.targets)]
     backends = args.backends or available_backends()
-    print(f"{robot!r}: per-step time, weighted stack (weight {args.weight}), medians")
+    print(
+        f"{robot!r}: per-step time, weighted stack (weight {args.weight}), medians, "
+        f"load average {_load()}"
+    )
     print(f"{'redik back-end':<16}{'mink solver':<13}{'redik µs':>10}{'mink µs':>10}{'ratio':>8}")
     for backend in backends:
         solver = MINK_SOLVER.get(backend, backend)
-        redik_us, mink_us = _time_steps(robot, backend, solver, args, targets)
+        try:
+            redik_us, mink_us = _time_steps(robot, backend, solver, args, targets)
+        except (BackendError, InfeasibleProblem, mink.exceptions.NoSolutionFound) as error:
+            print(f"{backend:<16}failed: {error}")
+            continue
         if solver:
             ratio = f"{mink_us / redik_us:>7.2f}x"
             print(f"{backend:<16}{solver:<13}{redik_us:>10.1f}{mink_us:>10.1f}{ratio}")
         else:
             print(f"{backend:<16}{'-':<13}{redik_us:>10.1f}{'-':>10}{'-':>8}")
+
+    print(
+        f"\nstrict priorities: one weighted level vs pose > (posture, limits), medians, "
+        f"load average {_load()}"
+    )
+    print(f"{'redik back-end':<16}{'1 level µs':>12}{'2 levels µs':>13}{'ratio':>8}")
+    for backend in backends:
+        try:
+            one_us, two_us = _time_priorities(robot, backend, args, targets)
+        except (BackendError, InfeasibleProblem) as error:
+            print(f"{backend:<16}failed: {error}")
+            continue
+        print(f"{backend:<16}{one_us:>12.1f}{two_us:>13.1f}{two_us / one_us:>7.2f}x")
 
     print(
         f"\n{len(targets)} FK targets from home, pos_tol {args.pos_tol:g} m, rot_tol "
@@ -236,4 +339,24 @@ def _run(args: argparse.Namespace) -> int:
                 f"{name:<34}{s['success']:>8.1%}{s['iterations']:>7}{s['time_ms']:>10.2f}"
                 f"{s['overshoot']:>11.1e}"
             )
+
+    if args.latency_robots:
+        print(
+            f"\nsolve_pose(method='qp') latency, {args.latency_targets} random reachable "
+            f"targets per robot, defaults (restarts included), CPU time of the thread, "
+            f"load average {_load()}"
+        )
+        print(
+            f"{'robot':<9}{'seed':<8}{'success':>8}{'p50 ms':>8}{'p95 ms':>8}{'p99 ms':>8}"
+            f"{'max ms':>8}{'p99 it':>8}{'p99/step':>10}{'wall p99':>10}"
+        )
+        for name in args.latency_robots:
+            latency_robot = load(name)
+            for row in _latency(latency_robot, args):
+                print(
+                    f"{name:<9}{row['mode']:<8}{row['success']:>7.1%}{row['p50']:>8.2f}"
+                    f"{row['p95']:>8.2f}{row['p99']:>8.2f}{row['max']:>8.2f}"
+                    f"{row['iterations_p99']:>8.0f}{row['p99_steps']:>9.0f}x"
+                    f"{row['wall_p99']:>10.2f}"
+                )
     return 0

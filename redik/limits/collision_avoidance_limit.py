@@ -45,7 +45,7 @@ from __future__ import annotations
 
 import fnmatch
 import itertools
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 
 import mujoco
 import numpy as np
@@ -64,17 +64,15 @@ class CollisionAvoidanceLimit(InequalityLimit):
 
     Args:
         geom_pairs: Pairs ``(group_a, group_b)`` of geom groups (geom or body names, or
-            patterns such as ``"left_*"``); every
-            geom of ``group_a`` is kept away from every geom of ``group_b`` (a group paired
-            with itself: self-collision within it); pairs MuJoCo would not collide
-            (``contype``/``conaffinity``, welded, parent and child) are dropped. None:
-            every pair of geoms that may
-            collide — passing MuJoCo's ``contype``/``conaffinity`` test, not on the same
-            or welded bodies, not on a parent and child body — of which at least one is
-            moved by the robot (self-collision and obstacles from the model's geoms),
-            less the pairs already closer than ``minimum_distance`` at the robot's
-            ``home`` (overlapping collision shapes of neighbouring links, which a URDF
-            often has: the "collide by default" pairs MoveIt's setup assistant disables).
+            patterns such as ``"left_*"``); every geom of ``group_a`` is kept away from
+            every geom of ``group_b`` (a group paired with itself: self-collision within
+            it); pairs MuJoCo would not collide (``contype``/``conaffinity``, welded, parent
+            and child, ``<exclude>``) are dropped. None: every pair of geoms that MuJoCo may
+            collide — by the same filters — of which at least one is moved by the robot
+            (self-collision and obstacles from the model's geoms), less the pairs already
+            closer than ``minimum_distance`` at the robot's ``home`` (overlapping collision
+            shapes of neighbouring links, which a URDF often has: the "collide by default"
+            pairs MoveIt's setup assistant disables).
         minimum_distance: ``d_s`` (m), the distance to keep; ≥ 0.
         detection_distance: ``d_i`` (m), the distance under which a pair is constrained;
             > ``minimum_distance``.
@@ -91,11 +89,9 @@ class CollisionAvoidanceLimit(InequalityLimit):
         detection_distance: float = 0.05,
         gain: float = 0.5,
     ):
-        minimum_distance, detection_distance, gain = (
-            float(minimum_distance),
-            float(detection_distance),
-            float(gain),
-        )
+        minimum_distance = _as_number(minimum_distance, "minimum_distance")
+        detection_distance = _as_number(detection_distance, "detection_distance")
+        gain = _as_number(gain, "gain")
         if not (np.isfinite(minimum_distance) and minimum_distance >= 0.0):
             raise InvalidInput(f"minimum_distance must be finite and >= 0, got {minimum_distance}")
         if not (np.isfinite(detection_distance) and detection_distance > minimum_distance):
@@ -105,7 +101,17 @@ class CollisionAvoidanceLimit(InequalityLimit):
             )
         if not 0.0 < gain <= 1.0:
             raise InvalidInput(f"gain must be in (0, 1], got {gain}")
-        self.geom_pairs = geom_pairs
+        if geom_pairs is not None:
+            if isinstance(geom_pairs, str) or not isinstance(geom_pairs, Collection):
+                raise InvalidInput(
+                    f"geom_pairs must be a list of pairs (group_a, group_b), got {geom_pairs!r}"
+                )
+            for index, pair in enumerate(geom_pairs):
+                if isinstance(pair, str) or not isinstance(pair, Sequence) or len(pair) != 2:
+                    raise InvalidInput(
+                        f"geom_pairs[{index}] must be a pair of groups, got {pair!r}"
+                    )
+        self.geom_pairs = None if geom_pairs is None else list(geom_pairs)
         self.minimum_distance = minimum_distance
         self.detection_distance = detection_distance
         self.gain = gain
@@ -115,40 +121,38 @@ class CollisionAvoidanceLimit(InequalityLimit):
         model = robot.model
         mover = _moving_ancestor(robot)
         if self.geom_pairs is None:
-            candidates = itertools.combinations(range(model.ngeom), 2)
-            pairs = [
-                (a, b)
-                for a, b in candidates
-                if mover[model.geom_bodyid[a]] != mover[model.geom_bodyid[b]]
-                and _may_collide(model, a, b)
-            ]
+            a, b = np.triu_indices(model.ngeom, 1)
+            pairs = _collidable_pairs(model, mover, a, b)
             pairs = _apart_at_home(robot, pairs, self.minimum_distance)
         else:
             pairs = []
             for index, pair in enumerate(self.geom_pairs):
-                if len(pair) != 2:
-                    raise InvalidInput(
-                        f"geom_pairs[{index}] must be a pair of groups, got {pair!r}"
-                    )
                 group_a = _geom_ids(robot, pair[0], f"geom_pairs[{index}][0]")
                 group_b = _geom_ids(robot, pair[1], f"geom_pairs[{index}][1]")
-                for a, b in itertools.product(group_a, group_b):
-                    # Geoms that no joint of the robot moves apart keep their distance;
-                    # MuJoCo's filters (as mink applies them) drop the rest.
-                    if mover[model.geom_bodyid[a]] == mover[model.geom_bodyid[b]]:
-                        continue
-                    if not _may_collide(model, a, b):
-                        continue
-                    pairs.append((min(a, b), max(a, b)))
+                a, b = np.array(list(itertools.product(group_a, group_b))).T
+                pairs += _collidable_pairs(model, mover, a, b)
             pairs = sorted(set(pairs))
+            if not pairs:
+                raise ModelError(
+                    f"geom_pairs {list(self.geom_pairs)!r} leave no pair to check on "
+                    f"{robot!r}: every pair is on bodies no moved joint separates, on welded or "
+                    "parent and child bodies, or fails MuJoCo's contype/conaffinity test"
+                )
         self.pairs = np.array(pairs, dtype=int).reshape(-1, 2)
         rbound = model.geom_rbound
         self._bounded = (rbound[self.pairs[:, 0]] > 0.0) & (rbound[self.pairs[:, 1]] > 0.0)
         self._radii = rbound[self.pairs[:, 0]] + rbound[self.pairs[:, 1]]
+        # Per-step scratch: the rows of every pair that may become active, written in place.
+        body = model.geom_bodyid
+        self._pair_list = [(int(a), int(b), int(body[a]), int(body[b])) for a, b in self.pairs]
         self._fromto = np.zeros(6)
+        self._normal = np.zeros(3)
         self._floor = np.full(len(self.pairs), self.minimum_distance)
         self._jac1 = np.zeros((3, model.nv))
         self._jac2 = np.zeros((3, model.nv))
+        self._row = np.zeros(model.nv)
+        self._G = np.zeros((len(self.pairs), robot.dof))
+        self._h = np.zeros(len(self.pairs))
         return super().bind(robot, tolerance)
 
     def _candidates(self, data: mujoco.MjData, distmax: float) -> np.ndarray:
@@ -164,7 +168,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         data = self.robot.data
         out = np.full(len(self.pairs), distmax)
         for i in self._candidates(data, distmax):
-            a, b = self.pairs[i]
+            a, b, _, _ = self._pair_list[i]
             out[i] = mujoco.mj_geomDistance(self.robot.model, data, a, b, distmax, self._fromto)
         return out
 
@@ -183,34 +187,40 @@ class CollisionAvoidanceLimit(InequalityLimit):
     def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
         robot = self.robot
         model, data = robot.model, robot.data
-        rows, bounds = [], []
-        fromto, jac1, jac2 = self._fromto, self._jac1, self._jac2
-        columns = robot.dof_indices
-        self._floor.fill(self.minimum_distance)
-        for i in self._candidates(data, self.detection_distance):
-            a, b = self.pairs[i]
-            d = mujoco.mj_geomDistance(model, data, a, b, self.detection_distance, fromto)
-            if d >= self.detection_distance:
+        fromto, normal, jac1, jac2, row = (
+            self._fromto,
+            self._normal,
+            self._jac1,
+            self._jac2,
+            self._row,
+        )
+        G, h, columns = self._G, self._h, robot.dof_indices
+        detection, minimum = self.detection_distance, self.minimum_distance
+        self._floor.fill(minimum)
+        count = 0
+        for i in self._candidates(data, detection):
+            a, b, body_a, body_b = self._pair_list[i]
+            d = mujoco.mj_geomDistance(model, data, a, b, detection, fromto)
+            if d >= detection:
                 continue
-            self._floor[i] = min(self.minimum_distance, d)
-            normal = fromto[3:] - fromto[:3]
-            length = float(np.linalg.norm(normal))
-            if length < 1e-12:  # touching: separate the geom centres instead
-                normal = data.geom_xpos[b] - data.geom_xpos[a]
-                length = float(np.linalg.norm(normal))
-                if length < 1e-12:
+            self._floor[i] = min(minimum, d)
+            np.subtract(fromto[3:], fromto[:3], out=normal)
+            if mujoco.mju_normalize3(normal) < 1e-12:  # touching: separate the geom centres
+                np.subtract(data.geom_xpos[b], data.geom_xpos[a], out=normal)
+                if mujoco.mju_normalize3(normal) < 1e-12:
                     continue
             elif d < 0.0:
-                normal = -normal  # penetrating: the nearest points are crossed over
-            normal = normal / length
-            mujoco.mj_jac(model, data, jac1, None, fromto[:3], model.geom_bodyid[a])
-            mujoco.mj_jac(model, data, jac2, None, fromto[3:], model.geom_bodyid[b])
-            row = -(normal @ (jac2 - jac1))[columns]
-            rows.append(row)
-            bounds.append(self.gain * (d - self.minimum_distance))
-        if not rows:
+                np.negative(normal, out=normal)  # penetrating: the nearest points cross over
+            mujoco.mj_jac(model, data, jac1, None, fromto[:3], body_a)
+            mujoco.mj_jac(model, data, jac2, None, fromto[3:], body_b)
+            jac1 -= jac2
+            np.dot(normal, jac1, out=row)  # -nᵀ(J₂ − J₁) over the model's nv columns
+            np.take(row, columns, out=G[count])
+            h[count] = self.gain * (d - minimum)
+            count += 1
+        if count == 0:
             return None
-        return np.array(rows), np.array(bounds)
+        return G[:count].copy(), h[:count].copy()
 
     def admits(self) -> bool:
         """No pair closer than ``minimum_distance`` at the current state, unless it was
@@ -219,7 +229,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         model, data = robot.model, robot.data
         tolerance = 1e-6  # 1 µm: what a distance query resolves on meshes
         for i in self._candidates(data, self.minimum_distance):
-            a, b = self.pairs[i]
+            a, b, _, _ = self._pair_list[i]
             d = mujoco.mj_geomDistance(model, data, a, b, self.minimum_distance, self._fromto)
             if d < self._floor[i] - tolerance:
                 return False
@@ -231,6 +241,13 @@ class CollisionAvoidanceLimit(InequalityLimit):
                 "CollisionAvoidanceLimit is not bound: pass it to a redik.Problem or call "
                 "limit.bind(robot) first"
             )
+
+
+def _as_number(value, name: str) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise InvalidInput(f"{name} must be a number, got {value!r}") from None
 
 
 def _geom_name(model: mujoco.MjModel, geom: int) -> str:
@@ -268,31 +285,39 @@ def _apart_at_home(
     ]
 
 
-def _welded(model: mujoco.MjModel, a: int, b: int) -> bool:
-    return model.body_weldid[model.geom_bodyid[a]] == model.body_weldid[model.geom_bodyid[b]]
-
-
-def _may_collide(model: mujoco.MjModel, a: int, b: int) -> bool:
-    """MuJoCo's own filters: contype/conaffinity, same weld, parent–child welds."""
-    if not (
-        model.geom_contype[a] & model.geom_conaffinity[b]
-        or model.geom_contype[b] & model.geom_conaffinity[a]
-    ):
-        return False
-    if _welded(model, a, b):
-        return False
-    weld_a = model.body_weldid[model.geom_bodyid[a]]
-    weld_b = model.body_weldid[model.geom_bodyid[b]]
-    parent_a = model.body_weldid[model.body_parentid[weld_a]]
-    parent_b = model.body_weldid[model.body_parentid[weld_b]]
-    # MuJoCo skips parent–child contacts unless the parent is the world (obstacles).
-    return not ((parent_a == weld_b and weld_b != 0) or (parent_b == weld_a and weld_a != 0))
+def _collidable_pairs(
+    model: mujoco.MjModel, mover: np.ndarray, a: np.ndarray, b: np.ndarray
+) -> list[tuple[int, int]]:
+    """The pairs ``(min, max)`` of geoms ``a[i]``, ``b[i]`` that the robot's joints can move
+    relative to each other (different moving ancestors) and that MuJoCo's own filters let
+    collide (``mj_collision``'s broad phase): contype/conaffinity, not the same weld, not a
+    parent and child weld unless the parent is the world (or ``filterparent`` is disabled),
+    not an ``<exclude>`` body pair. mink applies the first three, and drops the world's
+    children too."""
+    body = model.geom_bodyid
+    body_a, body_b = body[a], body[b]
+    keep = mover[body_a] != mover[body_b]
+    contype, conaffinity = model.geom_contype, model.geom_conaffinity
+    keep &= ((contype[a] & conaffinity[b]) | (contype[b] & conaffinity[a])) != 0
+    weld = model.body_weldid
+    weld_a, weld_b = weld[body_a], weld[body_b]
+    keep &= weld_a != weld_b
+    if not model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_FILTERPARENT:
+        parent_a, parent_b = weld[model.body_parentid[weld_a]], weld[model.body_parentid[weld_b]]
+        keep &= ~(((parent_a == weld_b) | (parent_b == weld_a)) & (weld_a != 0) & (weld_b != 0))
+    if model.nexclude:
+        signature = (np.minimum(body_a, body_b) << 16) + np.maximum(body_a, body_b)
+        keep &= ~np.isin(signature, model.exclude_signature)
+    low, high = np.minimum(a, b)[keep], np.maximum(a, b)[keep]
+    return list(zip(low.tolist(), high.tolist(), strict=True))
 
 
 def _geom_ids(robot: Robot, group: GeomGroup, where: str) -> list[int]:
     """Geom ids of a group of geom or body names."""
     if isinstance(group, str):
         group = [group]
+    if not isinstance(group, Sequence) or not group:
+        raise InvalidInput(f"{where}: a geom group is a non-empty list of names, got {group!r}")
     model = robot.model
     ids: list[int] = []
     for name in group:

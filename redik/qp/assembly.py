@@ -55,12 +55,15 @@ class LevelAssembly:
             (:mod:`redik.tasks.joint_space_task`).
         other_tasks: redik tasks with their own objective, and mink tasks.
         A, b: The stacked weighted residual rows.
+        flat: The robot's ``flat`` (``q ⊖ r = q − r``: a joint-space task's gradient is then
+            one fused product for the level).
         H, c: The level's objective, rebuilt by :meth:`build`.
     """
 
-    def __init__(self, priority: int, tasks: Sequence, n: int, damping: float):
+    def __init__(self, priority: int, tasks: Sequence, n: int, damping: float, flat: bool):
         self.priority = priority
         self.damping = damping
+        self.flat = flat
         self.residual_tasks: list[ResidualTask] = []
         self.joint_tasks: list[JointSpaceTask] = []
         self.other_tasks: list = []
@@ -86,31 +89,42 @@ class LevelAssembly:
         self.c = np.zeros(n)
         self._diagonal = self.H.reshape(n * n)[:: n + 1]  # a view: H's diagonal
         self._joint_versions: list = []
+        self._joint_ready = False
         self._joint_hessian = np.full(n, damping)
         self._joint_factor = np.zeros(n)
         self._joint_offset = np.zeros(n)
         self._joint_buffer = np.zeros(n)
+        self._joint_factors: list[tuple[JointSpaceTask, np.ndarray]] = []
+        self.least_squares = not self.joint_tasks and not self.other_tasks
+        """True when ``H = AᵀA + εI``: ``A`` then factors the level (its null space)."""
 
     @property
     def tasks(self) -> list:
         """Every task of the level."""
         return self.residual_tasks + self.joint_tasks + self.other_tasks
 
-    def _refresh_joint_terms(self) -> None:
-        """Σ of the joint-space tasks' ``w²d²`` (+ damping), ``α w²d²`` and ``α w²d² r``."""
+    def _refresh_joint_terms(self) -> bool:
+        """Σ of the joint-space tasks' ``w²d²`` (+ damping), ``α w²d²`` and, on a flat
+        robot, ``α w²d² r`` (else each task's ``α w²d²``, kept for :meth:`_joint_gradient`);
+        True when they changed (a task's target or weight was set) since the last call."""
         versions = [(id(task), task.version) for task in self.joint_tasks]
-        if versions == self._joint_versions:
-            return
+        if versions == self._joint_versions and self._joint_ready:
+            return False
         self._joint_hessian[:] = self.damping
         self._joint_factor[:] = 0.0
         self._joint_offset[:] = 0.0
+        self._joint_factors.clear()
         for task in self.joint_tasks:
             hessian, factor = task.diagonal_terms()
             self._joint_hessian += hessian
             self._joint_factor += factor
-            if task.reference.shape == factor.shape:  # else a configuration (not flat)
+            if self.flat:
                 self._joint_offset += factor * task.reference
+            elif factor.any():
+                self._joint_factors.append((task, factor))
         self._joint_versions = versions
+        self._joint_ready = True
+        return True
 
     def build(self, state: KinematicState, configuration, columns: np.ndarray) -> None:
         """Fill ``H`` (regularised by ``damping``) and ``c`` at ``state``.
@@ -118,25 +132,52 @@ class LevelAssembly:
         ``configuration`` is the ``mink.Configuration`` mink tasks read (else None).
         """
         H, c = self.H, self.c
-        for task, A, b in self._blocks:
-            task.weighted_residual_into(state, A, b)
-        At = self.A.T
-        np.dot(At, self.A, out=H)
-        np.dot(At, self.b, out=c)
-        np.negative(c, out=c)
-        # Joint-space tasks: H += diag(Σ w²d²), c += Σ α w²d² ⊙ (q ⊖ r).
-        self._refresh_joint_terms()
-        self._diagonal += self._joint_hessian
-        if self.joint_tasks and state.robot.flat:
-            np.multiply(self._joint_factor, state.q, out=self._joint_buffer)
-            c += self._joint_buffer
+        changed = self._refresh_joint_terms()
+        if self._blocks:
+            for task, A, b in self._blocks:
+                task.weighted_residual_into(state, A, b)
+            At = self.A.T
+            np.dot(At, self.A, out=H)
+            np.dot(At, self.b, out=c)
+            np.negative(c, out=c)
+            self._diagonal += self._joint_hessian
+            self._joint_gradient(state, c, fresh=False)
+        else:
+            # No residual rows: H is the diagonal alone, which does not depend on q —
+            # rebuilt only when a task changed (a posture level then costs two vector
+            # operations).
+            if changed or self.other_tasks:
+                H.fill(0.0)
+                self._diagonal += self._joint_hessian
+            self._joint_gradient(state, c, fresh=True)
+        self._add_other_tasks(state, configuration, columns)
+
+    def _joint_gradient(self, state: KinematicState, c: np.ndarray, fresh: bool) -> None:
+        """Joint-space tasks: ``c += Σ α w²d² ⊙ (q ⊖ r)`` (``c =`` when ``fresh``)."""
+        if not self.joint_tasks:
+            if fresh:
+                c.fill(0.0)
+            return
+        if state.robot.flat:
+            if fresh:
+                np.multiply(self._joint_factor, state.q, out=c)
+            else:
+                np.multiply(self._joint_factor, state.q, out=self._joint_buffer)
+                c += self._joint_buffer
             c -= self._joint_offset
-        elif self.joint_tasks:
-            # Across ball and free joints q ⊖ r is no difference of vectors: one per task.
-            for task in self.joint_tasks:
-                _, factor = task.diagonal_terms()
-                if factor.any():
-                    c += factor * state.robot.difference(task.reference, state.q)
+            return
+        # Across ball and free joints q ⊖ r is no difference of vectors: one per task, with
+        # the factors of the last refresh.
+        if fresh:
+            c.fill(0.0)
+        for task, factor in self._joint_factors:
+            np.multiply(
+                factor, state.robot.difference(task.reference, state.q), out=self._joint_buffer
+            )
+            c += self._joint_buffer
+
+    def _add_other_tasks(self, state: KinematicState, configuration, columns: np.ndarray):
+        H, c = self.H, self.c
         for task in self.other_tasks:
             if isinstance(task, Task):
                 task.add_objective(state, H, c)
@@ -179,7 +220,9 @@ class Assembly:
                 task.bind(robot)
         priorities = sorted({task_priority(task) for task in tasks})
         self.levels = [
-            LevelAssembly(p, [t for t in tasks if task_priority(t) == p], robot.dof, damping)
+            LevelAssembly(
+                p, [t for t in tasks if task_priority(t) == p], robot.dof, damping, robot.flat
+            )
             for p in priorities
         ]
         self.needs_configuration = any(not isinstance(task, Task) for task in tasks)

@@ -38,6 +38,12 @@ feasible — so a lower level can always be solved; should its back-end still fa
 degenerate face confuses some), the level and those below it are skipped and counted.
 Levels after the freedom is used up are skipped.
 
+**Cost.** A strict level should cost little more than a weighted one. When level 0 is a
+pure least-squares level (:math:`H_0 = A_0^\top A_0 + εI`, e.g. a pose task), its null
+space comes from one Householder QR of :math:`A_0^\top` (:func:`row_null_space`) instead
+of an eigendecomposition, and a level left with a single free direction (a 7-joint arm
+under a 6-D pose) is a one-variable QP, solved in closed form instead of by a back-end.
+
 This is the priority API other drivers build on: any objective :math:`(H, c)` given as a
 level below the task levels (e.g. a null-space motion) is optimised without disturbing
 them.
@@ -45,9 +51,14 @@ them.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
+from scipy.linalg.lapack import dgeqrf as _dgeqrf
+from scipy.linalg.lapack import dormqr as _dormqr
+from scipy.linalg.lapack import dsyev as _dsyev
+from scipy.linalg.lapack import dtrcon as _dtrcon
 
 from ..exceptions import BackendError, InfeasibleProblem
 from .backends import Backend
@@ -55,24 +66,91 @@ from .problem_data import QP
 
 
 def free_directions(H: np.ndarray, c: np.ndarray, rank_tol: float, shift: float = 0.0):
-    """Orthonormal basis (n × r) of ``ker [H − shift·I; cᵀ]`` for symmetric ``H``, by eigh.
+    """Orthonormal basis (n × r) of ``ker [H − shift·I; cᵀ]`` for symmetric ``H``.
 
     ``shift`` is the regularisation already added to ``H``: eigenvectors are shared, and an
-    eigenvalue ``λ`` counts as zero when ``λ − shift ≤ rank_tol · (λ_max − shift)``.
+    eigenvalue ``λ`` counts as zero when ``λ − shift ≤ rank_tol · (λ_max − shift)``. One
+    LAPACK ``dsyev`` call (numpy's ``eigh`` wrapper costs twice the decomposition at these
+    sizes); the direction of a remaining linear term is removed by a Householder reflection.
     """
-    eigenvalues, eigenvectors = np.linalg.eigh(H)
-    eigenvalues = eigenvalues - shift
-    scale = max(float(eigenvalues[-1]), 0.0)
+    eigenvalues, eigenvectors, info = _dsyev(H, compute_v=1, lower=1)
+    if info != 0:  # LAPACK did not converge: the general routine decides
+        eigenvalues, eigenvectors = np.linalg.eigh(H)
+    eigenvalues -= shift
+    scale = eigenvalues[-1]
     N = eigenvectors[:, eigenvalues <= rank_tol * scale] if scale > 0.0 else eigenvectors
     if N.shape[1] == 0:
         return N
-    g = N.T @ c
-    norm = float(np.linalg.norm(g))
-    if norm > rank_tol * max(float(np.linalg.norm(c)), 1.0):
-        # Remove the direction along which the linear term still changes the objective.
-        _, _, Vt = np.linalg.svd(g[None, :])
-        N = N @ Vt[1:].T
+    g = c @ N
+    norm = math.sqrt(g @ g)
+    if norm > rank_tol * max(math.sqrt(c @ c), 1.0):
+        # Remove the direction along which the linear term still changes the objective:
+        # the reflection P = I − 2vvᵀ/vᵀv, v = u − e₁ (u = g/‖g‖) maps e₁ to u, so its
+        # other columns span u⊥ (Golub & Van Loan §5.1.2).
+        v = g / norm
+        v[0] -= 1.0
+        vv = v @ v
+        if vv > 0.0:
+            N = N[:, 1:] - np.outer(N @ v, v[1:]) * (2.0 / vv)
+        else:
+            N = N[:, 1:]
     return N
+
+
+def row_null_space(A: np.ndarray, rank_tol: float) -> np.ndarray | None:
+    """Orthonormal basis (n × (n − m)) of ``ker A`` for a wide ``A`` (m < n) of full row rank,
+    from one Householder QR of ``Aᵀ`` — cheaper than the eigendecomposition of ``AᵀA``.
+
+    ``Aᵀ = Q R``: the last ``n − m`` columns of ``Q`` span ``range(Aᵀ)⊥ = ker A``
+    (Golub & Van Loan §5.2). Returns None (use :func:`free_directions`) when ``A`` is not
+    wide or LAPACK's estimate of ``R``'s reciprocal condition number is within a factor 10
+    of ``√rank_tol`` — the QR is not rank-revealing there, the eigendecomposition is; the
+    two thresholds agree, as ``AᵀA`` squares the singular values.
+    """
+    m, n = A.shape
+    if m == 0 or m >= n:
+        return None
+    qr, tau, _, info = _dgeqrf(A.T)
+    if info != 0:
+        return None
+    rcond, info = _dtrcon(qr[:m])  # reads the upper triangle only
+    if info != 0 or not rcond > 10.0 * math.sqrt(rank_tol):
+        return None
+    N, _, info = _dormqr(b"L", b"N", qr, tau, _identity_tail(n, m), 64 * n)
+    return N if info == 0 else None
+
+
+_IDENTITY_TAILS: dict[tuple[int, int], np.ndarray] = {}
+
+
+def _identity_tail(n: int, m: int) -> np.ndarray:
+    """The last ``n − m`` columns of the n × n identity, Fortran-ordered (LAPACK's)."""
+    tail = _IDENTITY_TAILS.get((n, m))
+    if tail is None:
+        tail = _IDENTITY_TAILS[n, m] = np.asfortranarray(np.eye(n)[:, m:])
+    return tail
+
+
+def _solve_one_variable(
+    h: float, g: float, a: list, lower: list, upper: list, offset: list | None = None
+) -> float:
+    """``argmin ½ h z² + g z`` s.t. ``min(l, 0) ≤ a z ≤ max(u, 0)`` with ``l = lower − offset``,
+    ``u = upper − offset`` (``offset`` default 0; h > 0; the relaxation keeps ``z = 0``
+    feasible): the unconstrained minimiser ``−g/h``, pulled back to the first row it crosses
+    on its way from 0 — exact, no back-end needed. A plain loop over Python floats: at a
+    handful of rows it is several times faster than numpy's per-call overhead.
+    """
+    z = -g / h
+    if offset is None:
+        offset = [0.0] * len(a)
+    for a_i, lower_i, upper_i, offset_i in zip(a, lower, upper, offset, strict=True):
+        # The side of row i that z moves towards: a_i z grows when a_i and z share a sign.
+        if (a_i > 0.0) == (z > 0.0):
+            if a_i * z > upper_i - offset_i:
+                z = max(upper_i - offset_i, 0.0) / a_i
+        elif a_i * z < lower_i - offset_i:
+            z = min(lower_i - offset_i, 0.0) / a_i
+    return z
 
 
 def solve_lexicographic(
@@ -86,6 +164,7 @@ def solve_lexicographic(
     damping: float | Sequence[float] = 0.0,
     rank_tol: float = 1e-10,
     stats: dict | None = None,
+    rows0: np.ndarray | None = None,
 ) -> np.ndarray:
     """Solve the levels ``objectives`` (highest first) lexicographically; returns ``x``.
 
@@ -100,24 +179,64 @@ def solve_lexicographic(
         rank_tol: Relative eigenvalue threshold of the null space.
         stats: If given, ``stats["skipped_levels"]`` counts lower levels whose back-end
             failed; their step is then zero (``z = 0`` is always feasible for them).
+        rows0: The stacked rows ``A₀`` when level 0 is a pure least-squares level,
+            ``H₀ = A₀ᵀA₀ + εI``: its null space then comes from a QR of ``A₀ᵀ``
+            (:func:`row_null_space`) rather than an eigendecomposition.
 
     Raises:
         InfeasibleProblem, BackendError: from the back-end of level 0.
     """
-    shifts = [damping] * len(objectives) if np.isscalar(damping) else list(damping)
+    if isinstance(damping, int | float | np.number):
+        shifts = [damping] * len(objectives)
+    else:
+        shifts = list(damping)
     H0, c0 = objectives[0]
     x = backends[0].solve(QP(H0, c0, lb, ub, C, l, u))
     if len(objectives) == 1:
         return x
-    N = free_directions(H0, c0, rank_tol, shifts[0])
+    N = None if rows0 is None else row_null_space(rows0, rank_tol)
+    if N is None:
+        N = free_directions(H0, c0, rank_tol, shifts[0])
     last = len(objectives) - 1
     for level, ((H_k, c_k), backend, shift) in enumerate(
         zip(objectives[1:], backends[1:], shifts[1:], strict=True), start=1
     ):
         if N.shape[1] == 0:
             break
-        Hz = N.T @ H_k @ N
-        cz = N.T @ (H_k @ x + c_k)
+        if N.shape[1] == 1:
+            # One free direction (a 7-joint arm under a 6-D pose): a one-variable QP, solved
+            # in closed form on Python floats.
+            v = N[:, 0]
+            Hv = H_k @ v
+            h = float(v @ Hv)
+            if h > 0.0:
+                g = float(x @ Hv) + float(c_k @ v)
+                if C is None and lb is None:
+                    z = -g / h
+                elif C is None:
+                    z = _solve_one_variable(h, g, v.tolist(), lb.tolist(), ub.tolist(), x.tolist())
+                else:
+                    a, lower, upper, offset = [], [], [], []
+                    if lb is not None:
+                        a += v.tolist()
+                        lower += lb.tolist()
+                        upper += ub.tolist()
+                        offset += x.tolist()
+                    Cx = C @ x
+                    a += (C @ v).tolist()
+                    lower += l.tolist()
+                    upper += u.tolist()
+                    offset += Cx.tolist()
+                    z = _solve_one_variable(h, g, a, lower, upper, offset)
+                x = x + z * v
+                if level == last:
+                    break
+                N = N @ free_directions(np.array([[h]]), np.array([g]), rank_tol, shift)
+                continue
+        HN = H_k @ N
+        Hz = N.T @ HN
+        cz = (x @ HN) + (c_k @ N)
+        qp = QP(Hz, cz)
         rows, lower, upper = [], [], []
         if lb is not None:
             rows.append(N)
@@ -128,7 +247,6 @@ def solve_lexicographic(
             Cx = C @ x
             lower.append(l - Cx)
             upper.append(u - Cx)
-        qp = QP(Hz, cz)
         if rows:
             qp.C = np.vstack(rows)
             # Keep z = 0 feasible despite the previous level's tolerance-sized violation.

@@ -1,14 +1,25 @@
 """Redundancy resolution: null-space projection and the self-motion manifold of a pose.
 
-* :mod:`.nullspace` — ``q̇ = J⁺ẋ + (I − J⁺J) q̇₀`` and the gradients of secondary criteria;
-  :func:`gradient_projection_ik` climbs a criterion while holding a pose.
-* :mod:`.criteria` — joint-limit margin, manipulability, distance to a nominal posture.
+* :mod:`.nullspace` — ``q̇ = J⁺ẋ + (I − J⁺J) q̇₀``; :func:`gradient_projection_ik` climbs a
+  criterion while holding a pose.
+* :mod:`.criteria` — joint-limit margin, manipulability, distance to a nominal posture as
+  scoring objects; their math (re-exported here) is :mod:`redik.criteria`.
 * :mod:`.selfmotion` — :func:`explore_self_motion` samples every configuration reaching a
   pose (curves for 7R arms, surfaces for 8R arms, points for 6R arms) into a
   :class:`SelfMotion`.
 * :mod:`.plot` — the manifold in joint space as matplotlib figures.
 """
 
+from ..criteria import (
+    jacobian_derivatives,
+    joint_limit_distance,
+    joint_limit_distance_gradient,
+    joint_limit_margin,
+    joint_limit_margin_gradient,
+    manipulability,
+    manipulability_gradient,
+    posture_gradient,
+)
 from .criteria import (
     Criterion,
     JointLimitMargin,
@@ -20,17 +31,9 @@ from .criteria import (
 )
 from .nullspace import (
     gradient_projection_ik,
-    jacobian_derivatives,
-    joint_limit_distance,
-    joint_limit_distance_gradient,
-    joint_limit_margin,
-    joint_limit_margin_gradient,
-    manipulability,
-    manipulability_gradient,
     nullspace_basis,
     nullspace_projector,
     nullspace_velocity,
-    posture_gradient,
     pseudo_inverse,
 )
 from .selfmotion import SelfMotion, explore_self_motion

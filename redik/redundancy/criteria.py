@@ -1,5 +1,8 @@
 r"""Secondary criteria: what makes one point of a self-motion manifold better than another.
 
+The math (values and gradients) is in :mod:`redik.criteria`; this module wraps it into
+scoring objects over a robot's samples.
+
 A criterion has a ``value`` at a configuration, a sense (``maximize``), and an ``ascent``
 direction ``q̇₀`` that improves it locally — the velocity fed to the null space in
 :func:`redik.redundancy.nullspace_velocity` and :func:`redik.redundancy.gradient_projection_ik`.
@@ -19,15 +22,15 @@ import numpy as np
 
 from ..batch.chain import Chain
 from ..batch.kinematics import jacobian
-from ..exceptions import InvalidInput
-from .nullspace import (
+from ..criteria import (
     joint_limit_margin,
     joint_limit_margin_gradient,
     manipulability,
     manipulability_gradient,
-    posture_difference,
+    posture_distance,
     posture_gradient,
 )
+from ..exceptions import InvalidInput
 
 if TYPE_CHECKING:
     from ..robot import Frame, Robot
@@ -68,7 +71,7 @@ class JointLimitMargin(Criterion):
     """Distance to the nearest joint limit (rad or m), to maximise.
 
     The ascent is the gradient of a soft minimum of the limit distances
-    (:func:`redik.redundancy.nullspace.joint_limit_margin_gradient`).
+    (:func:`redik.criteria.joint_limit_margin_gradient`).
     """
 
     name: str = "joint_limit_margin"
@@ -79,8 +82,7 @@ class JointLimitMargin(Criterion):
         return joint_limit_margin(q, robot.lower, robot.upper)
 
     def values(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
-        margins = np.minimum(q - robot.lower, robot.upper - q)
-        return np.min(margins, axis=1, initial=np.inf)
+        return np.asarray(joint_limit_margin(q, robot.lower, robot.upper))
 
     def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
         return joint_limit_margin_gradient(q, robot.lower, robot.upper, self.temperature)
@@ -97,7 +99,7 @@ class Manipulability(Criterion):
         return manipulability(J)
 
     def values(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
-        return np.sqrt(np.maximum(np.linalg.det(J @ J.transpose(0, 2, 1)), 0.0))
+        return np.asarray(manipulability(J))
 
     def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
         return manipulability_gradient(J)
@@ -112,11 +114,10 @@ class PostureDistance(Criterion):
     maximize: bool = False
 
     def value(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> float:
-        return float(np.linalg.norm(posture_difference(q, self.nominal, periodic_joints(robot))))
+        return float(posture_distance(q, self.nominal, periodic_joints(robot)))
 
     def values(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
-        delta = posture_difference(q, self.nominal, periodic_joints(robot))
-        return np.linalg.norm(delta, axis=1)
+        return np.asarray(posture_distance(q, self.nominal, periodic_joints(robot)))
 
     def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
         return posture_gradient(q, self.nominal, periodic_joints(robot))

@@ -13,8 +13,10 @@ takes the minimum-norm solution and adds any velocity that leaves the task uncha
 singularities), ``P = I − J⁺J`` the orthogonal projector onto ``ker J``, and ``q̇₀`` usually
 the gradient ``k ∇w(q)`` of a secondary criterion ``w`` to increase (eq. 3.55): distance
 from the joint limits (eq. 3.58), manipulability ``√det(JJᵀ)`` (eq. 3.56), closeness to a
-nominal posture. The functions here compute those pieces; :func:`gradient_projection_ik`
-iterates them into a solver that reaches a pose while climbing the criterion.
+nominal posture. The functions here compute the projection; the criteria and their
+gradients live in :mod:`redik.criteria` (re-exported here and in :mod:`redik.redundancy`);
+:func:`gradient_projection_ik` iterates them into a solver that reaches a pose while
+climbing a criterion.
 
 Twists and Jacobians follow :mod:`redik.conventions`: ``(v, ω)`` order; the manipulability
 gradient takes the ``"world"`` Jacobian (origin velocity and angular velocity in world axes),
@@ -27,13 +29,28 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..criteria import (  # noqa: F401 - re-exported: the criteria's former home
+    jacobian_derivatives,
+    joint_limit_distance,
+    joint_limit_distance_gradient,
+    joint_limit_margin,
+    joint_limit_margin_gradient,
+    manipulability,
+    manipulability_gradient,
+    posture_difference,
+    posture_gradient,
+)
 from ..exceptions import InvalidInput
-from ..lie import as_pose, inverse, pose_errors, se3_log, wrap_angle
+from ..lie import as_pose, as_vector, inverse, pose_errors, real_array, se3_log
 from ..result import IKResult
 
 if TYPE_CHECKING:
     from ..robot import Frame, Robot
     from .criteria import Criterion
+
+_MAX_ENTRY = 1e100
+"""Largest entry of ``J``, ``ẋ`` or ``q̇₀`` (and damping) :func:`nullspace_velocity` takes:
+``J Jᵀ + λ²I`` and ``J⁺ J q̇₀`` stay finite."""
 
 RANK_TOLERANCE = 1e-10
 """Singular values below ``RANK_TOLERANCE · σ_max`` count as zero in :func:`pseudo_inverse`."""
@@ -98,150 +115,25 @@ def nullspace_velocity(
         ``q̇`` (n). With ``damping = 0`` and ``J`` of full row rank, ``J q̇ = ẋ`` exactly and the
         second term changes nothing in the task.
     """
-    J = np.asarray(J, dtype=float)
-    if J.ndim != 2:
-        raise InvalidInput(f"J must be a 2-D (m × n) matrix, got shape {J.shape}")
+    J = real_array(J, "J")
+    if J.ndim != 2 or not np.isfinite(J).all():
+        raise InvalidInput(f"J must be a finite 2-D (m × n) matrix, got {J!r}")
     m, n = J.shape
-    twist = np.asarray(twist, dtype=float)
-    if twist.shape != (m,):
-        raise InvalidInput(f"twist must have shape ({m},) to match J {J.shape}, got {twist.shape}")
+    twist = as_vector(twist, m, "twist")
+    if not (
+        isinstance(damping, int | float | np.floating | np.integer) and 0.0 <= damping <= _MAX_ENTRY
+    ):
+        raise InvalidInput(f"damping must be a number in [0, {_MAX_ENTRY:g}], got {damping!r}")
+    if max(np.abs(J).max(initial=0.0), np.abs(twist).max(initial=0.0)) > _MAX_ENTRY:
+        raise InvalidInput(f"J and twist must be within ±{_MAX_ENTRY:g} (their products overflow)")
     J_pinv = pseudo_inverse(J, damping)
     dq = J_pinv @ twist
     if dq0 is not None:
-        dq0 = np.asarray(dq0, dtype=float)
-        if dq0.shape != (n,):
-            raise InvalidInput(f"dq0 must have shape ({n},) to match J {J.shape}, got {dq0.shape}")
+        dq0 = as_vector(dq0, n, "dq0")
+        if np.abs(dq0).max(initial=0.0) > _MAX_ENTRY:
+            raise InvalidInput(f"dq0 must be within ±{_MAX_ENTRY:g} (its products overflow)")
         dq += dq0 - J_pinv @ (J @ dq0)
     return dq
-
-
-# --------------------------------------------------------------------------------------
-# Secondary criteria and their gradients
-
-
-def joint_limit_distance(q: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> float:
-    r"""Liégeois' distance from the joint limits (Siciliano et al. eq. 3.58), to maximise:
-
-    .. math:: w(q) = -\frac{1}{2n} \sum_i \left(\frac{q_i - \bar q_i}{u_i - l_i}\right)^2,
-
-    ``q̄`` the middle of each range; the sum runs over the ``n`` joints with finite limits
-    (0 when there are none).
-    """
-    limited = np.isfinite(lower) & np.isfinite(upper)
-    if not np.any(limited):
-        return 0.0
-    scaled = (q[limited] - 0.5 * (lower[limited] + upper[limited])) / (
-        upper[limited] - lower[limited]
-    )
-    return float(-0.5 * np.mean(scaled**2))
-
-
-def joint_limit_distance_gradient(
-    q: np.ndarray, lower: np.ndarray, upper: np.ndarray
-) -> np.ndarray:
-    r"""``∇w`` of :func:`joint_limit_distance`: ``−(q_i − q̄_i) / (n (u_i − l_i)²)``."""
-    limited = np.isfinite(lower) & np.isfinite(upper)
-    gradient = np.zeros_like(q, dtype=float)
-    count = int(np.sum(limited))
-    if count:
-        middle = 0.5 * (lower[limited] + upper[limited])
-        width = upper[limited] - lower[limited]
-        gradient[limited] = -(q[limited] - middle) / (count * width**2)
-    return gradient
-
-
-def joint_limit_margin(q: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> float:
-    """Distance of ``q`` to its nearest joint limit, ``min_i min(q_i − l_i, u_i − q_i)``.
-
-    In joint units (rad or m); negative outside the limits, ``inf`` without limits.
-    """
-    margins = np.minimum(q - lower, upper - q)
-    return float(np.min(margins)) if margins.size else float("inf")
-
-
-def joint_limit_margin_gradient(
-    q: np.ndarray, lower: np.ndarray, upper: np.ndarray, temperature: float = 0.05
-) -> np.ndarray:
-    r"""Gradient of the soft minimum of the ``2n`` limit distances, to ascend.
-
-    :func:`joint_limit_margin` is a minimum, not differentiable where two distances tie; its
-    smooth stand-in ``−τ log Σ_j exp(−m_j / τ)`` over ``m = (q − l, u − q)`` differs from it by
-    at most ``τ log 2n`` and has the softmax-weighted gradient returned here.
-    """
-    margins = np.concatenate([q - lower, upper - q])
-    finite = np.isfinite(margins)
-    gradient = np.zeros_like(q, dtype=float)
-    if not np.any(finite):
-        return gradient
-    weights = np.zeros_like(margins)
-    shifted = -(margins[finite] - np.min(margins[finite])) / temperature
-    weights[finite] = np.exp(shifted) / np.sum(np.exp(shifted))
-    n = q.shape[0]
-    return weights[:n] - weights[n:]
-
-
-def manipulability(J: np.ndarray) -> float:
-    r"""Yoshikawa's manipulability ``w = √det(JJᵀ)`` (Siciliano et al. eq. 3.56)."""
-    return float(np.sqrt(max(np.linalg.det(J @ J.T), 0.0)))
-
-
-def jacobian_derivatives(J_world: np.ndarray) -> np.ndarray:
-    r"""``∂J/∂q_k`` of the ``"world"`` Jacobian of a serial chain, as an n × 6 × n array.
-
-    Each column ``J_i = (v_i, ω_i)`` (``ω_i`` the joint axis for a hinge, 0 for a slide)
-    moves with the joints upstream of it and with the end point (Haviland & Corke,
-    *Manipulator Differential Kinematics, Part I*, 2023, eq. 42 in (v, ω) order):
-
-    .. math::
-
-        \frac{∂J_i}{∂q_k} = \begin{cases}
-            (ω_k × v_i,\; ω_k × ω_i) & k ≤ i \\
-            (ω_i × v_k,\; 0) & k > i
-        \end{cases}
-    """
-    v, w = J_world[:3].T, J_world[3:].T  # n × 3 each
-    n = v.shape[0]
-    w_cross_v = np.cross(w[:, None, :], v[None, :, :])  # [k, i] = ω_k × v_i
-    w_cross_w = np.cross(w[:, None, :], w[None, :, :])  # [k, i] = ω_k × ω_i
-    upstream = np.triu(np.ones((n, n), dtype=bool))  # [k, i]: k ≤ i
-    H = np.zeros((n, 6, n))
-    dv = np.where(upstream[:, :, None], w_cross_v, np.swapaxes(w_cross_v, 0, 1))
-    dw = np.where(upstream[:, :, None], w_cross_w, 0.0)
-    H[:, :3, :] = np.swapaxes(dv, 1, 2)
-    H[:, 3:, :] = np.swapaxes(dw, 1, 2)
-    return H
-
-
-def manipulability_gradient(J_world: np.ndarray) -> np.ndarray:
-    r"""``∇w`` of ``w = √det(JJᵀ)``: ``∂w/∂q_k = w · tr(J⁺ ∂J/∂q_k)`` (Haviland & Corke eq. 57).
-
-    From ``∂ det A = det A · tr(A⁻¹ ∂A)`` with ``A = JJᵀ`` symmetric; ``∂J/∂q_k`` from
-    :func:`jacobian_derivatives`. Zero at a singularity, where ``w`` is not differentiable.
-    """
-    w = manipulability(J_world)
-    if w == 0.0:
-        return np.zeros(J_world.shape[1])
-    J_pinv = np.linalg.pinv(J_world)
-    H = jacobian_derivatives(J_world)
-    return w * np.einsum("ij,kji->k", J_pinv, H)
-
-
-def posture_difference(
-    q: np.ndarray, nominal: np.ndarray, periodic: np.ndarray | None = None
-) -> np.ndarray:
-    """``q − q_nominal``, wrapped to (−π, π] on the ``periodic`` joints (unlimited hinges)."""
-    delta = np.asarray(q, dtype=float) - nominal
-    if periodic is not None and np.any(periodic):
-        delta = delta.copy()
-        delta[..., periodic] = wrap_angle(delta[..., periodic])
-    return delta
-
-
-def posture_gradient(
-    q: np.ndarray, nominal: np.ndarray, periodic: np.ndarray | None = None
-) -> np.ndarray:
-    """``∇w = −(q − q_nominal)`` of ``w = −½‖q − q_nominal‖²``: ascending it nears the posture."""
-    return -posture_difference(q, nominal, periodic)
 
 
 # --------------------------------------------------------------------------------------

@@ -15,18 +15,20 @@ import numpy as np
 from ..robot import Robot
 from .joint_space_task import JointSpaceTask
 from .kinematics import KinematicState
+from .task import weight_or_cost
 
 
 class DampingTask(JointSpaceTask):
     """Penalise joint motion with a scalar or per-joint ``weight``.
 
     Args:
-        weight: Scalar or per-joint damping weight.
+        weight: Scalar or per-joint damping weight (default 1).
         priority: Priority level, 0 highest.
+        cost: mink's name for ``weight`` (give one of them).
     """
 
-    def __init__(self, weight=1.0, priority: int = 1):
-        super().__init__(weight, gain=0.0, priority=priority)
+    def __init__(self, weight=None, priority: int = 1, *, cost=None):
+        super().__init__(weight_or_cost(weight, cost), gain=0.0, priority=priority)
 
     def bind(self, robot: Robot) -> DampingTask:
         super().bind(robot)

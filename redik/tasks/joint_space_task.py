@@ -6,8 +6,13 @@ r"""Tasks on the joint values themselves: a diagonal Jacobian, a reference postu
 
 over the robot's tangent coordinates, with a constant :math:`d` and reference
 configuration :math:`r`; :math:`q \ominus r` is ``robot.difference(r, q)`` (plain
-:math:`q - r` on a flat robot; ``mj_differentiatePos`` across ball and free joints, whose
-Jacobian is then the identity to first order, as in mink's ``PostureTask``)
+:math:`q - r` on a flat robot; ``mj_differentiatePos`` across ball and free joints). On a
+ball joint, or a free joint's rotation, :math:`e = \log(R_r^\top R)` and a step
+:math:`R \to R \exp(δ)` changes it by :math:`J_r^{-1}(e)\, δ` (Solà et al., *A micro Lie
+theory*, 2018, App. B), not by :math:`δ`: :math:`J = \mathrm{diag}(d)` is exact only at
+:math:`q = r`, as in mink's ``PostureTask``. It still gives the exact first-order descent,
+since :math:`J_r^{-1}(e)\, e = e`: the step :math:`δ = -αe` lowers the error by
+:math:`αe` to first order however large :math:`e` is (``tests/test_whole_model.py``)
 (:class:`PostureTask`: :math:`d = 1`, :math:`r = q_{nom}`; :class:`JointLimitAvoidanceTask`:
 :math:`d = \sqrt2 s`, :math:`r = \bar q`; :class:`DampingTask`: :math:`d = 1`, :math:`α = 0`).
 Their objective is diagonal,

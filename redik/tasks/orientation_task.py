@@ -18,6 +18,7 @@ from .. import lie
 from ..exceptions import InvalidRotation
 from .frame_task import FrameTask, so3_left_jacobian_inverse
 from .kinematics import KinematicState
+from .task import weight_or_cost
 
 
 def as_target_rotation(target, *, strict: bool = False) -> np.ndarray:
@@ -38,24 +39,26 @@ class OrientationTask(FrameTask):
         target_rotation: 3 × 3 rotation matrix, unit quaternion ``(w, x, y, z)`` or
             ``mink.SO3``.
         frame: Site or body name; None is the robot's end-effector.
-        weight: Scalar or per-axis (3, body axes) weight.
+        weight: Scalar or per-axis (3, body axes) weight (default 1).
         gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
         priority: Priority level, 0 highest.
         strict: Refuse a near-rotation instead of projecting it onto SO(3) with a warning
             (:mod:`redik.lie`'s tolerance policy); also the default of :meth:`set_target`.
+        cost: mink's name for ``weight`` (give one of them).
     """
 
     def __init__(
         self,
         target_rotation,
         frame: str | None = None,
-        weight=1.0,
+        weight=None,
         gain: float = 1.0,
         priority: int = 0,
         *,
         strict: bool = False,
+        cost=None,
     ):
-        super().__init__(frame, weight, gain, priority, size=3)
+        super().__init__(frame, weight_or_cost(weight, cost), gain, priority, size=3)
         self.strict = strict
         self.target = as_target_rotation(target_rotation, strict=strict)
 

@@ -31,7 +31,7 @@ from .. import lie
 from ..batch.kernel import pose_error
 from .frame_task import FrameTask, se3_left_jacobian_inverse_entries
 from .kinematics import KinematicState
-from .task import as_weight
+from .task import as_weight, weight_or_cost
 
 
 def as_target_pose(target, name: str = "target", *, strict: bool = False) -> np.ndarray:
@@ -97,28 +97,37 @@ class PoseTask(FrameTask):
     Args:
         target: The target pose ``T_wd`` (4 × 4 array or ``mink.SE3``).
         frame: Site or body name; None is the robot's end-effector.
-        position_weight: Weight of the linear part ``v`` of the error (scalar or 3).
-        orientation_weight: Weight of the angular part ``ω`` (scalar or 3).
+        position_weight: Weight of the linear part ``v`` of the error (scalar or 3; default 1).
+        orientation_weight: Weight of the angular part ``ω`` (scalar or 3; default 1).
         gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
         priority: Priority level, 0 highest.
         strict: Refuse a near-rotation target instead of projecting it onto SO(3) with a
             warning (:mod:`redik.lie`'s tolerance policy); also the default of
             :meth:`set_target`.
+        position_cost, orientation_cost: mink's names for the two weights (give one name of
+            each pair).
     """
 
     def __init__(
         self,
         target,
         frame: str | None = None,
-        position_weight=1.0,
-        orientation_weight=1.0,
+        position_weight=None,
+        orientation_weight=None,
         gain: float = 1.0,
         priority: int = 0,
         *,
         strict: bool = False,
+        position_cost=None,
+        orientation_cost=None,
     ):
         super().__init__(frame, 1.0, gain, priority, size=6)
-        self.set_weights(position_weight, orientation_weight)
+        self.set_weights(
+            weight_or_cost(position_weight, position_cost, "position_weight", "position_cost"),
+            weight_or_cost(
+                orientation_weight, orientation_cost, "orientation_weight", "orientation_cost"
+            ),
+        )
         self.strict = strict
         self.set_target(target)
         self._scales_version = -1
@@ -128,6 +137,16 @@ class PoseTask(FrameTask):
         """Weights of the linear and angular parts (each a scalar or 3 values)."""
         self.cost[:3] = as_weight(position_weight, 3, "position_weight")
         self.cost[3:] = as_weight(orientation_weight, 3, "orientation_weight")
+        self.version += 1
+
+    def set_position_cost(self, position_cost) -> None:
+        """mink's name: replace the weight of the linear part (scalar or 3 values)."""
+        self.cost[:3] = as_weight(position_cost, 3, "position_cost")
+        self.version += 1
+
+    def set_orientation_cost(self, orientation_cost) -> None:
+        """mink's name: replace the weight of the angular part (scalar or 3 values)."""
+        self.cost[3:] = as_weight(orientation_cost, 3, "orientation_cost")
         self.version += 1
 
     def set_target(self, target, *, strict: bool | None = None) -> None:

@@ -11,6 +11,7 @@ import numpy as np
 from .. import lie
 from .frame_task import FrameTask
 from .kinematics import KinematicState
+from .task import weight_or_cost
 
 
 class PositionTask(FrameTask):
@@ -19,20 +20,23 @@ class PositionTask(FrameTask):
     Args:
         target_position: The target ``p_d`` in metres.
         frame: Site or body name; None is the robot's end-effector.
-        weight: Scalar or per-axis (3) weight.
+        weight: Scalar or per-axis (3) weight (default 1).
         gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
         priority: Priority level, 0 highest.
+        cost: mink's name for ``weight`` (give one of them).
     """
 
     def __init__(
         self,
         target_position,
         frame: str | None = None,
-        weight=1.0,
+        weight=None,
         gain: float = 1.0,
         priority: int = 0,
+        *,
+        cost=None,
     ):
-        super().__init__(frame, weight, gain, priority, size=3)
+        super().__init__(frame, weight_or_cost(weight, cost), gain, priority, size=3)
         self.target = lie.as_vector(target_position, 3, "target_position").copy()
 
     def set_target(self, target_position) -> None:

@@ -13,6 +13,7 @@ import numpy as np
 from .. import lie
 from ..robot import Robot
 from .joint_space_task import JointSpaceTask
+from .task import weight_or_cost
 
 
 class PostureTask(JointSpaceTask):
@@ -21,13 +22,16 @@ class PostureTask(JointSpaceTask):
     Args:
         q_nominal: The nominal configuration (``robot.nq``,); None is the robot's ``home``,
             taken when the task is bound.
-        weight: Scalar or per-joint weight.
+        weight: Scalar or per-joint weight (default 1).
         gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
         priority: Priority level, 0 highest.
+        cost: mink's name for ``weight`` (give one of them).
     """
 
-    def __init__(self, q_nominal=None, weight=1.0, gain: float = 1.0, priority: int = 1):
-        super().__init__(weight, gain, priority)
+    def __init__(
+        self, q_nominal=None, weight=None, gain: float = 1.0, priority: int = 1, *, cost=None
+    ):
+        super().__init__(weight_or_cost(weight, cost), gain, priority)
         self._q_nominal_given = q_nominal
 
     def bind(self, robot: Robot) -> PostureTask:
@@ -36,7 +40,7 @@ class PostureTask(JointSpaceTask):
         if self._q_nominal_given is None:
             self.reference = robot.home.copy()
         else:
-            self.reference = robot.clip(lie.as_vector(self._q_nominal_given, robot.nq, "q_nominal"))
+            self.reference = _nominal(robot, self._q_nominal_given)
         return self
 
     @property
@@ -47,5 +51,10 @@ class PostureTask(JointSpaceTask):
     def set_target(self, q_nominal) -> None:
         """Replace the nominal posture (validated against the bound robot)."""
         robot = self._require_robot()
-        self.reference = robot.clip(lie.as_vector(q_nominal, robot.nq, "q_nominal"))
+        self.reference = _nominal(robot, q_nominal)
         self.version += 1
+
+
+def _nominal(robot: Robot, q_nominal) -> np.ndarray:
+    """``q_nominal`` checked (shape, finite, no zero quaternion) and clipped into the limits."""
+    return robot.clip(robot.check_q(lie.as_vector(q_nominal, robot.nq, "q_nominal"), "q_nominal"))

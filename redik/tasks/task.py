@@ -22,7 +22,15 @@ This is mink's task protocol (``mink.Task``: ``compute_error``, ``compute_jacobi
 ``cost`` = :math:`w`, ``gain``), so a redik task can be handed to ``mink.solve_ik`` and a
 mink task to :class:`redik.Problem`. Weights multiply the residual, as mink's ``cost``
 does: the objective scales with :math:`w^2`. A weight is a scalar or one value per error
-component. Tasks that are not least squares (:class:`ManipulabilityTask`) implement
+component.
+
+**Vocabulary.** redik's canonical word is *weight* (``weight=``, ``position_weight=``,
+:meth:`ResidualTask.set_weight`); mink's *cost* is accepted everywhere as a synonym
+(``cost=``, ``position_cost=``, ``set_cost``, ``set_position_cost``), so code written
+for mink reads the same. The stored vector is ``task.cost``, the attribute mink reads.
+Giving both names at once is an error.
+
+Tasks that are not least squares (:class:`ManipulabilityTask`) implement
 :meth:`Task.add_objective` directly.
 
 A task names frames, not ids; :meth:`Task.bind` resolves them against a
@@ -39,31 +47,55 @@ from mink.tasks import BaseTask, Objective
 from mink.tasks import Task as MinkTask
 
 from ..exceptions import InvalidInput
+from ..lie import real_array
 from ..robot import Robot
 from .kinematics import KinematicState
 
+MAX_WEIGHT = 1e6
+"""Largest task weight accepted. A weight enters the Hessian squared: beyond ``1e6`` (``w² =
+1e12``) a weight-1 task beside it is lost to rounding and active-set back-ends fail
+(quadprog's Cholesky at 1e8, daqp's set-up at 1e20, measured on panda). Strict precedence
+is what priorities are for."""
+
 
 def as_weight(weight, size: int, name: str) -> np.ndarray:
-    """A non-negative finite weight, scalar or per component, as a (``size``,) array."""
-    array = np.atleast_1d(np.asarray(weight, dtype=float))
+    """A finite weight in ``[0, MAX_WEIGHT]``, scalar or per component, as a (``size``,)
+    array."""
+    array = np.atleast_1d(real_array(weight, name))
     if array.ndim != 1 or array.shape[0] not in (1, size):
         raise InvalidInput(f"{name} must be a scalar or have shape ({size},), got {array.shape}")
-    if not np.all(np.isfinite(array)) or np.any(array < 0.0):
-        raise InvalidInput(f"{name} must be finite and >= 0, got {array.tolist()}")
+    if not np.all((array >= 0.0) & (array <= MAX_WEIGHT)):  # NaN fails too
+        raise InvalidInput(f"{name} must be in [0, {MAX_WEIGHT:g}], got {array.tolist()}")
     return np.broadcast_to(array, (size,)).copy()
+
+
+def weight_or_cost(weight, cost, weight_name: str = "weight", cost_name: str = "cost"):
+    """The weight given under redik's name or mink's (default 1); refuses both at once."""
+    if cost is None:
+        return 1.0 if weight is None else weight
+    if weight is not None:
+        raise InvalidInput(
+            f"give {weight_name}= or {cost_name}= (mink's name for it), not both: "
+            f"{weight_name}={weight!r}, {cost_name}={cost!r}"
+        )
+    return cost
 
 
 def as_gain(gain: float) -> float:
     """A task gain in [0, 1] (1 = dead-beat, smaller = low-pass)."""
-    gain = float(gain)
+    if isinstance(gain, bool) or not isinstance(gain, int | float | np.integer | np.floating):
+        raise InvalidInput(f"gain must be a number in [0, 1], got {gain!r}")
     if not 0.0 <= gain <= 1.0:
         raise InvalidInput(f"gain must be in [0, 1], got {gain}")
-    return gain
+    return float(gain)
 
 
 def as_priority(priority: int) -> int:
     """A priority level: an integer >= 0, 0 being the highest."""
-    if isinstance(priority, bool) or int(priority) != priority or priority < 0:
+    integral = isinstance(priority, int | np.integer) or (
+        isinstance(priority, float) and priority.is_integer()
+    )
+    if isinstance(priority, bool) or not integral or priority < 0:
         raise InvalidInput(f"priority must be an integer >= 0 (0 is highest), got {priority!r}")
     return int(priority)
 
@@ -156,6 +188,10 @@ class ResidualTask(Task, MinkTask):
         ``cost`` in place: cached products are refreshed through :attr:`version`."""
         self.cost[:] = as_weight(weight, self.k, f"{type(self).__name__} weight")
         self.version += 1
+
+    def set_cost(self, cost) -> None:
+        """mink's name for :meth:`set_weight`."""
+        self.set_weight(cost)
 
     @abc.abstractmethod
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
