@@ -47,7 +47,7 @@ from .limits import (
 )
 from .model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
 from .pose_ik import solve_all, solve_pose
-from .problem import Problem
+from .problem import Problem, QPResult
 from .qp import available_backends, make_backend
 from .redundancy import SelfMotion, explore_self_motion, nullspace_velocity
 from .result import STATUSES, IKResult
@@ -96,6 +96,7 @@ __all__ = [
     "PositionTask",
     "PostureTask",
     "Problem",
+    "QPResult",
     "RedikError",
     "RedikWarning",
     "Robot",

@@ -88,6 +88,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from ._validate import positive
 from .batch.chain import Chain
 from .exceptions import InvalidInput
 from .iterative import armijo_backtrack
@@ -202,9 +203,10 @@ def solve_pose(
     if not isinstance(respect_limits, bool | np.bool_):
         raise InvalidInput(f"respect_limits must be True or False, got {respect_limits!r}")
     _check_seed(seed)
-    for name, tol in (("pos_tol", pos_tol), ("rot_tol", rot_tol)):
-        if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
-            raise InvalidInput(f"{name} must be a positive number, got {tol!r}")
+    pos_tol, rot_tol = (
+        positive(pos_tol, "pos_tol", unit="m"),
+        positive(rot_tol, "rot_tol", unit="rad"),
+    )
     max_iter = _count(MAX_ITER[method] if max_iter is None else max_iter, "max_iter", 1)
     restarts = _count(RESTARTS[method] if restarts is None else restarts, "restarts", 0)
     resolved = robot.frame(frame)
@@ -280,9 +282,10 @@ def solve_all(
     frame: str | Frame | None = None,
     cluster_tol: float = 1e-3,
     strict: bool = False,
+    q0: np.ndarray | None = None,
     **method_options: object,
 ) -> list[IKResult]:
-    """The distinct solutions reached from ``n_starts`` random starts.
+    """The distinct solutions reached from ``n_starts`` starts: ``q0`` if given, then random.
 
     Each start is solved by :func:`solve_pose` without restarts; the successful results are
     clustered: two solutions are the same when every joint differs by at most
@@ -290,32 +293,37 @@ def solve_all(
     without limits or whose range spans more than 2π. A redundant arm has a continuum of
     solutions: the list then samples it.
 
+    On a whole-model robot (:mod:`redik.robot`) the solutions are those of its chain to
+    ``frame``, every other joint held at its value in ``q0`` (default ``robot.home``) — as
+    :func:`solve_pose` holds them — and each ``q`` is the whole robot's.
+
     Returns:
         The successful results, one per cluster (the most accurate), ordered by
         ``‖log(T⁻¹ T_d)‖`` — empty when no start converged.
     """
-    if not robot.is_chain:  # the chain to the frame, the other joints at home
-        chain = robot.chain(robot.frame(frame), robot.home)
+    if not robot.is_chain:  # the chain to the frame, the other joints at q0 (else home)
+        q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
+        chain = robot.chain(robot.frame(frame), q_whole)
         results = solve_all(
             chain, T_target, n_starts, seed, method, pos_tol, rot_tol, max_iter,
-            respect_limits, None, cluster_tol, strict, **method_options,
+            respect_limits, None, cluster_tol, strict,
+            None if q0 is None else chain.q_of(), **method_options,
         )  # fmt: skip
         for result in results:
-            result.q = robot.embed(chain, result.q, robot.home)
-            result.history = np.array(
-                [robot.embed(chain, row, robot.home) for row in result.history]
-            )
+            result.q = robot.embed(chain, result.q, q_whole)
+            result.history = np.array([robot.embed(chain, row, q_whole) for row in result.history])
         return results
     T_target = as_pose(T_target, "T_target", strict=strict)  # once, not per start
     n_starts = _count(n_starts, "n_starts", 1)
-    if not (isinstance(cluster_tol, (int, float)) and cluster_tol > 0):
-        raise InvalidInput(f"cluster_tol must be a positive number, got {cluster_tol!r}")
+    cluster_tol = positive(cluster_tol, "cluster_tol")
+    first = None if q0 is None else robot.check_q(q0, "q0")
     rng = np.random.default_rng(seed)
     periodic = robot.revolute & ((robot.upper - robot.lower) >= 2.0 * np.pi)
     solutions: list[IKResult] = []
-    for _ in range(n_starts):
+    for start in range(n_starts):
+        q_start = first if start == 0 and first is not None else robot.random_q(rng)
         result = solve_pose(
-            robot, T_target, robot.random_q(rng), method=method, pos_tol=pos_tol,
+            robot, T_target, q_start, method=method, pos_tol=pos_tol,
             rot_tol=rot_tol, max_iter=max_iter, restarts=0, respect_limits=respect_limits,
             frame=frame, **method_options,
         )  # fmt: skip
@@ -619,7 +627,7 @@ def _newton(options: dict) -> Iteration:
     form = options["form"]
     if form not in ("body", "space"):
         raise InvalidInput(f"form must be 'body' or 'space', got {form!r}")
-    step = _positive(options["step"], "step")
+    step = positive(options["step"], "step")
     stop = options["stop"]
     if stop not in ("pose", "twist"):
         raise InvalidInput(f"stop must be 'pose' or 'twist' (Modern Robotics' rule), got {stop!r}")
@@ -715,7 +723,7 @@ def _transpose_step(
 def _transpose(options: dict) -> Iteration:
     step = options["step"]
     if step != "armijo":
-        step = _positive(step, "step")
+        step = positive(step, "step")
 
     def iterate(problem: _Problem, q: np.ndarray, max_iter: int) -> _Attempt:
         return _gradient_then_newton(problem, q, max_iter, step, switch_error=0.0)
@@ -724,7 +732,7 @@ def _transpose(options: dict) -> Iteration:
 
 
 def _hybrid(options: dict) -> Iteration:
-    switch_error = _positive(options["switch_error"], "switch_error")
+    switch_error = positive(options["switch_error"], "switch_error")
 
     def iterate(problem: _Problem, q: np.ndarray, max_iter: int) -> _Attempt:
         return _gradient_then_newton(problem, q, max_iter, "armijo", switch_error)
@@ -934,12 +942,6 @@ def _shift_into_limits(robot: Robot, q: np.ndarray) -> np.ndarray:
         if shifted <= robot.upper[i]:
             q[i] = shifted
     return q
-
-
-def _positive(value: object, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
-        raise InvalidInput(f"{name} must be a positive number, got {value!r}")
-    return float(value)
 
 
 def _check_seed(seed: object) -> None:

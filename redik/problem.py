@@ -9,7 +9,8 @@ lexicographically (:mod:`redik.qp.hierarchy`) with the chosen back-end
 
 **Limits are never left.** The position box is shrunk by the back-end's tolerance and
 :math:`q + Δq` is then clipped into the joint limits, so every configuration ``step`` leads
-to and ``solve`` returns lies within them (:mod:`redik.limits.position_limit`).
+to and ``solve`` returns lies within them (:mod:`redik.limits.position_limit`). The default
+limits also hold every limited ball joint in its cone (:mod:`redik.limits.ball_joint_limit`).
 
 **Whole models.** On a robot with ball or free joints (a floating base), ``q`` has
 ``robot.nq`` entries and ``Δq`` ``robot.dof`` (the tangent space): ``solve`` steps by
@@ -33,7 +34,8 @@ import numpy as np
 from scipy.optimize import nnls
 
 from .exceptions import InfeasibleProblem, InvalidInput
-from .limits import BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
+from .limits import BallJointLimit, BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
+from .limits.ball_joint_limit import limited_ball_joints
 from .qp.assembly import Assembly
 from .qp.backends import Backend, make_backend
 from .qp.hierarchy import free_directions, row_null_space, solve_lexicographic
@@ -109,8 +111,9 @@ class Problem:
         tasks: redik tasks and/or mink tasks (``mink.FrameTask``, ``mink.ComTask``…). Tasks
             of equal ``priority`` are weighted and summed; priorities are strict. A single
             task is accepted as the list of it, ``Problem(robot, PoseTask(T))``.
-        limits: redik or mink limits; None is ``[PositionLimit()]``, ``[]`` is none; a
-            single limit is the list of it.
+        limits: redik or mink limits; None is the robot's own ranges, ``[PositionLimit()]``
+            plus a :class:`~redik.limits.BallJointLimit` when it moves limited ball joints
+            (whose cones no box holds); ``[]`` is none; a single limit is the list of it.
         backend: A back-end name, a list of names (a fallback chain) or a
             :class:`~redik.qp.backends.Backend` (see :func:`~redik.qp.backends.make_backend`);
             an instance serves one priority level only, since back-ends keep per-QP state
@@ -176,11 +179,10 @@ class Problem:
         self._rows0 = level0.A if level0.least_squares and len(self.levels) > 1 else None
         tolerance = max(b.tolerance for b in self.backends)
 
-        limits = (
-            [PositionLimit()]
-            if limits is None
-            else _as_list(limits, "limits", "compute_qp_inequalities")
-        )
+        if limits is None:
+            limits = [PositionLimit()] + ([BallJointLimit()] if limited_ball_joints(robot) else [])
+        else:
+            limits = _as_list(limits, "limits", "compute_qp_inequalities")
         self.limits: list[Limit] = []
         for limit in limits:
             if not isinstance(limit, Limit):
@@ -283,8 +285,12 @@ class Problem:
         max_step: float | None = None,
         lm_damping: float = 0.0,
         error_damping: float = 0.0,
+        objectives: list | None = None,
     ):
-        objectives = self._assembly.objectives(self._state, self._configuration)
+        """The step at the current state (``q``); ``objectives``, when given, are this
+        state's (:meth:`_stationarity` just built them) and are not rebuilt."""
+        if objectives is None:
+            objectives = self._assembly.objectives(self._state, self._configuration)
         if error_damping > 0.0:
             b0 = self._assembly.levels[0].b  # level 0's weighted residual rows, just built
             lm_damping += error_damping * float(b0 @ b0)
@@ -379,8 +385,11 @@ class Problem:
 
         Converged means: every frame task of level 0 within ``pos_tol`` (m) and
         ``rot_tol`` (rad) — position and rotation errors of :mod:`redik.conventions` —
-        and every other level-0 task that has a target (a mink task, say) with
-        ``‖e‖ ≤ pos_tol``. Joint-space regularisers (posture, joint-limit avoidance,
+        and every other level-0 task that has a target (a mink task) with
+        ``‖W e‖ ≤ pos_tol``, ``W = diag(cost)`` its cost-weighted error — what its QP
+        term asks for: a component of zero cost (the height of a ``mink.ComTask`` with
+        cost ``[1, 1, 0]``) is not waited for, and the backtracking measures the same
+        weighted error. Joint-space regularisers (posture, joint-limit avoidance,
         damping) and gradient tasks have no target and are not waited for. With frame tasks
         on several frames (two hands, the feet) the reported position and rotation errors
         are the largest. With no target at level 0, the solve converges when the step taken
@@ -454,22 +463,30 @@ class Problem:
         converged, error, position_error, rotation_error = self._level0_errors(pos_tol, rot_tol)
         errors = [error]
         stationarity: list[float] = []
+        stationarity_at_q = False  # `stationarity` is that of the current q
         iterations = 0
         mu = lm_damping
         status = "max_iterations"
         while True:
+            # The state is at q here. Once level 0 converged, the objectives that measure
+            # the lower levels' stationarity are also those of the next step: built once.
+            objectives = None
             if converged and self._targets:
                 if not finish_lower:
                     status = "converged"
                     break
-                stationarity = self._stationarity(q, dt)
+                objectives = self._assembly.objectives(self._state, self._configuration)
+                stationarity = self._stationarity(q, dt, objectives)
+                stationarity_at_q = True
                 if max(stationarity) <= stationarity_tol:
                     status = "converged"
                     break
             if iterations >= max_iter:
                 status = "converged" if converged and self._targets else "max_iterations"
                 break
-            dq = self._step(q, dt, max_step, mu * error * error if self._targets else 0.0)
+            dq = self._step(
+                q, dt, max_step, mu * error * error if self._targets else 0.0, 0.0, objectives
+            )
             # Backtracking on the level-0 error: far from the target a full Gauss–Newton
             # step overshoots (into the limits, or into a two-point cycle). Scaling the
             # whole lexicographic Δq keeps every level's direction; q + αΔq stays in the
@@ -498,6 +515,7 @@ class Problem:
             if mu > 0.0:
                 mu = max(mu * 0.5, _MU_MIN) if alpha == 1.0 else min(mu * 8.0, _MU_MAX)
             q = trial
+            stationarity_at_q = False
             iterations += 1
             history.append(q.copy())
             converged, error, position_error, rotation_error = result
@@ -517,9 +535,8 @@ class Problem:
             if step_norm < q_tol:
                 status = "converged" if converged else "stalled"
                 break
-        if finish_lower:
+        if finish_lower and not stationarity_at_q:
             stationarity = self._stationarity(q, dt)
-            self._update(q)
         stationary = not stationarity or max(stationarity) <= (stationarity_tol or np.inf)
         message = self._message(status, position_error, rotation_error, error)
         if status == "converged" and not stationary:
@@ -564,9 +581,12 @@ class Problem:
         _check_dt(dt)
         return self._stationarity(q, dt)
 
-    def _stationarity(self, q: np.ndarray, dt: float | None) -> list[float]:
-        self._update(q)
-        objectives = self._assembly.objectives(self._state, self._configuration)
+    def _stationarity(self, q: np.ndarray, dt: float | None, objectives=None) -> list[float]:
+        """:meth:`stationarity`; with ``objectives`` (built at ``q``, the current state)
+        nothing is recomputed."""
+        if objectives is None:
+            self._update(q)
+            objectives = self._assembly.objectives(self._state, self._configuration)
         n = self.robot.dof
         # Active limits as rows a_i of a_i·Δq ≤ 0.
         active = []
@@ -616,7 +636,9 @@ class Problem:
             if J is not None:
                 task.residual_into(self._state, e, J)
             else:
-                e = task.compute_error(self._configuration)
+                # A mink task asks for its cost-weighted error (mink's W = diag(cost)): a
+                # component of zero cost (the height of a ComTask) is no part of its target.
+                e = task.cost * task.compute_error(self._configuration)
             norm_squared = float(e @ e)
             squared += norm_squared
             if is_frame:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 
 import redik
 from redik import analytic
@@ -373,3 +374,62 @@ def test_ur_wrist_singularity_is_polished_and_equals_the_ur_solver():
             member = family.at(t)
             assert abs(wrap_angle(member[5] - t)) < 1e-12
             assert np.abs(robot.fk(member) - T).max() <= FK_TOL
+
+
+def _arm_singular_configuration(robot: redik.Robot, q: np.ndarray) -> np.ndarray | None:
+    """``q`` with θ3 moved to where the wrist centre's Jacobian in (θ1, θ2, θ3) is singular
+    (two arm solutions merge there), or None if θ3 never makes it so."""
+    solver = analytic.solver_for(robot)
+    home = np.eye(4)
+    home[:3, :3], home[:3, 3] = solver.geometry[13:16], solver.geometry[12]
+    centre = np.linalg.inv(home) @ np.r_[solver.geometry[9], 1.0]
+
+    def determinant(t3: float) -> float:
+        trial = np.r_[q[:2], t3, q[3:]]
+        J = np.empty((3, 3))
+        for j in range(3):
+            step = np.zeros(6)
+            step[j] = 1e-6
+            J[:, j] = (robot.fk(trial + step) @ centre - robot.fk(trial - step) @ centre)[:3]
+        return float(np.linalg.det(J / 2e-6))
+
+    grid = np.linspace(-np.pi, np.pi, 91)
+    values = [determinant(t) for t in grid]
+    for i in range(90):
+        if np.sign(values[i]) != np.sign(values[i + 1]):
+            t3 = brentq(determinant, grid[i], grid[i + 1], xtol=1e-15)
+            return np.r_[q[:2], t3, q[3:]]
+    return None
+
+
+def test_search_finds_double_roots_where_two_arm_solutions_merge():
+    """At an arm singularity the search residual touches zero without changing sign; the
+    configuration that made the target must still be found (the sign-change scan alone
+    returned nothing for most of these targets)."""
+    rng = np.random.default_rng(12)
+    checked = 0
+    while checked < 4:
+        robot = _general_spherical(rng)
+        q = _arm_singular_configuration(robot, robot.random_q(rng))
+        if q is None:
+            continue
+        T = robot.fk(q)
+        solutions = analytic.solver_for(robot)(T, limits=None)
+        assert len(solutions) >= 2
+        for solution in solutions:
+            assert np.abs(robot.fk(solution.q) - T).max() <= FK_TOL
+        # θ1 of a double root is determined to about √ε, the pose to rounding.
+        nearest = min(solutions, key=lambda s: _distance(s, q))
+        assert _distance(nearest, q) <= 1e-6 and nearest.singular
+        checked += 1
+
+
+def test_raw_takes_any_array_like_target_without_compiling_a_new_kernel():
+    robot = redik.load("puma560")
+    solver = analytic.solver_for(robot, "decomposed")
+    T = robot.fk(robot.random_q(np.random.default_rng(13)))
+    expected = solver.raw(T, limits=None)
+    for variant in (T.tolist(), np.asfortranarray(T), np.repeat(T, 2, axis=0)[::2]):
+        assert _same_set(solver.raw(variant, limits=None), expected, 1e-12)
+    # One compiled signature: other arrays are converted by the caller, not compiled for.
+    assert len(decomposed.kernels.solve_raw.signatures) == 1

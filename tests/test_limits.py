@@ -128,3 +128,21 @@ def test_no_iterate_leaves_the_limits_on_any_backend(backend):
         problem.tasks[0].set_target(robot.fk(q_target))
         result = problem.solve(robot.random_q(rng), max_iter=30)
         assert np.all(result.history >= robot.lower) and np.all(result.history <= robot.upper)
+
+
+class ZeroRow(InequalityLimit):
+    """0 · Δq ≤ −1: a row no step satisfies, which DAQP refuses at its set-up."""
+
+    def inequalities(self, state, dt):
+        return np.zeros((1, self.robot.dof)), np.array([-1.0])
+
+
+def test_a_row_refused_at_the_backend_set_up_is_infeasible_not_a_raw_error():
+    robot = redik.load("panda")
+    target = robot.fk(robot.clip(robot.home + 0.1))
+    problem = Problem(robot, [PoseTask(target)], [PositionLimit(), ZeroRow()])
+    for _ in range(2):
+        with pytest.raises(InfeasibleProblem, match=r"'daqp'.*infeasible"):
+            problem.step(robot.home)
+    with pytest.raises(InfeasibleProblem, match=r"'daqp'.*infeasible"):
+        problem.solve(robot.home)

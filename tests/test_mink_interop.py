@@ -155,3 +155,27 @@ def test_minks_cost_vocabulary_is_accepted_beside_redik_weight(rng):
 def test_weight_and_cost_together_are_refused(make):
     with pytest.raises(InvalidInput, match="not both"):
         make()
+
+
+def test_mink_tasks_converge_on_their_cost_weighted_error():
+    # A component of zero cost is no part of the target: the QP leaves it free, so the
+    # unweighted error (the CoM height, the frame's rotation) never vanished and the solve
+    # stalled instead of converging.
+    robot = redik.load("panda")
+    configuration = mink.Configuration(robot.model, robot.full_qpos(robot.home))
+    com = mink.ComTask(cost=[1.0, 1.0, 0.0])
+    target = configuration.data.subtree_com[1] + [0.03, -0.02, 0.3]  # 30 cm too high
+    com.set_target(target)
+    result = Problem(robot, [com]).solve(robot.home)
+    assert result.status == "converged", result.message
+    configuration.update(robot.full_qpos(result.q))
+    reached = configuration.data.subtree_com[1]
+    np.testing.assert_allclose(reached[:2], target[:2], atol=1e-6)
+    assert abs(reached[2] - target[2]) > 0.1  # the height was not asked for
+    frame = mink.FrameTask("ee", "site", position_cost=1.0, orientation_cost=0.0)
+    T = robot.fk(robot.clip(robot.home + 0.2))
+    frame.set_target(mink.SE3.from_matrix(T @ redik.lie.make_pose(redik.lie.so3_exp([0.3, 0, 0]),
+                                                                  np.zeros(3))))  # fmt: skip
+    result = Problem(robot, [frame]).solve(robot.home)
+    assert result.status == "converged", result.message
+    assert np.linalg.norm(robot.fk(result.q)[:3, 3] - T[:3, 3]) < 1e-6

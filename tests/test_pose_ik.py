@@ -306,3 +306,21 @@ def test_dls_results_own_their_arrays_though_the_solver_state_is_reused(rng):
     np.testing.assert_array_equal(first.error_history, errors)
     assert len(robot.solver_cache) == 1  # the same frame reuses its solver
     assert not redik.load("panda").solver_cache  # another robot owns its own
+
+
+def test_scalar_options_take_numpy_numbers_and_refuse_bools_nan_and_inf():
+    robot = redik.load("panda")
+    T = robot.fk(robot.clip(robot.home + 0.1))
+    for method, options in (("newton", {"step": np.float64(1.0)}),
+                            ("transpose", {"step": np.float32(0.5)}),
+                            ("hybrid", {"switch_error": np.float64(0.1)})):  # fmt: skip
+        result = solve_pose(robot, T, method=method, pos_tol=np.float64(1e-6), seed=0, **options)
+        assert result.success, (method, result.message)
+    assert solve_all(robot, T, n_starts=20, seed=0, cluster_tol=np.float64(1e-3))
+    for bad in (True, float("nan"), float("inf"), "1", -1.0):
+        with pytest.raises(InvalidInput, match="step must be a finite positive number"):
+            solve_pose(robot, T, method="newton", step=bad)
+        with pytest.raises(InvalidInput, match="pos_tol must be a finite positive number"):
+            solve_pose(robot, T, pos_tol=bad)
+        with pytest.raises(InvalidInput, match="cluster_tol must be a finite positive number"):
+            solve_all(robot, T, n_starts=1, cluster_tol=bad)

@@ -414,3 +414,10 @@ def test_step_damping_leaves_a_reachable_path_tracked(panda):
     assert np.allclose(v_damped, v_plain, atol=1e-3)
     with pytest.raises(InvalidInput, match="step_damping"):
         Problem(panda, [PoseTask(np.eye(4))], step_damping=-1.0)
+
+
+def test_qp_result_is_exported_with_the_problem():
+    robot = redik.load("panda")
+    result = redik.Problem(robot, redik.PoseTask(robot.fk(robot.home))).solve(robot.home)
+    assert isinstance(result, redik.QPResult) and isinstance(result, redik.IKResult)
+    assert "QPResult" in redik.__all__

@@ -192,3 +192,23 @@ def test_daqp_solves_an_unconstrained_qp_twice(rng):
     for qp in random_ik_qps(rng, 3)[:1] * 3:
         free = QP(qp.H, qp.c)
         np.testing.assert_allclose(backend.solve(free), np.linalg.solve(qp.H, -qp.c), atol=1e-9)
+
+
+def test_daqp_set_up_and_update_failures_are_reported_not_left_in_the_workspace():
+    # A zero row with a negative right-hand side (0 ≤ −1) or a crossed bound fails DAQP's
+    # set-up or update, before any solve: the set-up's failure left a model whose solve
+    # raised a raw RuntimeError, the update's one that returned the previous QP's x.
+    backend = make_backend("daqp")
+    zero_row = QP(np.eye(2), np.zeros(2), C=np.zeros((1, 2)), l=np.array([-np.inf]),
+                  u=np.array([-1.0]))  # fmt: skip
+    for _ in range(2):  # the workspace is forgotten: the same report the second time
+        with pytest.raises(InfeasibleProblem, match=r"'daqp'.*infeasible"):
+            backend.solve(zero_row)
+    box = QP(np.eye(2), -np.ones(2), lb=-np.full(2, 0.5), ub=np.full(2, 0.5))
+    np.testing.assert_allclose(backend.solve(box), [0.5, 0.5])
+    crossed = QP(np.eye(2), -np.ones(2), lb=np.array([0.2, -0.5]), ub=np.array([0.1, 0.5]))
+    with pytest.raises(InfeasibleProblem, match=r"'daqp'.*infeasible"):
+        backend.solve(crossed)  # same sizes: an update of the workspace
+    np.testing.assert_allclose(backend.solve(box), [0.5, 0.5])
+    with pytest.raises(BackendError, match="non-convex"):
+        backend.solve(QP(-np.eye(2), np.zeros(2), lb=-np.ones(2), ub=np.ones(2)))

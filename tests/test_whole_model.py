@@ -258,8 +258,15 @@ def test_ball_joint_limit_keeps_every_iterate_inside_the_cone(whole):
     def _neck_angle(q):
         return float(limit.angles_at(q)[0])
 
-    free = redik.Problem(whole, posture).solve(whole.home)
+    free = redik.Problem(whole, posture, [redik.PositionLimit()]).solve(whole.home)
     assert _neck_angle(free.q) == pytest.approx(1.5)
+    # The default limits hold the cone (no margin): a box alone would not.
+    default = redik.Problem(whole, posture)
+    assert [type(limit).__name__ for limit in default.limits] == ["PositionLimit", "BallJointLimit"]
+    held = default.solve(whole.home)
+    assert _neck_angle(held.q) == pytest.approx(1.2, abs=1e-6)
+    assert max(_neck_angle(q) for q in held.history) <= 1.2
+    assert [type(limit).__name__ for limit in redik.Problem(whole, posture, []).limits] == []
     # mink's ConfigurationLimit has the same row but none at the identity: its first step
     # leaves the cone.
     theirs = redik.Problem(
@@ -494,6 +501,24 @@ def test_solve_all_on_a_whole_model_returns_whole_configurations(whole):
         np.testing.assert_array_equal(result.q[:7], whole.home[:7])  # the base held
 
 
+def test_solve_all_and_solve_pose_hold_the_other_joints_at_the_same_q0(whole):
+    rng = np.random.default_rng(7)
+    q0 = whole.clip(whole.integrate(whole.home, 0.3 * rng.standard_normal(whole.dof)))
+    chain = whole.chain("right_ee", q0)  # the held joints at q0: its poses are q0's
+    T = chain.fk(chain.clip(chain.q_of() + 0.3))
+    held = ~np.isin(whole.qpos_indices, chain.qpos_indices)
+    single = redik.solve_pose(whole, T, q0, frame="right_ee", seed=0)
+    assert single.success, single.message
+    np.testing.assert_array_equal(single.q[held], q0[held])
+    results = redik.solve_all(whole, T, n_starts=4, seed=0, frame="right_ee", q0=q0)
+    assert results
+    for result in results:
+        np.testing.assert_array_equal(result.q[held], q0[held])
+        assert pose_errors(whole.fk(result.q, "right_ee"), T)[0] < 1e-6
+    # q0 is the first start: its solution (the one solve_pose finds from it) is among them.
+    assert min(np.abs(r.q - single.q).max() for r in results) < 1e-3
+
+
 BALL_ARM_XML = """
 <mujoco model="ball_arm">
   <compiler angle="radian"/>
@@ -599,3 +624,25 @@ def test_chain_of_a_model_with_unnamed_and_bracketed_joints():
     assert robot.joint_names[0] == "joint0"
     chain = robot.chain("right_ee")
     assert "right_elbow[1]" in chain.joint_names and chain.dof == 6
+
+
+def test_joint_space_terms_are_computed_once_per_target_not_per_step(whole, monkeypatch):
+    """On a whole model the posture's factor ``α w²d²`` was recomputed (allocated) per task
+    every step; it changes only with the task's target or weight."""
+    posture = redik.PostureTask(priority=1)
+    problem = redik.Problem(whole, [redik.PoseTask(whole.fk(whole.home, "left_ee"),
+                                                   frame="left_ee"), posture])  # fmt: skip
+    calls = []
+    original = posture.diagonal_terms
+    monkeypatch.setattr(posture, "diagonal_terms", lambda: calls.append(1) or original())
+    rng = np.random.default_rng(3)
+    q = whole.clip(whole.integrate(whole.home, 0.2 * rng.standard_normal(whole.dof)))
+    steps = [problem.step(q) for _ in range(4)]
+    assert len(calls) == 1
+    # The gradient is still the posture's α w²d² ⊙ (q ⊖ r): a lone posture level steps to r.
+    alone = redik.Problem(whole, [redik.PostureTask(whole.home, priority=0)], limits=[])
+    np.testing.assert_allclose(whole.integrate(q, alone.step(q)), whole.home, atol=1e-5)
+    posture.set_target(q)
+    problem.step(q)
+    assert len(calls) == 2
+    np.testing.assert_allclose(steps[0], steps[-1])

@@ -79,6 +79,12 @@ POLISH_STEPS = 3
 SEARCH_SAMPLES = 720
 BISECTIONS = 60
 
+#: Golden-section steps refining a local minimum of ``|f|`` (a possible double root; 0.618⁸⁰
+#: of the two-sample bracket is below rounding), and how small ``|f|`` (m) must get there to
+#: count as a root. The branch built there is then checked by FK like any other.
+GOLDEN_STEPS = 80
+TOUCH_TOL = 1e-9
+
 
 @numba.njit(cache=True)
 def _row(G, i):
@@ -342,6 +348,39 @@ def _search_residual(G, pw, t1, tol):
 
 
 @numba.njit(cache=True)
+def _branch_residual(G, pw, t1, tol, branch):
+    """``f+`` (branch 0) or ``f−`` (branch 1) of :func:`_search_residual` at θ1."""
+    ra, rb, _, _, _ = _search_residual(G, pw, t1, tol)
+    return ra if branch == 0 else rb
+
+
+@numba.njit(cache=True)
+def _touch(G, pw, low, high, tol, branch):
+    r"""``(θ1, f(θ1))`` at the minimum of ``|f|`` on [low, high] by golden-section search.
+
+    At a double root :math:`f ≈ c(θ - θ^*)^2`, so θ* is found only to about √ε, but the pose
+    error of the branch built there is ``|f|`` itself (every other constraint is met by the
+    subproblems), which this drives to rounding.
+    """
+    ratio = 0.5 * (math.sqrt(5.0) - 1.0)
+    x1 = high - ratio * (high - low)
+    x2 = low + ratio * (high - low)
+    f1 = abs(_branch_residual(G, pw, x1, tol, branch))
+    f2 = abs(_branch_residual(G, pw, x2, tol, branch))
+    for _ in range(GOLDEN_STEPS):
+        if f1 <= f2:
+            high, x2, f2 = x2, x1, f1
+            x1 = high - ratio * (high - low)
+            f1 = abs(_branch_residual(G, pw, x1, tol, branch))
+        else:
+            low, x1, f1 = x1, x2, f2
+            x2 = low + ratio * (high - low)
+            f2 = abs(_branch_residual(G, pw, x2, tol, branch))
+    root = x1 if f1 <= f2 else x2
+    return root, _branch_residual(G, pw, root, tol, branch)
+
+
+@numba.njit(cache=True)
 def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
     r"""Spherical wrist (axes 4, 5, 6 meet at ``w``), general axes 1–3: a 1-D search on θ1.
 
@@ -351,8 +390,11 @@ def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
     & Wen 2022 §IV). Each ``f±`` is sampled at :data:`SEARCH_SAMPLES` points of θ1 and every
     sign change refined by bisection; a root is kept only if SP3 was within reach there
     (the clipped residual is continuous, so roots at the edge of reach are not lost). A root
-    where ``f`` touches zero without changing sign (a double root, at the boundary between
-    2 and 0 solutions) can be missed. Slot = 2·(root index, by θ1) + wrist.
+    where ``f`` touches zero without changing sign (a double root, where two arm solutions
+    merge at the boundary between 2 and 0 of them) is found at each local minimum of ``|f|``
+    between samples of one sign: golden-section search (:func:`_touch`) drives ``|f|`` down
+    and the root is kept if it falls below :data:`TOUCH_TOL`. Slot = 2·(root index, by θ1)
+    + wrist.
     """
     z0, z1, z2, p = _target(T, G)
     h2, h3 = _row(G, 1), _row(G, 2)
@@ -367,19 +409,18 @@ def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
     found = 0
     step = 2.0 * math.pi / SEARCH_SAMPLES
     start = -math.pi
-    previous_a, previous_b, _, _, _ = _search_residual(G, pw, start, tol)
+    samples = np.empty((2, SEARCH_SAMPLES + 1))
+    for k in range(SEARCH_SAMPLES + 1):
+        samples[0, k], samples[1, k], _, _, _ = _search_residual(G, pw, start + k * step, tol)
     for k in range(1, SEARCH_SAMPLES + 1):
         t = start + k * step
-        ra, rb, _, _, _ = _search_residual(G, pw, t, tol)
         for branch in range(2):
-            before = previous_a if branch == 0 else previous_b
-            now = ra if branch == 0 else rb
+            before, now = samples[branch, k - 1], samples[branch, k]
             if before == 0.0 or (before < 0.0) != (now < 0.0):
                 low, high, f_low = t - step, t, before
                 for _ in range(BISECTIONS):
                     middle = 0.5 * (low + high)
-                    ma, mb, _, _, _ = _search_residual(G, pw, middle, tol)
-                    f_middle = ma if branch == 0 else mb
+                    f_middle = _branch_residual(G, pw, middle, tol, branch)
                     if (f_middle < 0.0) == (f_low < 0.0):
                         low, f_low = middle, f_middle
                     else:
@@ -389,11 +430,27 @@ def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
                 if elbow != OUT and found < roots.shape[0] and now != 0.0:
                     roots[found], branches[found] = root, branch
                     found += 1
-        previous_a, previous_b = ra, rb
+            elif abs(now) <= abs(before):
+                # A local minimum of |f| with no sign change on either side: f may touch zero
+                # between the samples (a double root, where two arm solutions merge). The
+                # residual is 2π-periodic: the sample after θ1 = π is the one after −π.
+                after = samples[branch, k + 1 if k < SEARCH_SAMPLES else 1]
+                # Near its minimum f ≈ m + c(θ − θ*)², so |f(θk)| − |m| ≤ c h² = D/2 with D the
+                # second difference of |f|: a zero is possible only if |f(θk)| ≤ D/2 (factor
+                # 4 of margin for the curvature varying across the bracket).
+                curvature = abs(before) - 2.0 * abs(now) + abs(after)
+                plausible = abs(now) <= 2.0 * curvature
+                if abs(now) <= abs(after) and (now < 0.0) == (after < 0.0) and plausible:
+                    root, value = _touch(G, pw, t - step, t + step, tol, branch)
+                    _, _, _, _, elbow = _search_residual(G, pw, root, tol)
+                    if abs(value) <= TOUCH_TOL and elbow != OUT and found < roots.shape[0]:
+                        roots[found], branches[found] = root, branch + 2  # + 2: a double root
+                        found += 1
     h1, a1 = _row(G, 0), _row(G, 6)
     order = np.argsort(roots[:found])
     for index in range(found):
-        t1, branch = roots[order[index]], branches[order[index]]
+        t1, branch = roots[order[index]], branches[order[index]] % 2
+        double = branches[order[index]] >= 2
         _, _, t3a, t3b, elbow = _search_residual(G, pw, t1, tol)
         t3 = t3a if branch == 0 else t3b
         v = sub(rotate(h1, -t1, sub(pw, a1)), sub(a2, a1))
@@ -401,7 +458,7 @@ def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
         t2, _ = sp1(h2, u, v)
         slot = 2 * index
         free[slot] = -1
-        pos = _status_of(0 if elbow != BOUNDARY else 1)
+        pos = _status_of(1 if (elbow == BOUNDARY or double) else 0)
         cs = (math.cos(t1), math.sin(t1), math.cos(t2), math.sin(t2), math.cos(t3), math.sin(t3))
         _wrist(
             G, z, y, (t1, t2, t3), cs, fix_joint, fix_value, tol, slot, q, status, free, stage, pos
@@ -662,12 +719,35 @@ def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
 
 
 @numba.njit(cache=True)
+def _is_pose(T):
+    """Whether ``T`` is finite with bottom row (0, 0, 0, 1) and an orthonormal, det +1
+    rotation block as it is (to :data:`redik.lie.ROTATION_TOLERANCE`)."""
+    for i in range(4):
+        for j in range(4):
+            if not math.isfinite(T[i, j]):
+                return False
+    if T[3, 0] != 0.0 or T[3, 1] != 0.0 or T[3, 2] != 0.0 or T[3, 3] != 1.0:
+        return False
+    for j in range(3):
+        for k in range(j, 3):
+            product = T[0, j] * T[0, k] + T[1, j] * T[1, k] + T[2, j] * T[2, k]
+            if abs(product - (1.0 if j == k else 0.0)) > ROTATION_TOLERANCE:
+                return False
+    c0 = (T[0, 0], T[1, 0], T[2, 0])
+    c1 = (T[0, 1], T[1, 1], T[2, 1])
+    return dot(cross(c0, c1), (T[0, 2], T[1, 2], T[2, 2])) > 0.0
+
+
+@numba.njit(numba.float64[:, :](numba.float64[:, ::1], numba.float64[::1]), cache=True)
 def solve_raw(T, plan):
     """The fast path: every verified solution within the limits (each angle moved by the
     smallest multiple of 2π that brings it into range), duplicates (within the duplicate
     tolerance per joint, modulo 2π) dropped, as a (k, 6) array in slot order — or a (0, 0)
-    array when ``T`` is not a finite rigid transform to be used as it is (nothing is solved:
-    the caller raises, or projects a near-rotation as :mod:`redik.lie` does and calls again).
+    array when ``T`` is not a 4 × 4 finite rigid transform to be used as it is (nothing is
+    solved: the caller raises, or projects a near-rotation as :mod:`redik.lie` does and calls
+    again). Compiled for one signature only (C-contiguous float64 ``T``): any other array or
+    object raises ``TypeError`` at the call instead of compiling a new specialisation, and the
+    caller converts it after its checks.
 
     ``plan`` packs everything but the target into one array (one argument keeps the call
     cheap): the (17, 3) geometry ``G`` row by row, the lower and upper limits, then the
@@ -679,7 +759,7 @@ def solve_raw(T, plan):
     settings = plan[GEOMETRY_SIZE + 12 :]
     kind, reverse = int(settings[KIND]), settings[REVERSE] != 0.0
     tol, verify_tol, duplicate_tol = settings[TOL], settings[VERIFY], settings[DUPLICATE]
-    if not _is_pose(T):
+    if T.shape[0] != 4 or T.shape[1] != 4 or not _is_pose(T):
         return np.empty((0, 0))
     q, status, _, _ = solve_slots(kind, reverse, T, G, -1, 0.0, tol, verify_tol)
     out = q  # compacted in place: row ``count`` ≤ ``slot`` is written after ``slot`` is read
@@ -691,6 +771,9 @@ def solve_raw(T, plan):
         inside = True
         for j in range(6):
             value = q[slot, j]
+            if lower[j] <= value <= upper[j]:  # the usual case: no turn to find
+                out[count, j] = value
+                continue
             turns = min(
                 max(np.ceil((lower[j] - value) / two_pi), 0.0),
                 np.floor((upper[j] - value) / two_pi),
@@ -716,23 +799,3 @@ def solve_raw(T, plan):
         if not repeated:
             count += 1
     return out[:count]
-
-
-@numba.njit(cache=True)
-def _is_pose(T):
-    """Whether ``T`` is finite with bottom row (0, 0, 0, 1) and an orthonormal, det +1
-    rotation block as it is (to :data:`redik.lie.ROTATION_TOLERANCE`)."""
-    for i in range(4):
-        for j in range(4):
-            if not math.isfinite(T[i, j]):
-                return False
-    if T[3, 0] != 0.0 or T[3, 1] != 0.0 or T[3, 2] != 0.0 or T[3, 3] != 1.0:
-        return False
-    for j in range(3):
-        for k in range(j, 3):
-            product = T[0, j] * T[0, k] + T[1, j] * T[1, k] + T[2, j] * T[2, k]
-            if abs(product - (1.0 if j == k else 0.0)) > ROTATION_TOLERANCE:
-                return False
-    c0 = (T[0, 0], T[1, 0], T[2, 0])
-    c1 = (T[0, 1], T[1, 1], T[2, 1])
-    return dot(cross(c0, c1), (T[0, 2], T[1, 2], T[2, 2])) > 0.0

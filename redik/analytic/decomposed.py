@@ -16,7 +16,9 @@ are):
     axes 2 ∥ 3 ∥ 4 and axes 5, 6 meet (Universal Robots): SP4, SP4, SP1, SP1, SP3, SP1.
 ``spherical``
     spherical wrist, any axes 1–3: a 1-D search on θ1 (every sign change of two continuous
-    residuals, refined by bisection), then SP3, SP1 and the wrist.
+    residuals, refined by bisection, and every local minimum of their magnitude that
+    touches zero — a double root, where two arm solutions merge at a singularity — refined
+    by golden section), then SP3, SP1 and the wrist.
 
 Arms outside these classes are refused with :class:`~redik.exceptions.ModelError`: a general
 6R (no three axes meeting or parallel) needs a 2-D search or an elimination to a degree-16
@@ -257,21 +259,24 @@ class DecomposedSolver:
         (−π, π] (or moved by 2π into the limits), within ``limits`` (``"robot"``, None or
         ``(lower, upper)``), duplicates dropped, in slot order. No labels or families.
         ``strict`` refuses a near-rotation instead of projecting it (:mod:`redik.lie`)."""
-        if strict or T.__class__ is not np.ndarray or T.dtype is not _FLOAT64 or T.shape != (4, 4):
-            T = _checks.pose(T, "target", strict=strict)
-        if tol != DEFAULT_TOL or not (limits is None or limits.__class__ is str):
-            plan = self._plan(self._limits(limits), _checks.length(tol, "tol", allow_zero=True))
-        elif limits is None:
+        if strict:
+            T = np.ascontiguousarray(_checks.pose(T, "target", strict=True))
+        # The common calls take two identity tests to their plan; anything else is checked.
+        if limits is None and tol is DEFAULT_TOL:
             plan = self._unbounded_plan
-        elif limits == "robot":
+        elif limits.__class__ is str and limits == "robot" and tol is DEFAULT_TOL:
             plan = self._robot_plan
         else:
-            raise InvalidInput(f"limits must be 'robot', None or (lower, upper), got {limits!r}")
-        q = kernels.solve_raw(T, plan)
+            plan = self._plan(self._limits(limits), _checks.length(tol, "tol", allow_zero=True))
+        try:
+            q = kernels.solve_raw(T, plan)
+        except TypeError:  # not a C-contiguous float64 array (a list, integers, a view, …)
+            q = _NOTHING
         if q.shape[1] == 0:
             # Raises the error that names what is wrong, or projects a near-rotation (with
             # redik.lie's warning) that is then solved.
-            q = kernels.solve_raw(_checks.pose(T, "target", strict=strict), plan)
+            T = _checks.pose(T, "target", strict=strict)
+            q = kernels.solve_raw(np.ascontiguousarray(T), plan)
         return q
 
     def __call__(
@@ -348,7 +353,7 @@ class DecomposedSolver:
 
 
 _UNBOUNDED = (np.full(6, -np.inf), np.full(6, np.inf))
-_FLOAT64 = np.dtype(np.float64)
+_NOTHING = np.empty((0, 0))
 
 
 def decomposed_solver(

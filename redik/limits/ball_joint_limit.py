@@ -35,6 +35,15 @@ _ANGLE_TOLERANCE = 1e-9
 """Radians by which :meth:`BallJointLimit.admits` lets an angle exceed its bound (rounding)."""
 
 
+def limited_ball_joints(robot: Robot) -> list[int]:
+    """The MuJoCo ids of the limited ball joints ``robot`` moves (those with a cone)."""
+    return [
+        int(j)
+        for j, kind in zip(robot.joint_ids, robot.joint_types, strict=True)
+        if kind == "ball" and robot.model.jnt_limited[j]
+    ]
+
+
 class BallJointLimit(InequalityLimit):
     """Keep every limited ball joint the robot moves inside its cone ``range[1]``.
 
@@ -59,11 +68,7 @@ class BallJointLimit(InequalityLimit):
 
     def bind(self, robot: Robot, tolerance: float = 0.0) -> BallJointLimit:
         model = robot.model
-        joints = [
-            int(j)
-            for j, kind in zip(robot.joint_ids, robot.joint_types, strict=True)
-            if kind == "ball" and model.jnt_limited[j]
-        ]
+        joints = limited_ball_joints(robot)
         self.joint_names = tuple(robot.joint_names[list(robot.joint_ids).index(j)] for j in joints)
         self.max_angle = np.array([model.jnt_range[j, 1] for j in joints]) - self.margin - tolerance
         if np.any(self.max_angle <= 0.0):

@@ -55,12 +55,15 @@ class LevelAssembly:
             (:mod:`redik.tasks.joint_space_task`).
         other_tasks: redik tasks with their own objective, and mink tasks.
         A, b: The stacked weighted residual rows.
+        flat: The robot's ``flat`` (``q ⊖ r = q − r``: a joint-space task's gradient is then
+            one fused product for the level).
         H, c: The level's objective, rebuilt by :meth:`build`.
     """
 
-    def __init__(self, priority: int, tasks: Sequence, n: int, damping: float):
+    def __init__(self, priority: int, tasks: Sequence, n: int, damping: float, flat: bool):
         self.priority = priority
         self.damping = damping
+        self.flat = flat
         self.residual_tasks: list[ResidualTask] = []
         self.joint_tasks: list[JointSpaceTask] = []
         self.other_tasks: list = []
@@ -91,6 +94,7 @@ class LevelAssembly:
         self._joint_factor = np.zeros(n)
         self._joint_offset = np.zeros(n)
         self._joint_buffer = np.zeros(n)
+        self._joint_factors: list[tuple[JointSpaceTask, np.ndarray]] = []
         self.least_squares = not self.joint_tasks and not self.other_tasks
         """True when ``H = AᵀA + εI``: ``A`` then factors the level (its null space)."""
 
@@ -100,7 +104,8 @@ class LevelAssembly:
         return self.residual_tasks + self.joint_tasks + self.other_tasks
 
     def _refresh_joint_terms(self) -> bool:
-        """Σ of the joint-space tasks' ``w²d²`` (+ damping), ``α w²d²`` and ``α w²d² r``;
+        """Σ of the joint-space tasks' ``w²d²`` (+ damping), ``α w²d²`` and, on a flat
+        robot, ``α w²d² r`` (else each task's ``α w²d²``, kept for :meth:`_joint_gradient`);
         True when they changed (a task's target or weight was set) since the last call."""
         versions = [(id(task), task.version) for task in self.joint_tasks]
         if versions == self._joint_versions and self._joint_ready:
@@ -108,12 +113,15 @@ class LevelAssembly:
         self._joint_hessian[:] = self.damping
         self._joint_factor[:] = 0.0
         self._joint_offset[:] = 0.0
+        self._joint_factors.clear()
         for task in self.joint_tasks:
             hessian, factor = task.diagonal_terms()
             self._joint_hessian += hessian
             self._joint_factor += factor
-            if task.reference.shape == factor.shape:  # else a configuration (not flat)
+            if self.flat:
                 self._joint_offset += factor * task.reference
+            elif factor.any():
+                self._joint_factors.append((task, factor))
         self._joint_versions = versions
         self._joint_ready = True
         return True
@@ -158,13 +166,15 @@ class LevelAssembly:
                 c += self._joint_buffer
             c -= self._joint_offset
             return
-        # Across ball and free joints q ⊖ r is no difference of vectors: one per task.
+        # Across ball and free joints q ⊖ r is no difference of vectors: one per task, with
+        # the factors of the last refresh.
         if fresh:
             c.fill(0.0)
-        for task in self.joint_tasks:
-            _, factor = task.diagonal_terms()
-            if factor.any():
-                c += factor * state.robot.difference(task.reference, state.q)
+        for task, factor in self._joint_factors:
+            np.multiply(
+                factor, state.robot.difference(task.reference, state.q), out=self._joint_buffer
+            )
+            c += self._joint_buffer
 
     def _add_other_tasks(self, state: KinematicState, configuration, columns: np.ndarray):
         H, c = self.H, self.c
@@ -210,7 +220,9 @@ class Assembly:
                 task.bind(robot)
         priorities = sorted({task_priority(task) for task in tasks})
         self.levels = [
-            LevelAssembly(p, [t for t in tasks if task_priority(t) == p], robot.dof, damping)
+            LevelAssembly(
+                p, [t for t in tasks if task_priority(t) == p], robot.dof, damping, robot.flat
+            )
             for p in priorities
         ]
         self.needs_configuration = any(not isinstance(task, Task) for task in tasks)

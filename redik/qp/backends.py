@@ -96,7 +96,14 @@ proxqp 5e-8, osqp 1.4e-7 (violations all below 1e-9). A solver not listed is dec
 NATIVE_BOUNDS = {"daqp", "highs", "piqp", "proxqp"}
 """qpsolvers back-ends given the bounds as such (their solvers take a box natively)."""
 
-_DAQP_EXITFLAGS = {-1: "infeasible", -2: "cycling", -3: "unbounded", -4: "iteration limit"}
+_DAQP_EXITFLAGS = {
+    -1: "infeasible",
+    -2: "cycling",
+    -3: "unbounded",
+    -4: "iteration limit",
+    -5: "non-convex",
+    -6: "overdetermined initial active set",
+}
 
 
 class Backend(abc.ABC):
@@ -171,34 +178,45 @@ class DaqpBackend(Backend):
             if qp.n_eq:
                 sense[-qp.n_eq :] = 5
             self._model = self._daqp.Model()
-            self._model.setup(qp.H, qp.c, A, upper, lower, sense)
-            self._model.settings = {**self._model.settings, **self.settings}
             self._dims = dims
+            exitflag, _ = self._model.setup(qp.H, qp.c, A, upper, lower, sense)
+            self._check(exitflag, qp, "set-up")
+            self._model.settings = {**self._model.settings, **self.settings}
         else:
             # DAQP cannot update zero-length bounds (an unconstrained QP): pass none.
             bounded = upper.shape[0] > 0
-            self._model.update(
+            exitflag = self._model.update(
                 H=qp.H,
                 f=qp.c,
                 A=A if A.shape[0] else None,
                 bupper=upper if bounded else None,
                 blower=lower if bounded else None,
             )
+            self._check(exitflag, qp, "update")
         try:
             x, _, exitflag, _ = self._model.solve()
-        except (RuntimeError, IndexError) as error:  # the set-up refused H (not PD, inf)
+        except (RuntimeError, IndexError) as error:  # a state the checks above did not catch
             self._model = None
-            raise BackendError(
-                f"QP back-end 'daqp' failed on a QP with {qp.size()}: {error}"
-            ) from None
-        if exitflag == -1:
-            self._model = None
-            raise self._infeasible(qp)
-        if exitflag < 1:
-            self._model = None
-            reason = _DAQP_EXITFLAGS.get(exitflag, "?")
-            raise self._error(f"exit flag {exitflag}: {reason}", qp)
+            raise self._error(f"{type(error).__name__}: {error}", qp) from None
+        self._check(exitflag, qp, "solve")
         return self._checked(x, qp)
+
+    def _check(self, exitflag: int, qp: QP, stage: str) -> None:
+        """Raise on a failed DAQP exit flag, forgetting the workspace.
+
+        Set-up and update check the data before any solve: a bound or row whose lower side
+        exceeds its upper one (or a zero row with a negative right-hand side) is
+        ``-1``, a Hessian that is not positive definite ``-5``. Unchecked, a failed set-up
+        left a model that raised a raw ``RuntimeError`` at the solve, and a failed update
+        one that returned the previous QP's solution.
+        """
+        if exitflag >= (1 if stage == "solve" else 0):  # the solve's 0 is no solution either
+            return
+        self._model = None
+        if exitflag == -1:
+            raise self._infeasible(qp)
+        reason = _DAQP_EXITFLAGS.get(exitflag, "?")
+        raise self._error(f"{stage} exit flag {exitflag}: {reason}", qp)
 
 
 _EMPTY_ROWS: dict[int, np.ndarray] = {}
