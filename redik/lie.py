@@ -307,13 +307,27 @@ def world_jacobian_to(
     """
     if out is None:
         out = np.empty(np.shape(J))
+    flat = J.ndim == 2  # plain slices, cheaper: the one-frame case sits in solver loops
     if reference == "space":
-        out[..., :3, :] = J[..., :3, :] + skew(p) @ J[..., 3:, :]
-        out[..., 3:, :] = J[..., 3:, :]
+        if out is not J:
+            out[...] = J
+        if flat:
+            out[:3] += skew(p) @ J[3:]
+        else:
+            out[..., :3, :] += skew(p) @ J[..., 3:, :]
     elif reference == "body":
-        Rt = np.swapaxes(R, -1, -2)
-        np.matmul(Rt, J[..., :3, :], out=out[..., :3, :])
-        np.matmul(Rt, J[..., 3:, :], out=out[..., 3:, :])
+        Rt = R.T if flat else np.swapaxes(R, -1, -2)
+        top, bottom = (
+            (slice(0, 3), slice(3, 6))
+            if flat
+            else ((..., slice(0, 3), slice(None)), (..., slice(3, 6), slice(None)))
+        )
+        if out is J:  # matmul into its own input would copy first: assign instead
+            out[top] = Rt @ J[top]
+            out[bottom] = Rt @ J[bottom]
+        else:
+            np.matmul(Rt, J[top], out=out[top])
+            np.matmul(Rt, J[bottom], out=out[bottom])
     elif reference == "world":
         out[...] = J
     else:
