@@ -298,38 +298,41 @@ def skew(w: np.ndarray) -> np.ndarray:
 def world_jacobian_to(
     reference: str, J: np.ndarray, R: np.ndarray, p: np.ndarray, out: np.ndarray | None = None
 ) -> np.ndarray:
-    r"""The ``"world"`` Jacobian ``J`` (``… × 6 × n``) of a frame at ``(R, p)`` (``… × 3 × 3``,
-    ``… × 3``) in ``reference`` (:mod:`redik.conventions`), into ``out`` (may be ``J``).
+    r"""The ``"world"`` Jacobian ``J`` (6 × n) of a frame at ``(R, p)`` in ``reference``
+    (:mod:`redik.conventions`), into ``out`` (may be ``J``).
 
     ``"space"``: ``v_s = ṗ − ω × p = ṗ + [p] ω``, so ``J_s = [[I, [p]], [0, I]] J``;
-    ``"body"``: ``J_b = blockdiag(Rᵀ, Rᵀ) J``; ``"world"``: ``J`` itself. The one home of
+    ``"body"``: ``J_b = blockdiag(Rᵀ, Rᵀ) J``; ``"world"``: ``J`` itself. A batch trails:
+    ``J`` 6 × n × …, ``R`` 3 × 3 × …, ``p`` 3 × … (the layout of :mod:`redik.batch`, where a
+    vector per target is a column, so each entry is one vector operation). The one home of
     this conversion (robot, batch kinematics, pose IK's Newton forms, redundancy).
     """
     if out is None:
         out = np.empty(np.shape(J))
-    flat = J.ndim == 2  # plain slices, cheaper: the one-frame case sits in solver loops
-    if reference == "space":
+    if reference == "world":
+        out[...] = J
+    elif reference == "space":
         if out is not J:
             out[...] = J
-        if flat:
+        if J.ndim == 2:
             out[:3] += skew(p) @ J[3:]
-        else:
-            out[..., :3, :] += skew(p) @ J[..., 3:, :]
+        else:  # p × ω per column, entry by entry over the batch
+            w, px, py, pz = J[3:], p[0][None], p[1][None], p[2][None]
+            out[0] += py * w[2] - pz * w[1]
+            out[1] += pz * w[0] - px * w[2]
+            out[2] += px * w[1] - py * w[0]
     elif reference == "body":
-        Rt = R.T if flat else np.swapaxes(R, -1, -2)
-        top, bottom = (
-            (slice(0, 3), slice(3, 6))
-            if flat
-            else ((..., slice(0, 3), slice(None)), (..., slice(3, 6), slice(None)))
-        )
-        if out is J:  # matmul into its own input would copy first: assign instead
-            out[top] = Rt @ J[top]
-            out[bottom] = Rt @ J[bottom]
-        else:
-            np.matmul(Rt, J[top], out=out[top])
-            np.matmul(Rt, J[bottom], out=out[bottom])
-    elif reference == "world":
-        out[...] = J
+        if J.ndim == 2:  # in place, assign: matmul into its own input would copy first
+            if out is J:
+                out[:3], out[3:] = R.T @ J[:3], R.T @ J[3:]
+            else:
+                np.matmul(R.T, J[:3], out=out[:3])
+                np.matmul(R.T, J[3:], out=out[3:])
+        else:  # (Rᵀ)[i, k] = R[k, i], per target
+            out[:3], out[3:] = (
+                np.einsum("ki...,kn...->in...", R, J[:3]),
+                np.einsum("ki...,kn...->in...", R, J[3:]),
+            )
     else:
         raise InvalidInput(f"reference must be 'space', 'body' or 'world', got {reference!r}")
     return out

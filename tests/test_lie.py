@@ -404,20 +404,23 @@ def test_apply_inverse_v_inverts_v_and_its_compiled_twin_agrees(rng):
 @pytest.mark.parametrize("batch", [(), (5,), (2, 3)])
 def test_world_jacobian_to_matches_the_adjoint_relations(batch, rng):
     n = 4
-    J = rng.standard_normal((*batch, 6, n))
-    R = lie.so3_exp(rng.standard_normal(3)) * np.ones((*batch, 1, 1))
-    p = rng.standard_normal((*batch, 3))
+    J = rng.standard_normal((6, n, *batch))
+    R = np.einsum("ij,...->ij...", lie.so3_exp(rng.standard_normal(3)), np.ones(batch))
+    p = rng.standard_normal((3, *batch))
     body = lie.world_jacobian_to("body", J, R, p)
     space = lie.world_jacobian_to("space", J, R, p)
     for index in np.ndindex(*batch):
-        T = lie.make_pose(R[index], p[index])
+        at = (slice(None), slice(None), *index)
+        Ri, Ji = R[at], J[at]
+        T = lie.make_pose(Ri, p[(slice(None), *index)])
         # world (ṗ, ω) → body (Rᵀṗ, Rᵀω) → space = Ad_T body.
-        expected_body = np.vstack((R[index].T @ J[index][:3], R[index].T @ J[index][3:]))
-        np.testing.assert_allclose(body[index], expected_body, atol=1e-12)
-        np.testing.assert_allclose(space[index], lie.adjoint(T) @ expected_body, atol=1e-12)
+        expected_body = np.vstack((Ri.T @ Ji[:3], Ri.T @ Ji[3:]))
+        np.testing.assert_allclose(body[at], expected_body, atol=1e-12)
+        np.testing.assert_allclose(space[at], lie.adjoint(T) @ expected_body, atol=1e-12)
     np.testing.assert_array_equal(lie.world_jacobian_to("world", J, R, p), J)
-    in_place = J.copy()
-    lie.world_jacobian_to("body", in_place, R, p, out=in_place)
-    np.testing.assert_allclose(in_place, body, atol=1e-15)
+    for reference, expected in (("body", body), ("space", space)):
+        in_place = J.copy()
+        lie.world_jacobian_to(reference, in_place, R, p, out=in_place)
+        np.testing.assert_allclose(in_place, expected, atol=1e-15)
     with pytest.raises(InvalidInput, match="reference"):
         lie.world_jacobian_to("hybrid", J, R, p)

@@ -117,7 +117,6 @@ def jacobian(chain: Chain, q: np.ndarray, reference: str = "space") -> np.ndarra
         raise InvalidInput(f"reference must be one of {JACOBIAN_REFERENCES}, got {reference!r}")
     R, p, axes, origins = chain_poses(chain, _as_batch(chain, q))
     J = world_jacobian(chain, p, axes, origins)
-    J = J.transpose(2, 0, 1)  # batch first
-    if reference == "world":
-        return J
-    return world_jacobian_to(reference, J, R.transpose(2, 0, 1), p.T)
+    if reference != "world":
+        J = world_jacobian_to(reference, J, R, p, out=J if reference == "space" else None)
+    return J.transpose(2, 0, 1)
