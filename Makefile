@@ -10,7 +10,8 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.redik-installed
 LOCK := requirements.lock
 OUT ?= out/demo
-# Extras the lock covers: everything `make test` needs plus the reference libraries of `redik bench`.
+# Extras the lock covers (test includes the reference libraries of `redik bench`, whose models
+# the tests check against redik's; listed anyway so the lock never depends on that).
 LOCK_EXTRAS := test,bench
 
 export MUJOCO_GL ?= egl
