@@ -528,12 +528,9 @@ class Problem:
             ):
                 status = "stalled"
                 break
-            step_norm = alpha * math.sqrt(float(dq @ dq))
-            if not self._targets and step_norm < q_tol:
-                status = "converged"  # without level-0 targets, a vanishing step converges
-                break
-            if step_norm < q_tol:
-                status = "converged" if converged else "stalled"
+            if alpha * math.sqrt(float(dq @ dq)) < q_tol:
+                # Without level-0 targets, a vanishing step converges.
+                status = "converged" if converged or not self._targets else "stalled"
                 break
         if finish_lower and not stationarity_at_q:
             stationarity = self._stationarity(q, dt)
