@@ -84,9 +84,11 @@ def solve_pose_qp(
     if unknown:
         raise InvalidInput(f"unknown options {unknown} for method='qp'; known: {list(_OPTIONS)}")
     candidates = options.get("candidates", 16)
-    if isinstance(candidates, bool) or not isinstance(candidates, int | np.integer):
-        raise InvalidInput(f"candidates must be an integer >= 1, got {candidates!r}")
-    if candidates < 1:
+    if (
+        isinstance(candidates, bool)
+        or not isinstance(candidates, int | np.integer)
+        or candidates < 1
+    ):
         raise InvalidInput(f"candidates must be an integer >= 1, got {candidates!r}")
     task = PoseTask(T_target, frame=frame, gain=options.get("gain", 1.0), priority=0)
     problem = Problem(
