@@ -458,7 +458,7 @@ class _FrameSolver:
     its reach, and for ``"dls"`` the compiled chain, the kernel's settings arrays (validated
     by :class:`BatchOptions` once per combination of options) and the kernel's output
     buffers. A ``"dls"`` solve then validates its arguments once, makes one compiled call
-    and allocates only its result (10–15 µs of Python around the kernel)."""
+    and allocates only its result."""
 
     def __init__(self, robot: Robot, frame: Frame) -> None:
         self.robot = robot
