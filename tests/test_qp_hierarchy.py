@@ -166,6 +166,9 @@ def test_the_one_variable_level_is_solved_exactly(rng):
         assert z == pytest.approx(reference.solve(qp)[0], abs=1e-9)
     # A bound the previous level violated by its tolerance is relaxed to 0, not enforced.
     assert _solve_one_variable(1.0, -1.0, [1.0], [-1.0], [-1e-12]) == 0.0
+    # A row without z (a = 0) that the previous level violated leaves z free, either way.
+    assert _solve_one_variable(1.0, 1.0, [0.0], [-1.0], [-1e-12]) == -1.0
+    assert _solve_one_variable(1.0, -1.0, [0.0], [1e-12], [1.0]) == 1.0
 
 
 def test_a_one_dimensional_lower_level_with_rows_matches_the_general_path():

@@ -145,10 +145,11 @@ def _solve_one_variable(
         offset = [0.0] * len(a)
     for a_i, lower_i, upper_i, offset_i in zip(a, lower, upper, offset, strict=True):
         # The side of row i that z moves towards: a_i z grows when a_i and z share a sign.
+        # A row without z (a_i = 0) holds for every z: the relaxation keeps 0 inside it.
         if (a_i > 0.0) == (z > 0.0):
-            if a_i * z > upper_i - offset_i:
+            if a_i * z > upper_i - offset_i and a_i != 0.0:
                 z = max(upper_i - offset_i, 0.0) / a_i
-        elif a_i * z < lower_i - offset_i:
+        elif a_i * z < lower_i - offset_i and a_i != 0.0:
             z = min(lower_i - offset_i, 0.0) / a_i
     return z
 
