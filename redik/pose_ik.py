@@ -346,7 +346,7 @@ def solve_all(
 
 
 class _Problem:
-    """A validated solve: target, tolerances, limits and preallocated buffers."""
+    """A validated solve: target, tolerances and limits."""
 
     def __init__(
         self,
@@ -367,12 +367,13 @@ class _Problem:
         self.respect_limits = respect_limits
         self.lower = robot.lower
         self.upper = robot.upper
-        self.bounded = respect_limits
         self.n = robot.dof
 
     def project(self, q: np.ndarray) -> np.ndarray:
         """``q`` clipped into the limits when they are respected (a new array)."""
-        return np.clip(q, self.lower, self.upper) if self.bounded else np.array(q, dtype=float)
+        return (
+            np.clip(q, self.lower, self.upper) if self.respect_limits else np.array(q, dtype=float)
+        )
 
     def world_error(self, T: np.ndarray, e: np.ndarray) -> tuple[float, float]:
         """Fill ``e = (p_d − p, log(R_d Rᵀ))``; return the position and rotation errors."""
