@@ -33,6 +33,7 @@ import mink
 import numpy as np
 from scipy.optimize import nnls
 
+from ._validate import non_negative, positive
 from .exceptions import InfeasibleProblem, InvalidInput
 from .limits import BallJointLimit, BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
 from .limits.ball_joint_limit import limited_ball_joints
@@ -86,8 +87,8 @@ def _joint_vector(robot: Robot, q, name: str) -> np.ndarray:
 
 
 def _check_dt(dt) -> None:
-    if dt is not None and not (_is_real(dt) and np.isfinite(dt) and dt > 0.0):
-        raise InvalidInput(f"dt must be a positive number of seconds (or None), got {dt!r}")
+    if dt is not None:
+        positive(dt, "dt", unit="s")
 
 
 def _as_list(items, name: str, marker: str) -> list:
@@ -152,10 +153,8 @@ class Problem:
         for task in tasks:
             if not hasattr(task, "compute_qp_objective"):
                 raise InvalidInput(f"{task!r} is not a task (no compute_qp_objective)")
-        if not _is_real(damping) or not (np.isfinite(damping) and damping >= 0.0):
-            raise InvalidInput(f"damping must be finite and >= 0, got {damping!r}")
-        if not _is_real(step_damping) or not (np.isfinite(step_damping) and step_damping >= 0.0):
-            raise InvalidInput(f"step_damping must be finite and >= 0, got {step_damping!r}")
+        non_negative(damping, "damping")
+        non_negative(step_damping, "step_damping")
         if not _is_real(rank_tol) or not (np.isfinite(rank_tol) and 0.0 <= rank_tol < 1.0):
             raise InvalidInput(f"rank_tol must be in [0, 1), got {rank_tol!r}")
         if backend_options is not None and not isinstance(backend_options, dict):
@@ -433,21 +432,17 @@ class Problem:
         """
         q = _joint_vector(self.robot, q0, "q0").copy()
         for name, value in (("pos_tol", pos_tol), ("rot_tol", rot_tol), ("q_tol", q_tol)):
-            if not _is_real(value) or not (np.isfinite(value) and value >= 0.0):
-                raise InvalidInput(f"{name} must be a finite number >= 0, got {value!r}")
-        if stationarity_tol is not None and not (
-            _is_real(stationarity_tol) and np.isfinite(stationarity_tol) and stationarity_tol > 0
-        ):
-            raise InvalidInput(f"stationarity_tol must be > 0 (or None), got {stationarity_tol!r}")
+            non_negative(value, name)
+        if stationarity_tol is not None:
+            positive(stationarity_tol, "stationarity_tol")
         if isinstance(max_iter, bool) or not isinstance(max_iter, int | np.integer):
             raise InvalidInput(f"max_iter must be an integer, got {max_iter!r}")
         if max_iter < 0:
             raise InvalidInput(f"max_iter must be >= 0, got {max_iter}")
         _check_dt(dt)
-        if max_step is not None and not (_is_real(max_step) and max_step > 0.0):
-            raise InvalidInput(f"max_step must be > 0 (or None), got {max_step!r}")
-        if not (_is_real(lm_damping) and np.isfinite(lm_damping) and lm_damping >= 0.0):
-            raise InvalidInput(f"lm_damping must be finite and >= 0, got {lm_damping}")
+        if max_step is not None:
+            positive(max_step, "max_step", allow_inf=True)
+        non_negative(lm_damping, "lm_damping")
         if patience is not None and (
             isinstance(patience, bool) or not isinstance(patience, int | np.integer) or patience < 1
         ):
