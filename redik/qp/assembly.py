@@ -158,7 +158,7 @@ class LevelAssembly:
             if fresh:
                 c.fill(0.0)
             return
-        if state.robot.flat:
+        if self.flat:  # the offsets of the last refresh assume it
             if fresh:
                 np.multiply(self._joint_factor, state.q, out=c)
             else:
