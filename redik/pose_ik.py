@@ -213,12 +213,8 @@ def solve_pose(
     frame_solver = _FrameSolver.of(robot, resolved)  # refuses a frame no joint moves
 
     if method == "qp":
-        try:
-            from .pose_qp import solve_pose_qp
-        except ImportError as error:
-            raise InvalidInput(
-                f"method 'qp' needs redik.pose_qp.solve_pose_qp, which is not available ({error})"
-            ) from None
+        from .pose_qp import solve_pose_qp  # on use: the other methods need no QP stack
+
         return solve_pose_qp(
             robot, T_target, q_start, pos_tol=pos_tol, rot_tol=rot_tol, max_iter=max_iter,
             respect_limits=respect_limits, frame=frame, restarts=restarts, seed=seed,
