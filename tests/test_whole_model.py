@@ -319,6 +319,26 @@ def test_solve_pose_on_a_whole_model_moves_only_the_chain(whole):
     assert p_err < 1e-6 and r_err < 1e-5
 
 
+def test_solve_pose_on_a_whole_model_follows_the_held_joints_between_calls(whole):
+    # The chain and its compiled solver are kept between calls; moving a held joint (the
+    # floating base) must not reuse the old base pose.
+    rng = np.random.default_rng(6)
+    q0 = whole.clip(whole.random_q(rng))
+    for shift in (0.0, 0.1, 0.1, 0.0):
+        q = q0.copy()
+        q[0] += shift  # the base's x
+        chain = whole.chain("left_ee", q)
+        T = chain.fk(chain.clip(chain.random_q(rng)))
+        for solved in (
+            redik.solve_pose(whole, T, q, frame="left_ee", seed=0),
+            redik.solve_all(whole, T, 20, seed=0, frame="left_ee", q0=q)[0],
+        ):
+            assert solved.success, solved.message
+            assert solved.q[0] == q[0]
+            p_err, r_err = pose_errors(whole.fk(solved.q, "left_ee"), T)
+            assert p_err < 1e-6 and r_err < 1e-5
+
+
 def test_chain_of_a_whole_model_runs_the_fast_paths(whole):
     rng = np.random.default_rng(5)
     q = whole.clip(whole.random_q(rng))
