@@ -52,7 +52,7 @@ from redik.analytic._solution import (
     unreachable,
     wrap_angle,
 )
-from redik.analytic.convention import AngleConvention, resolve
+from redik.analytic.convention import AngleConvention, solve_in
 from redik.analytic.planar import two_link, two_link_candidates, two_link_reason
 
 KNEE_LABELS = ("knee-down", "knee-up")  # 2R slot 0 has θ3 ≥ 0
@@ -103,13 +103,14 @@ def hexapod_leg(
     coxa = _checks.length(coxa, "coxa", allow_zero=True)
     femur, tibia = _checks.length(femur, "femur"), _checks.length(tibia, "tibia")
     z_offset = _checks.scalar(z_offset, "z_offset")
-    mapping = resolve(convention, CONVENTIONS, "hexapod_leg")
-    checked_limits = _checks.limits(limits, 3)
-    if mapping is None:
-        return _solve(px, py, pz, coxa, femur, tibia, z_offset, checked_limits, tol)
-    joint_limits = mapping.limits_to_joints(checked_limits)
-    solutions = _solve(px, py, pz, coxa, femur, tibia, z_offset, joint_limits, tol)
-    return mapping.map_solutions(solutions)
+    return solve_in(
+        convention,
+        CONVENTIONS,
+        "hexapod_leg",
+        limits,
+        3,
+        lambda joint_limits: _solve(px, py, pz, coxa, femur, tibia, z_offset, joint_limits, tol),
+    )
 
 
 def _solve(
