@@ -47,6 +47,7 @@ axes, as the self-motion scoring evaluates thousands of samples at once.
 from __future__ import annotations
 
 import numpy as np
+from scipy.special import softmax
 
 from .lie import wrap_angle
 
@@ -146,8 +147,7 @@ def joint_limit_margin_gradient(
     if not np.any(finite):
         return gradient
     weights = np.zeros_like(margins)
-    shifted = -(margins[finite] - np.min(margins[finite])) / temperature
-    weights[finite] = np.exp(shifted) / np.sum(np.exp(shifted))
+    weights[finite] = softmax(-margins[finite] / temperature)
     n = q.shape[0]
     return weights[:n] - weights[n:]
 
@@ -221,7 +221,6 @@ def posture_difference(
     """``q − q_nominal`` (``…, n``), wrapped to (−π, π] on the ``periodic`` joints."""
     delta = np.asarray(q, dtype=float) - nominal
     if periodic is not None and np.any(periodic):
-        delta = delta.copy()
         delta[..., periodic] = wrap_angle(delta[..., periodic])
     return delta
 
