@@ -143,7 +143,7 @@ def _solve(
             continue
         labels = (prefix + KNEE_LABELS[0], prefix + KNEE_LABELS[1])
         for q, label, singular, free in two_link_candidates(plane, femur, tibia, tol, labels):
-            candidates.append(_leg_solution(q, theta1, label, singular, free, on_axis, u, z))
+            candidates.append(_leg_solution(q, theta1, label, singular, free, on_axis))
     if not candidates:
         return unreachable(3, reasons[0])
     return finalize(candidates, 3, np.ones(3, bool), checked_limits, PREFERRED)
@@ -156,8 +156,6 @@ def _leg_solution(
     singular: str,
     femur_free: bool,
     on_axis: bool,
-    u: float,
-    z: float,
 ) -> JointSolution:
     if femur_free:  # foot on the femur axis with femur = tibia
         text = f"foot on the femur axis ({singular}): θ2 is arbitrary, θ3 = π"
