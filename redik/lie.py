@@ -3,8 +3,9 @@ r"""Rotations, rigid transforms and the pose-error metrics built on them.
 Conventions (twist order ``(v, ω)``, scalar-first quaternions, ``T_ab``) are those of
 :mod:`redik.conventions`. Quaternion conversions use MuJoCo's ``mju_*`` functions; the
 exponential and logarithm maps are written here because they sit in every solver's inner
-loop, where ``mink.lie.SE3`` (a dataclass per call, ~50 µs a log) is too slow. The tests check
-both maps against ``mink.lie`` as an independent implementation.
+loop, where ``mink.lie.SE3`` (a dataclass per call) is slower: its ``log`` takes 3× the time
+of :func:`se3_log`, 4× with ``SE3.from_matrix`` (15 and 21 µs against 5.5 µs, 2026-11-24,
+load 0.8). The tests check both maps against ``mink.lie`` as an independent implementation.
 
 Formulas follow Lynch & Park, *Modern Robotics* (2017), §3.2.3 (SO(3) exp/log), §3.3.3
 (SE(3) exp/log) and §3.3.2 (adjoint), rewritten for the ``(v, ω)`` order:
