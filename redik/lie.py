@@ -3,8 +3,9 @@ r"""Rotations, rigid transforms and the pose-error metrics built on them.
 Conventions (twist order ``(v, ω)``, scalar-first quaternions, ``T_ab``) are those of
 :mod:`redik.conventions`. Quaternion conversions use MuJoCo's ``mju_*`` functions; the
 exponential and logarithm maps are written here because they sit in every solver's inner
-loop, where ``mink.lie.SE3`` (a dataclass per call, ~50 µs a log) is too slow. The tests check
-both maps against ``mink.lie`` as an independent implementation.
+loop, where ``mink.lie.SE3`` (a dataclass per call) is slower: its ``log`` takes 3× the time
+of :func:`se3_log`, 4× with ``SE3.from_matrix`` (15 and 21 µs against 5.5 µs, 2026-11-24,
+load 0.8). The tests check both maps against ``mink.lie`` as an independent implementation.
 
 Formulas follow Lynch & Park, *Modern Robotics* (2017), §3.2.3 (SO(3) exp/log), §3.3.3
 (SE(3) exp/log) and §3.3.2 (adjoint), rewritten for the ``(v, ω)`` order:
@@ -46,6 +47,8 @@ MuJoCo's ``mju_*``, take validated float input unchecked.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -77,20 +80,30 @@ _SMALL_ANGLE = 1e-6
 # Validation at the boundary (the tolerance policy is in the module docstring)
 
 
-def _rotation_defect(R: np.ndarray) -> tuple[float, float]:
-    """``(max|RᵀR − I|, det R)`` on Python floats: a boundary check should not cost
-    more than the solver iterations it guards (numpy calls on 3×3 arrays do)."""
-    (a, b, c), (d, e, f), (g, h, i) = R.tolist()
-    defect = max(
-        abs(a * a + d * d + g * g - 1.0),
-        abs(b * b + e * e + h * h - 1.0),
-        abs(c * c + f * f + i * i - 1.0),
-        abs(a * b + d * e + g * h),
-        abs(a * c + d * f + g * i),
-        abs(b * c + e * f + h * i),
+def _defect_and_det(rows: Any, largest: Callable[[tuple[Any, ...]], Any]) -> tuple[Any, Any]:
+    """``(max|RᵀR − I|, det R)`` from the rows of ``R``: Python floats for one matrix (a
+    boundary check should not cost more than the solver iterations it guards; numpy calls on
+    3×3 arrays do), or arrays over a stack; ``largest`` is ``max`` or its numpy reduction."""
+    (a, b, c), (d, e, f), (g, h, i) = rows
+    defect = largest(
+        (
+            abs(a * a + d * d + g * g - 1.0),
+            abs(b * b + e * e + h * h - 1.0),
+            abs(c * c + f * f + i * i - 1.0),
+            abs(a * b + d * e + g * h),
+            abs(a * c + d * f + g * i),
+            abs(b * c + e * f + h * i),
+        )
     )
     det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
     return defect, det
+
+
+def _verdict(defect: Any, det: Any) -> tuple[Any, Any]:
+    """The tolerance policy above, on floats or arrays alike: ``(exact, accepted)``; a
+    matrix accepted but not exact is projected (``exact`` implies ``accepted``)."""
+    exact = (defect <= ROTATION_TOLERANCE) & (abs(det - 1.0) <= ROTATION_TOLERANCE)
+    return exact, (defect <= NEAR_ROTATION_TOLERANCE) & (det > 0.0)
 
 
 def rotation_defect(R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -98,8 +111,8 @@ def rotation_defect(R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     matrix is from SO(3), as the tolerance policy above measures it."""
     R = _matrix_stack(R, "R")
     with np.errstate(invalid="ignore", over="ignore"):
-        gram = np.einsum("...ki,...kj->...ij", R, R) - np.eye(3)
-        return np.abs(gram).max(axis=(-2, -1)), np.linalg.det(R)
+        defect, det = _defect_and_det(np.moveaxis(R, (-2, -1), (0, 1)), np.maximum.reduce)
+    return np.asarray(defect), np.asarray(det)
 
 
 def closest_rotation(R: np.ndarray) -> np.ndarray:
@@ -144,14 +157,15 @@ def _checked_rotation_block(
 ) -> np.ndarray | None:
     """None when ``R`` is a rotation as it is; else its projection (with a warning) under the
     policy above, or raise ``error``."""
-    defect, det = _rotation_defect(R)
+    defect, det = _defect_and_det(R.tolist(), max)
     if not (math.isfinite(defect) and math.isfinite(det)):
         if not np.isfinite(R).all():
             raise error(f"{name} must be finite, holds NaN or inf: {R.tolist()}")
         raise error(_refusal(name, defect, det, strict))  # entries so large RᵀR overflows
-    if defect <= ROTATION_TOLERANCE and abs(det - 1.0) <= ROTATION_TOLERANCE:
+    exact, accepted = _verdict(defect, det)
+    if exact:
         return None
-    if strict or defect > NEAR_ROTATION_TOLERANCE or det <= 0.0:
+    if strict or not accepted:
         raise error(_refusal(name, defect, det, strict))
     projected = closest_rotation(R)
     warn(
@@ -177,8 +191,8 @@ def check_rotations(
         raise InvalidRotation(f"{name} must have shape (B, 3, 3), got {R.shape}")
     defect, det = rotation_defect(R)
     with np.errstate(invalid="ignore"):
-        exact = (defect <= ROTATION_TOLERANCE) & (np.abs(det - 1.0) <= ROTATION_TOLERANCE)
-        near = ~exact & (defect <= NEAR_ROTATION_TOLERANCE) & (det > 0.0)
+        exact, accepted = _verdict(defect, det)
+    near = accepted & ~exact
     if strict or not near.any():
         return R, exact
     R = R.copy()
@@ -189,7 +203,7 @@ def check_rotations(
         "Pass strict=True to refuse such input.",
         NearRotationWarning,
     )
-    return R, exact | near
+    return R, accepted
 
 
 def as_rotation(R: np.ndarray, name: str = "R", *, strict: bool = False) -> np.ndarray:

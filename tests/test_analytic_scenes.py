@@ -54,6 +54,21 @@ def test_solver_for_reports_unreachable_and_off_plane_targets():
         puma(np.eye(4), limits="none")
 
 
+def test_solver_for_takes_limits_as_one_array():
+    """A (2, n) array of limits is a pair (lower, upper), as a tuple is (it raised numpy's
+    ambiguous-truth ValueError before)."""
+    robot = redik.load("puma560")
+    puma = solver_for(robot)
+    q = np.array([0.3, -0.4, 0.5, 0.2, 0.6, -0.1])
+    T = robot.fk(q)
+    wide = np.array([puma.lower, puma.upper])
+    assert len(puma(T, limits=wide)) == len(puma(T, limits=(puma.lower, puma.upper))) >= 1
+    narrow = np.array([q - 1e-3, q + 1e-3])
+    assert len(puma(T, limits=narrow)) == 1
+    with pytest.raises(InvalidInput, match="limits"):
+        puma(T, limits=np.zeros((3, 6)))
+
+
 def test_solver_for_refuses_a_model_that_does_not_match_its_family():
     with pytest.raises(ModelError, match="needed by the ur solver"):
         solver_for(redik.load("puma560"), family="ur")

@@ -84,29 +84,26 @@ def poses(value: object, name: str = "T", *, strict: bool = False) -> np.ndarray
     T = lie.real_array(value, name, InvalidPose)
     if T.ndim != 3 or T.shape[1:] != (4, 4):
         raise InvalidPose(f"{name} must have shape (B, 4, 4) (rigid transforms), got {T.shape}")
-    if not np.isfinite(T).all():
-        index = int(np.argmin(np.isfinite(T).all(axis=(1, 2))))
-        raise InvalidPose(f"{name}[{index}] must be finite, holds NaN or inf: {T[index].tolist()}")
-    bottom = np.abs(T[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1, initial=0.0)
-    if (bottom > lie.ROTATION_TOLERANCE).any():
-        index = int(np.argmax(bottom))
-        raise InvalidPose(
-            f"{name}[{index}] must be a rigid transform with bottom row [0, 0, 0, 1], "
-            f"got {np.array2string(T[index, 3])}"
-        )
-    far = np.abs(T[:, :3, 3]).max(axis=1, initial=0.0)
-    if (far > lie.MAX_COORDINATE).any():
-        index = int(np.argmax(far))
-        lie.as_pose(T[index], f"{name}[{index}]", strict=strict)  # raises, naming the bound
+    with np.errstate(invalid="ignore"):
+        bad = ~np.isfinite(T).all(axis=(1, 2))
+        bad |= np.abs(T[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1) > lie.ROTATION_TOLERANCE
+        bad |= np.abs(T[:, :3, 3]).max(axis=1) > lie.MAX_COORDINATE
+    _refuse_first(T, bad, name, strict)
     block = T[:, :3, :3]
     R, accepted = lie.check_rotations(block, name, strict=strict)
-    if not accepted.all():
-        index = int(np.argmin(accepted))
-        lie.as_pose(T[index], f"{name}[{index}]", strict=strict)  # raises, naming the defect
+    _refuse_first(T, ~accepted, name, strict)
     if R is not block:
         T = T.copy()
         T[:, :3, :3] = R
     return T
+
+
+def _refuse_first(T: np.ndarray, bad: np.ndarray, name: str, strict: bool) -> None:
+    """Raise :func:`redik.lie.as_pose`'s message for the first pose that ``bad`` marks."""
+    if bad.any():
+        index = int(np.argmax(bad))
+        lie.as_pose(T[index], f"{name}[{index}]", strict=strict)
+        raise AssertionError(f"{name}[{index}] refused by the stack check, not by lie.as_pose")
 
 
 def limits(

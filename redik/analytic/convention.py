@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from redik.analytic import _checks
 from redik.analytic._solution import IKSolutions, JointSolution, SolutionFamily
 from redik.exceptions import InvalidInput
 from redik.lie import real_array
@@ -117,12 +118,23 @@ class AngleConvention:
         return array
 
 
-def resolve(
-    convention: str, conventions: dict[str, AngleConvention | None], solver: str
-) -> AngleConvention | None:
-    """The :class:`AngleConvention` named ``convention`` among a solver's (None: DH)."""
+def solve_in(
+    convention: str,
+    conventions: dict[str, AngleConvention | None],
+    solver: str,
+    limits: tuple[object, object] | None,
+    n_joints: int,
+    solve: Callable[[tuple[np.ndarray, np.ndarray] | None], IKSolutions],
+) -> IKSolutions:
+    """``solve(joint_limits)`` in the convention named ``convention`` among a solver's (None:
+    its DH angles): resolve it, check the ``limits`` (given in it) and convert them to DH joint
+    limits, solve, and map the solutions back into it."""
     if convention not in conventions:
         raise InvalidInput(
             f"{solver} convention must be one of {sorted(conventions)}, got {convention!r}"
         )
-    return conventions[convention]
+    mapping = conventions[convention]
+    checked_limits = _checks.limits(limits, n_joints)
+    if mapping is None:
+        return solve(checked_limits)
+    return mapping.map_solutions(solve(mapping.limits_to_joints(checked_limits)))

@@ -293,7 +293,7 @@ class DecomposedSolver:
         labels = self.labels
         candidates = []
         for slot in np.flatnonzero(status != kernels.EMPTY):
-            text, family = self._singular(T, q[slot], int(status[slot]), int(free[slot]), slot)
+            text, family = self._singular(T, int(status[slot]), int(free[slot]), slot)
             candidates.append(Candidate(q[slot], labels[slot], text, family))
         if not candidates:
             worst = int(stage.max())
@@ -320,7 +320,7 @@ class DecomposedSolver:
         return self._plan(_UNBOUNDED, DEFAULT_TOL)
 
     def _singular(
-        self, T: np.ndarray, q: np.ndarray, status: int, free: int, slot: int
+        self, T: np.ndarray, status: int, free: int, slot: int
     ) -> tuple[str, SolutionFamily | None]:
         if status != kernels.SINGULAR:
             return "", None

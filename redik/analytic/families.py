@@ -236,13 +236,14 @@ class AnalyticSolver:
             T[:3, 3] = _checks.finite_array(array, "target", (3,))
         else:
             T = _checks.pose(target, "target", strict=strict)
-        chosen = (
-            (self.lower, self.upper) if isinstance(limits, str) and limits == "robot" else limits
-        )
-        if isinstance(chosen, str):
-            raise InvalidInput(f"limits must be 'robot', None or (lower, upper), got {chosen!r}")
-        if chosen is not None and limits != "robot":
-            chosen = _checks.limits(chosen, len(self.lower))
+        if isinstance(limits, str):
+            if limits != "robot":
+                raise InvalidInput(
+                    f"limits must be 'robot', None or (lower, upper), got {limits!r}"
+                )
+            chosen = (self.lower, self.upper)
+        else:
+            chosen = _checks.limits(limits, len(self.lower))
         family = FAMILIES[self.family]
         return family.solve(self._base_inverse @ T, self.params, chosen, tol)
 

@@ -52,7 +52,7 @@ from redik.analytic._solution import (
     unreachable,
     wrap_angle,
 )
-from redik.analytic.convention import AngleConvention, resolve
+from redik.analytic.convention import AngleConvention, solve_in
 from redik.analytic.planar import two_link, two_link_candidates, two_link_reason
 
 KNEE_LABELS = ("knee-down", "knee-up")  # 2R slot 0 has θ3 ≥ 0
@@ -103,13 +103,14 @@ def hexapod_leg(
     coxa = _checks.length(coxa, "coxa", allow_zero=True)
     femur, tibia = _checks.length(femur, "femur"), _checks.length(tibia, "tibia")
     z_offset = _checks.scalar(z_offset, "z_offset")
-    mapping = resolve(convention, CONVENTIONS, "hexapod_leg")
-    checked_limits = _checks.limits(limits, 3)
-    if mapping is None:
-        return _solve(px, py, pz, coxa, femur, tibia, z_offset, checked_limits, tol)
-    joint_limits = mapping.limits_to_joints(checked_limits)
-    solutions = _solve(px, py, pz, coxa, femur, tibia, z_offset, joint_limits, tol)
-    return mapping.map_solutions(solutions)
+    return solve_in(
+        convention,
+        CONVENTIONS,
+        "hexapod_leg",
+        limits,
+        3,
+        lambda joint_limits: _solve(px, py, pz, coxa, femur, tibia, z_offset, joint_limits, tol),
+    )
 
 
 def _solve(
@@ -142,7 +143,7 @@ def _solve(
             continue
         labels = (prefix + KNEE_LABELS[0], prefix + KNEE_LABELS[1])
         for q, label, singular, free in two_link_candidates(plane, femur, tibia, tol, labels):
-            candidates.append(_leg_solution(q, theta1, label, singular, free, on_axis, u, z))
+            candidates.append(_leg_solution(q, theta1, label, singular, free, on_axis))
     if not candidates:
         return unreachable(3, reasons[0])
     return finalize(candidates, 3, np.ones(3, bool), checked_limits, PREFERRED)
@@ -155,8 +156,6 @@ def _leg_solution(
     singular: str,
     femur_free: bool,
     on_axis: bool,
-    u: float,
-    z: float,
 ) -> JointSolution:
     if femur_free:  # foot on the femur axis with femur = tibia
         text = f"foot on the femur axis ({singular}): θ2 is arbitrary, θ3 = π"

@@ -31,6 +31,7 @@ import numba
 import numpy as np
 
 from redik.analytic import _checks
+from redik.analytic._decomposed_kernels import _row
 from redik.analytic.decomposed import Chain, _common_point, _on_axis, _perpendicular, screws_of
 from redik.analytic.subproblems import (
     FREE,
@@ -130,11 +131,6 @@ def _map(f, g, v):
     """``Gᵀ F v`` for frames given by rows: the rotation taking frame f to frame g."""
     c = (dot(f[0], v), dot(f[1], v), dot(f[2], v))
     return add(add(scale(g[0], c[0]), scale(g[1], c[1])), scale(g[2], c[2]))
-
-
-@numba.njit(cache=True)
-def _row(G, i):
-    return (G[i, 0], G[i, 1], G[i, 2])
 
 
 @numba.njit(cache=True)

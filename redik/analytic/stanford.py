@@ -62,8 +62,7 @@ from redik.analytic._solution import (
     SolutionFamily,
     unreachable,
 )
-from redik.analytic.convention import AngleConvention
-from redik.analytic.convention import resolve as resolve_convention
+from redik.analytic.convention import AngleConvention, solve_in
 from redik.analytic.wrist import wrist_singularity, zyz_pair
 from redik.dh import DHRow
 
@@ -156,14 +155,27 @@ def stanford(
         Up to 4 solutions ``"left-noflip"`` … ``"right-flip"``; none, with a ``reason``,
         when the wrist centre is closer to the base axis than ``|d2|``.
     """
-    mapping = resolve_convention(convention, CONVENTIONS, "stanford")
-    if mapping is not None:
-        joint_limits = mapping.limits_to_joints(_checks.limits(limits, 6))
-        solutions = stanford(T, d2, d6, d1=d1, limits=joint_limits, tol=tol, strict=strict)
-        return mapping.map_solutions(solutions)
+    return solve_in(
+        convention,
+        CONVENTIONS,
+        "stanford",
+        limits,
+        6,
+        lambda joint_limits: _stanford(T, d2, d6, d1, joint_limits, tol, strict),
+    )
+
+
+def _stanford(
+    T: np.ndarray,
+    d2: float,
+    d6: float,
+    d1: float,
+    checked_limits: tuple[np.ndarray, np.ndarray] | None,
+    tol: float,
+    strict: bool,
+) -> IKSolutions:
     T = _checks.pose(T, strict=strict)
     d2, d6, d1 = (_checks.scalar(v, n) for v, n in ((d2, "d2"), (d6, "d6"), (d1, "d1")))
-    checked_limits = _checks.limits(limits, 6)
     M, num = pose_entries(T)
     arm = stanford_slots(M, num, d2, d6, d1, tol)
     if not arm.shoulder_ok:

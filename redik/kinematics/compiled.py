@@ -36,13 +36,11 @@ by zero gives inf or NaN as in numpy (every such result is caught as a non-finit
 a Python exception, so divisions carry no checks; fused multiply-adds are allowed (no
 reassociation: results stay reproducible)."""
 
-_COMPILE = COMPILE
-
 apply_inverse_v = numba.njit(**COMPILE)(lie.apply_inverse_v)
 """The compiled twin of :func:`redik.lie.apply_inverse_v` (the same source, compiled)."""
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def valid_target(T, tol):
     """True when ``T`` is a finite rigid transform: last row ``[0, 0, 0, 1]``, ``RᵀR = I``
     and ``det R = 1``, each within ``tol``, and a translation within ``±MAX_COORDINATE``
@@ -70,14 +68,14 @@ def valid_target(T, tol):
     return abs(det - 1.0) <= tol
 
 
-@numba.njit(parallel=True, **_COMPILE)
+@numba.njit(parallel=True, **COMPILE)
 def valid_targets(T, tol, out):
     """``out[t]`` = :func:`valid_target` of each ``T[t]`` (B × 4 × 4), over every thread."""
     for t in numba.prange(T.shape[0]):
         out[t] = valid_target(T[t], tol)
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def chain_kinematics(base, links, revolute, q, R, p, axes, origins):
     """FK of the chain at ``q`` into ``R`` (3 × 3) and ``p``, with each joint's world axis
     and origin into ``axes`` and ``origins`` (n × 3)."""
@@ -105,7 +103,7 @@ def chain_kinematics(base, links, revolute, q, R, p, axes, origins):
                 R[a, b] = r0 * links[i, 0, b] + r1 * links[i, 1, b] + r2 * links[i, 2, b]
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def world_jacobian(revolute, p, axes, origins, J):
     """The world Jacobian (6 × n) from :func:`chain_kinematics`' axes and origins."""
     for i in range(revolute.shape[0]):
@@ -121,7 +119,7 @@ def world_jacobian(revolute, p, axes, origins, J):
             J[3, i] = J[4, i] = J[5, i] = 0.0
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def pose_error(Rd, pd, R, p, e):
     r"""Fill ``e = (p_d − p, log(R_d Rᵀ)^∨)``; return ``(‖p_d − p‖, rotation angle)``.
 

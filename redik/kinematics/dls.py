@@ -55,8 +55,6 @@ CONVERGED, STALLED, MAX_ITERATIONS, INVALID, DIVERGED = range(5)
 POS_TOL, ROT_TOL, DAMPING, MIN_DAMPING, MAX_DAMPING, REQUIRED, REACH, TARGET_TOL = range(8)
 MAX_ITER, RESTARTS, PATIENCE, BOUNDED, CANDIDATES = range(5)
 
-_COMPILE = COMPILE
-
 _BLOCK = 16
 """Targets per parallel work item: small enough to balance the threads on hard tails."""
 
@@ -67,7 +65,7 @@ _STREAM = np.uint64(0xD1B54A32D192ED03)
 _TWO_TO_MINUS_53 = 2.0**-53
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def _next_uniform(state: np.ndarray) -> float:
     """A double in [0, 1) from the splitmix64 generator whose state is ``state[0]``."""
     state[0] += _GAMMA
@@ -78,7 +76,7 @@ def _next_uniform(state: np.ndarray) -> float:
     return float(z >> np.uint64(11)) * _TWO_TO_MINUS_53
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def gram(J, G):
     """The lower triangle of ``G = J Jᵀ`` (6 × 6) when ``n ≥ 6``, else of ``JᵀJ`` (n × n).
 
@@ -102,7 +100,7 @@ def gram(J, G):
                 G[i, j] = total
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def damped_solve_gram(J, G, free, e, damping, A, y, dq):
     r"""``dq = J_fᵀ (J_f J_fᵀ + λI)⁻¹ e`` (``n ≥ 6``) or ``(J_fᵀJ_f + λI)⁻¹ J_fᵀ e``, where
     ``J_f`` is ``J`` with the columns not ``free`` zeroed (their ``dq`` is 0), from the Gram
@@ -166,7 +164,7 @@ def damped_solve_gram(J, G, free, e, damping, A, y, dq):
             dq[k] = y[k]
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def damped_solve(J, free, e, damping, A, y, dq):
     r"""``dq = J_fᵀ (J_f J_fᵀ + λI)⁻¹ e`` (``n ≥ 6``) or ``(J_fᵀJ_f + λI)⁻¹ J_fᵀ e``, where
     ``J_f`` is ``J`` with the columns not ``free`` zeroed (their ``dq`` is 0)."""
@@ -294,7 +292,7 @@ class BatchOptions:
         return settings, counts
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def _workspace(n):
     m = 6 if n >= 6 else n
     return (
@@ -315,7 +313,7 @@ def _workspace(n):
     )
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
     """One attempt from ``ws`` q[0]; returns ``(status, iterations, ‖e‖², ‖Jᵀe‖ at the
     end without components pushing against a limit)``. ``errors[k]`` is ``‖e‖`` after
@@ -415,7 +413,7 @@ def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
     return status, iterations, E, math.sqrt(gradient)
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def _clamp(J, e, damping, q, qt, lower, upper, ws):
     """Joints that would leave their range stop at the limit; the others re-solve.
 
@@ -446,7 +444,7 @@ def _clamp(J, e, damping, q, qt, lower, upper, ws):
             qt[j] = q[j] + dq[j] if free[j] else limit_value[j]
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def _restart_seed(chain, Rd, pd, state, candidates, bounded, ws):
     """Into ``ws`` q[0]: the nearest in pose of ``candidates`` random configurations.
 
@@ -478,7 +476,7 @@ def _restart_seed(chain, Rd, pd, state, candidates, bounded, ws):
             q[0] = q[1]
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def _solve_target(chain, Rd, pd, q0, state, settings, counts, ws, out, history, errors, record):
     """Attempts from ``q0`` then from random configurations until one converges.
 
@@ -522,7 +520,7 @@ def _solve_target(chain, Rd, pd, q0, state, settings, counts, ws, out, history, 
     return best_status, total, attempts - 1, best_length, summary
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def solve_one(chain, T, q0, key, settings, counts, out, history, errors, e):
     """:func:`_solve_target` for one target ``T`` (4 × 4) from ``q0`` (clipped into the limits
     when they are respected), recording the best attempt's history into ``history[1]`` and
@@ -552,7 +550,7 @@ def solve_one(chain, T, q0, key, settings, counts, out, history, errors, e):
     return status, total, used, length, (*summary, position, angle, inside)
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def _solve_range(chain, T, q0, first, key, settings, counts, start, stop, results):
     q_out, status, iterations, restarts, position_error, rotation_error = results
     base, links, revolute, lower, upper = chain[0], chain[1], chain[2], chain[3], chain[4]
@@ -592,13 +590,13 @@ def _solve_range(chain, T, q0, first, key, settings, counts, start, stop, result
         position_error[t], rotation_error[t] = position, angle
 
 
-@numba.njit(**_COMPILE)
+@numba.njit(**COMPILE)
 def solve_serial(chain, T, q0, first, key, settings, counts, results):
     """Solve every target of a chunk on this thread (see :func:`solve_parallel`)."""
     _solve_range(chain, T, q0, first, key, settings, counts, 0, T.shape[0], results)
 
 
-@numba.njit(parallel=True, **_COMPILE)
+@numba.njit(parallel=True, **COMPILE)
 def solve_parallel(chain, T, q0, first, key, settings, counts, results):
     """Solve every target of a chunk, blocks of targets spread over numba's threads.
 
