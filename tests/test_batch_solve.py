@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 import redik
-from redik.core.result import STATUSES
+from redik.core.result import Status
+from redik.kinematics import dls
 from redik.solvers.batch import BATCH_STATUSES, Chain, forward_kinematics, solve_batch
 from redik.solvers.pose_ik import solve_pose
 
@@ -138,8 +139,17 @@ def test_empty_batch(panda):
     assert len(result) == 0 and result.q.shape == (0, panda.dof)
 
 
-def test_status_names_follow_redik_statuses():
-    assert set(BATCH_STATUSES) - {"invalid"} <= set(STATUSES)
+def test_batch_statuses_are_redik_statuses():
+    # The kernel's integer codes (redik.kinematics.dls) name Status members, in code order.
+    assert all(isinstance(status, Status) for status in BATCH_STATUSES)
+    codes = {
+        Status.CONVERGED: dls.CONVERGED,
+        Status.STALLED: dls.STALLED,
+        Status.MAX_ITERATIONS: dls.MAX_ITERATIONS,
+        Status.INVALID: dls.INVALID,
+        Status.DIVERGED: dls.DIVERGED,
+    }
+    assert {status: BATCH_STATUSES.index(status) for status in codes} == codes
 
 
 def test_rotation_log_matches_lie_at_every_angle(rng):

@@ -118,7 +118,7 @@ def run_demo(
         "scene": robot.name,
         "target": target.tolist(),
         "qp": {
-            "status": solution.status,
+            "status": solution.status.value,
             "success": bool(solution.success and robot.within_limits(solution.q)),
             "iterations": solution.iterations,
             "position_error": position_error,

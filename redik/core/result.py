@@ -1,25 +1,108 @@
-"""The result every redik solver returns: data, not prints or exceptions.
+"""The result every redik solver returns, and the one vocabulary of its ``status``.
 
 An ordinary failure (a target out of reach, an iteration budget spent, a singular Jacobian)
-is a result with ``success=False`` and a ``status``; exceptions are kept for misuse.
+is a result with ``success=False`` and a :class:`Status`; exceptions are kept for misuse.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import warnings
+from enum import Enum
 
 import numpy as np
 
-STATUSES = (
-    "converged",  # the error is within tolerance (and, for a Robot, q is inside the limits)
-    "stalled",  # the step ‖Δq‖ fell below q_tol while the error is still above tol
-    "max_iterations",  # the iteration budget ran out
-    "singular",  # σ_min(J) ≤ singular_tol blocked a Newton step
-    "diverged",  # a NaN or inf appeared; q is the last finite iterate
-    "unreachable",  # the target lies outside the reachable workspace (as far as can be told)
-    "limits",  # converged only outside the joint limits (respect_limits=True rejects it)
-)
-"""Every ``status`` a solver may report."""
+from redik.core.exceptions import InvalidInput
+
+
+class Status(str, Enum):
+    """How a solve ended: the ``status`` of every redik result.
+
+    A ``str``-valued enum: a member equals its value (``result.status == "converged"``),
+    formats as it (``f"{status}"`` is ``"converged"``), hashes as it (a dict keyed by the
+    strings finds it) and is written as it by ``json``. Results built from a plain string
+    store the member (``IKResult(status="stalled", …).status is Status.STALLED``).
+
+    Which solver produces which member:
+
+    ==================  ========================================================================
+    ``CONVERGED``       Every solver, on success: the tolerances are met (for a robot, inside
+                        the joint limits when they are respected). For a closed-form solver
+                        (:class:`~redik.solvers.analytic.IKSolutions`): at least one solution.
+                        For :func:`~redik.solvers.redundancy.explore_self_motion`: every
+                        component found was sampled to its end.
+    ``STALLED``         The iteration stopped making progress above the tolerance: the step
+                        fell below ``q_tol``, the relative change below ``rel_tol``, or no
+                        Armijo step decreased the error (root finders of
+                        :mod:`redik.solvers.iterative`); no acceptable step or too slow a
+                        decrease (:meth:`redik.Problem.solve`); an attempt's damped step made
+                        no progress (:func:`redik.solve_batch`). ``q`` is then (near) a
+                        stationary point of the error, not a root.
+    ``MAX_ITERATIONS``  The iteration (or sample) budget ran out: every iterative solver;
+                        :func:`redik.solve_pose` when no attempt converged and no better
+                        explanation applies; :func:`redik.explore_self_motion` when
+                        ``max_samples`` ran out (the manifold may be incomplete).
+    ``SINGULAR``        ``σ_min(J) ≤ singular_tol`` blocked a Newton step (root finders of
+                        :mod:`redik.solvers.iterative`, when ``singular_tol`` is given).
+    ``DIVERGED``        A NaN or inf (or a blow-up past ``max_growth``) appeared; ``q`` is the
+                        last finite iterate (root finders; :func:`redik.solve_pose` when every
+                        attempt diverged; :func:`redik.solve_batch`).
+    ``UNREACHABLE``     The target lies outside the reachable workspace as far as can be told:
+                        beyond the chain's reach, or every attempt stopped at the same error
+                        with a vanishing gradient (:func:`redik.solve_pose`); no start reached
+                        the pose (:func:`redik.explore_self_motion`); no closed-form solution
+                        exists (:class:`~redik.solvers.analytic.IKSolutions`).
+    ``LIMITS``          The target is reached only outside the joint limits: solutions exist,
+                        none inside (:func:`redik.explore_self_motion`,
+                        :class:`~redik.solvers.analytic.IKSolutions`).
+    ``INVALID``         The target is not a finite rigid transform and was not solved
+                        (:func:`redik.solve_batch`, per target; a single-target solver raises
+                        :class:`~redik.core.exceptions.InvalidPose` instead).
+    ==================  ========================================================================
+    """
+
+    CONVERGED = "converged"
+    STALLED = "stalled"
+    MAX_ITERATIONS = "max_iterations"
+    SINGULAR = "singular"
+    DIVERGED = "diverged"
+    UNREACHABLE = "unreachable"
+    LIMITS = "limits"
+    INVALID = "invalid"
+
+    def __str__(self) -> str:
+        return self.value
+
+    def __format__(self, spec: str) -> str:
+        return format(self.value, spec)
+
+    @classmethod
+    def coerce(cls, status: object, name: str = "status") -> Status:
+        """``status`` (a member or its string) as a member; raises :class:`InvalidInput`
+        naming the valid values otherwise."""
+        try:
+            return cls(status)
+        except ValueError:
+            raise InvalidInput(
+                f"{name} must be one of {[member.value for member in cls]}, got {status!r}"
+            ) from None
+
+
+_DEPRECATED = {
+    "STATUSES": (
+        tuple(member.value for member in Status),
+        "redik.core.result.STATUSES is deprecated: use redik.Status (an enum of the same "
+        "strings, e.g. `status in set(redik.Status)` or `redik.Status(text)`)",
+    )
+}
+
+
+def __getattr__(name: str) -> object:
+    if name in _DEPRECATED:
+        value, message = _DEPRECATED[name]
+        warnings.warn(message, DeprecationWarning, stacklevel=2)
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 @dataclasses.dataclass
@@ -29,7 +112,8 @@ class IKResult:
     Attributes:
         q: The final joint vector — always finite.
         success: True when the tolerances (and limits, where asked) are met.
-        status: One of :data:`STATUSES`.
+        status: How the solve ended, a :class:`Status` (a plain string given here is
+            converted; an unknown one raises :class:`InvalidInput`).
         iterations: Iterations performed (summed over restarts).
         error: Final residual norm ``‖e‖`` the solver drove to zero (for a pose target the
             norm of the body error twist ``log(T⁻¹ T_d)``).
@@ -45,7 +129,7 @@ class IKResult:
 
     q: np.ndarray
     success: bool
-    status: str
+    status: Status
     iterations: int
     error: float
     position_error: float | None = None
@@ -57,8 +141,7 @@ class IKResult:
     message: str = ""
 
     def __post_init__(self) -> None:
-        if self.status not in STATUSES:
-            raise ValueError(f"status must be one of {STATUSES}, got {self.status!r}")
+        self.status = Status.coerce(self.status)
 
     def summary(self) -> str:
         """One line: status, iterations and errors."""

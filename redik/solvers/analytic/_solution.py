@@ -1,8 +1,9 @@
 r"""Result types shared by the closed-form solvers, and the steps every solver ends with.
 
 Every solver in :mod:`redik.solvers.analytic` returns an :class:`IKSolutions`: a sequence of
-:class:`JointSolution` (a joint vector that carries a ``label``), with ``reachable`` and, when
-empty, a ``reason``. A configuration at a singularity is still returned once, as a
+:class:`JointSolution` (a joint vector that carries a ``label``), with ``reachable``, a
+``status`` in the vocabulary of every redik result (:class:`redik.Status`) and, when empty, a
+``reason``. A configuration at a singularity is still returned once, as a
 representative, with its ``singular`` text and, where the solutions form a continuum, the
 :class:`SolutionFamily` that generates the others. The batch solvers return a
 :class:`BatchSolutions` with a fixed label per slot.
@@ -19,6 +20,7 @@ from typing import NamedTuple, overload
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
+from redik.core.result import Status
 from redik.lie import wrap_angle
 
 #: Default tolerance (metres) by which a target may lie outside the workspace and still be
@@ -152,6 +154,20 @@ class IKSolutions(Sequence[JointSolution]):
     @property
     def labels(self) -> tuple[str, ...]:
         return tuple(solution.label for solution in self.solutions)
+
+    @property
+    def success(self) -> bool:
+        """Whether there is at least one solution (within the limits, when given)."""
+        return bool(self.solutions)
+
+    @property
+    def status(self) -> Status:
+        """:class:`~redik.core.result.Status` ``CONVERGED`` with a solution, else
+        ``UNREACHABLE`` (the target is outside the workspace) or ``LIMITS`` (solutions exist,
+        none within the joint limits); :attr:`reason` says why in words."""
+        if self.solutions:
+            return Status.CONVERGED
+        return Status.LIMITS if self.reachable else Status.UNREACHABLE
 
     @property
     def singular(self) -> bool:

@@ -30,6 +30,7 @@ import numba
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
+from redik.core.result import Status
 from redik.kinematics import dls
 from redik.kinematics.chain import Chain
 from redik.kinematics.compiled import valid_targets
@@ -40,10 +41,16 @@ from redik.lie import MAX_COORDINATE, ROTATION_TOLERANCE, check_rotations, real_
 from redik.lie import rotation_log as rotation_log  # re-exported: its old home
 from redik.solvers.batch.engines import ENGINES, default_workers, map_chunks
 
-BATCH_STATUSES = ("converged", "stalled", "max_iterations", "invalid", "diverged")
-"""Status names by code (those of :mod:`redik.kinematics.dls`). All but ``"invalid"`` are
-those of :data:`redik.core.result.STATUSES`; ``"invalid"`` marks a target that is not a finite
-rigid transform (it is not solved)."""
+BATCH_STATUSES = (
+    Status.CONVERGED,
+    Status.STALLED,
+    Status.MAX_ITERATIONS,
+    Status.INVALID,
+    Status.DIVERGED,
+)
+"""The :class:`~redik.core.result.Status` of each code of :mod:`redik.kinematics.dls` (the
+compiled kernel reports integers); ``INVALID`` marks a target that is not a finite rigid
+transform (it is not solved)."""
 
 METHODS = ("dls",)
 """Methods of :func:`solve_batch`: damped least squares (Levenberg–Marquardt)."""
@@ -65,7 +72,8 @@ class BatchResult:
         rotation_error: Angle of ``Rᵀ R_d`` in radians (NaN for an invalid target).
         iterations: Iterations spent on each target, summed over its attempts.
         restarts: Random re-seeds used by each target.
-        status: Codes indexing :data:`BATCH_STATUSES`.
+        status: Codes indexing :data:`BATCH_STATUSES` (``statuses`` has them as
+            :class:`~redik.core.result.Status` members, ``status_names`` as strings).
     """
 
     q: np.ndarray
@@ -82,9 +90,14 @@ class BatchResult:
         return len(self.success)
 
     @property
+    def statuses(self) -> list[Status]:
+        """``status`` as :class:`~redik.core.result.Status` members, one per target."""
+        return [BATCH_STATUSES[code] for code in self.status.tolist()]
+
+    @property
     def status_names(self) -> np.ndarray:
-        """``status`` as strings."""
-        return np.asarray(BATCH_STATUSES)[self.status]
+        """``status`` as a numpy array of strings (the values of :attr:`statuses`)."""
+        return np.asarray([status.value for status in BATCH_STATUSES])[self.status]
 
     @property
     def success_rate(self) -> float:

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
-from redik.core.result import IKResult
+from redik.core.result import IKResult, Status
 from redik.lie import (
     as_pose,
     as_vector,
@@ -173,7 +173,7 @@ def gradient_projection_ik(
     J_body = np.empty((6, robot.dof))
     history = [q.copy()]
     errors: list[float] = []
-    status = "max_iterations"
+    status = Status.MAX_ITERATIONS
     for _ in range(max_iterations):
         robot.kinematics(q, resolved, T, J)
         R = T[:3, :3]
@@ -190,7 +190,7 @@ def gradient_projection_ik(
             and rotation_error <= rotation_tolerance
             and np.linalg.norm(secondary) <= step_tolerance
         ):
-            status = "converged"
+            status = Status.CONVERGED
             break
         norm = float(np.linalg.norm(step))
         if norm > max_step:
@@ -198,7 +198,7 @@ def gradient_projection_ik(
         q = robot.clip(q + step)
         history.append(q.copy())
     message = ""
-    if status != "converged":
+    if status != Status.CONVERGED:
         # The budget ran out mid-climb: drop the criterion and settle onto the pose.
         for _ in range(10):
             robot.kinematics(q, resolved, T, J)
@@ -210,11 +210,11 @@ def gradient_projection_ik(
     robot.kinematics(q, resolved, T)
     position_error, rotation_error = pose_errors(T, T_target)
     if position_error <= position_tolerance and rotation_error <= rotation_tolerance:
-        status = "converged"
+        status = Status.CONVERGED
     errors.append(float(np.linalg.norm(se3_log(inverse(T) @ T_target))))
     return IKResult(
         q=q,
-        success=status == "converged",
+        success=status == Status.CONVERGED,
         status=status,
         iterations=len(history) - 1,
         error=errors[-1],

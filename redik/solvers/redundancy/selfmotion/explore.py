@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
+from redik.core.result import Status
 from redik.lie import as_pose, real_array
 from redik.solvers.redundancy.corrector import BatchCorrector, Corrector
 from redik.solvers.redundancy.criteria import Criterion, default_criteria, evaluate_criteria
@@ -180,26 +181,29 @@ def _status(
     closest: tuple[float | None, float | None],
     attempts: int,
     max_samples: int,
-) -> tuple[str, str]:
+) -> tuple[Status, str]:
     """The status and message of an exploration (see :class:`SelfMotion`)."""
     if not seeds:
         if attempts == 0:
-            return "unreachable", "no start: n_starts is 0 and no initial configuration was given"
+            return (
+                Status.UNREACHABLE,
+                "no start: n_starts is 0 and no initial configuration was given",
+            )
         position, rotation = closest
-        return "unreachable", (
+        return Status.UNREACHABLE, (
             f"none of {attempts} IK starts reached the pose (joint limits ignored); the closest "
             f"ended {position:.3g} m and {rotation:.3g} rad away"
         )
     if not explorer.parts:
-        return "limits", (
+        return Status.LIMITS, (
             f"{len(seeds)} IK solution(s) reach the pose, but the configurations through them "
             f"leave the joint limits everywhere: no sample inside the limits"
         )
     if any("max_samples" in ends for ends in explorer.ends) or explorer.budget <= 0:
-        return "max_iterations", (
+        return Status.MAX_ITERATIONS, (
             f"max_samples={max_samples} ran out before every component was sampled"
         )
-    return "converged", ""
+    return Status.CONVERGED, ""
 
 
 # --------------------------------------------------------------------------------------

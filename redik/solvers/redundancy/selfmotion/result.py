@@ -12,7 +12,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from redik.core.exceptions import InvalidInput
-from redik.core.result import STATUSES
+from redik.core.result import Status
 from redik.solvers.redundancy.selfmotion.index import SampleIndex, distance
 
 
@@ -53,11 +53,10 @@ class SelfMotion:
         periodic: Mask of the joints whose angles are compared modulo 2π.
         elapsed: Wall time of the exploration (s).
         starts: Random starts used for seeding.
-        status: One of :data:`redik.core.result.STATUSES`: ``"converged"`` (the components found
-            were sampled to the end), ``"max_iterations"`` (``max_samples`` ran out first,
-            the manifold may be incomplete), ``"unreachable"`` (no start reached the pose:
-            no sample) or ``"limits"`` (the pose is reached only outside the joint limits:
-            no sample).
+        status: A :class:`redik.Status`: ``CONVERGED`` (the components found were sampled to
+            the end), ``MAX_ITERATIONS`` (``max_samples`` ran out first, the manifold may be
+            incomplete), ``UNREACHABLE`` (no start reached the pose: no sample) or ``LIMITS``
+            (the pose is reached only outside the joint limits: no sample).
         message: Why, in words, when the status is not ``"converged"``.
         closest_position_error: When no start reached the pose, the position error (m) of
             the start that came closest (by the norm of the pose error); None otherwise.
@@ -81,14 +80,13 @@ class SelfMotion:
     periodic: np.ndarray
     elapsed: float
     starts: int
-    status: str = "converged"
+    status: Status = Status.CONVERGED
     message: str = ""
     closest_position_error: float | None = None
     closest_rotation_error: float | None = None
 
     def __post_init__(self) -> None:
-        if self.status not in STATUSES:
-            raise InvalidInput(f"status must be one of {STATUSES}, got {self.status!r}")
+        self.status = Status.coerce(self.status)
 
     @property
     def success(self) -> bool:
@@ -174,7 +172,7 @@ class SelfMotion:
                 best[name] = {"value": float(values[k]), "q": self.samples[k].tolist()}
         empty = len(self.samples) == 0
         return {
-            "status": self.status,
+            "status": self.status.value,
             "message": self.message,
             "frame": self.frame,
             "joint_names": list(self.joint_names),
