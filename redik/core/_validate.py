@@ -1,4 +1,4 @@
-"""Checks of scalar options at the public boundary (rates, tolerances, steps, switches).
+"""Checks of scalar options at the public boundary (rates, tolerances, counts, steps, switches).
 
 Each returns the value as a plain Python type or raises :class:`~redik.core.exceptions.InvalidInput`
 naming the option, so a string, ``None``, a bool or NaN where a number belongs never reaches
@@ -11,6 +11,8 @@ import math
 import os
 from numbers import Real
 from pathlib import Path
+
+import numpy as np
 
 from redik.core.exceptions import InvalidInput
 
@@ -39,6 +41,18 @@ def non_negative(value: object, name: str) -> float:
     ):
         raise InvalidInput(f"{name} must be a finite number ≥ 0, got {value!r}")
     return float(value)
+
+
+def integer(value: object, name: str, minimum: int = 0, *, allow_none: bool = False) -> int | None:
+    """``value`` as a Python ``int ≥ minimum`` (an ``int`` or numpy integer), or None when
+    ``allow_none``. A bool, a float (even ``3.0``) or a string is refused: a count of
+    iterations, restarts, samples or workers, a chunk size or a seed is a whole number."""
+    if value is None and allow_none:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        none = " (or None)" if allow_none else ""
+        raise InvalidInput(f"{name} must be an integer ≥ {minimum}{none}, got {value!r}")
+    return int(value)
 
 
 def flag(value: object, name: str) -> bool:

@@ -45,6 +45,7 @@ import math
 import numba
 import numpy as np
 
+from redik.core._validate import integer
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.compiled import (
     COMPILE,
@@ -271,10 +272,7 @@ class BatchOptions:
                 raise InvalidInput(f"{name} must be a positive number, got {value!r}")
         integers = (("max_iterations", 1), ("restarts", 0), ("patience", 1), ("candidates", 1))
         for name, minimum in integers:
-            value = getattr(self, name)
-            integer = isinstance(value, (int, np.integer)) and not isinstance(value, bool)
-            if not integer or value < minimum:
-                raise InvalidInput(f"{name} must be an integer ≥ {minimum}, got {value!r}")
+            integer(getattr(self, name), name, minimum)
 
     def kernel_settings(self, bounded: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """The float and integer settings arrays of this module's kernel (the reach

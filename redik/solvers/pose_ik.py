@@ -88,7 +88,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from redik.core._validate import positive
+from redik.core._validate import integer, positive
 from redik.core.exceptions import InvalidInput
 from redik.core.result import IKResult
 from redik.kinematics import dls as kernel
@@ -207,8 +207,8 @@ def solve_pose(
         positive(pos_tol, "pos_tol", unit="m"),
         positive(rot_tol, "rot_tol", unit="rad"),
     )
-    max_iter = _count(MAX_ITER[method] if max_iter is None else max_iter, "max_iter", 1)
-    restarts = _count(RESTARTS[method] if restarts is None else restarts, "restarts", 0)
+    max_iter = integer(MAX_ITER[method] if max_iter is None else max_iter, "max_iter", 1)
+    restarts = integer(RESTARTS[method] if restarts is None else restarts, "restarts", 0)
     resolved = robot.frame(frame)
     frame_solver = _FrameSolver.of(robot, resolved)  # refuses a frame no joint moves
 
@@ -331,7 +331,7 @@ def solve_all(
             result.history = np.array([robot.embed(chain, row, q_whole) for row in result.history])
         return results
     T_target = as_pose(T_target, "T_target", strict=strict)  # once, not per start
-    n_starts = _count(n_starts, "n_starts", 1)
+    n_starts = integer(n_starts, "n_starts", 1)
     cluster_tol = positive(cluster_tol, "cluster_tol")
     first = None if q0 is None else robot.check_q(q0, "q0")
     rng = np.random.default_rng(seed)
@@ -972,9 +972,3 @@ def _check_seed(seed: object) -> None:
             f"seed must be None, a non-negative integer or a numpy Generator, got {seed!r} "
             f"({error})"
         ) from None
-
-
-def _count(value: object, name: str, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise InvalidInput(f"{name} must be an integer ≥ {minimum}, got {value!r}")
-    return int(value)

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from redik.core._validate import integer
 from redik.core.exceptions import InvalidInput
 from redik.core.result import IKResult
 from redik.kinematics.robot import Robot
@@ -83,13 +84,7 @@ def solve_pose_qp(
     unknown = sorted(set(options) - set(_OPTIONS))
     if unknown:
         raise InvalidInput(f"unknown options {unknown} for method='qp'; known: {list(_OPTIONS)}")
-    candidates = options.get("candidates", 16)
-    if (
-        isinstance(candidates, bool)
-        or not isinstance(candidates, int | np.integer)
-        or candidates < 1
-    ):
-        raise InvalidInput(f"candidates must be an integer >= 1, got {candidates!r}")
+    candidates = integer(options.get("candidates", 16), "candidates", 1)
     task = PoseTask(T_target, frame=frame, gain=options.get("gain", 1.0), priority=0)
     problem = Problem(
         robot,

@@ -30,7 +30,8 @@ from typing import TYPE_CHECKING
 import numba
 import numpy as np
 
-from redik.core.exceptions import InvalidInput, ModelError
+from redik.core._validate import integer
+from redik.core.exceptions import ModelError
 from redik.lie import wrap_angle
 from redik.solvers.analytic import _checks
 from redik.solvers.analytic._decomposed_kernels import _row
@@ -245,8 +246,7 @@ def self_motion_curves(
     permutation. Empty when the pose is out of reach.
     """
     spacing = _checks.length(spacing, "spacing")
-    if not (isinstance(samples, int) and samples >= 16):
-        raise InvalidInput(f"samples must be an integer ≥ 16, got {samples!r}")
+    samples = integer(samples, "samples", 16)
     arm = SRSArm.from_robot(robot)
     psi = np.linspace(-np.pi, np.pi, samples + 1)
     q, valid = arm.at(T, psi)

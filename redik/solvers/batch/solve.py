@@ -29,6 +29,7 @@ from collections.abc import Callable
 import numba
 import numpy as np
 
+from redik.core._validate import integer
 from redik.core.exceptions import InvalidInput
 from redik.core.result import Status
 from redik.kinematics import dls
@@ -166,10 +167,6 @@ def check_targets(T_targets: np.ndarray, strict: bool = False) -> tuple[np.ndarr
     return T, valid
 
 
-def _is_integer(value: object) -> bool:
-    return isinstance(value, int | np.integer) and not isinstance(value, bool)
-
-
 def check_seeds(chain: Chain, q0: np.ndarray | None, size: int) -> np.ndarray:
     """Seeds as ``B × n`` within the limits: ``q0`` broadcast, or the home configuration.
 
@@ -291,13 +288,15 @@ def solve_batch(
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
     if not isinstance(engine, str) or engine not in ENGINES:
         raise InvalidInput(f"engine must be one of {ENGINES}, got {engine!r}")
-    for name, count in (("chunk_size", chunk_size), ("workers", workers)):
-        if count is not None and not (_is_integer(count) and count >= 1):
-            raise InvalidInput(f"{name} must be a positive integer or None, got {count!r}")
-    if not (seed is None or isinstance(seed, np.random.SeedSequence) or _is_integer(seed)) or (
-        _is_integer(seed) and seed < 0
-    ):
-        raise InvalidInput(f"seed must be None, an integer ≥ 0 or a SeedSequence, got {seed!r}")
+    chunk_size = integer(chunk_size, "chunk_size", 1, allow_none=True)
+    workers = integer(workers, "workers", 1, allow_none=True)
+    if not isinstance(seed, np.random.SeedSequence):
+        try:
+            integer(seed, "seed", allow_none=True)
+        except InvalidInput:
+            raise InvalidInput(
+                f"seed must be None, an integer ≥ 0 or a SeedSequence, got {seed!r}"
+            ) from None
     chain = robot if isinstance(robot, Chain) else Chain.from_robot(robot)
     options = BatchOptions(
         pos_tol=pos_tol, rot_tol=rot_tol, restarts=restarts, max_iterations=max_iterations

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from redik.core._validate import integer
 from redik.core.exceptions import InvalidInput
 from redik.core.result import Status
 from redik.lie import as_pose, real_array
@@ -101,9 +102,8 @@ def explore_self_motion(
     spacing = DEFAULT_SPACING[dimension] if spacing is None else spacing
     if not (isinstance(spacing, int | float) and math.isfinite(spacing) and spacing > 0):
         raise InvalidInput(f"spacing must be a positive number, got {spacing!r}")
-    for name, count in (("n_starts", n_starts), ("max_samples", max_samples)):
-        if not (isinstance(count, int | np.integer) and not isinstance(count, bool) and count >= 0):
-            raise InvalidInput(f"{name} must be a non-negative integer, got {count!r}")
+    n_starts = integer(n_starts, "n_starts")
+    max_samples = integer(max_samples, "max_samples")
     try:
         rng = np.random.default_rng(seed)
     except (TypeError, ValueError):

@@ -1,0 +1,52 @@
+"""Boundary checks of scalar options (redik/core/_validate.py): one integer check everywhere."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import redik
+from redik.core._validate import integer
+from redik.solvers.analytic.srs import self_motion_curves
+
+
+def test_integer_takes_python_and_numpy_integers_and_refuses_the_rest():
+    assert integer(3, "n") == 3 and type(integer(np.int64(3), "n")) is int
+    assert integer(None, "n", allow_none=True) is None
+    for bad in (True, 3.0, "3", None, 1j, [3]):
+        with pytest.raises(redik.InvalidInput, match=r"n must be an integer ≥ 0, got"):
+            integer(bad, "n")
+    with pytest.raises(redik.InvalidInput, match=r"n must be an integer ≥ 2 \(or None\), got 1"):
+        integer(1, "n", 2, allow_none=True)
+
+
+def test_every_count_option_uses_the_one_check():
+    planar = redik.load("planar_2r")
+    T = planar.fk(planar.home)
+    calls = {
+        "max_iter": lambda v: redik.solve_pose(planar, T, max_iter=v),
+        "restarts": lambda v: redik.solve_pose(planar, T, restarts=v),
+        "n_starts": lambda v: redik.solve_all(planar, T, n_starts=v),
+        "candidates": lambda v: redik.solve_pose(planar, T, method="qp", candidates=v),
+        "chunk_size": lambda v: redik.solve_batch(planar, T[None], chunk_size=v),
+        "workers": lambda v: redik.solve_batch(planar, T[None], workers=v),
+        "patience": lambda v: redik.Problem(planar, [redik.PoseTask(T)]).solve(
+            planar.home, patience=v
+        ),
+        "priority": lambda v: redik.PostureTask(priority=v),
+        "max_samples": lambda v: redik.explore_self_motion(planar, T, max_samples=v),
+    }
+    for name, call in calls.items():
+        for bad in (2.0, True, "2"):
+            with pytest.raises(redik.InvalidInput, match=f"{name}.* must be an integer ≥"):
+                call(bad)
+    with pytest.raises(redik.InvalidInput, match="max_iter must be an integer ≥ 0"):
+        redik.solve_equations(lambda q: q, [1.0], [0.0], max_iter=-1)
+
+
+def test_a_numpy_integer_is_a_count_everywhere():
+    # self_motion_curves refused np.int64 (an isinstance(samples, int) check of its own).
+    iiwa = redik.load("iiwa14")
+    curves = self_motion_curves(iiwa, iiwa.fk(iiwa.home), spacing=0.2, samples=np.int64(64))
+    assert curves and all(np.all(np.isfinite(curve)) for curve in curves)
+    assert redik.PostureTask(priority=np.int64(1)).priority == 1
