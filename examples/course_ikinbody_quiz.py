@@ -18,14 +18,14 @@ import redik
 from redik.lie import inverse, se3_log
 
 # 1. Two Newton iterations on a user's function, every iteration kept (tol=0).
-root = redik.newton(lambda x: np.array([x[0] ** 2 - 9, x[1] ** 2 - 4]), [0, 0], [1, 1],
-                    tol=0, max_iter=2)  # fmt: skip
+root = redik.solve_equations(lambda x: np.array([x[0] ** 2 - 9, x[1] ** 2 - 4]), [0, 0], [1, 1],
+                             method="newton", tol=0, max_iter=2)  # fmt: skip
 print("Newton on (x² − 9, y² − 4) from (1, 1):")
 for i, x in enumerate(root.history):
     print(f"  x^{i} = ({x[0]:.4g}, {x[1]:.4g})")
 
 # 2. Example 6.1: θ_d = (30°, 90°), θ0 = (0°, 30°), ε_ω = 0.001, ε_v = 1e-4.
-arm = redik.Robot.from_file(redik.scene_path("planar_2r"))
+arm = redik.Robot.from_file(redik.models.scene_path("planar_2r"))
 T_d = arm.fk(np.radians([30, 90]))
 table = redik.solve_pose(arm, T_d, np.radians([0, 30]), method="newton", stop="twist",
                          pos_tol=1e-4, rot_tol=1e-3, restarts=0)  # fmt: skip
@@ -41,7 +41,7 @@ for i, q in enumerate(table.history):
 # 3. The quiz: T_sd typed from the book, θ0 = (π/4, π/4, π/4).
 T_sd = np.array([[-0.585, -0.811, 0, 0.076], [0.811, -0.585, 0, 2.608], [0, 0, 1, 0],
                  [0, 0, 0, 1]])  # fmt: skip
-robot = redik.Robot.from_file(redik.scene_path("planar_3r"))
+robot = redik.Robot.from_file(redik.models.scene_path("planar_3r"))
 with warnings.catch_warnings(record=True) as caught:
     warnings.simplefilter("always", redik.NearRotationWarning)
     quiz = redik.solve_pose(robot, T_sd, [math.pi / 4] * 3, method="newton", stop="twist",

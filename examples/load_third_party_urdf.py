@@ -16,7 +16,7 @@ import redik
 
 for package_name, end_effector in (("example-robot-data:ur5", "tool0"),
                                    ("pybullet_data:kuka_iiwa", "lbr_iiwa_link_7")):  # fmt: skip
-    path = redik.scene_path(package_name)  # = redik.models.example_robot_data("ur5"), …
+    path = redik.models.scene_path(package_name)  # = redik.models.example_robot_data("ur5"), …
     start = time.perf_counter()
     robot = redik.load(path, ee=end_effector)  # meshes resolved and loaded
     loaded_in = time.perf_counter() - start

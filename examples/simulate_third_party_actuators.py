@@ -25,7 +25,7 @@ from redik.tasks import PoseTask, PostureTask
 
 def iiwa14(actuation: str) -> redik.Robot:
     """The bundled iiwa14, gravcomp removed, with Menagerie's servos or torque motors."""
-    spec = mujoco.MjSpec.from_file(str(redik.scene_path("iiwa14")))
+    spec = mujoco.MjSpec.from_file(str(redik.models.scene_path("iiwa14")))
     for body in spec.bodies:
         body.gravcomp = 0.0
     for actuator in spec.actuators:

@@ -74,7 +74,7 @@ def test_solver_for_refuses_a_model_that_does_not_match_its_family():
         solver_for(redik.load("puma560"), family="ur")
     with pytest.raises(ModelError, match="has 6 joints, the planar_2r solver expects 2"):
         solver_for(redik.load("puma560"), family="planar_2r")
-    xml = redik.scene_path("planar_3r").read_text()
+    xml = redik.models.scene_path("planar_3r").read_text()
     tampered = xml.replace('<numeric name="l1" data="1"/>', '<numeric name="l1" data="1.2"/>')
     assert tampered != xml
     with pytest.raises(ModelError, match="does not move like the planar_3r DH table"):

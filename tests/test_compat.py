@@ -1,9 +1,16 @@
 """The flat tree's import paths still work for one release (redik/_compat.py)."""
 
+import importlib
 import subprocess
 import sys
 
+import pytest
+
+import redik
 from redik import _compat
+from redik.apps import taskspec
+from redik.solvers import iterative
+from redik.tasks import frame_task
 
 MOVES = {
     "redik.robot": "redik.kinematics.robot",
@@ -49,3 +56,28 @@ print("ok")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "ok"
+
+
+def test_names_that_left_redik_still_work_with_a_warning_naming_their_home():
+    assert not set(redik._MOVED) & set(redik.__all__)
+    for name, (module, attribute) in redik._MOVED.items():
+        home = importlib.import_module(module)
+        expected = home if attribute is None else getattr(home, attribute)
+        with pytest.warns(DeprecationWarning, match=f"redik.{name} is deprecated.*use {module}"):
+            assert getattr(redik, name) is expected
+    with pytest.raises(AttributeError, match="no attribute 'newtonn'"):
+        _ = redik.newtonn
+
+
+def test_renamed_classes_and_functions_keep_their_old_names_for_one_release():
+    for old, new in (("newton", "newton_raphson"), ("gradient", "gradient_descent"),
+                     ("hybrid", "gradient_then_newton")):  # fmt: skip
+        with pytest.warns(DeprecationWarning, match=f"iterative.{old} is deprecated: it is {new}"):
+            assert getattr(iterative, old) is getattr(iterative, new)
+        with pytest.warns(DeprecationWarning, match=f"solve_equations\\(..., method='{old}'\\)"):
+            assert getattr(redik, old) is getattr(iterative, new)
+    with pytest.warns(DeprecationWarning, match="now FrameTargetTask; redik.FrameTask is the pose"):
+        assert frame_task.FrameTask is frame_task.FrameTargetTask
+    assert issubclass(redik.FrameTask, redik.PoseTask)
+    with pytest.warns(DeprecationWarning, match="it is SuccessCriterion"):
+        assert taskspec.Criterion is taskspec.SuccessCriterion

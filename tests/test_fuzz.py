@@ -26,7 +26,7 @@ from hypothesis.extra import numpy as hnp
 
 import redik
 from redik import lie
-from redik.core.result import STATUSES
+from redik.core.result import Status
 from redik.solvers.analytic import BatchSolutions, IKSolutions
 
 FUZZ = settings(
@@ -70,7 +70,7 @@ def _inside(robot: redik.Robot, q: np.ndarray, what: str) -> None:
 def check_result(out: object, robot: redik.Robot | None = None, limited: bool = True) -> None:
     """Assert the output half of the contract for every result type redik returns."""
     if isinstance(out, redik.IKResult):
-        assert out.status in STATUSES
+        assert isinstance(out.status, Status)
         _finite(out.q, "IKResult.q")
         _finite(out.error, "IKResult.error")
         for value in (out.position_error, out.rotation_error):
@@ -85,6 +85,7 @@ def check_result(out: object, robot: redik.Robot | None = None, limited: bool = 
         for solution in out:
             _finite(solution, f"solution {solution.label}")
         assert len(out) > 0 or out.reason or out.reachable
+        assert isinstance(out.status, Status) and out.success == (len(out) > 0)
     elif isinstance(out, BatchSolutions):
         _finite(out.q[out.valid], "BatchSolutions.q (valid slots)")
     elif isinstance(out, redik.BatchResult):
@@ -93,6 +94,7 @@ def check_result(out: object, robot: redik.Robot | None = None, limited: bool = 
             for q in out.q:
                 _inside(robot, q, "BatchResult.q")
         # An invalid target's errors are NaN, documented; every other error is a number.
+        assert all(isinstance(status, Status) for status in out.statuses)
         invalid = out.status_names == "invalid"
         assert np.array_equal(np.isnan(out.position_error), invalid)
         assert np.array_equal(np.isnan(out.rotation_error), invalid)
@@ -102,6 +104,7 @@ def check_result(out: object, robot: redik.Robot | None = None, limited: bool = 
             for q in out.samples:
                 _inside(robot, q, "SelfMotion sample")
         _finite(out.position_error, "SelfMotion.position_error")
+        assert isinstance(out.status, Status)
     elif isinstance(out, redik.JointTrajectory):
         _finite(out.q, "JointTrajectory.q")
         _finite(out.position_error, "JointTrajectory.position_error")
@@ -372,8 +375,10 @@ def test_newton_and_gradient(x_d, q0, step, tol):
     def f(q):  # defined for any length of q, so that every failure is redik's
         return np.array([np.cos(q).sum(), np.sin(q).sum() + np.tanh(q).sum()])
 
-    holds(lambda: redik.newton(f, x_d, q0, step=step if step != "armijo" else 1.0, tol=tol))
-    holds(lambda: redik.gradient(f, x_d, q0, step=step, tol=tol, max_iter=20))
+    holds(
+        lambda: redik.solve_equations(f, x_d, q0, step=step if step != "armijo" else 1.0, tol=tol)
+    )
+    holds(lambda: redik.solve_equations(f, x_d, q0, "gradient", step=step, tol=tol, max_iter=20))
 
 
 # --------------------------------------------------------------------------------------
@@ -531,7 +536,7 @@ def test_cartesian_path_and_follow_path(panda, data, times, rate):
     normal = data.draw(mostly(st.just([0.0, 0.0, 1.0]), st.lists(number, max_size=4), junk()))
     duration = data.draw(mostly(st.just(1.0), number, junk()))
     start = waypoints[0] if isinstance(waypoints, list) and waypoints else waypoints
-    circle = holds(lambda: redik.CircularPath(start, center, normal, duration))
+    circle = holds(lambda: redik.apps.trajectory.CircularPath(start, center, normal, duration))
     if circle is not None:
         holds(lambda: circle.sample(rate), elementwise=not math.isfinite(rate))
     path = holds(lambda: redik.CartesianPath(waypoints, times))
@@ -582,16 +587,18 @@ def test_newton_and_gradient_refuse_junk_and_overflowing_input():
     def f(q):
         return np.array([np.cos(q).sum(), np.sin(q).sum()])
 
-    for solve in (redik.newton, redik.gradient):
+    for method in ("newton", "gradient"):
         with pytest.raises(redik.InvalidInput, match="x_d must hold real numbers"):
-            solve(f, "", [0.0, 0.0])
+            redik.solve_equations(f, "", [0.0, 0.0], method)
         with pytest.raises(redik.InvalidInput, match="x_d must be within"):
-            solve(f, [1e300, 0.0], [0.0, 0.0])
+            redik.solve_equations(f, [1e300, 0.0], [0.0, 0.0], method)
         with pytest.raises(redik.InvalidInput, match=r"f\(q0\) must hold real numbers"):
-            solve(lambda q: np.array(["a", "b"]), [0.0, 0.0], [0.0, 0.0])
+            redik.solve_equations(lambda q: np.array(["a", "b"]), [0.0, 0.0], [0.0, 0.0], method)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        result = redik.gradient(lambda q: 1e140 * q**3, [0.0], [1.0], step="armijo", max_iter=5)
+        result = redik.solve_equations(
+            lambda q: 1e140 * q**3, [0.0], [1.0], "gradient", step="armijo", max_iter=5
+        )
     assert np.isfinite(result.q).all() and np.isfinite(result.error)
 
 
@@ -752,7 +759,7 @@ def test_newton_refuses_an_empty_q0():
     # Found by test_newton_and_gradient at 250 examples: q0=[] gave a 2 × 0 Jacobian and a
     # raw numpy ValueError inside np.linalg.solve.
     with pytest.raises(redik.InvalidInput, match="q0 must hold at least one"):
-        redik.newton(lambda q: np.array([1.0, 2.0]), [0.0, 1.0], [])
+        redik.solve_equations(lambda q: np.array([1.0, 2.0]), [0.0, 1.0], [])
 
 
 def test_circular_path_refuses_junk_center_normal_and_duration():
@@ -768,6 +775,8 @@ def test_circular_path_refuses_junk_center_normal_and_duration():
     ):
         arguments = {"center": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, 1.0], "duration": 1.0}
         with pytest.raises(redik.InvalidInput, match=message):
-            redik.CircularPath(T, **{**arguments, **kwargs})
-    path = redik.CircularPath(T, [0.0, 0.0, 0.0], [0.0, 0.0, 1e300], 1.0)  # no overflow
+            redik.apps.trajectory.CircularPath(T, **{**arguments, **kwargs})
+    path = redik.apps.trajectory.CircularPath(
+        T, [0.0, 0.0, 0.0], [0.0, 0.0, 1e300], 1.0
+    )  # no overflow
     assert path.radius == pytest.approx(0.5)

@@ -398,7 +398,7 @@ def test_finders_accept_stems_and_relative_paths():
         "ur5_joint_limited_robot.urdf"
     )
     assert models.pybullet_data("kuka_iiwa/model_free_base.urdf").is_file()
-    assert redik.scene_path("example-robot-data:ur5") == models.example_robot_data("ur5")
+    assert redik.models.scene_path("example-robot-data:ur5") == models.example_robot_data("ur5")
     robot = redik.load("pybullet_data:kuka_iiwa", ee="lbr_iiwa_link_7", meshes=False)
     assert robot.dof == 7
 

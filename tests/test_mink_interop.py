@@ -179,3 +179,60 @@ def test_mink_tasks_converge_on_their_cost_weighted_error():
     result = Problem(robot, [frame]).solve(robot.home)
     assert result.status == "converged", result.message
     assert np.linalg.norm(robot.fk(result.q)[:3, 3] - T[:3, 3]) < 1e-6
+
+
+def test_frame_task_is_minks_frame_task_built_with_minks_arguments(arm, rng):
+    # The same arguments, positionally and by keyword, as mink.FrameTask takes.
+    for q, T in targets(arm, rng, 3):
+        ours = redik.FrameTask("ee", "site", [1.0, 2.0, 3.0], 0.5, gain=0.8)
+        ours.set_target(mink.SE3.from_matrix(T))
+        theirs = mink.FrameTask("ee", "site", [1.0, 2.0, 3.0], 0.5, gain=0.8)
+        theirs.set_target(mink.SE3.from_matrix(T))
+        configuration = mink.Configuration(arm.model, arm.full_qpos(q))
+        ours.bind(arm)
+        np.testing.assert_allclose(ours.compute_error(configuration),
+                                   theirs.compute_error(configuration), atol=1e-12)  # fmt: skip
+        np.testing.assert_allclose(ours.compute_jacobian(configuration),
+                                   theirs.compute_jacobian(configuration), atol=1e-10)  # fmt: skip
+        np.testing.assert_array_equal(ours.cost, theirs.cost)
+        np.testing.assert_allclose(ours.transform_target_to_world.as_matrix(), T, atol=1e-15)
+        # In a redik Problem it is a PoseTask.
+        native = Problem(arm, [PoseTask(T, position_cost=[1, 2, 3], orientation_cost=0.5,
+                                        gain=0.8)], limits=[])  # fmt: skip
+        mirrored = Problem(arm, [ours], limits=[])
+        np.testing.assert_allclose(mirrored.step(q), native.step(q), atol=1e-12)
+
+
+def test_frame_task_target_from_a_configuration_and_before_one_is_set(arm):
+    configuration = mink.Configuration(arm.model, arm.full_qpos(arm.home))
+    task = redik.FrameTask("l5", "body")
+    assert task.transform_target_to_world is None
+    with pytest.raises(redik.TargetNotSet, match=r"'l5' has no target: call set_target"):
+        Problem(arm, [task]).step(arm.home)
+    task.set_target_from_configuration(configuration)  # unbound: mink's lookup
+    expected = configuration.get_transform_frame_to_world("l5", "body").as_matrix()
+    np.testing.assert_allclose(task.target, expected, atol=1e-15)
+    bound = redik.FrameTask("ee", "site").bind(arm)
+    bound.set_target_from_configuration(configuration)  # bound: through the robot
+    np.testing.assert_allclose(bound.target, arm.fk(arm.home, "ee"), atol=1e-15)
+    with pytest.raises(InvalidInput, match="frame_type must be one of"):
+        redik.FrameTask("ee", "joint")
+    with pytest.raises(InvalidInput, match="lm_damping must be a finite number ≥ 0"):
+        redik.FrameTask("ee", "site", lm_damping=-1.0)
+
+
+@pytest.mark.parametrize("lm_damping", [0.0, 0.3])
+def test_lm_damping_is_minks_in_mink_solve_ik_and_in_a_redik_problem(arm, rng, lm_damping):
+    # mink adds μI to the Hessian, μ = λ‖α W e‖²: a damped step far from the target.
+    for q, T in targets(arm, rng, 3):
+        ours = redik.FrameTask("ee", "site", 1.0, 0.5, lm_damping=lm_damping, target=T)
+        theirs = mink.FrameTask("ee", "site", 1.0, 0.5, lm_damping=lm_damping)
+        theirs.set_target(mink.SE3.from_matrix(T))
+        configuration = mink.Configuration(arm.model, arm.full_qpos(q))
+        H, c = ours.bind(arm).compute_qp_objective(configuration)
+        H_mink, c_mink = theirs.compute_qp_objective(configuration)
+        np.testing.assert_allclose(H, H_mink, atol=1e-9)
+        np.testing.assert_allclose(c, c_mink, atol=1e-9)
+        v = mink_step(arm, q, [theirs], limits=[])
+        problem = Problem(arm, [ours], limits=[], damping=DAMPING)
+        np.testing.assert_allclose(problem.step(q), v[arm.dof_indices], atol=1e-8)

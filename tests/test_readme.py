@@ -19,3 +19,23 @@ def test_readme_has_python_examples():
 def test_readme_block_runs(index, capsys):
     exec(compile(BLOCKS[index], f"README.md block {index}", "exec"), {})
     assert capsys.readouterr().out.strip()
+
+
+def _public_api_names() -> list[str]:
+    """The backticked names of the README's "Public API" list (the ``- **Group**:`` lines)."""
+    section = README.read_text().split("## Public API\n", 1)[1].split("\n## ", 1)[0]
+    lines = [line for line in section.splitlines() if line.startswith("- **")]
+    return [name for line in lines for name in re.findall(r"`(\w+)`", line.split(":", 1)[1])]
+
+
+def test_readme_public_api_is_redik_all():
+    import redik
+
+    listed = _public_api_names()
+    assert len(listed) == len(set(listed)), "a name is listed twice"
+    assert set(listed) == set(redik.__all__), (
+        f"in redik.__all__ only: {sorted(set(redik.__all__) - set(listed))}; "
+        f"in the README only: {sorted(set(listed) - set(redik.__all__))}"
+    )
+    for name in listed:
+        assert hasattr(redik, name), name

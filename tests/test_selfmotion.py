@@ -29,7 +29,7 @@ from redik.solvers.redundancy.selfmotion.index import SampleIndex
 
 def without_limits(scene: str) -> redik.Robot:
     """The bundled scene with every joint range removed: a 7R arm on the torus."""
-    spec = mujoco.MjSpec.from_file(str(redik.scene_path(scene)))
+    spec = mujoco.MjSpec.from_file(str(redik.models.scene_path(scene)))
     for joint in spec.joints:
         joint.limited = mujoco.mjtLimited.mjLIMITED_FALSE
     for actuator in spec.actuators:
@@ -358,7 +358,7 @@ def test_a_budget_too_small_for_the_manifold_says_so(panda):
 def test_a_pose_reached_only_outside_the_limits_has_status_limits():
     robot = redik.load("planar_2r")
     q = np.array([0.3, 2.9])  # inside the range only if the elbow could bend 2.9 rad
-    spec = mujoco.MjSpec.from_file(str(redik.scene_path("planar_2r")))
+    spec = mujoco.MjSpec.from_file(str(redik.models.scene_path("planar_2r")))
     for joint in spec.joints:
         joint.range = [-1.0, 1.0]
         joint.limited = mujoco.mjtLimited.mjLIMITED_TRUE

@@ -153,7 +153,7 @@ def test_a_joint_without_actuator_is_reported():
 
 
 def iiwa14_spec() -> mujoco.MjSpec:
-    return mujoco.MjSpec.from_file(str(redik.scene_path("iiwa14")))
+    return mujoco.MjSpec.from_file(str(redik.models.scene_path("iiwa14")))
 
 
 def menagerie_like_iiwa14(forcerange: float | None = None) -> redik.Robot:

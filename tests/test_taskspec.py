@@ -12,7 +12,7 @@ import redik
 from redik.apps.regress import default_tasks_dir
 from redik.apps.taskspec import (
     Context,
-    Criterion,
+    SuccessCriterion,
     TaskSpec,
     discover,
     load_spec,
@@ -42,11 +42,11 @@ def write_spec(folder: Path, name: str, body: str) -> Path:
     ],
 )
 def test_criterion_parses_and_checks(text, value, holds):
-    assert Criterion.parse("m", text).holds(value) is holds
+    assert SuccessCriterion.parse("m", text).holds(value) is holds
 
 
 def test_criterion_never_holds_for_missing_or_nan():
-    criterion = Criterion.parse("m", "<= 1")
+    criterion = SuccessCriterion.parse("m", "<= 1")
     assert not criterion.holds(None)
     assert not criterion.holds(math.nan)
 
@@ -54,7 +54,7 @@ def test_criterion_never_holds_for_missing_or_nan():
 @pytest.mark.parametrize("text", ["about 3", "=> 1", ">= one", ""])
 def test_bad_criterion_is_rejected(text):
     with pytest.raises(redik.InvalidInput, match="criterion"):
-        Criterion.parse("m", text)
+        SuccessCriterion.parse("m", text)
 
 
 def test_spec_file_is_loaded_and_run(tmp_path):

@@ -161,7 +161,7 @@ def test_branch_switch_is_flagged_as_discontinuous():
 
 
 def test_path_is_a_deprecated_alias_of_pose_path():
-    assert issubclass(CartesianPath, PosePath) and redik.PosePath is PosePath
+    assert issubclass(CartesianPath, PosePath) and redik.apps.trajectory.PosePath is PosePath
     with pytest.warns(DeprecationWarning, match="use redik.apps.trajectory.PosePath"):
         assert redik.apps.trajectory.Path is PosePath
     with pytest.warns(DeprecationWarning, match="clashes with pathlib.Path"):

@@ -36,6 +36,7 @@ import re
 import sys
 import time
 import traceback
+import warnings
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any, TypeVar
@@ -58,15 +59,17 @@ _CRITERION = re.compile(r"^\s*(>=|<=|==|>|<)\s*([-+0-9.eE]+|inf|-inf)\s*$")
 
 
 @dataclasses.dataclass(frozen=True)
-class Criterion:
-    """One success condition ``metric OP threshold`` (e.g. ``max_position_error <= 1e-6``)."""
+class SuccessCriterion:
+    """One success condition ``metric OP threshold`` (e.g. ``max_position_error <= 1e-6``)
+    of a spec's ``CRITERIA``. (Not :class:`redik.solvers.redundancy.Criterion`, a score of
+    configurations; this class was ``taskspec.Criterion`` in the previous release.)"""
 
     metric: str
     op: str
     threshold: float
 
     @classmethod
-    def parse(cls, metric: str, text: str | float) -> Criterion:
+    def parse(cls, metric: str, text: str | float) -> SuccessCriterion:
         """From ``">= 0.99"``-style text; a bare number means ``== number``.
 
         Raises:
@@ -105,12 +108,12 @@ class TaskSpec:
     criteria: Mapping[str, str | float] = dataclasses.field(default_factory=dict)
     description: str = ""
     path: Path | None = None
-    parsed_criteria: list[Criterion] = dataclasses.field(init=False, repr=False)
+    parsed_criteria: list[SuccessCriterion] = dataclasses.field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         if not callable(self.run):
             raise InvalidInput(f"task spec {self.name!r}: run must be callable, got {self.run!r}")
-        self.parsed_criteria = [Criterion.parse(k, v) for k, v in self.criteria.items()]
+        self.parsed_criteria = [SuccessCriterion.parse(k, v) for k, v in self.criteria.items()]
 
 
 @dataclasses.dataclass
@@ -158,7 +161,7 @@ class Context:
 class CriterionCheck:
     """A criterion with the value it was checked against."""
 
-    criterion: Criterion
+    criterion: SuccessCriterion
     value: float | None
     passed: bool
 
@@ -330,3 +333,15 @@ def summary_table(outcome: SpecOutcome) -> str:
     if outcome.error:
         text += "\n" + outcome.error.rstrip()
     return text
+
+
+def __getattr__(name: str) -> object:
+    if name == "Criterion":
+        warnings.warn(
+            "redik.apps.taskspec.Criterion is deprecated: it is SuccessCriterion "
+            "(redik.solvers.redundancy.Criterion is the other, unrelated class)",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return SuccessCriterion
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

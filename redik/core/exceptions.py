@@ -38,6 +38,10 @@ class InvalidPose(InvalidInput):
     """A 4×4 matrix that should be a rigid transform is not."""
 
 
+class TargetNotSet(RedikError):
+    """A task was used before its target was set (mink's ``TargetNotSet``)."""
+
+
 class ModelError(RedikError):
     """A robot model cannot be loaded or built (missing file, bad MJCF/URDF, bad table)."""
 

@@ -71,7 +71,8 @@ class LevelAssembly:
         for task in tasks:
             if isinstance(task, JointSpaceTask):
                 self.joint_tasks.append(task)
-            elif isinstance(task, ResidualTask):
+            elif isinstance(task, ResidualTask) and not task.lm_damping:
+                # (A task with mink's lm_damping adds μI to H itself: an "other" task.)
                 self.residual_tasks.append(task)
                 rows.append(task.k)
             else:

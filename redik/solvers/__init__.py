@@ -3,8 +3,9 @@
 - :mod:`~redik.solvers.pose_ik`: pose IK on a robot, ``solve_pose`` / ``solve_all``
   (damped least squares, Newton–Raphson, gradient, QP, closed form), with
   :mod:`~redik.solvers.pose_qp` its QP driver;
-- :mod:`~redik.solvers.iterative`: root finding on a user function (``newton``, ``gradient``,
-  ``hybrid``), the textbook iterations;
+- :mod:`~redik.solvers.iterative`: root finding on a user function, ``solve_equations``
+  (``newton_raphson``, ``gradient_descent``, ``gradient_then_newton``: the textbook
+  iterations);
 - :mod:`~redik.solvers.problem`: the differential ``Problem`` (tasks and limits stacked into
   per-step QPs, weights and strict priorities);
 - :mod:`~redik.solvers.analytic`: closed forms with every solution;

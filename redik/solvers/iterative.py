@@ -1,11 +1,16 @@
-r"""The classic iterative root finders on a user's own task function ``x = f(q)``.
+r"""The classic iterative root finders on a user's own task function ``x = f(q)``:
+:func:`solve_equations` (``redik.solve_equations``) and the three methods it runs.
 
 ``f`` maps ``n`` minimal coordinates to an ``r``-dimensional task; the error is
 ``e(q) = x_d − f(q)`` and every solver drives ``‖e‖`` to zero (Lynch & Park, *Modern
 Robotics* §6.2; the numbered options below are the textbook's, so a course's worked example
-can be reproduced line by line — ``tests/test_course.py``).
+can be reproduced line by line — ``tests/test_course.py``). They take any function, where
+:func:`redik.solve_pose` takes a robot and a pose; their names say which algorithm runs
+(the previous release's ``newton``, ``gradient`` and ``hybrid`` read like
+``solve_pose(method="newton")``, a different solver on a different error; they remain as
+deprecated aliases for one release).
 
-:func:`newton`
+:func:`newton_raphson`
     Newton–Raphson (*Modern Robotics* §6.2.1):
 
     .. math:: q_{k+1} = q_k + λ^k\, J^{+}(q_k)\, e(q_k),
@@ -14,7 +19,7 @@ can be reproduced line by line — ``tests/test_course.py``).
     pseudo-inverse otherwise (fat ``J``: the least-norm step; tall ``J``: the least-squares
     step). Quadratic convergence near a regular root. ``λ^k`` is a constant ``step`` or,
     with ``step="armijo"``, adaptive (below).
-:func:`gradient`
+:func:`gradient_descent`
     Gradient descent on :math:`F(q) = ½\, e^T K e`, the *Jacobian-transpose* method
     (Buss 2004, "Introduction to Inverse Kinematics with Jacobian Transpose, Pseudoinverse
     and Damped Least Squares methods", §4; Siciliano et al., *Robotics: Modelling,
@@ -25,7 +30,7 @@ can be reproduced line by line — ``tests/test_course.py``).
     since :math:`∇F = −J^{T} K e`. ``K`` (``gain``) is a symmetric positive-definite
     ``r × r`` gain, the identity by default; it weighs the task components against each
     other (metres against radians in a pose error).
-:func:`hybrid`
+:func:`gradient_then_newton`
     Gradient steps while ``‖e‖ > switch_error`` — robust far from the root, where Newton's
     linearisation is poor or ``J`` near-singular — then Newton steps for the quadratic
     terminal convergence (the "hybrid" method of the course notes; Nocedal & Wright
@@ -61,7 +66,7 @@ Stopping rules, each with its own ``status``
       well).
     - ``q_tol``: ``‖Δq‖ ≤ q_tol`` with ``‖e‖ > tol`` → ``"stalled"`` (without moving).
     - ``singular_tol``: ``σ_min(J) ≤ singular_tol`` → ``"singular"`` (without moving),
-      checked before each step (the Newton phase only for :func:`hybrid`).
+      checked before each step (the Newton phase only for :func:`gradient_then_newton`).
     - A NaN or inf in ``f``, ``J`` or the step, or a finite blow-up — an iterate with
       ``‖q‖_∞ > max_growth · max(1, ‖q_0‖_∞)`` or an error with
       ``‖e‖ > max_growth · max(1, ‖e_0‖)`` (``max_growth = 10⁸`` by default: beyond it a
@@ -76,15 +81,17 @@ with a pair ``tol`` its ``position_error``/``rotation_error`` are ``‖e_p‖``/
 
 from __future__ import annotations
 
+import inspect
 import math
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
-from redik.core._validate import non_negative, positive
+from redik.core._validate import integer, non_negative, positive
 from redik.core.exceptions import InvalidInput
-from redik.core.result import IKResult
+from redik.core.result import IKResult, Status
 from redik.lie import as_vector, real_array
 
 TaskFunction = Callable[[np.ndarray], np.ndarray]
@@ -180,7 +187,7 @@ def _difference_jacobian(
     return np.stack(columns, axis=-1) if columns else np.empty((0, 0))
 
 
-def newton(
+def newton_raphson(
     f: TaskFunction,
     x_d: np.ndarray,
     q0: np.ndarray,
@@ -227,7 +234,7 @@ def newton(
     return _iterate(run, options, lambda J, e: (_newton_step(J, e), step))
 
 
-def gradient(
+def gradient_descent(
     f: TaskFunction,
     x_d: np.ndarray,
     q0: np.ndarray,
@@ -248,7 +255,7 @@ def gradient(
 
     Args:
         f, x_d, q0, jac, tol, q_tol, max_iter, rel_tol, fd_step, fd_scheme, max_growth:
-            As for :func:`newton`.
+            As for :func:`newton_raphson`.
         step: A constant ``α > 0``, or ``"armijo"`` for a backtracking line search that never
             lets ``eᵀKe`` increase (when no trial decreases it, the search stops with
             ``"stalled"``: ``q`` is then a stationary point to working precision).
@@ -267,7 +274,7 @@ def gradient(
     return _iterate(run, options, lambda J, e: (J.T @ (run.K @ e), step))
 
 
-def hybrid(
+def gradient_then_newton(
     f: TaskFunction,
     x_d: np.ndarray,
     q0: np.ndarray,
@@ -293,12 +300,12 @@ def hybrid(
 
     Args:
         switch_error: The error norm below which Newton takes over (> 0).
-        gradient_step: ``α`` of the gradient phase, as ``step`` of :func:`gradient`.
-        newton_step: ``λ`` of the Newton phase, as ``step`` of :func:`newton`.
+        gradient_step: ``α`` of the gradient phase, as ``step`` of :func:`gradient_descent`.
+        newton_step: ``λ`` of the Newton phase, as ``step`` of :func:`newton_raphson`.
         singular_tol: Checked before each Newton step (the gradient phase is exactly what
             is used where ``J`` is ill-conditioned).
         f, x_d, q0, jac, tol, q_tol, max_iter, gain, rel_tol, fd_step, fd_scheme,
-        max_growth: As for :func:`gradient`.
+        max_growth: As for :func:`gradient_descent`.
 
     Returns:
         An :class:`~redik.core.result.IKResult` (method ``"hybrid"``).
@@ -321,6 +328,68 @@ def hybrid(
         return _newton_step(J, e), newton_step
 
     return _iterate(run, options, direction)
+
+
+METHODS = {
+    "newton": newton_raphson,
+    "gradient": gradient_descent,
+    "hybrid": gradient_then_newton,
+}
+"""The methods of :func:`solve_equations`, by name (the ``method`` of the result)."""
+
+
+def solve_equations(
+    f: TaskFunction,
+    x_d: np.ndarray,
+    q0: np.ndarray,
+    method: str = "newton",
+    jac: JacobianFunction | None = None,
+    **options: object,
+) -> IKResult:
+    r"""Solve ``f(q) = x_d`` for ``q`` from ``q0`` with one of the root finders above.
+
+    The one entry point for a user's own task function, as :func:`redik.solve_pose` is for
+    a robot's pose: ``method`` picks :func:`newton_raphson` (``"newton"``),
+    :func:`gradient_descent` (``"gradient"``) or :func:`gradient_then_newton`
+    (``"hybrid"``), and ``options`` are that function's keywords (``step``, ``tol``,
+    ``max_iter``, ``gain``, ``switch_error``…).
+
+    Returns:
+        The method's :class:`~redik.core.result.IKResult`.
+
+    Raises:
+        InvalidInput: an unknown method or an option the method does not take, and what the
+            method itself refuses.
+    """
+    if not isinstance(method, str) or method not in METHODS:
+        raise InvalidInput(f"method must be one of {list(METHODS)}, got {method!r}")
+    solver = METHODS[method]
+    known = list(inspect.signature(solver).parameters)[4:]  # after f, x_d, q0, jac
+    unknown = sorted(set(options) - set(known))
+    if unknown:
+        raise InvalidInput(f"unknown option(s) {unknown} for method={method!r}; it takes {known}")
+    return solver(f, x_d, q0, jac, **options)
+
+
+_RENAMED = {
+    "newton": "newton_raphson",
+    "gradient": "gradient_descent",
+    "hybrid": "gradient_then_newton",
+}
+"""Names of the previous release, kept for one release with a :class:`DeprecationWarning`."""
+
+
+def __getattr__(name: str) -> object:
+    if name in _RENAMED:
+        new = _RENAMED[name]
+        warnings.warn(
+            f"redik.solvers.iterative.{name} is deprecated: it is {new} (or "
+            f"solve_equations(..., method={name!r}))",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return globals()[new]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 # --------------------------------------------------------------------------------------
@@ -357,17 +426,11 @@ class _Options:
             pose_tol = (pair[0], pair[1])
             tol = 0.0
         tol = non_negative(tol, "tol")
-        if (
-            isinstance(max_iter, bool)
-            or not isinstance(max_iter, (int, np.integer))
-            or max_iter < 0
-        ):
-            raise InvalidInput(f"max_iter must be a non-negative integer, got {max_iter!r}")
         return cls(
             tol=tol,
             pose_tol=pose_tol,
             q_tol=None if q_tol is None else non_negative(q_tol, "q_tol"),
-            max_iter=int(max_iter),
+            max_iter=integer(max_iter, "max_iter"),
             singular_tol=None
             if singular_tol is None
             else non_negative(singular_tol, "singular_tol"),
@@ -485,13 +548,13 @@ class _Run:
         self.history.append(q.copy())
         self.errors.append(norm)
 
-    def result(self, status: str, message: str = "") -> IKResult:
+    def result(self, status: Status, message: str = "") -> IKResult:
         position = rotation = None
         if self.options.pose_tol is not None:
             position, rotation = self.pose_errors()
         return IKResult(
             q=self.q.copy(),
-            success=status == "converged",
+            success=status == Status.CONVERGED,
             status=status,
             iterations=len(self.history) - 1,
             error=self.norm,
@@ -510,11 +573,11 @@ Direction = Callable[[np.ndarray, np.ndarray], "tuple[np.ndarray, float | str] |
 def _iterate(run: _Run, options: _Options, direction: Direction) -> IKResult:
     """The loop shared by every method: Jacobian, checks, one (line-searched) step, stops."""
     if run.done():
-        return run.result("converged")
+        return run.result(Status.CONVERGED)
     for _ in range(options.max_iter):
         J = run.jacobian()
         if J is None:
-            return run.result("diverged", "the Jacobian holds NaN or inf")
+            return run.result(Status.DIVERGED, "the Jacobian holds NaN or inf")
         if options.singular_tol is not None:
             stop = _singular(run, J, options.singular_tol)
             if stop is not None:
@@ -528,14 +591,14 @@ def _iterate(run: _Run, options: _Options, direction: Direction) -> IKResult:
         if stop is not None:
             return stop
         if run.done():
-            return run.result("converged")
+            return run.result(Status.CONVERGED)
         if options.rel_tol is not None:
             stop = _relative_change_stop(run, e_before, options.rel_tol)
             if stop is not None:
                 return stop
     if run.norm == 0.0:
-        return run.result("converged")
-    return run.result("max_iterations")
+        return run.result(Status.CONVERGED)
+    return run.result(Status.MAX_ITERATIONS)
 
 
 def _relative_change_stop(run: _Run, e_before: np.ndarray, rel_tol: float) -> IKResult | None:
@@ -546,9 +609,9 @@ def _relative_change_stop(run: _Run, e_before: np.ndarray, rel_tol: float) -> IK
     if change > rel_tol * previous:
         return None
     if run.norm == 0.0:
-        return run.result("converged")
+        return run.result(Status.CONVERGED)
     return run.result(
-        "stalled",
+        Status.STALLED,
         f"relative change ‖e_k+1 − e_k‖/‖e_k‖ = {change / previous:.3g} ≤ rel_tol = "
         f"{rel_tol:g} with ‖e‖ = {run.norm:.3g} above tol",
     )
@@ -558,7 +621,7 @@ def _singular(run: _Run, J: np.ndarray, singular_tol: float) -> IKResult | None:
     sigma_min = float(np.linalg.svd(J, compute_uv=False)[-1]) if J.size else 0.0
     if sigma_min <= singular_tol:
         return run.result(
-            "singular", f"σ_min(J) = {sigma_min:.3g} ≤ singular_tol = {singular_tol:g}"
+            Status.SINGULAR, f"σ_min(J) = {sigma_min:.3g} ≤ singular_tol = {singular_tol:g}"
         )
     return None
 
@@ -569,15 +632,15 @@ def _step(run: _Run, J: np.ndarray, d: np.ndarray, step: float | str) -> IKResul
     if step != "armijo":
         dq = step * d
         if q_tol is not None and float(np.linalg.norm(dq)) <= q_tol:
-            return run.result("stalled", f"‖Δq‖ ≤ q_tol = {q_tol:g} with ‖e‖ = {run.norm:.3g}")
+            return run.result(Status.STALLED, f"‖Δq‖ ≤ q_tol = {q_tol:g} with ‖e‖ = {run.norm:.3g}")
         return _move(run, run.q + dq)
     with np.errstate(over="ignore", invalid="ignore"):
         slope = -float(run.e @ (run.K @ (J @ d)))  # ∇Fᵀd
     if not math.isfinite(slope):
-        return run.result("diverged", f"the slope ∇Fᵀd overflows at ‖e‖ = {run.norm:.3g}")
+        return run.result(Status.DIVERGED, f"the slope ∇Fᵀd overflows at ‖e‖ = {run.norm:.3g}")
     if not slope < 0.0:
         return run.result(
-            "stalled", f"the direction does not decrease ½eᵀKe (slope {slope:.3g}); ‖e‖ = "
+            Status.STALLED, f"the direction does not decrease ½eᵀKe (slope {slope:.3g}); ‖e‖ = "
             f"{run.norm:.3g}"
         )  # fmt: skip
     F = run.merit(run.e)
@@ -601,9 +664,9 @@ def _step(run: _Run, J: np.ndarray, d: np.ndarray, step: float | str) -> IKResul
         run.accept(accepted[0], *accepted[1])
         return None
     if outcome == "too_small":
-        return run.result("stalled", f"‖Δq‖ ≤ q_tol = {q_tol:g} with ‖e‖ = {run.norm:.3g}")
+        return run.result(Status.STALLED, f"‖Δq‖ ≤ q_tol = {q_tol:g} with ‖e‖ = {run.norm:.3g}")
     return run.result(
-        "stalled", f"no Armijo step decreases ‖e‖ = {run.norm:.3g} (slope {slope:.3g})"
+        Status.STALLED, f"no Armijo step decreases ‖e‖ = {run.norm:.3g} (slope {slope:.3g})"
     )
 
 
@@ -624,7 +687,7 @@ def armijo_backtrack(
     used: it is rejected); ``slope`` is ``∇Fᵀd < 0``. Returns ``(λ, "accepted")``,
     ``(None, "too_small")`` when ``λ`` fell to ``min_alpha`` or below before a trial was
     accepted (the step is negligible), or ``(None, "exhausted")`` after ``trials``
-    rejections. The one Armijo search of redik: :func:`solve` here and the
+    rejections. The one Armijo search of redik: the root finders here and the
     ``"transpose"``/``"hybrid"`` methods of :func:`redik.solve_pose` use it.
     """
     for _ in range(trials):
@@ -640,10 +703,10 @@ def _move(run: _Run, q: np.ndarray) -> IKResult | None:
     """Accept ``q`` as the next iterate, or stop with ``"diverged"`` (and no move)."""
     evaluated = run.evaluate(q)
     if evaluated is None:
-        return run.result("diverged", f"the {run.method} step produced NaN or inf")
+        return run.result(Status.DIVERGED, f"the {run.method} step produced NaN or inf")
     if run.blown_up(q, evaluated[2]):
         return run.result(
-            "diverged",
+            Status.DIVERGED,
             f"the {run.method} step blew up (‖q‖_∞ = {np.max(np.abs(q)):.3g}, ‖e‖ = "
             f"{evaluated[2]:.3g}; max_growth = {run.options.max_growth:g} × the start)",
         )

@@ -33,7 +33,7 @@ import mink
 import numpy as np
 from scipy.optimize import nnls
 
-from redik.core._validate import non_negative, positive
+from redik.core._validate import integer, non_negative, positive
 from redik.core.exceptions import InfeasibleProblem, InvalidInput
 from redik.core.result import IKResult
 from redik.kinematics.robot import Robot
@@ -42,7 +42,7 @@ from redik.limits.ball_joint_limit import limited_ball_joints
 from redik.qp.assembly import Assembly
 from redik.qp.backends import Backend, make_backend
 from redik.qp.hierarchy import free_directions, row_null_space, solve_lexicographic
-from redik.tasks.frame_task import FrameTask
+from redik.tasks.frame_task import FrameTargetTask
 from redik.tasks.joint_space_task import JointSpaceTask
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import ResidualTask, Task
@@ -216,7 +216,7 @@ class Problem:
                 task,
                 np.empty(task.k),
                 np.empty((task.k, self._state.n_columns)),
-                isinstance(task, FrameTask),
+                isinstance(task, FrameTargetTask),
             )
             if isinstance(task, ResidualTask)
             else (task, None, None, False)
@@ -436,18 +436,12 @@ class Problem:
             non_negative(value, name)
         if stationarity_tol is not None:
             positive(stationarity_tol, "stationarity_tol")
-        if isinstance(max_iter, bool) or not isinstance(max_iter, int | np.integer):
-            raise InvalidInput(f"max_iter must be an integer, got {max_iter!r}")
-        if max_iter < 0:
-            raise InvalidInput(f"max_iter must be >= 0, got {max_iter}")
+        integer(max_iter, "max_iter")
         _check_dt(dt)
         if max_step is not None:
             positive(max_step, "max_step", allow_inf=True)
         non_negative(lm_damping, "lm_damping")
-        if patience is not None and (
-            isinstance(patience, bool) or not isinstance(patience, int | np.integer) or patience < 1
-        ):
-            raise InvalidInput(f"patience must be an integer >= 1 (or None), got {patience!r}")
+        integer(patience, "patience", 1, allow_none=True)
         if not (_is_real(progress) and 0.0 < progress < 1.0):
             raise InvalidInput(f"progress must be in (0, 1), got {progress!r}")
         required = 1.0 - progress  # ‖e‖² must fall to this fraction in `patience` iterations

@@ -5,17 +5,20 @@ The contract (error, Jacobian, weight, gain, priority, and mink's protocol) is i
 """
 
 from redik.tasks.damping_task import DampingTask
+from redik.tasks.frame_task import FrameTargetTask
 from redik.tasks.joint_limit_avoidance_task import JointLimitAvoidanceTask
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.manipulability_task import ManipulabilityTask
 from redik.tasks.orientation_task import OrientationTask
-from redik.tasks.pose_task import PoseTask
+from redik.tasks.pose_task import FrameTask, PoseTask
 from redik.tasks.position_task import PositionTask
 from redik.tasks.posture_task import PostureTask
 from redik.tasks.task import ResidualTask, Task
 
 __all__ = [
     "DampingTask",
+    "FrameTargetTask",
+    "FrameTask",
     "JointLimitAvoidanceTask",
     "KinematicState",
     "ManipulabilityTask",

@@ -16,7 +16,7 @@ import numpy as np
 
 from redik import lie
 from redik.core.exceptions import InvalidRotation
-from redik.tasks.frame_task import FrameTask, so3_left_jacobian_inverse
+from redik.tasks.frame_task import FrameTargetTask, so3_left_jacobian_inverse
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import weight_or_cost
 
@@ -32,7 +32,7 @@ def as_target_rotation(target, *, strict: bool = False) -> np.ndarray:
     return lie.as_rotation(target, name="target_rotation", strict=strict).copy()
 
 
-class OrientationTask(FrameTask):
+class OrientationTask(FrameTargetTask):
     """Drive a frame to a target orientation ``R_d`` (world frame).
 
     Args:

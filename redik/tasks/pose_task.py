@@ -26,8 +26,9 @@ import numba
 import numpy as np
 
 from redik import lie
+from redik.core.exceptions import InvalidInput, TargetNotSet
 from redik.kinematics.compiled import apply_inverse_v, pose_error
-from redik.tasks.frame_task import FrameTask, se3_left_jacobian_inverse_entries
+from redik.tasks.frame_task import FrameTargetTask, se3_left_jacobian_inverse_entries
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import as_weight, weight_or_cost
 
@@ -80,12 +81,14 @@ def pose_residual(R, p, R_d, p_d, J_world, row_scale, error_scale, A, b):
         b[i] = error_scale[i] * e[i]
 
 
-class PoseTask(FrameTask):
+class PoseTask(FrameTargetTask):
     """Drive a frame to a target pose ``T_d`` (4 × 4, world frame).
 
     Args:
-        target: The target pose ``T_wd`` (4 × 4 array or ``mink.SE3``).
-        frame: Site or body name; None is the robot's end-effector.
+        target: The target pose ``T_wd`` (4 × 4 array or ``mink.SE3``), or None to set it
+            later (:meth:`set_target`, :meth:`set_target_from_configuration`; using the task
+            before raises :class:`~redik.core.exceptions.TargetNotSet`).
+        frame: Site, body or geom name; None is the robot's end-effector.
         position_weight: Weight of the linear part ``v`` of the error (scalar or 3; default 1).
         orientation_weight: Weight of the angular part ``ω`` (scalar or 3; default 1).
         gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
@@ -95,6 +98,10 @@ class PoseTask(FrameTask):
             :meth:`set_target`.
         position_cost, orientation_cost: mink's names for the two weights (give one name of
             each pair).
+        frame_type: ``"site"``, ``"body"`` or ``"geom"`` to fix the kind of ``frame``
+            (mink's ``frame_type``); None looks the name up as a site, body, then geom.
+        lm_damping: mink's Levenberg–Marquardt scale ``λ ≥ 0``: adds ``λ‖α W e‖² I`` to the
+            Hessian (:class:`~redik.tasks.task.ResidualTask`).
     """
 
     def __init__(
@@ -109,8 +116,12 @@ class PoseTask(FrameTask):
         strict: bool = False,
         position_cost=None,
         orientation_cost=None,
+        frame_type: str | None = None,
+        lm_damping: float = 0.0,
     ):
-        super().__init__(frame, 1.0, gain, priority, size=6)
+        super().__init__(
+            frame, 1.0, gain, priority, size=6, frame_type=frame_type, lm_damping=lm_damping
+        )
         self.set_weights(
             weight_or_cost(position_weight, position_cost, "position_weight", "position_cost"),
             weight_or_cost(
@@ -118,7 +129,9 @@ class PoseTask(FrameTask):
             ),
         )
         self.strict = strict
-        self.set_target(target)
+        self.target: np.ndarray | None = None
+        if target is not None:
+            self.set_target(target)
         self._scales_version = -1
         self._scratch = np.empty(6)
 
@@ -144,6 +157,29 @@ class PoseTask(FrameTask):
         self._R_d = self.target[:3, :3].copy()
         self._p_d = self.target[:3, 3].copy()
 
+    def set_target_from_configuration(self, configuration) -> None:
+        """mink's: the target is the frame's current pose in ``configuration`` (a
+        ``mink.Configuration``). A task bound to a robot reads it through the robot; an
+        unbound one needs ``frame_type`` (mink's lookup by name and type)."""
+        if self.robot is None and self.frame_type is not None:
+            if not hasattr(configuration, "get_transform_frame_to_world"):
+                raise InvalidInput(
+                    f"configuration must be a mink.Configuration, got {configuration!r}"
+                )
+            T = configuration.get_transform_frame_to_world(self.frame_name, self.frame_type)
+        else:
+            R, p = self._state(configuration).pose(self.frame)
+            T = np.eye(4)
+            T[:3, :3], T[:3, 3] = R, p
+        self.set_target(T)
+
+    def _require_target(self) -> None:
+        if self.target is None:
+            raise TargetNotSet(
+                f"{type(self).__name__} on frame {self.frame_name!r} has no target: call "
+                "set_target(T) or set_target_from_configuration(configuration) first"
+            )
+
     def _refresh_scales(self) -> None:
         if self._scales_version != self.version:
             self._row_scale = -self.cost
@@ -151,11 +187,15 @@ class PoseTask(FrameTask):
             self._scales_version = self.version
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+        if self.target is None:
+            self._require_target()
         R, p = state.pose(self.frame)
         jacobian = state.jacobian(self.frame)
         pose_residual(R, p, self._R_d, self._p_d, jacobian, _MINUS_ONES, _ONES, J, e)
 
     def weighted_residual_into(self, state: KinematicState, A: np.ndarray, b: np.ndarray) -> None:
+        if self.target is None:
+            self._require_target()
         self._refresh_scales()
         R, p = state.pose(self.frame)
         jacobian = state.jacobian(self.frame)
@@ -164,5 +204,64 @@ class PoseTask(FrameTask):
         )
 
     def pose_errors(self, state: KinematicState) -> tuple[float, float]:
+        if self.target is None:
+            self._require_target()
         R, p = state.pose(self.frame)
         return pose_error(self._R_d, self._p_d, R, p, self._scratch)
+
+
+class FrameTask(PoseTask):
+    """mink's ``FrameTask``, with mink's signature: drive a frame to a target pose.
+
+    The same task as :class:`PoseTask` (error ``log(T⁻¹ T_d)``, a body twist, and its
+    Jacobian; equal to ``mink.FrameTask``'s to 1e-12, ``tests/test_mink_interop.py``), built
+    the way mink builds it, so code written for mink reads the same::
+
+        task = redik.FrameTask("attachment_site", "site", position_cost=1.0,
+                               orientation_cost=1.0)
+        task.set_target(T)  # or task.set_target_from_configuration(configuration)
+
+    Args:
+        frame_name: The site, body or geom name.
+        frame_type: ``"site"``, ``"body"`` or ``"geom"``.
+        position_cost: Weight of the linear part of the error (scalar or 3; default 1).
+        orientation_cost: Weight of the angular part (scalar or 3; default 1).
+        gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
+        lm_damping: Levenberg–Marquardt scale ``λ ≥ 0`` (as mink's: ``λ‖α W e‖² I`` is
+            added to the Hessian, damping the step towards an infeasible target).
+        target: The target pose (4 × 4 or ``mink.SE3``); None (mink's way) sets it later.
+        priority: redik's priority level, 0 highest (mink has none).
+        strict: Refuse a near-rotation target (as :class:`PoseTask`).
+    """
+
+    def __init__(
+        self,
+        frame_name: str,
+        frame_type: str,
+        position_cost=1.0,
+        orientation_cost=1.0,
+        gain: float = 1.0,
+        lm_damping: float = 0.0,
+        *,
+        target=None,
+        priority: int = 0,
+        strict: bool = False,
+    ):
+        super().__init__(
+            target,
+            frame_name,
+            gain=gain,
+            priority=priority,
+            strict=strict,
+            position_cost=position_cost,
+            orientation_cost=orientation_cost,
+            frame_type=frame_type,
+            lm_damping=lm_damping,
+        )
+
+    @property
+    def transform_target_to_world(self):
+        """mink's name of the target: a ``mink.SE3``, or None before one is set."""
+        from mink import SE3  # redik tasks already depend on mink; imported where used
+
+        return None if self.target is None else SE3.from_matrix(self.target)

@@ -9,12 +9,12 @@ from __future__ import annotations
 import numpy as np
 
 from redik import lie
-from redik.tasks.frame_task import FrameTask
+from redik.tasks.frame_task import FrameTargetTask
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import weight_or_cost
 
 
-class PositionTask(FrameTask):
+class PositionTask(FrameTargetTask):
     """Drive a frame's origin to a target position ``p_d`` (3,) in the world frame.
 
     Args:

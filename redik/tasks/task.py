@@ -46,6 +46,7 @@ import numpy as np
 from mink.tasks import BaseTask, Objective
 from mink.tasks import Task as MinkTask
 
+from redik.core._validate import integer, non_negative
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.robot import Robot
 from redik.lie import real_array
@@ -92,12 +93,7 @@ def as_gain(gain: float) -> float:
 
 def as_priority(priority: int) -> int:
     """A priority level: an integer >= 0, 0 being the highest."""
-    integral = isinstance(priority, int | np.integer) or (
-        isinstance(priority, float) and priority.is_integer()
-    )
-    if isinstance(priority, bool) or not integral or priority < 0:
-        raise InvalidInput(f"priority must be an integer >= 0 (0 is highest), got {priority!r}")
-    return int(priority)
+    return integer(priority, "priority (0 is highest)")
 
 
 class Task(BaseTask):
@@ -152,21 +148,38 @@ class ResidualTask(Task, MinkTask):
         k: Dimension of the error.
         cost: The weight :math:`w` (``k``,) — mink's name, so mink reads it too.
         gain: The gain :math:`α`.
-        lm_damping: Always 0 (mink reads it); redik regularises the QP as a whole.
+        lm_damping: mink's Levenberg–Marquardt scale :math:`λ ≥ 0` (0 for most tasks): the
+            task adds :math:`μ I` to its Hessian, :math:`μ = λ \|α W e\|^2`, which grows
+            with the error and so damps the step towards an infeasible target (mink's
+            ``Task``). Fixed at construction; a task with :math:`λ > 0` is assembled by its
+            own :meth:`add_objective`.
         version: Incremented whenever the weight, gain or target changes.
     """
 
     k: int
 
-    def __init__(self, weight, gain: float, priority: int, size: int | None = None):
+    def __init__(
+        self,
+        weight,
+        gain: float,
+        priority: int,
+        size: int | None = None,
+        *,
+        lm_damping: float = 0.0,
+    ):
         Task.__init__(self, priority)
         self.version = 0
         self.gain = gain
-        self.lm_damping = 0.0
+        self._lm_damping = non_negative(lm_damping, "lm_damping")
         self._weight_spec = weight
         self.cost = np.empty(0)
         if size is not None:
             self._set_size(size)
+
+    @property
+    def lm_damping(self) -> float:
+        """mink's Levenberg–Marquardt scale ``λ`` (read-only: see the class docstring)."""
+        return self._lm_damping
 
     @property
     def gain(self) -> float:
@@ -210,6 +223,8 @@ class ResidualTask(Task, MinkTask):
         self.weighted_residual_into(state, A, b)
         H += A.T @ A
         c -= A.T @ b
+        if self._lm_damping > 0.0:
+            H.flat[:: H.shape[0] + 1] += self._lm_damping * float(b @ b)
 
     def error_and_jacobian(self, state: KinematicState) -> tuple[np.ndarray, np.ndarray]:
         """Fresh arrays ``(e, J)`` at ``state``."""
@@ -230,9 +245,10 @@ class ResidualTask(Task, MinkTask):
         return Task.compute_qp_objective(self, configuration)
 
     def compute_qp_residual(self, configuration) -> tuple[np.ndarray, np.ndarray, float]:
-        """mink protocol: ``(W J, −α W e, 0)``, the weighted residual mink stacks."""
+        """mink protocol: ``(W J, −α W e, μ)``, the weighted residual mink stacks and its
+        Levenberg–Marquardt term ``μ = λ ‖α W e‖²``."""
         state = self._state(configuration)
         A = np.empty((self.k, state.n_columns))
         b = np.empty(self.k)
         self.weighted_residual_into(state, A, b)
-        return A, b, 0.0
+        return A, b, self._lm_damping * float(b @ b)

@@ -1,0 +1,158 @@
+"""One status vocabulary: every solver reports a redik.Status, and every Status is reported.
+
+Each solver is driven to each status it can produce (where a small case provokes it), and the
+union of what they returned must be the whole enum: a member that no solver produces would
+be a declared status nothing means.
+"""
+
+from __future__ import annotations
+
+import json
+
+import mujoco
+import numpy as np
+import pytest
+
+import redik
+from redik import Status
+from redik.core.result import IKResult
+from redik.solvers.analytic import planar_2r
+from redik.solvers.redundancy import Manipulability, gradient_projection_ik
+
+PRODUCED: set[Status] = set()
+
+
+def produced(result, expected: str) -> None:
+    """Check ``result.status`` is the member ``expected`` and record it."""
+    assert isinstance(result.status, Status), type(result.status)
+    assert result.status is Status(expected), (result.status, getattr(result, "message", ""))
+    PRODUCED.add(result.status)
+
+
+@pytest.fixture(scope="module")
+def planar():
+    return redik.load("planar_2r")
+
+
+def out_of_reach(robot: redik.Robot) -> np.ndarray:
+    T = robot.fk(robot.home)
+    T[:3, 3] *= 10.0
+    return T
+
+
+def test_status_is_a_str_enum_equal_to_its_value():
+    assert Status.CONVERGED == "converged" and "converged" == Status.CONVERGED
+    assert f"{Status.MAX_ITERATIONS}" == "max_iterations" == str(Status.MAX_ITERATIONS)
+    assert f"{Status.STALLED:>9}" == "  stalled"
+    assert {"diverged": 1}[Status.DIVERGED] == 1
+    assert json.dumps({"status": Status.LIMITS}) == '{"status": "limits"}'
+    assert np.asarray([Status.INVALID]).tolist() == ["invalid"]
+    assert Status("unreachable") is Status.UNREACHABLE
+
+
+def test_results_store_the_member_and_refuse_unknown_statuses():
+    result = IKResult(np.zeros(2), False, "stalled", 3, 0.5)
+    assert result.status is Status.STALLED
+    assert result.summary().startswith("ik: stalled, 3 it")
+    with pytest.raises(redik.InvalidInput, match=r"status must be one of .*'converged'"):
+        IKResult(np.zeros(2), False, "failed", 3, 0.5)
+
+
+def test_statuses_is_a_deprecated_alias():
+    for module in (redik, redik.core.result):
+        with pytest.warns(DeprecationWarning, match="use redik.Status"):
+            statuses = module.STATUSES
+        assert statuses == tuple(status.value for status in Status)
+
+
+def test_root_finders_report_every_status_of_theirs():
+    def tip(q):  # planar 2R, unit links
+        return np.array([np.cos(q[0]) + np.cos(q[0] + q[1]), np.sin(q[0]) + np.sin(q[0] + q[1])])
+
+    produced(redik.solve_equations(tip, [1.2, 0.5], [0.2, 1.4]), "converged")
+    produced(redik.solve_equations(tip, [1.2, 0.5], [0.2, 1.4], max_iter=1), "max_iterations")
+    # Outstretched (q2 = 0): J is singular.
+    produced(redik.solve_equations(tip, [1.2, 0.5], [0.3, 0.0], singular_tol=1e-6), "singular")
+    # Beyond reach: the gradient settles at the closest point, no root.
+    far = redik.solve_equations(tip, [3.0, 0.5], [0.2, 0.4], "gradient", step="armijo",
+                                rel_tol=1e-6, max_iter=1000)  # fmt: skip
+    produced(far, "stalled")
+    # Newton on arctan from |x0| > 1.39 overshoots further every step (a classic).
+    produced(redik.solve_equations(lambda q: np.arctan(q), [0.0], [3.0]), "diverged")
+    hybrid = redik.solve_equations(tip, [1.2, 0.5], [0.2, 1.4], "hybrid", switch_error=0.1)
+    produced(hybrid, "converged")
+
+
+def test_solve_pose_reports_converged_unreachable_and_max_iterations(planar):
+    T = planar.fk(np.array([0.4, 1.1]))
+    produced(redik.solve_pose(planar, T, seed=0), "converged")
+    produced(redik.solve_pose(planar, out_of_reach(planar), seed=0), "unreachable")
+    tight = redik.solve_pose(planar, T, planar.home, method="newton", max_iter=1, restarts=0)
+    produced(tight, "max_iterations")
+    for solution in redik.solve_all(planar, T, n_starts=4, seed=0):
+        produced(solution, "converged")
+
+
+def test_problem_reports_converged_max_iterations_and_stalled(planar):
+    T = planar.fk(np.array([0.4, 1.1]))
+    produced(redik.Problem(planar, [redik.PoseTask(T, orientation_cost=0.0)]).solve(planar.home),
+             "converged")  # fmt: skip
+    far = redik.Problem(planar, [redik.PoseTask(out_of_reach(planar), orientation_cost=0.0)])
+    produced(far.solve(planar.home, max_iter=2), "max_iterations")
+    produced(far.solve(planar.home, max_iter=500, q_tol=1e-6), "stalled")
+
+
+def test_solve_batch_reports_converged_stalled_and_invalid_per_target(planar):
+    T = np.stack([planar.fk(np.array([0.4, 1.1])), out_of_reach(planar), np.full((4, 4), np.nan)])
+    result = redik.solve_batch(planar, T, restarts=0, seed=0, engine="local")
+    assert all(isinstance(status, Status) for status in result.statuses)
+    assert result.statuses[0] is Status.CONVERGED and result.statuses[2] is Status.INVALID
+    assert result.statuses[1] in (Status.STALLED, Status.MAX_ITERATIONS)
+    assert result.status_names.tolist() == [status.value for status in result.statuses]
+    PRODUCED.update(result.statuses)
+
+
+def test_self_motion_reports_converged_max_iterations_unreachable_and_limits():
+    panda = redik.load("panda")
+    T = panda.fk(panda.home)
+    options = {"seed": 0, "n_starts": 4, "initial": panda.home, "spacing": 0.3}
+    produced(redik.explore_self_motion(panda, T, **options), "converged")
+    produced(redik.explore_self_motion(panda, T, **options, max_samples=5), "max_iterations")
+    produced(redik.explore_self_motion(panda, out_of_reach(panda), **options), "unreachable")
+    # A planar 2R arm whose elbow may bend only 1 rad, asked for a pose that needs 2.9 rad.
+    spec = mujoco.MjSpec.from_file(str(redik.models.scene_path("planar_2r")))
+    for joint in spec.joints:
+        joint.range = [-1.0, 1.0]
+        joint.limited = mujoco.mjtLimited.mjLIMITED_TRUE
+    narrow = redik.Robot(spec.compile(), name="planar_2r_narrow")
+    q = np.array([0.3, 2.9])
+    motion = redik.explore_self_motion(narrow, narrow.fk(q), seed=0, n_starts=8, initial=q)
+    produced(motion, "limits")
+    assert type(motion.summary()["status"]) is str  # a plain string for JSON and YAML
+
+
+def test_gradient_projection_reports_converged_and_max_iterations():
+    panda = redik.load("panda")
+    T = panda.fk(panda.home)
+    climbed = gradient_projection_ik(panda, T, panda.home, Manipulability(), max_iterations=500)
+    produced(climbed, "converged")
+    # The budget spent away from the pose (the pose settled on afterwards is out of reach).
+    cut = gradient_projection_ik(panda, out_of_reach(panda), panda.home, Manipulability(),
+                                 max_iterations=3)  # fmt: skip
+    produced(cut, "max_iterations")
+
+
+def test_closed_form_results_report_converged_unreachable_and_limits():
+    produced(planar_2r(1.2, 0.3, 1.0, 1.0), "converged")
+    produced(planar_2r(2.3, 0.0, 1.0, 1.0), "unreachable")
+    # Both elbows need |θ2| ≈ 1.4 rad: a range of ±1 rad excludes them.
+    limited = planar_2r(1.2, 0.3, 1.0, 1.0, limits=(np.array([-4.0, -1.0]), np.array([4.0, 1.0])))
+    produced(limited, "limits")
+    assert not limited.success and "joint limits" in limited.reason
+
+
+def test_every_status_is_produced_by_some_solver():
+    # Runs last in this module (pytest keeps file order): the union of the statuses above.
+    if len(PRODUCED) < 3:
+        pytest.skip("run with the whole module")
+    assert PRODUCED == set(Status), f"declared but not produced: {set(Status) - PRODUCED}"
