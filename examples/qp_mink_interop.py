@@ -29,3 +29,15 @@ for _ in range(200):
     configuration.integrate_inplace(velocity, 1.0)
 q = configuration.q[robot.qpos_indices]
 print("mink.solve_ik with redik tasks:", redik.lie.pose_errors(robot.fk(q), T_target))
+
+# redik.FrameTask is mink's FrameTask: the same arguments, the same error and Jacobian, and
+# mink's lm_damping (λ‖α W e‖² added to the Hessian, damping the step towards a target out of
+# reach). Out of reach, the damped step stays short where the undamped one is long.
+far = T_target.copy()
+far[:3, 3] *= 3.0
+for lm_damping in (0.0, 1.0):
+    task = redik.FrameTask("ee", "site", position_cost=1.0, orientation_cost=1.0,
+                           lm_damping=lm_damping)  # fmt: skip
+    task.set_target(mink.SE3.from_matrix(far))
+    step = Problem(robot, [task], limits=[]).step(robot.home)
+    print(f"redik.FrameTask lm_damping={lm_damping}: |Δq| = {np.linalg.norm(step):.3f} rad")

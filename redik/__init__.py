@@ -10,8 +10,8 @@ package (:mod:`redik.lie`, :mod:`redik.models`, :mod:`redik.kinematics`, :mod:`r
 Conventions (frames, twist order, units) are in :mod:`redik.core.conventions`.
 """
 
-import importlib
-import warnings
+import importlib as _importlib
+import warnings as _warnings
 
 from redik import (  # noqa: F401 (_compat: the old flat import paths)
     _compat,
@@ -74,7 +74,7 @@ for _module in (
     "redik.models.scene_library",
     "redik.solvers.analytic",
 ):
-    importlib.import_module(_module)
+    _importlib.import_module(_module)
 del _module
 
 __version__ = "0.1.0"
@@ -173,7 +173,7 @@ _METHODS = ("newton", "gradient", "hybrid")
 
 def __getattr__(name: str) -> object:
     if name == "STATUSES":
-        warnings.warn(
+        _warnings.warn(
             "redik.STATUSES is deprecated: use redik.Status (an enum of the same strings)",
             DeprecationWarning,
             stacklevel=2,
@@ -183,13 +183,13 @@ def __getattr__(name: str) -> object:
         module, attribute = _MOVED[name]
         home = module if attribute is None else f"{module}.{attribute}"
         hint = f" or redik.solve_equations(..., method={name!r})" if name in _METHODS else ""
-        warnings.warn(
+        _warnings.warn(
             f"redik.{name} is deprecated and leaves redik's namespace in the next release: "
             f"use {home}{hint}",
             DeprecationWarning,
             stacklevel=2,
         )
-        value = importlib.import_module(module)
+        value = _importlib.import_module(module)
         return value if attribute is None else getattr(value, attribute)
     raise AttributeError(f"module 'redik' has no attribute {name!r}")
 

@@ -718,7 +718,7 @@ def test_solve_batch_refuses_junk_options(panda):
     T = panda.fk(panda.home)[None]
     bad = [
         ({"q0": ""}, "q0 must hold real numbers"),
-        ({"chunk_size": 1.5}, "chunk_size must be a positive integer"),
+        ({"chunk_size": 1.5}, "chunk_size must be an integer ≥ 1"),
         ({"chunk_size": ""}, "chunk_size"),
         ({"engine": np.array([])}, "engine must be one of"),
         ({"seed": ""}, "seed must be"),

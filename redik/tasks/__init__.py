@@ -1,7 +1,9 @@
 """Tasks: what the joint step should achieve, each a term of a QP objective.
 
 The contract (error, Jacobian, weight, gain, priority, and mink's protocol) is in
-:mod:`redik.tasks.task`; one task per module.
+:mod:`redik.tasks.task`; one task per module. :class:`FrameTask` is mink's name (and
+signature) for :class:`PoseTask`; :class:`FrameTargetTask` is the base of the tasks on one
+frame.
 """
 
 from redik.tasks.damping_task import DampingTask

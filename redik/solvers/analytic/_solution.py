@@ -128,6 +128,8 @@ class IKSolutions(Sequence[JointSolution]):
         n_joints: Length of each joint vector (so an empty result still has a shape).
         reachable: Whether the target lies in the workspace (joint limits aside).
         reason: Why there is no solution, when there is none; else empty.
+        status: A :class:`redik.Status`: ``CONVERGED`` (solutions), ``UNREACHABLE`` or
+            ``LIMITS`` (none, and why); ``success`` is True with a solution.
         preferred: Label of the branch conventionally used by the hardware (e.g. a hexapod's
             ``"knee-up"``), or empty.
     """
