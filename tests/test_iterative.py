@@ -13,6 +13,7 @@ from redik.solvers.iterative import (
     gradient_descent,
     gradient_then_newton,
     newton_raphson,
+    solve_equations,
 )
 
 L1, L2 = 1.0, 0.8
@@ -393,3 +394,20 @@ def test_forward_differences_default_step_is_accurate():
         finite_difference_jacobian(two_link, q, step=0.0)
     with pytest.raises(InvalidInput, match="fd_scheme"):
         newton_raphson(two_link, X_D, q, fd_scheme="complex")
+
+
+def test_solve_equations_runs_the_named_method_with_its_options():
+    q0 = [0.2, 1.4]
+    for method, solver, options in (
+        ("newton", newton_raphson, {"step": "armijo"}),
+        ("gradient", gradient_descent, {"step": 0.3, "gain": 2.0}),
+        ("hybrid", gradient_then_newton, {"switch_error": 0.05}),
+    ):
+        result = solve_equations(two_link, X_D, q0, method, two_link_jacobian, **options)
+        expected = solver(two_link, X_D, q0, two_link_jacobian, **options)
+        assert result.method == method
+        np.testing.assert_array_equal(result.history, expected.history)
+    with pytest.raises(InvalidInput, match=r"method must be one of \['newton', 'gradient'"):
+        solve_equations(two_link, X_D, q0, "transpose")
+    with pytest.raises(InvalidInput, match=r"unknown option\(s\) \['gain'\] for method='newton'"):
+        solve_equations(two_link, X_D, q0, gain=2.0)
