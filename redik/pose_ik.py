@@ -190,6 +190,21 @@ def solve_pose(
             ``frame`` that no joint of the chain moves (such as ``"world"``).
         UnknownFrame: ``frame`` names no site or body.
     """
+    # "dls" with scalar arguments already validated for this robot and frame (the settings
+    # key records their types too, so that True never passes for 1): the target and q0 are
+    # checked by the compiled call itself. Anything else, or a refusal there, takes the full
+    # validation below, which names the fault.
+    arguments = (
+        pos_tol, rot_tol, max_iter, restarts, respect_limits,
+        type(pos_tol), type(rot_tol), type(max_iter), type(restarts), type(respect_limits),
+    )  # fmt: skip
+    if type(method) is str and method == "dls" and not method_options:
+        solver = _FrameSolver.known(robot, frame)
+        key = _fast_kernel_key(seed)
+        if solver is not None and key is not None:
+            result = solver.solve_dls(T_target, q0, key, arguments)
+            if result is not None:
+                return result
     T_target = as_pose(T_target, "T_target", strict=strict)
     if not robot.is_chain:
         return _solve_on_chain(
@@ -229,10 +244,19 @@ def solve_pose(
                 f"it takes {sorted(_OPTIONS[method])}"
             )
     if method == "dls":
-        return frame_solver.solve_dls(
-            T_target, q_start, pos_tol, rot_tol, max_iter, restarts, respect_limits, seed,
-            method_options,
-        )  # fmt: skip
+        if method_options:
+            arguments += tuple(sorted(method_options.items()))
+        else:
+            frame_solver.remember(frame)
+        frame_solver.prepare_dls(
+            arguments, pos_tol, rot_tol, max_iter, restarts, respect_limits, method_options
+        )
+        result = frame_solver.solve_dls(
+            np.array(T_target, order="C"), q_start, _kernel_key(seed), arguments
+        )
+        if result is None:  # cannot happen: every argument passed the checks above
+            raise RuntimeError("the compiled dls solve refused validated arguments")
+        return result
     options = {**_OPTIONS[method], **method_options}
     problem = _Problem(robot, resolved, T_target, pos_tol, rot_tol, respect_limits)
     q_start = problem.project(q_start)
@@ -472,9 +496,9 @@ class _FrameSolver:
     """What every solve placing one frame of one robot reuses, built on first use and kept
     in the robot's :attr:`~redik.robot.Robot.solver_cache`: the joints that move the frame,
     its reach, and for ``"dls"`` the compiled chain, the kernel's settings arrays (validated
-    by :class:`BatchOptions` once per combination of options) and the kernel's output
-    buffers. A ``"dls"`` solve then validates its arguments once, makes one compiled call
-    and allocates only its result."""
+    by :class:`BatchOptions` once per combination of arguments) and the kernel's output
+    buffers. A ``"dls"`` solve whose arguments were seen before then costs one dictionary
+    look-up, one compiled call (which checks the target and ``q0``) and its result."""
 
     def __init__(self, robot: Robot, frame: Frame) -> None:
         self.robot = robot
@@ -488,9 +512,10 @@ class _FrameSolver:
             )
         self.every_joint = self.columns.size == robot.dof
         self.origin, self.reach = _reach(robot, frame, self.columns)
+        self._reach_array = np.array([*self.origin, self.reach])
         self._kernel_arrays: tuple | None = None
         self._buffers: tuple[np.ndarray, ...] = ()
-        self._settings: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+        self._settings: dict[tuple, tuple] = {}
 
     @classmethod
     def of(cls, robot: Robot, frame: Frame) -> _FrameSolver:
@@ -499,11 +524,28 @@ class _FrameSolver:
         Raises:
             InvalidInput: no joint of the robot's chain moves ``frame``.
         """
-        key = ("pose_ik", frame)
-        solver = robot.solver_cache.get(key)
+        solvers = robot.solver_cache.setdefault(_CACHE_KEY, {})
+        solver = solvers.get(frame)
         if solver is None:
-            solver = robot.solver_cache[key] = cls(robot, frame)
+            solver = solvers[frame] = cls(robot, frame)
         return solver  # type: ignore[return-value]
+
+    @staticmethod
+    def known(robot: Robot, frame: object) -> _FrameSolver | None:
+        """The solver of the frame argument ``frame`` (None, a name or a :class:`Frame`) when
+        a solve has resolved it before, else None."""
+        solvers = robot.solver_cache.get(_CACHE_KEY)
+        if solvers is None:
+            return None
+        try:
+            return solvers.get(frame)  # type: ignore[attr-defined]
+        except TypeError:  # an unhashable frame argument: the full path refuses it
+            return None
+
+    def remember(self, frame: object) -> None:
+        """Let :meth:`known` find this solver by the argument ``frame`` (None or a name)."""
+        if frame is None or isinstance(frame, str):
+            self.robot.solver_cache[_CACHE_KEY][frame] = self  # type: ignore[index]
 
     def reach_excess(self, p_d: np.ndarray) -> float:
         """How far (m) ``p_d`` lies beyond the chain's reach (0 inside; see :func:`_reach`)."""
@@ -512,44 +554,84 @@ class _FrameSolver:
         excess = math.dist(p_d.tolist(), self.origin) - self.reach
         return excess if excess > 1e-9 * max(1.0, self.reach) else 0.0
 
-    def solve_dls(
+    def prepare_dls(
         self,
-        T_target: np.ndarray,
-        q_start: np.ndarray,
+        arguments: tuple,
         pos_tol: float,
         rot_tol: float,
         max_iter: int,
         restarts: int,
         respect_limits: bool,
-        seed: int | np.random.Generator | None,
         options: dict,
-    ) -> IKResult:
-        """Every attempt in :func:`redik.kinematics.dls.solve_one`; the joints that do not move
-        the frame stay at ``q_start``. Success is decided by the kernel's FK of the returned
-        ``q`` (tested equal to MuJoCo's, ``tests/test_batch_kernel.py``); MuJoCo's only when
-        ``q`` was shifted by 2π into the limits afterwards."""
+    ) -> None:
+        """Compile the chain (first use), size the buffers for ``max_iter`` and keep the
+        kernel's settings for these validated values under the caller's ``arguments``."""
+        try:
+            if arguments in self._settings:
+                return
+        except TypeError:  # an unhashable option value: BatchOptions names it below
+            pass
+        if self._kernel_arrays is None:
+            self._kernel_arrays = Chain.from_robot(self.robot, self.frame).kernel_arrays()
+        if not self._buffers or self._buffers[1].shape[1] < max_iter + 1:
+            n = self.columns.size
+            self._buffers = (
+                np.empty((2, max_iter + 1, n)), np.empty((2, max_iter + 1)), np.empty(n),
+                np.empty(6),
+            )  # fmt: skip
+        if len(self._settings) >= 64:
+            self._settings.clear()
+        floats, counts = BatchOptions(
+            pos_tol=pos_tol, rot_tol=rot_tol, max_iterations=max_iter, restarts=restarts,
+            **{**_DLS_OPTIONS, **options},
+        ).kernel_settings(bool(respect_limits))  # fmt: skip
+        self._settings[arguments] = (floats, counts, pos_tol, rot_tol, bool(respect_limits))
+
+    def solve_dls(
+        self, T_target: object, q0: object, key: np.uint64, arguments: tuple
+    ) -> IKResult | None:
+        """Every attempt in one compiled call, :func:`redik.kinematics.dls.solve_one`, with
+        the settings :meth:`prepare_dls` kept under ``arguments``; the joints that do not
+        move the frame stay at ``q0``.
+
+        Returns None — and solves nothing — when these arguments were not prepared, when
+        ``T_target`` or ``q0`` is not a C-contiguous writable float array of its shape (what
+        the kernel is compiled for), or when the kernel finds them invalid (not a rigid
+        transform within :data:`redik.lie.ROTATION_TOLERANCE`, or a non-finite ``q0``): the
+        caller's full validation then raises, or projects a near-rotation.
+
+        Success is decided by the kernel's FK of the returned ``q`` (tested equal to MuJoCo's,
+        ``tests/test_batch_kernel.py``); MuJoCo's only when ``q`` was shifted by 2π into the
+        limits afterwards.
+        """
+        try:
+            settings = self._settings.get(arguments)
+        except TypeError:  # an unhashable argument: the full path refuses it
+            return None
+        if settings is None:
+            return None
+        floats, counts, pos_tol, rot_tol, respect_limits = settings
         robot = self.robot
-        arrays, (history, errors, q_chain, e) = self._compiled(max_iter)
-        floats, counts = self._kernel_settings(
-            pos_tol, rot_tol, max_iter, restarts, respect_limits, options
-        )
-        reach = self.reach_excess(T_target[:3, 3])
-        if reach > 0.0:
-            floats = floats.copy()
-            floats[kernel.REACH] = reach
-        if respect_limits and not self.every_joint:
-            q_start = np.clip(q_start, robot.lower, robot.upper)  # the kernel clips its own
-        start = q_start if self.every_joint else q_start[self.columns]
+        if q0 is None:
+            q0 = robot.home.copy()  # home is read-only; the kernel is compiled for writable
+        elif not _exact_array(q0, (robot.nq,)):
+            return None
+        if not _exact_array(T_target, (4, 4)):
+            return None
+        history, errors, q_chain, e = self._buffers
         status, iterations, used, length, summary = kernel.solve_one(
-            arrays, T_target, start, _kernel_key(seed), floats, counts, q_chain, history,
-            errors, e,
+            self._kernel_arrays, self.columns, self._reach_array, T_target, q0, key, floats,
+            counts, q_chain, history, errors, e,
         )  # fmt: skip
-        error_min, error_max, stationary, diverged, position_error, rotation_error, inside = summary
+        if status == kernel.INVALID:
+            return None
+        (error_min, error_max, stationary, diverged, position_error, rotation_error, inside,
+         error, reach) = summary  # fmt: skip
         if self.every_joint:
             q = q_chain.copy()
             path = history[1, :length].copy()
         else:
-            q = q_start.copy()
+            q = np.clip(q0, robot.lower, robot.upper) if respect_limits else q0.copy()
             q[self.columns] = q_chain
             path = np.repeat(q[None], length, axis=0)
             path[:, self.columns] = history[1, :length]
@@ -561,6 +643,7 @@ class _FrameSolver:
                 T = np.eye(4)
                 robot.kinematics(q, self.frame, T)
                 position_error, rotation_error = problem.world_error(T, e)
+                error = _body_twist_norm(e)
             inside = robot.within_limits(q)
         success = (
             position_error <= pos_tol
@@ -577,7 +660,7 @@ class _FrameSolver:
             success=success,
             status=status,
             iterations=iterations,
-            error=_body_twist_norm(e),
+            error=error,
             position_error=position_error,
             rotation_error=rotation_error,
             history=path,
@@ -587,49 +670,39 @@ class _FrameSolver:
             message=message,
         )
 
-    def _compiled(self, max_iter: int) -> tuple[tuple, tuple[np.ndarray, ...]]:
-        """The kernel's chain arrays (compiled on first use) and output buffers
-        ``(history, errors, q, e)``, the history long enough for ``max_iter``."""
-        if self._kernel_arrays is None:
-            chain = Chain.from_robot(self.robot, self.frame)
-            self._kernel_arrays = chain.kernel_arrays()
-        if not self._buffers or self._buffers[1].shape[1] < max_iter + 1:
-            n = self.columns.size
-            self._buffers = (
-                np.empty((2, max_iter + 1, n)), np.empty((2, max_iter + 1)), np.empty(n),
-                np.empty(6),
-            )  # fmt: skip
-        return self._kernel_arrays, self._buffers
 
-    def _kernel_settings(
-        self,
-        pos_tol: float,
-        rot_tol: float,
-        max_iter: int,
-        restarts: int,
-        bounded: bool,
-        options: dict,
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """The kernel's settings arrays for these arguments, validated once."""
-        key = (pos_tol, rot_tol, max_iter, restarts, bounded)
-        if options:
-            key += tuple(sorted(options.items()))
-        settings = self._settings.get(key)
-        if settings is None:
-            if len(self._settings) >= 64:
-                self._settings.clear()
-            settings = BatchOptions(
-                pos_tol=pos_tol, rot_tol=rot_tol, max_iterations=max_iter, restarts=restarts,
-                **{**_DLS_OPTIONS, **options},
-            ).kernel_settings(bounded)  # fmt: skip
-            self._settings[key] = settings
-        return settings
+_CACHE_KEY = "pose_ik"
+"""The key of a robot's pose solvers in its :attr:`~redik.robot.Robot.solver_cache`: a dict
+from each resolved :class:`Frame` — and each frame argument (None, a name) resolved before —
+to its :class:`_FrameSolver`."""
+
+_FLOAT = np.dtype(float)
+_TWO_TO_64 = 2**64
+
+
+def _exact_array(value: object, shape: tuple[int, ...]) -> bool:
+    """``value`` is a C-contiguous writable float64 array of ``shape``: the type the compiled
+    kernel takes as it is (any other would make numba compile another specialisation)."""
+    if type(value) is not np.ndarray or value.dtype != _FLOAT or value.shape != shape:
+        return False
+    flags = value.flags
+    return flags.c_contiguous and flags.writeable
+
+
+def _fast_kernel_key(seed: object) -> np.uint64 | None:
+    """:func:`_kernel_key` for the seeds that need no validation (None, an ``int`` ≥ 0);
+    None for the others, which take the full path."""
+    if seed is None:
+        return np.uint64(secrets.randbits(64))
+    if type(seed) is int and seed >= 0:
+        return np.uint64(seed % _TWO_TO_64)
+    return None
 
 
 def _kernel_key(seed: int | np.random.Generator | None) -> np.uint64:
     """The kernel generator's 64-bit state from ``seed`` (reproducible for an int)."""
     if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
-        return np.uint64(int(seed) % 2**64)
+        return np.uint64(int(seed) % _TWO_TO_64)
     if seed is None:
         return np.uint64(secrets.randbits(64))
     return np.uint64(np.random.default_rng(seed).integers(2**63))
