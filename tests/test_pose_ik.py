@@ -9,9 +9,17 @@ import pytest
 
 import redik
 from redik import lie
-from redik.core.exceptions import InvalidInput, InvalidPose, RedikError
+from redik.core.exceptions import (
+    InvalidConfiguration,
+    InvalidInput,
+    InvalidPose,
+    NearRotationWarning,
+    RedikError,
+)
 from redik.core.result import IKResult
-from redik.solvers.pose_ik import _body_twist_norm, _Problem, solve_all, solve_pose
+from redik.solvers.pose import solve_all, solve_pose
+from redik.solvers.pose.attempt import PoseProblem
+from redik.solvers.pose.result import body_twist_norm
 
 SCENES = redik.list_scenes()
 
@@ -257,9 +265,9 @@ def test_body_twist_norm_from_the_world_error(rng):
     for _ in range(10):
         T, T_d = robot.fk(robot.random_q(rng)), robot.fk(robot.random_q(rng))
         e = np.empty(6)
-        _Problem(robot, robot.ee, T_d, 1e-6, 1e-5, True).world_error(T, e)
+        PoseProblem(robot, robot.ee, T_d, 1e-6, 1e-5, True).world_error(T, e)
         expected = np.linalg.norm(lie.se3_log(lie.inverse(T) @ T_d))
-        assert _body_twist_norm(e) == pytest.approx(expected, rel=1e-12)
+        assert body_twist_norm(e) == pytest.approx(expected, rel=1e-12)
 
 
 def test_solve_all_finds_the_elbow_up_and_down_solutions_of_a_planar_3r_arm():
@@ -329,8 +337,6 @@ def test_scalar_options_take_numpy_numbers_and_refuse_bools_nan_and_inf():
 def test_a_repeated_dls_call_still_refuses_what_the_first_call_would(rng):
     """After a first solve, "dls" arguments seen before are checked in the compiled call;
     everything it does not accept as it is must still get the full validation's answer."""
-    from redik.exceptions import InvalidConfiguration, NearRotationWarning
-
     robot = redik.load("panda")
     T = robot.fk(robot.random_q(rng))
     q0 = robot.random_q(rng)
