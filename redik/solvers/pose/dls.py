@@ -21,7 +21,11 @@ that :func:`~redik.solvers.pose.solve.solve_pose`'s full validation names the fa
 builds the result from the kernel's own summary: the FK of the returned ``q``, its errors,
 the body error and the reach excess, with no second FK in Python (the compiled FK is tested
 equal to MuJoCo's to 1e-12, ``tests/test_batch_kernel.py``). Only a ``q`` shifted by 2π into
-the limits afterwards (``respect_limits=False``) is re-checked by MuJoCo's FK.
+the limits afterwards (``respect_limits=False``) is re-checked by MuJoCo's FK. The kernel is
+called through numba's dispatcher with arguments of exactly the types it was compiled for
+(:func:`exact_array`), so no call compiles another specialisation; calling the compiled
+entry point directly (numba's internal ``overloads[signature].entry_point``) saved 0.2 µs
+warm and 1.8 µs cold of a 23–31 µs call, not worth depending on numba's internals.
 """
 
 from __future__ import annotations

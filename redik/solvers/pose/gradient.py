@@ -68,6 +68,7 @@ def transpose_step(
 
 
 def transpose(options: dict) -> Iteration:
+    """The ``"transpose"`` attempt for ``options["step"]`` ("armijo" or a positive number)."""
     step = options["step"]
     if step != "armijo":
         step = positive(step, "step")
@@ -79,6 +80,7 @@ def transpose(options: dict) -> Iteration:
 
 
 def hybrid(options: dict) -> Iteration:
+    """The ``"hybrid"`` attempt for ``options["switch_error"]`` (a positive ``‖e‖``)."""
     switch_error = positive(options["switch_error"], "switch_error")
 
     def iterate(problem: PoseProblem, q: np.ndarray, max_iter: int) -> Attempt:

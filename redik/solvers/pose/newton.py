@@ -19,6 +19,8 @@ from redik.solvers.pose.attempt import Attempt, Iteration, PoseProblem
 
 
 def newton(options: dict) -> Iteration:
+    """The ``"newton"`` attempt for ``options`` ``form`` ("body" or "space"), ``step`` (a
+    positive multiple of the Newton step) and ``stop`` ("pose" or "twist")."""
     form = options["form"]
     if form not in ("body", "space"):
         raise InvalidInput(f"form must be 'body' or 'space', got {form!r}")
