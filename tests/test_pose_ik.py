@@ -374,3 +374,16 @@ def test_a_repeated_dls_call_still_refuses_what_the_first_call_would(rng):
             solve_pose(robot, T, q0, **{"seed": 0, **bad_arguments})
     with pytest.raises(InvalidInput, match="respect_limits"):
         solve_pose(robot, T, q0, seed=0, respect_limits=1)
+
+
+def test_each_frame_argument_finds_its_own_dls_solver(rng):
+    """A solve of another frame (with or without options) must not answer for the
+    end-effector's later ones: each frame argument is remembered with its own solver."""
+    robot = redik.load("panda")
+    T_link = robot.fk(robot.random_q(rng), frame="link5")
+    assert solve_pose(robot, T_link, frame="link5", seed=0, damping=0.2).success
+    assert solve_pose(robot, T_link, frame="link5", seed=0).success
+    T_ee = robot.fk(robot.random_q(rng))
+    for _ in range(2):  # the first call resolves the frame, the second looks it up
+        result = solve_pose(robot, T_ee, seed=0)
+        check_solution(robot, result, T_ee)

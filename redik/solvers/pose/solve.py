@@ -147,7 +147,7 @@ def solve_pose(
     if method == "dls":
         # Kept under the arguments as given (with the options, which are checked anew on
         # each call: only option-free calls take the look-up above).
-        solver = cache.dls(resolved, None if method_options else frame)
+        solver = cache.dls(resolved, frame)
         arguments += tuple(sorted(method_options.items()))
         solver.prepare(
             arguments, pos_tol, rot_tol, max_iter, restarts, respect_limits, method_options
