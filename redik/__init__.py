@@ -49,7 +49,7 @@ from redik.limits import BallJointLimit, CollisionAvoidanceLimit, PositionLimit,
 from redik.models.scenes import list_scenes
 from redik.solvers.batch import BatchResult, solve_batch
 from redik.solvers.iterative import solve_equations
-from redik.solvers.pose_ik import solve_all, solve_pose
+from redik.solvers.pose import solve_all, solve_pose
 from redik.solvers.problem import Problem, QPResult
 from redik.solvers.redundancy import SelfMotion, explore_self_motion, nullspace_velocity
 from redik.tasks import (

@@ -9,7 +9,7 @@ import redik
 from redik.core.result import Status
 from redik.kinematics import dls
 from redik.solvers.batch import BATCH_STATUSES, Chain, forward_kinematics, solve_batch
-from redik.solvers.pose_ik import solve_pose
+from redik.solvers.pose import solve_pose
 
 from .conftest import ARM_XML
 
