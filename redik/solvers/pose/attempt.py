@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from redik.core.result import Status
 from redik.kinematics.robot import Frame, Robot
 from redik.lie import so3_log
 
@@ -70,7 +71,7 @@ class Attempt:
     """The outcome of one attempt from one start."""
 
     q: np.ndarray
-    status: str  # "converged", "stalled", "max_iterations" or "diverged"
+    status: Status  # CONVERGED, STALLED, MAX_ITERATIONS or DIVERGED
     history: list[np.ndarray]
     errors: list[float]
     error_sq: float  # ‖e‖² of the world error at q, to pick the closest attempt

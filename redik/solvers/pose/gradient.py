@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from redik.core._validate import positive
+from redik.core.result import Status
 from redik.solvers.iterative import armijo_backtrack
 from redik.solvers.pose.attempt import Attempt, Iteration, PoseProblem
 
@@ -100,10 +101,10 @@ def gradient_then_newton(
     errors_now = problem.world_error(T, e)
     E = float(e @ e)
     history, errors = [q.copy()], [math.sqrt(E)]
-    status = "max_iterations"
+    status = Status.MAX_ITERATIONS
     for _ in range(max_iter):
         if problem.within(*errors_now):
-            status = "converged"
+            status = Status.CONVERGED
             break
         stepped = None
         if E < switch_error**2:
@@ -117,7 +118,7 @@ def gradient_then_newton(
         if stepped is None:
             stepped = transpose_step(problem, q, J, e, E, step, trial)
         if stepped is None or not math.isfinite(stepped[1]):
-            status = "stalled" if stepped is None else "diverged"
+            status = Status.STALLED if stepped is None else Status.DIVERGED
             break
         q, E = stepped
         (T, J, e), trial = trial, (T, J, e)
@@ -126,5 +127,5 @@ def gradient_then_newton(
         errors.append(math.sqrt(E))
     else:
         if problem.within(*errors_now):
-            status = "converged"
+            status = Status.CONVERGED
     return Attempt(q, status, history, errors, E, J, e)

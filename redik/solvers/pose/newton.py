@@ -14,6 +14,7 @@ import numpy as np
 
 from redik.core._validate import positive
 from redik.core.exceptions import InvalidInput
+from redik.core.result import Status
 from redik.lie import adjoint, inverse, pose_errors, se3_log, world_jacobian_to
 from redik.solvers.pose.attempt import Attempt, Iteration, PoseProblem
 
@@ -47,14 +48,14 @@ def newton(options: dict) -> Iteration:
         robot.kinematics(q, frame, T, J)
         V, J_form = twist_and_jacobian(T, J, problem.T_target)
         history, errors = [q.copy()], [float(np.linalg.norm(V))]
-        status = "max_iterations"
+        status = Status.MAX_ITERATIONS
         for _ in range(max_iter):
             if done(problem, T, V):
-                status = "converged"
+                status = Status.CONVERGED
                 break
             q_next = problem.project(q + step * (np.linalg.pinv(J_form) @ V))
             if not np.all(np.isfinite(q_next)):
-                status = "diverged"
+                status = Status.DIVERGED
                 break
             q = q_next
             robot.kinematics(q, frame, T, J)
@@ -63,7 +64,7 @@ def newton(options: dict) -> Iteration:
             errors.append(float(np.linalg.norm(V)))
         else:
             if done(problem, T, V):
-                status = "converged"
+                status = Status.CONVERGED
         problem.world_error(T, e)
         return Attempt(q, status, history, errors, float(e @ e), J, e)
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from redik.core.result import IKResult
+from redik.core.result import IKResult, Status
 from redik.kinematics.robot import Robot
 from redik.lie import apply_inverse_v
 from redik.solvers.pose.attempt import Attempt, PoseProblem
@@ -50,7 +50,7 @@ class Outcome:
     @classmethod
     def of(cls, attempts: list[Attempt], lower: np.ndarray, upper: np.ndarray) -> Outcome:
         best = attempts[-1]
-        if best.status != "converged":
+        if best.status != Status.CONVERGED:
             best = min(attempts, key=lambda attempt: attempt.error_sq)
         errors = np.sqrt([a.error_sq for a in attempts])
         gradients = np.array([stationarity(a, lower, upper) for a in attempts])
@@ -63,7 +63,7 @@ class Outcome:
             same_stationary_point=same_stationary_point(
                 len(attempts), errors.min(), errors.max(), bool(np.all(gradients <= 1e-4 * errors))
             ),
-            all_diverged=all(attempt.status == "diverged" for attempt in attempts),
+            all_diverged=all(attempt.status == Status.DIVERGED for attempt in attempts),
             e=best.e,
             position_error=float(np.linalg.norm(best.e[:3])),
             rotation_error=float(np.linalg.norm(best.e[3:])),
@@ -115,7 +115,7 @@ def verdict(
     all_diverged: bool,
     attempts: int,
     iterations: int,
-) -> tuple[str, str]:
+) -> tuple[Status, str]:
     """``(status, message)`` of a solve from what its attempts found.
 
     A target farther from the first joint than the chain can reach (``reach > 0``), or one
@@ -124,21 +124,24 @@ def verdict(
     ``"diverged"`` when every attempt hit a NaN.
     """
     if success:
-        return "converged", "" if inside else "q is outside the joint limits (respect_limits=False)"
+        return (
+            Status.CONVERGED,
+            "" if inside else "q is outside the joint limits (respect_limits=False)",
+        )
     closest = f"closest pose found: {position_error:.3g} m, {rotation_error:.3g} rad away"
     if reach > 0.0:
-        return "unreachable", (
+        return Status.UNREACHABLE, (
             f"the target is {reach:.3g} m beyond the reach of the chain from its first joint; "
             f"{closest}"
         )
     if same_stationary_point:
-        return "unreachable", (
+        return Status.UNREACHABLE, (
             f"all {attempts} attempts stopped at the same error with a vanishing "
             f"gradient Jᵀe; {closest}"
         )
     if all_diverged:
-        return "diverged", f"every attempt produced NaN or inf; {closest}"
-    return "max_iterations", (
+        return Status.DIVERGED, f"every attempt produced NaN or inf; {closest}"
+    return Status.MAX_ITERATIONS, (
         f"no attempt of {attempts} converged ({iterations} iterations); {closest}"
     )
 

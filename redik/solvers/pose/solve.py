@@ -15,7 +15,7 @@ from collections.abc import Callable
 import numpy as np
 
 from redik.core._validate import integer, positive
-from redik.core.result import IKResult
+from redik.core.result import IKResult, Status
 from redik.kinematics.robot import Frame, Robot
 from redik.lie import as_pose, wrap_angle
 from redik.solvers.pose.attempt import Iteration, PoseProblem
@@ -161,14 +161,14 @@ def solve_pose(
     iterate = ITERATIONS[method](options)
     attempts = [iterate(problem, q_start, max_iter)]
     reach = 0.0
-    if attempts[0].status != "converged":
+    if attempts[0].status != Status.CONVERGED:
         reach = pose_frame.reach_excess(problem.p_d)
         if reach > 0.0:
             restarts = min(restarts, 2)  # a closest q is all there is to find
         rng = np.random.default_rng(seed)
         for _ in range(restarts):
             attempts.append(iterate(problem, problem.project(robot.random_q(rng)), max_iter))
-            if attempts[-1].status == "converged":
+            if attempts[-1].status == Status.CONVERGED:
                 break
     return finish(problem, Outcome.of(attempts, robot.lower, robot.upper), method, reach)
 
