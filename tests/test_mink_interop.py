@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import inspect
+
 import mink
 import numpy as np
 import pytest
@@ -179,6 +181,12 @@ def test_mink_tasks_converge_on_their_cost_weighted_error():
     result = Problem(robot, [frame]).solve(robot.home)
     assert result.status == "converged", result.message
     assert np.linalg.norm(robot.fk(result.q)[:3, 3] - T[:3, 3]) < 1e-6
+
+
+def test_frame_task_takes_minks_parameters_in_minks_order():
+    theirs = list(inspect.signature(mink.FrameTask).parameters)
+    ours = list(inspect.signature(redik.FrameTask).parameters)
+    assert ours[: len(theirs)] == theirs  # frame_name, frame_type, …, gain, lm_damping
 
 
 def test_frame_task_is_minks_frame_task_built_with_minks_arguments(arm, rng):
