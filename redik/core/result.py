@@ -80,6 +80,8 @@ class Status(str, Enum):
     def coerce(cls, status: object, name: str = "status") -> Status:
         """``status`` (a member or its string) as a member; raises :class:`InvalidInput`
         naming the valid values otherwise."""
+        if isinstance(status, cls):
+            return status
         try:
             return cls(status)
         except ValueError:
