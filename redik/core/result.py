@@ -143,7 +143,8 @@ class IKResult:
     message: str = ""
 
     def __post_init__(self) -> None:
-        self.status = Status.coerce(self.status)
+        if type(self.status) is not Status:  # a string given: the member (a hot path else)
+            self.status = Status.coerce(self.status)
 
     def summary(self) -> str:
         """One line: status, iterations and errors."""
