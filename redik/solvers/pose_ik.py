@@ -82,6 +82,7 @@ from __future__ import annotations
 
 import math
 import secrets
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -260,7 +261,7 @@ def _solve_on_chain(
     joints held at ``q0`` (default ``home``); ``q`` and ``history`` are the robot's."""
     q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
     chain = _chain_of(robot, frame, q_whole)
-    q_chain = chain.q_of()
+    q_chain = robot.full_qpos(q_whole)[chain.qpos_indices]  # not chain.data: threads share it
     result = solve_pose(chain, T_target, q_chain, **options)
     result.q = robot.embed(chain, result.q, q_whole)
     result.history = np.array([robot.embed(chain, row, q_whole) for row in result.history])
@@ -274,15 +275,17 @@ def _chain_of(robot: Robot, frame, q_whole: np.ndarray) -> Robot:
     (2.2 ms vs 0.13 ms, left arm of ``tests/test_whole_model.py``'s torso; 0.40 ms kept)."""
     resolved = robot.frame(frame)
     qpos = robot.full_qpos(q_whole)
-    key = ("pose_ik chain", resolved)
-    cached = robot.solver_cache.get(key)
-    if cached is not None:
-        chain, held = cached
-        if np.array_equal(np.delete(qpos, chain.qpos_indices), held):
-            chain.data.qpos[:] = qpos
-            return chain
-    chain = robot.chain(resolved, q_whole)
-    robot.solver_cache[key] = (chain, np.delete(qpos, chain.qpos_indices))
+
+    def build() -> tuple[Robot, np.ndarray]:
+        chain = robot.chain(resolved, q_whole)
+        return chain, np.delete(qpos, chain.qpos_indices)
+
+    def holds_qpos(entry: tuple[Robot, np.ndarray]) -> bool:
+        chain, held = entry
+        return np.array_equal(np.delete(qpos, chain.qpos_indices), held)
+
+    chain, _ = robot.solver_cache.get_or_build(("pose_ik chain", resolved), build, holds_qpos)
+    chain.data.qpos[:] = qpos
     return chain
 
 
@@ -476,8 +479,9 @@ class _FrameSolver:
     frame,
     its reach, and for ``"dls"`` the compiled chain, the kernel's settings arrays (validated
     by :class:`BatchOptions` once per combination of options) and the kernel's output
-    buffers. A ``"dls"`` solve then validates its arguments once, makes one compiled call
-    and allocates only its result."""
+    buffers, one set per thread. A ``"dls"`` solve then validates its arguments once, makes
+    one compiled call and allocates only its result; threads sharing the robot share the
+    solver."""
 
     def __init__(self, robot: Robot, frame: Frame) -> None:
         self.robot = robot
@@ -492,7 +496,8 @@ class _FrameSolver:
         self.every_joint = self.columns.size == robot.dof
         self.origin, self.reach = _reach(robot, frame, self.columns)
         self._kernel_arrays: tuple | None = None
-        self._buffers: tuple[np.ndarray, ...] = ()
+        self._build_lock = threading.Lock()
+        self._thread = threading.local()  # the kernel's output buffers, per thread
         self._settings: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
 
     @classmethod
@@ -502,11 +507,7 @@ class _FrameSolver:
         Raises:
             InvalidInput: no joint of the robot's chain moves ``frame``.
         """
-        key = ("pose_ik", frame)
-        solver = robot.solver_cache.get(key)
-        if solver is None:
-            solver = robot.solver_cache[key] = cls(robot, frame)
-        return solver  # type: ignore[return-value]
+        return robot.solver_cache.get_or_build(("pose_ik", frame), lambda: cls(robot, frame))
 
     def reach_excess(self, p_d: np.ndarray) -> float:
         """How far (m) ``p_d`` lies beyond the chain's reach (0 inside; see :func:`_reach`)."""
@@ -592,17 +593,19 @@ class _FrameSolver:
 
     def _compiled(self, max_iter: int) -> tuple[tuple, tuple[np.ndarray, ...]]:
         """The kernel's chain arrays (compiled on first use) and output buffers
-        ``(history, errors, q, e)``, the history long enough for ``max_iter``."""
+        ``(history, errors, q, e)`` of this thread, the history long enough for ``max_iter``."""
         if self._kernel_arrays is None:
-            chain = Chain.from_robot(self.robot, self.frame)
-            self._kernel_arrays = chain.kernel_arrays()
-        if not self._buffers or self._buffers[1].shape[1] < max_iter + 1:
+            with self._build_lock:
+                if self._kernel_arrays is None:
+                    self._kernel_arrays = Chain.from_robot(self.robot, self.frame).kernel_arrays()
+        buffers = getattr(self._thread, "buffers", ())
+        if not buffers or buffers[1].shape[1] < max_iter + 1:
             n = self.columns.size
-            self._buffers = (
+            buffers = self._thread.buffers = (
                 np.empty((2, max_iter + 1, n)), np.empty((2, max_iter + 1)), np.empty(n),
                 np.empty(6),
             )  # fmt: skip
-        return self._kernel_arrays, self._buffers
+        return self._kernel_arrays, buffers
 
     def _kernel_settings(
         self,

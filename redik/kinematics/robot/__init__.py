@@ -9,6 +9,8 @@ One idea per module:
 - :mod:`~redik.kinematics.robot.coordinates`: where those joints live in ``qpos`` and ``qvel``;
 - :mod:`~redik.kinematics.robot.frames`: sites, bodies and geoms resolved by name, their pose
   and world Jacobian in ``MjData``;
+- :mod:`~redik.kinematics.robot.solver_cache`: what solvers compile once per robot, safe to
+  share between threads;
 - :mod:`~redik.kinematics.robot.loader`: :func:`load`, a robot from a scene name or a path.
 """
 
@@ -20,12 +22,14 @@ from redik.kinematics.robot.frames import (
 )
 from redik.kinematics.robot.loader import load
 from redik.kinematics.robot.robot import JACOBIAN_REFERENCES, Robot
+from redik.kinematics.robot.solver_cache import SolverCache
 
 __all__ = [
     "FRAME_KINDS",
     "JACOBIAN_REFERENCES",
     "Frame",
     "Robot",
+    "SolverCache",
     "frame_jacobian",
     "frame_pose_views",
     "load",

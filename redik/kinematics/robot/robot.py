@@ -66,6 +66,7 @@ from redik.kinematics.robot.selection import (
     match_joints,
     selected_joints,
 )
+from redik.kinematics.robot.solver_cache import SolverCache
 from redik.lie import MAX_COORDINATE, real_array, world_jacobian_to
 from redik.models import loading
 
@@ -111,8 +112,14 @@ class Robot:
         home: The ``home`` keyframe's values (else ``qpos0``), clipped into the limits.
         solver_cache: What solvers compile once per robot and frame (e.g. the chain of
             :func:`redik.solve_pose`'s ``"dls"`` kernel), kept here so it lives and dies
-            with the robot. Like :attr:`data`, it makes a robot unsafe to share between
-            threads.
+            with the robot; a :class:`~redik.kinematics.robot.solver_cache.SolverCache`,
+            safe to share between threads.
+
+    Threads: :attr:`data` is the scratch space of every forward kinematics, so one robot
+    serves one thread at a time, except for what never touches :attr:`data` after the
+    robot is built: :func:`redik.solve_pose` with ``method="dls"`` (the default) and
+    ``respect_limits=True``, and :func:`redik.solvers.batch.solve_batch`. Other solvers need
+    one :class:`Robot` per thread (build each from the same ``model``).
     """
 
     def __init__(
@@ -188,7 +195,7 @@ class Robot:
         self._qpos_a = np.zeros(model.nq)
         self._qpos_b = np.zeros(model.nq)
         self._qvel = np.zeros(model.nv)
-        self.solver_cache: dict[object, object] = {}
+        self.solver_cache = SolverCache()
 
     # ----------------------------------------------------------------------------------
     # Construction
