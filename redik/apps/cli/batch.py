@@ -17,8 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
+from redik.apps.cli._model import add_model_arguments, load_robot
 from redik.core.exceptions import InvalidInput
-from redik.kinematics.robot import load
 from redik.solvers.batch import BATCH_STATUSES, ENGINES, Chain, forward_kinematics, solve_batch
 
 
@@ -29,7 +29,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument("scene", help="bundled scene name or MJCF/URDF path")
+    add_model_arguments(parser)
     parser.add_argument("--ee", default=None, help="end-effector site or body (default: 'ee')")
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument("--targets", type=Path, help=".npz with T (B×4×4) and optional q0")
@@ -53,7 +53,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    robot = load(args.scene, ee=args.ee)
+    robot = load_robot(args)
     chain = Chain.from_robot(robot)
     extra: dict[str, np.ndarray] = {}
     q0 = None
