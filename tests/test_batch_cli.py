@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import io
+import sys
+
 import numpy as np
 import pytest
 
@@ -95,3 +98,24 @@ def test_a_third_party_urdf_is_solved_with_the_load_flags(tmp_path, capsys):
             if success:
                 pos, rot = redik.lie.pose_errors(robot.fk(q), T)
                 assert pos <= 1e-6 and rot <= 1e-5
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_the_progress_bar_is_drawn_on_a_terminal_only(tmp_path, monkeypatch):
+    command = ["batch", "panda", "--random", "20", "--out", str(tmp_path / "a.npz")]
+    terminal = _Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    assert main([*command, "--chunk-size", "10"]) == 0
+    assert "batch IK" in terminal.getvalue() and "20/20" in terminal.getvalue()
+    quiet = _Terminal()
+    monkeypatch.setattr(sys, "stderr", quiet)
+    assert main([*command, "--quiet"]) == 0
+    assert quiet.getvalue() == ""
+    piped = io.StringIO()  # not a terminal: a log stays clean
+    monkeypatch.setattr(sys, "stderr", piped)
+    assert main(command) == 0
+    assert piped.getvalue() == ""

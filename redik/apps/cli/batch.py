@@ -11,13 +11,13 @@ from __future__ import annotations
 
 import argparse
 import inspect
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
 from redik.apps.cli._model import add_model_arguments, load_robot
+from redik.apps.progress import progress_bar, wanted
 from redik.core.exceptions import InvalidInput
 from redik.solvers.batch import BATCH_STATUSES, ENGINES, Chain, forward_kinematics, solve_batch
 
@@ -68,13 +68,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         T, q0 = _read_targets(args.targets)
 
-    bar = None
-    if not args.quiet:
-        from tqdm import tqdm
-
-        bar = tqdm(total=len(T), desc="batch IK", unit="pose", file=sys.stderr)
+    bar = progress_bar(total=len(T), desc="batch IK", unit="pose", enabled=wanted(args.quiet))
     start = time.perf_counter()
-    try:
+    with bar:
         result = solve_batch(
             chain,
             T,
@@ -87,11 +83,8 @@ def run(args: argparse.Namespace) -> int:
             workers=args.workers,
             address=args.address,
             chunk_size=args.chunk_size,
-            progress=None if bar is None else bar.update,
+            progress=bar.update,
         )
-    finally:
-        if bar is not None:
-            bar.close()
     elapsed = time.perf_counter() - start
 
     args.out.parent.mkdir(parents=True, exist_ok=True)

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from redik.apps.cli import _progress
 from redik.apps.cli._model import add_model_arguments, load_robot
+from redik.apps.progress import progress_bar, wanted
 from redik.lie import as_quaternion, make_pose, matrix_from_quat
 
 
@@ -61,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
         q_ref = robot.home if args.q_ref is None else robot.check_q(np.array(args.q_ref), "--q-ref")
         T = robot.fk(q_ref)
         initial = q_ref
-    progress = _progress.bar(None, "exploring", "step", _progress.wanted(args.quiet), leave=False)
+    progress = progress_bar(desc="exploring", unit="step", enabled=wanted(args.quiet), leave=False)
     with progress:
         motion = explore_self_motion(
             robot, T, spacing=args.spacing, seed=args.seed, n_starts=args.starts, initial=initial
