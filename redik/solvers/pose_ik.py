@@ -260,15 +260,14 @@ def _solve_on_chain(
     """:func:`solve_pose` for a whole-model robot: on its chain to ``frame``, the other
     joints held at ``q0`` (default ``home``); ``q`` and ``history`` are the robot's."""
     q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
-    chain = _chain_of(robot, frame, q_whole)
-    q_chain = robot.full_qpos(q_whole)[chain.qpos_indices]  # not chain.data: threads share it
+    chain, q_chain = _chain_of(robot, frame, q_whole)
     result = solve_pose(chain, T_target, q_chain, **options)
     result.q = robot.embed(chain, result.q, q_whole)
     result.history = np.array([robot.embed(chain, row, q_whole) for row in result.history])
     return result
 
 
-def _chain_of(robot: Robot, frame, q_whole: np.ndarray) -> Robot:
+def _chain_of(robot: Robot, frame, q_whole: np.ndarray) -> tuple[Robot, np.ndarray]:
     """``robot.chain(frame, q_whole)``, kept in ``robot.solver_cache`` while the joints it
     holds keep their values: its compiled solver (:class:`_FrameSolver`) bakes them in, and
     rebuilding both per call made a ``dls`` solve 17× slower than on the chain itself
@@ -286,7 +285,7 @@ def _chain_of(robot: Robot, frame, q_whole: np.ndarray) -> Robot:
 
     chain, _ = robot.solver_cache.get_or_build(("pose_ik chain", resolved), build, holds_qpos)
     chain.data.qpos[:] = qpos
-    return chain
+    return chain, qpos[chain.qpos_indices]  # q_chain from qpos, not chain.data: threads share it
 
 
 def solve_all(
@@ -323,11 +322,11 @@ def solve_all(
     """
     if not robot.is_chain:  # the chain to the frame, the other joints at q0 (else home)
         q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
-        chain = _chain_of(robot, frame, q_whole)
+        chain, q_chain = _chain_of(robot, frame, q_whole)
         results = solve_all(
             chain, T_target, n_starts, seed, method, pos_tol, rot_tol, max_iter,
             respect_limits, None, cluster_tol, strict,
-            None if q0 is None else chain.q_of(), **method_options,
+            None if q0 is None else q_chain, **method_options,
         )  # fmt: skip
         for result in results:
             result.q = robot.embed(chain, result.q, q_whole)
