@@ -12,6 +12,12 @@ against a limit — ends early, and a restart takes over from the nearest in pos
 :mod:`redik.batch`'s restarts), so few iterations are spent on hopeless starts. Each
 attempt also has its own budget, ``max_iter``.
 
+**A turn is free.** An attempt that stalls with a revolute joint against a bound of a range
+spanning a full turn or more (the UR arms' ±2π) is stopped by the box, not by the pose:
+``q_j ∓ 2π`` has the same pose and room to go on. The next attempt starts there — the same
+configuration, unblocked — before any random restart (``"dls"`` wraps such joints inside
+its iteration, :mod:`redik.kinematics.dls`).
+
 It lives in the solvers layer beside :mod:`redik.problem`, which it drives (its old home
 ``redik.qp.solve`` sat below ``problem`` and imported it: a cycle); :mod:`redik.qp` is the
 QP core only.
@@ -102,8 +108,14 @@ def solve_pose_qp(
     rng = np.random.default_rng(seed)
     best: IKResult | None = None
     iterations = 0
+    unwound = None  # the last attempt's q with its blocked full-turn joints turned back
     for attempt in range(restarts + 1):
-        start = q0 if attempt == 0 else _nearest_start(robot, task, rng, candidates)
+        if attempt == 0:
+            start = q0
+        elif unwound is not None:
+            start = unwound
+        else:
+            start = _nearest_start(robot, task, rng, candidates)
         result = problem.solve(
             start,
             pos_tol=pos_tol,
@@ -122,8 +134,26 @@ def solve_pose_qp(
             best.restarts = attempt
         if result.success:
             break
+        unwound = _unwound(robot, result.q) if result.status == "stalled" else None
     best.iterations = iterations
     return best
+
+
+_AT_BOUND = 1e-6
+"""A joint within this of a bound (rad) is against it (the box is shrunk by ≤ 1e-6)."""
+
+
+def _unwound(robot: Robot, q: np.ndarray) -> np.ndarray | None:
+    """``q`` with each revolute joint that sits against a bound turned by 2π away from it,
+    where that stays in range (the same pose); None when no joint is so blocked."""
+    values = robot.scalar_values(q)
+    turn = 2.0 * np.pi
+    up = robot.revolute & (values <= robot.lower + _AT_BOUND) & (values + turn <= robot.upper)
+    down = robot.revolute & (values >= robot.upper - _AT_BOUND) & (values - turn >= robot.lower)
+    if not (up.any() or down.any()):
+        return None
+    values = values + turn * up - turn * down
+    return robot.with_scalar_values(q, values)
 
 
 def _nearest_start(robot: Robot, task, rng: np.random.Generator, candidates: int) -> np.ndarray:

@@ -313,6 +313,37 @@ def test_solve_pose_qp_restarts_from_the_nearest_candidate(panda, rng):
         solve_pose_qp(panda, task.target, panda.home, candidates=0)
 
 
+def test_solve_pose_qp_turns_a_full_turn_joint_off_the_bound_it_stalled_against():
+    # UR5e joints span ±2π. From the shoulder near its lower bound, the short way to a target
+    # at q₀ = −0.3 (≡ −2π − 0.3) runs into that bound: the first attempt stalls there. The
+    # same configuration turned by 2π reaches it; a random restart would land on another of
+    # the arm's up to eight solutions.
+    ur5e = redik.load("ur5e")
+    q_star = np.array([-0.3, -1.2, 1.4, -1.8, -1.5, 0.4])
+    start = q_star.copy()
+    start[0] = ur5e.lower[0] + 0.05
+    result = solve_pose_qp(ur5e, ur5e.fk(q_star), start, restarts=1, seed=3)
+    assert result.success and result.restarts == 1
+    np.testing.assert_allclose(result.q, q_star, atol=1e-5)
+
+
+def test_unwound_turns_only_revolute_joints_with_room_for_a_turn(panda):
+    from redik.pose_qp import _unwound
+
+    ur5e = redik.load("ur5e")
+    q = np.zeros(6)
+    q[0], q[1], q[4] = ur5e.lower[0], ur5e.upper[1] - 0.5, ur5e.upper[4]
+    turned = _unwound(ur5e, q)
+    # Joints 0 and 4 sit against a bound of ±2π; joint 1 is inside its range.
+    np.testing.assert_allclose(turned - q, [2 * np.pi, 0, 0, 0, -2 * np.pi, 0])
+    np.testing.assert_allclose(ur5e.fk(turned), ur5e.fk(q), atol=1e-12)
+    assert _unwound(ur5e, np.zeros(6)) is None
+    q[:] = 0.0
+    q[2] = ur5e.upper[2]  # the elbow spans exactly one turn: π is −π, room on the other side
+    assert _unwound(ur5e, q)[2] == pytest.approx(ur5e.upper[2] - 2 * np.pi)
+    assert _unwound(panda, panda.lower.copy()) is None  # panda's ranges are below a turn
+
+
 def test_the_stationarity_test_accounts_for_active_limits(panda):
     """The posture optimum rests on a joint limit, where the gradient projected onto the
     pose's null space is not zero but points out of the box: still stationary."""
