@@ -96,15 +96,8 @@ def solve_pose_qp(
         or candidates < 1
     ):
         raise InvalidInput(f"candidates must be an integer >= 1, got {candidates!r}")
-    task = PoseTask(T_target, frame=frame, gain=options.get("gain", 1.0), priority=0)
-    problem = Problem(
-        robot,
-        [task, *options.get("tasks", ())],
-        limits=None if respect_limits else [],
-        backend=options.get("backend", "daqp"),
-        damping=options.get("damping", 1e-9),
-        backend_options=options.get("backend_options"),
-    )
+    problem = _problem(robot, T_target, frame, respect_limits, options)
+    task = problem.tasks[0]
     rng = np.random.default_rng(seed)
     best: IKResult | None = None
     iterations = 0
@@ -154,6 +147,52 @@ def _unwound(robot: Robot, q: np.ndarray) -> np.ndarray | None:
         return None
     values = values + turn * up - turn * down
     return robot.with_scalar_values(q, values)
+
+
+def _problem(robot: Robot, T_target, frame, respect_limits: bool, options: dict) -> Problem:
+    """The pose problem, with ``T_target`` set.
+
+    On the default back-end, daqp, without extra ``tasks`` or ``backend_options`` (objects
+    of the caller's), it is kept in ``robot.solver_cache`` per frame and settings, as
+    ``"dls"`` keeps its compiled chain: building the task, the problem and the back-end's
+    workspace cost about a third of a typical solve. daqp's answer does not depend on the
+    QPs it solved before (checked bitwise in ``tests/test_problem.py``); a warm-started
+    back-end's (proxsuite) would, and would make a call depend on the calls before it, so
+    those are built per call.
+    """
+
+    def build() -> Problem:
+        return Problem(
+            robot,
+            [
+                PoseTask(T_target, frame=frame, gain=options.get("gain", 1.0), priority=0),
+                *options.get("tasks", ()),
+            ],
+            limits=None if respect_limits else [],
+            backend=options.get("backend", "daqp"),
+            damping=options.get("damping", 1e-9),
+            backend_options=options.get("backend_options"),
+        )
+
+    backend = options.get("backend", "daqp")
+    if "tasks" in options or "backend_options" in options or backend != "daqp":
+        return build()
+    key = (
+        "pose_qp",
+        frame,
+        bool(respect_limits),
+        options.get("damping", 1e-9),
+        options.get("gain", 1.0),
+    )
+    try:
+        problem = robot.solver_cache.get(key)
+    except TypeError:  # an unhashable setting (an array): built afresh
+        return build()
+    if problem is None:
+        problem = robot.solver_cache[key] = build()
+    else:
+        problem.tasks[0].set_target(T_target)
+    return problem  # type: ignore[return-value]
 
 
 def _nearest_start(robot: Robot, task, rng: np.random.Generator, candidates: int) -> np.ndarray:

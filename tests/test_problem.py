@@ -327,6 +327,25 @@ def test_solve_pose_qp_turns_a_full_turn_joint_off_the_bound_it_stalled_against(
     np.testing.assert_allclose(result.q, q_star, atol=1e-5)
 
 
+def test_solve_pose_qp_reuses_its_problem_and_stays_reproducible(rng):
+    robot = redik.load("panda")  # a fresh robot: an empty solver cache
+    targets = [robot.fk(q) for q in robot.random_q(rng, size=6)]
+    starts = robot.random_q(rng, size=6)
+    first = [solve_pose_qp(robot, T, q0, restarts=5, seed=i) for i, (T, q0) in
+             enumerate(zip(targets, starts, strict=True))]  # fmt: skip
+    assert len([key for key in robot.solver_cache if key[0] == "pose_qp"]) == 1
+    # In reverse order: each call sets its own target and owes nothing to the calls before.
+    for i in reversed(range(6)):
+        again = solve_pose_qp(robot, targets[i], starts[i], restarts=5, seed=i)
+        assert again.success == first[i].success and again.iterations == first[i].iterations
+        np.testing.assert_array_equal(again.q, first[i].q)
+        assert lie.pose_errors(robot.fk(again.q), targets[i])[0] <= 1e-6 or not again.success
+    # Extra tasks or another back-end: a problem of their own, not cached.
+    solve_pose_qp(robot, targets[0], starts[0], backend="proxsuite")
+    solve_pose_qp(robot, targets[0], starts[0], tasks=[PostureTask(priority=1)])
+    assert len([key for key in robot.solver_cache if key[0] == "pose_qp"]) == 1
+
+
 def test_unwound_turns_only_revolute_joints_with_room_for_a_turn(panda):
     from redik.pose_qp import _unwound
 
