@@ -3,7 +3,7 @@
 Conventions (frames, twist order, units) are in :mod:`redik.conventions`.
 """
 
-from . import (
+from redik import (
     analytic,
     batch,
     criteria,
@@ -21,8 +21,8 @@ from . import (
     trajectory,
     workspace,
 )
-from .batch import BatchResult, solve_batch
-from .exceptions import (
+from redik.batch import BatchResult, solve_batch
+from redik.exceptions import (
     BackendError,
     InfeasibleProblem,
     InvalidConfiguration,
@@ -37,23 +37,23 @@ from .exceptions import (
     TrackingWarning,
     UnknownFrame,
 )
-from .iterative import finite_difference_jacobian, gradient, hybrid, newton
-from .limits import (
+from redik.iterative import finite_difference_jacobian, gradient, hybrid, newton
+from redik.limits import (
     BallJointLimit,
     CollisionAvoidanceLimit,
     MinkLimit,
     PositionLimit,
     VelocityLimit,
 )
-from .model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
-from .pose_ik import solve_all, solve_pose
-from .problem import Problem, QPResult
-from .qp import available_backends, make_backend
-from .redundancy import SelfMotion, explore_self_motion, nullspace_velocity
-from .result import STATUSES, IKResult
-from .robot import Frame, Robot
-from .scenes import list_scenes, load, scene_path
-from .tasks import (
+from redik.model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
+from redik.pose_ik import solve_all, solve_pose
+from redik.problem import Problem, QPResult
+from redik.qp import available_backends, make_backend
+from redik.redundancy import SelfMotion, explore_self_motion, nullspace_velocity
+from redik.result import STATUSES, IKResult
+from redik.robot import Frame, Robot
+from redik.scenes import list_scenes, load, scene_path
+from redik.tasks import (
     DampingTask,
     JointLimitAvoidanceTask,
     ManipulabilityTask,
@@ -62,7 +62,7 @@ from .tasks import (
     PositionTask,
     PostureTask,
 )
-from .trajectory import CartesianPath, CircularPath, JointTrajectory, PosePath, follow_path
+from redik.trajectory import CartesianPath, CircularPath, JointTrajectory, PosePath, follow_path
 
 __version__ = "0.1.0"
 

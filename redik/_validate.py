@@ -12,7 +12,7 @@ import os
 from numbers import Real
 from pathlib import Path
 
-from .exceptions import InvalidInput
+from redik.exceptions import InvalidInput
 
 
 def positive(value: object, name: str, *, allow_inf: bool = False, unit: str = "") -> float:

@@ -49,7 +49,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import softmax
 
-from .lie import wrap_angle
+from redik.lie import wrap_angle
 
 SINGULAR_MANIPULABILITY = 1e-12
 """Below this manipulability the gradient of :func:`manipulability_gradient` is zero."""

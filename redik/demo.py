@@ -26,16 +26,16 @@ from pathlib import Path
 
 import numpy as np
 
-from .lie import pose_errors
-from .pose_ik import solve_pose
-from .problem import Problem
-from .redundancy import SelfMotion, default_criteria, evaluate_criteria, explore_self_motion
-from .redundancy.plot import plot_joint_pairs
-from .render import render_frames, save_gif, save_png
-from .result import IKResult
-from .robot import Robot
-from .scenes import load
-from .tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
+from redik.lie import pose_errors
+from redik.pose_ik import solve_pose
+from redik.problem import Problem
+from redik.redundancy import SelfMotion, default_criteria, evaluate_criteria, explore_self_motion
+from redik.redundancy.plot import plot_joint_pairs
+from redik.render import render_frames, save_gif, save_png
+from redik.result import IKResult
+from redik.robot import Robot
+from redik.scenes import load
+from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
 
 SCENE = "dexter8r"
 TARGET_OFFSET = np.array([0.5, 0.3, -0.3, 0.6, 0.4, -0.5, -0.4, 0.6])

@@ -32,8 +32,8 @@ from typing import Any, Literal
 
 import numpy as np
 
-from .exceptions import InvalidConfiguration, InvalidInput, ModelError
-from .lie import as_pose
+from redik.exceptions import InvalidConfiguration, InvalidInput, ModelError
+from redik.lie import as_pose
 
 Convention = Literal["standard", "modified"]
 JointType = Literal["revolute", "prismatic"]

@@ -82,10 +82,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import non_negative, positive
-from .exceptions import InvalidInput
-from .lie import as_vector, real_array
-from .result import IKResult
+from redik._validate import non_negative, positive
+from redik.exceptions import InvalidInput
+from redik.lie import as_vector, real_array
+from redik.result import IKResult
 
 TaskFunction = Callable[[np.ndarray], np.ndarray]
 """A task function ``x = f(q)``: a length-``n`` vector to a length-``r`` vector."""

@@ -53,7 +53,7 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from .exceptions import InvalidInput, InvalidPose, InvalidRotation, NearRotationWarning, warn
+from redik.exceptions import InvalidInput, InvalidPose, InvalidRotation, NearRotationWarning, warn
 
 ROTATION_TOLERANCE = 1e-6
 """Largest ``max|RᵀR − I|`` and ``|det R − 1|`` of a matrix used as a rotation as it is: what

@@ -55,9 +55,9 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from ._validate import flag
-from ._validate import path as checked_path
-from .exceptions import InvalidInput, ModelError, ModelWarning, UnknownFrame, warn
+from redik._validate import flag
+from redik._validate import path as checked_path
+from redik.exceptions import InvalidInput, ModelError, ModelWarning, UnknownFrame, warn
 
 # Mesh formats MuJoCo decodes without a plugin; other extensions are probed once per run.
 _DECODED_MESH_FORMATS = {".stl", ".obj", ".msh"}

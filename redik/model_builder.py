@@ -33,16 +33,9 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from .dh import (
-    DHRow,
-    RowLike,
-    parse_convention,
-    parse_rows,
-    split_row,
-    tool_transform,
-)
-from .exceptions import InvalidInput, ModelError
-from .lie import adjoint, as_pose, quat_from_matrix
+from redik.dh import DHRow, RowLike, parse_convention, parse_rows, split_row, tool_transform
+from redik.exceptions import InvalidInput, ModelError
+from redik.lie import adjoint, as_pose, quat_from_matrix
 
 # Names of the <custom> entries that carry the kinematic description.
 DH_NUMERICS = ("redik_dh_a", "redik_dh_d", "redik_dh_alpha", "redik_dh_theta")

@@ -28,7 +28,7 @@ import os
 import sys
 from pathlib import Path
 
-from .exceptions import ModelError
+from redik.exceptions import ModelError
 
 _INSTALL_HINT = 'install the "models" extra: pip install "redik[models]"'
 

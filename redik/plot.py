@@ -15,8 +15,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .exceptions import InvalidInput
-from .result import IKResult
+from redik.exceptions import InvalidInput
+from redik.result import IKResult
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

@@ -88,13 +88,13 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from ._validate import positive
-from .batch.chain import Chain
-from .exceptions import InvalidInput
-from .iterative import armijo_backtrack
-from .kinematics import dls as kernel
-from .kinematics.dls import BatchOptions
-from .lie import (
+from redik._validate import positive
+from redik.batch.chain import Chain
+from redik.exceptions import InvalidInput
+from redik.iterative import armijo_backtrack
+from redik.kinematics import dls as kernel
+from redik.kinematics.dls import BatchOptions
+from redik.lie import (
     adjoint,
     apply_inverse_v,
     as_pose,
@@ -105,8 +105,8 @@ from .lie import (
     world_jacobian_to,
     wrap_angle,
 )
-from .result import IKResult
-from .robot import Frame, Robot
+from redik.result import IKResult
+from redik.robot import Frame, Robot
 
 METHODS = ("newton", "transpose", "hybrid", "dls", "qp")
 """The methods of :func:`solve_pose`."""
@@ -213,7 +213,7 @@ def solve_pose(
     frame_solver = _FrameSolver.of(robot, resolved)  # refuses a frame no joint moves
 
     if method == "qp":
-        from .pose_qp import solve_pose_qp  # on use: the other methods need no QP stack
+        from redik.pose_qp import solve_pose_qp  # on use: the other methods need no QP stack
 
         return solve_pose_qp(
             robot, T_target, q_start, pos_tol=pos_tol, rot_tol=rot_tol, max_iter=max_iter,

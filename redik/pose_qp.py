@@ -27,11 +27,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .exceptions import InvalidInput
-from .problem import Problem
-from .result import IKResult
-from .robot import Robot
-from .tasks.pose_task import PoseTask
+from redik.exceptions import InvalidInput
+from redik.problem import Problem
+from redik.result import IKResult
+from redik.robot import Robot
+from redik.tasks.pose_task import PoseTask
 
 _OPTIONS = (
     "backend",

@@ -33,19 +33,19 @@ import mink
 import numpy as np
 from scipy.optimize import nnls
 
-from ._validate import non_negative, positive
-from .exceptions import InfeasibleProblem, InvalidInput
-from .limits import BallJointLimit, BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
-from .limits.ball_joint_limit import limited_ball_joints
-from .qp.assembly import Assembly
-from .qp.backends import Backend, make_backend
-from .qp.hierarchy import free_directions, row_null_space, solve_lexicographic
-from .result import IKResult
-from .robot import Robot
-from .tasks.frame_task import FrameTask
-from .tasks.joint_space_task import JointSpaceTask
-from .tasks.kinematics import KinematicState
-from .tasks.task import ResidualTask, Task
+from redik._validate import non_negative, positive
+from redik.exceptions import InfeasibleProblem, InvalidInput
+from redik.limits import BallJointLimit, BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
+from redik.limits.ball_joint_limit import limited_ball_joints
+from redik.qp.assembly import Assembly
+from redik.qp.backends import Backend, make_backend
+from redik.qp.hierarchy import free_directions, row_null_space, solve_lexicographic
+from redik.result import IKResult
+from redik.robot import Robot
+from redik.tasks.frame_task import FrameTask
+from redik.tasks.joint_space_task import JointSpaceTask
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.task import ResidualTask, Task
 
 _MIN_STEP_FRACTION = 1.0 / 64.0
 """Smallest fraction of a QP step ``solve`` tries before calling the iterate stalled."""

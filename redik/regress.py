@@ -45,8 +45,8 @@ import mujoco
 import numpy as np
 from tqdm import tqdm
 
-from .exceptions import InvalidInput
-from .taskspec import Context, SpecOutcome, discover, format_table, format_value, run_spec
+from redik.exceptions import InvalidInput
+from redik.taskspec import Context, SpecOutcome, discover, format_table, format_value, run_spec
 
 RATE_DROP = 0.02
 ERROR_FACTOR, ERROR_FLOOR = 2.0, 1e-8
@@ -287,11 +287,11 @@ def warm_up() -> None:
     signatures do not depend on the robot, so a generated 2R arm compiles them all: the
     single-target, the threaded and the serial batch kernel, and the QP pose residual.
     """
-    from .batch import solve_batch
-    from .pose_ik import solve_pose
-    from .problem import Problem
-    from .robot import Robot
-    from .tasks import PoseTask
+    from redik.batch import solve_batch
+    from redik.pose_ik import solve_pose
+    from redik.problem import Problem
+    from redik.robot import Robot
+    from redik.tasks import PoseTask
 
     robot = Robot.from_dh([(1.0, 0.0, 0.0), (1.0, 0.0, 0.0)], name="warm_up")
     targets = np.stack([robot.fk(robot.home)] * 2)

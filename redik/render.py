@@ -24,10 +24,10 @@ from typing import TYPE_CHECKING
 import mujoco
 import numpy as np
 
-from .exceptions import InvalidInput
+from redik.exceptions import InvalidInput
 
 if TYPE_CHECKING:
-    from .robot import Robot
+    from redik.robot import Robot
 
 Camera = str | int | mujoco.MjvCamera | dict | None
 """A camera: a model camera's name or id, an ``MjvCamera``, a dict of free-camera settings

@@ -50,9 +50,9 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from . import loading
-from .exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
-from .lie import MAX_COORDINATE, real_array, world_jacobian_to
+from redik import loading
+from redik.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
+from redik.lie import MAX_COORDINATE, real_array, world_jacobian_to
 
 JACOBIAN_REFERENCES = ("space", "body", "world")
 FRAME_KINDS = ("site", "body", "geom")
@@ -321,7 +321,7 @@ class Robot:
         ``builder_options`` (``radius``, ``actuators``, ``custom``, …) go to
         :func:`redik.model_builder.dh_to_mjcf`.
         """
-        from .model_builder import dh_to_mjcf
+        from redik.model_builder import dh_to_mjcf
 
         xml = dh_to_mjcf(rows, convention, limits, tool, name=name, home=home, **builder_options)
         return cls.from_xml_string(xml, name=name)
@@ -345,7 +345,7 @@ class Robot:
         end-effector. ``robot.fk(q) = e^{[S_1] q_1} ⋯ e^{[S_n] q_n} M``.
         ``builder_options`` go to :func:`redik.model_builder.screws_to_mjcf`.
         """
-        from .model_builder import screws_to_mjcf
+        from redik.model_builder import screws_to_mjcf
 
         xml = screws_to_mjcf(screws, M, frame, limits, name=name, home=home, **builder_options)
         return cls.from_xml_string(xml, name=name)

@@ -24,9 +24,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .dh import DHRow, forward
-from .exceptions import ModelError
-from .model_builder import dh_to_mjcf
+from redik.dh import DHRow, forward
+from redik.exceptions import ModelError
+from redik.model_builder import dh_to_mjcf
 
 INCH = 0.0254
 """Metres per inch (the PUMA 560 table is published in inches)."""

@@ -9,9 +9,9 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from . import models
-from .exceptions import InvalidInput, ModelError
-from .robot import Robot
+from redik import models
+from redik.exceptions import InvalidInput, ModelError
+from redik.robot import Robot
 
 _PACKAGE = Path(__file__).resolve().parent
 

@@ -89,12 +89,12 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from ._validate import flag, positive
-from .exceptions import InvalidInput, ModelError, TrackingWarning, warn
-from .lie import pose_errors
-from .plot import new_figure, save_figure
-from .robot import Robot
-from .trajectory import PosePath
+from redik._validate import flag, positive
+from redik.exceptions import InvalidInput, ModelError, TrackingWarning, warn
+from redik.lie import pose_errors
+from redik.plot import new_figure, save_figure
+from redik.robot import Robot
+from redik.trajectory import PosePath
 
 COMMANDS = ("position", "integrate")
 

@@ -42,8 +42,8 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from .exceptions import InvalidInput
-from .robot import Robot
+from redik.exceptions import InvalidInput
+from redik.robot import Robot
 
 T = TypeVar("T")
 

@@ -37,9 +37,9 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from ._validate import positive
-from .exceptions import InvalidInput
-from .lie import (
+from redik._validate import positive
+from redik.exceptions import InvalidInput
+from redik.lie import (
     MAX_COORDINATE,
     as_pose,
     as_vector,
@@ -48,9 +48,9 @@ from .lie import (
     real_array,
     so3_exp,
 )
-from .pose_ik import solve_pose
-from .result import IKResult
-from .robot import Robot
+from redik.pose_ik import solve_pose
+from redik.result import IKResult
+from redik.robot import Robot
 
 TIME_SCALINGS = ("linear", "cubic", "quintic")
 

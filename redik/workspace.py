@@ -25,10 +25,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .batch import Chain, forward_kinematics, solve_batch
-from .exceptions import InvalidInput
-from .lie import matrix_from_quat
-from .robot import Robot
+from redik.batch import Chain, forward_kinematics, solve_batch
+from redik.exceptions import InvalidInput
+from redik.lie import matrix_from_quat
+from redik.robot import Robot
 
 AXES = "xyz"
 

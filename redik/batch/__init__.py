@@ -8,10 +8,10 @@
 - :mod:`~redik.batch.engines` spreads chunks over this process, a process pool or Ray.
 """
 
-from .chain import Chain
-from .engines import ENGINES
-from .kinematics import forward_kinematics, jacobian
-from .solve import BATCH_STATUSES, BatchResult, solve_batch
+from redik.batch.chain import Chain
+from redik.batch.engines import ENGINES
+from redik.batch.kinematics import forward_kinematics, jacobian
+from redik.batch.solve import BATCH_STATUSES, BatchResult, solve_batch
 
 __all__ = [
     "BATCH_STATUSES",

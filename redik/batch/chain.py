@@ -27,9 +27,9 @@ import dataclasses
 import mujoco
 import numpy as np
 
-from ..exceptions import InvalidInput, ModelError
-from ..lie import make_pose, matrix_from_quat
-from ..robot import Frame, Robot
+from redik.exceptions import InvalidInput, ModelError
+from redik.lie import make_pose, matrix_from_quat
+from redik.robot import Frame, Robot
 
 _CHAIN_TYPES = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
 

@@ -27,7 +27,7 @@ from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import Future, ProcessPoolExecutor
 from typing import Any
 
-from ..exceptions import BackendError, InvalidInput
+from redik.exceptions import BackendError, InvalidInput
 
 ENGINES = ("local", "process", "ray")
 

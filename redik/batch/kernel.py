@@ -2,14 +2,14 @@
 (with the chain math in :mod:`redik.kinematics.compiled`); re-exported here for old imports.
 """
 
-from ..kinematics.compiled import (
+from redik.kinematics.compiled import (
     chain_kinematics,
     pose_error,
     valid_target,
     valid_targets,
     world_jacobian,
 )
-from ..kinematics.dls import (
+from redik.kinematics.dls import (
     BOUNDED,
     CANDIDATES,
     CONVERGED,

@@ -21,10 +21,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..exceptions import InvalidConfiguration, InvalidInput
-from ..lie import world_jacobian_to
-from ..robot import JACOBIAN_REFERENCES
-from .chain import Chain
+from redik.batch.chain import Chain
+from redik.exceptions import InvalidConfiguration, InvalidInput
+from redik.lie import world_jacobian_to
+from redik.robot import JACOBIAN_REFERENCES
 
 
 def chain_poses(chain: Chain, q: np.ndarray) -> tuple[np.ndarray, ...]:

@@ -29,16 +29,16 @@ from collections.abc import Callable
 import numba
 import numpy as np
 
-from ..exceptions import InvalidInput
-from ..kinematics import dls
-from ..kinematics.compiled import valid_targets
-from ..kinematics.dls import BatchOptions
-from ..kinematics.dls import damped_step as damped_step  # re-exported: its old home
-from ..lie import MAX_COORDINATE, ROTATION_TOLERANCE, check_rotations, real_array
-from ..lie import rotation_log as rotation_log  # re-exported: its old home
-from ..robot import Robot
-from .chain import Chain
-from .engines import ENGINES, default_workers, map_chunks
+from redik.batch.chain import Chain
+from redik.batch.engines import ENGINES, default_workers, map_chunks
+from redik.exceptions import InvalidInput
+from redik.kinematics import dls
+from redik.kinematics.compiled import valid_targets
+from redik.kinematics.dls import BatchOptions
+from redik.kinematics.dls import damped_step as damped_step  # re-exported: its old home
+from redik.lie import MAX_COORDINATE, ROTATION_TOLERANCE, check_rotations, real_array
+from redik.lie import rotation_log as rotation_log  # re-exported: its old home
+from redik.robot import Robot
 
 BATCH_STATUSES = ("converged", "stalled", "max_iterations", "invalid", "diverged")
 """Status names by code (those of :mod:`redik.kinematics.dls`). All but ``"invalid"`` are

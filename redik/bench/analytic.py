@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from ..analytic import (
+from redik.analytic import (
     AnalyticSolver,
     BatchSolutions,
     planar_2r_batch,
@@ -45,9 +45,9 @@ from ..analytic import (
     solver_for,
     ur_batch,
 )
-from ..pose_ik import solve_pose
-from ..robot import Robot
-from ..scenes import load
+from redik.pose_ik import solve_pose
+from redik.robot import Robot
+from redik.scenes import load
 
 ROBOTS = ("puma560", "ur5e", "planar_2r")
 CLOCKS: dict[str, Callable[[], float]] = {"wall": time.perf_counter, "cpu": time.process_time}

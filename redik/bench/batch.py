@@ -20,10 +20,10 @@ import time
 
 import numpy as np
 
-from ..batch import Chain, forward_kinematics, solve_batch
-from ..batch.engines import default_workers
-from ..scenes import load
-from . import load_average
+from redik.batch import Chain, forward_kinematics, solve_batch
+from redik.batch.engines import default_workers
+from redik.bench import load_average
+from redik.scenes import load
 
 TARGET_RATE = 100_000
 TARGET_SUCCESS = 0.9999
@@ -58,7 +58,7 @@ def _median_rate(fn, repeats: int) -> tuple[float, float, float]:
 
 def _single_loop(robot, T: np.ndarray, seed: int) -> tuple[float, float] | None:
     try:
-        from ..pose_ik import solve_pose
+        from redik.pose_ik import solve_pose
     except ImportError:
         return None
     solve_pose(robot, T[0], seed=seed)  # load the compiled kernel before timing

@@ -14,7 +14,7 @@ import time
 import mujoco
 import numpy as np
 
-from ..scenes import load
+from redik.scenes import load
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -37,10 +37,10 @@ from collections.abc import Callable
 import mujoco
 import numpy as np
 
-from .. import lie
-from ..pose_ik import METHODS, solve_pose
-from ..robot import Robot
-from . import load_average
+from redik import lie
+from redik.bench import load_average
+from redik.pose_ik import METHODS, solve_pose
+from redik.robot import Robot
 
 ROBOTS = ("panda", "iiwa14", "ur5e")
 POS_TOL = 1e-6
@@ -114,7 +114,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _load(name: str) -> Robot:
-    from ..scenes import load
+    from redik.scenes import load
 
     return load(name)
 
@@ -207,7 +207,7 @@ def _print_table(rows: list[tuple[str, str, str, float, np.ndarray]]) -> None:
 def _redik_solver(robot: Robot, method: str) -> Solver | None:
     if method == "qp":
         try:
-            from ..pose_qp import solve_pose_qp  # noqa: F401
+            from redik.pose_qp import solve_pose_qp  # noqa: F401
         except ImportError:
             print("note: method 'qp' skipped (redik.pose_qp is not available)")
             return None
@@ -273,8 +273,8 @@ def _mink_solver(robot: Robot, limit_gain: float, damping: float) -> Solver | No
 def _dh_table(robot: Robot) -> tuple[tuple, str, np.ndarray, np.ndarray]:
     """``(rows, convention, tool, base)`` of a scene built from a DH table, where ``base``
     places the table's frame 0 in the scene: ``robot.fk(q) = base · T_0n(q) · tool``."""
-    from ..dh import forward, parse_convention
-    from ..model_builder import read_dh
+    from redik.dh import forward, parse_convention
+    from redik.model_builder import read_dh
 
     rows, convention, tool = read_dh(robot.model)
     convention = parse_convention(convention)
@@ -295,7 +295,7 @@ def rtb_ets(robot: Robot):
     """
     import roboticstoolbox as rtb
 
-    from ..dh import split_row
+    from redik.dh import split_row
 
     rows, convention, tool, base = _dh_table(robot)
     constant = base
@@ -355,7 +355,7 @@ def _tracik_solver(robot: Robot) -> Solver | None:
 
 def _dh_to_urdf(rows, convention: str, tool: np.ndarray, robot: Robot) -> str:
     """A URDF with one joint per DH row: ``origin`` then a motion about the joint's z."""
-    from ..dh import split_row
+    from redik.dh import split_row
 
     def origin(T: np.ndarray) -> str:
         xyz = " ".join(f"{v:.12g}" for v in T[:3, 3])

@@ -40,13 +40,13 @@ import warnings
 import mink
 import numpy as np
 
-from .. import lie
-from ..exceptions import BackendError, InfeasibleProblem
-from ..limits import PositionLimit
-from ..problem import Problem
-from ..qp.backends import QPSOLVERS_SETTINGS, available_backends
-from ..scenes import load
-from ..tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
+from redik import lie
+from redik.exceptions import BackendError, InfeasibleProblem
+from redik.limits import PositionLimit
+from redik.problem import Problem
+from redik.qp.backends import QPSOLVERS_SETTINGS, available_backends
+from redik.scenes import load
+from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
 
 MINK_SOLVER = {"daqp": "daqp", "proxsuite": "proxqp", "qpsolvers:daqp": "daqp", "cvxpy": None}
 """The mink (qpsolvers) solver compared with each redik back-end."""
@@ -232,7 +232,7 @@ def _summary(results, overshoot: float, total: float) -> dict:
 
 def _latency(robot, args) -> list[dict]:
     """``solve_pose(method="qp")`` wall times over random reachable targets, per seed mode."""
-    from ..pose_ik import solve_pose
+    from redik.pose_ik import solve_pose
 
     rng = np.random.default_rng(args.seed)
     targets = [robot.fk(q) for q in robot.random_q(rng, size=args.latency_targets)]

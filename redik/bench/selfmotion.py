@@ -16,9 +16,9 @@ import time
 
 import numpy as np
 
-from ..pose_ik import solve_pose
-from ..redundancy import explore_self_motion
-from ..scenes import load
+from redik.pose_ik import solve_pose
+from redik.redundancy import explore_self_motion
+from redik.scenes import load
 
 ROBOTS = ("panda", "iiwa14", "dexter8r")
 

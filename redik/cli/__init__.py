@@ -14,7 +14,7 @@ import pkgutil
 import sys
 from collections.abc import Sequence
 
-from ..exceptions import RedikError
+from redik.exceptions import RedikError
 
 
 def build_parser() -> argparse.ArgumentParser:

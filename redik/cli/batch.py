@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..batch import BATCH_STATUSES, ENGINES, Chain, forward_kinematics, solve_batch
-from ..exceptions import InvalidInput
-from ..scenes import load
+from redik.batch import BATCH_STATUSES, ENGINES, Chain, forward_kinematics, solve_batch
+from redik.exceptions import InvalidInput
+from redik.scenes import load
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..bench import benchmarks
+from redik.bench import benchmarks
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

@@ -20,7 +20,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..demo import format_summary, run_demo  # heavy imports only for this command
+    from redik.demo import format_summary, run_demo  # heavy imports only for this command
 
     result = run_demo(args.out, seed=args.seed, max_samples=args.max_samples)
     print(format_summary(result))

@@ -16,11 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..lie import as_quaternion, make_pose, matrix_from_quat
-from ..loading import load_model
-from ..robot import Robot
-from ..scenes import load, scene_path
-from . import _progress
+from redik.cli import _progress
+from redik.lie import as_quaternion, make_pose, matrix_from_quat
+from redik.loading import load_model
+from redik.robot import Robot
+from redik.scenes import load, scene_path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -52,7 +52,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..redundancy import explore_self_motion
+    from redik.redundancy import explore_self_motion
 
     if args.fixed:  # before the chain is built: a ball joint on it must be held
         model = load_model(scene_path(args.scene))
@@ -81,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
 def _draw(robot, motion, out: Path, args: argparse.Namespace, progress) -> int:
     """Write the samples, summary, plots and renders, advancing ``progress`` (one step per
     plot, per rendered frame and per written file)."""
-    from ..redundancy.plot import plot_joint_pairs
+    from redik.redundancy.plot import plot_joint_pairs
 
     out.mkdir(parents=True, exist_ok=True)
     motion.save(out / "samples.npz")
@@ -124,7 +124,7 @@ def _frame_picks(motion, frames: int) -> np.ndarray:
 
 
 def _render(robot, motion, picks, out: Path, args: argparse.Namespace, progress) -> None:
-    from ..render import render_frames, save_gif, save_mp4, save_pngs
+    from redik.render import render_frames, save_gif, save_mp4, save_pngs
 
     progress.set_description("rendering")
     start = progress.n

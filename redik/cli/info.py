@@ -6,8 +6,8 @@ import argparse
 
 import numpy as np
 
-from ..lie import euler_angles
-from ..scenes import list_scenes, load
+from redik.lie import euler_angles
+from redik.scenes import list_scenes, load
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..regress import run_regression
-from . import _progress
+from redik.cli import _progress
+from redik.regress import run_regression
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..taskspec import Context, load_spec, run_spec, summary_table
+from redik.taskspec import Context, load_spec, run_spec, summary_table
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

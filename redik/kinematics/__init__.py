@@ -7,6 +7,6 @@ with its settings :class:`~redik.kinematics.dls.BatchOptions`. Both sit below th
 (README, Architecture) so that every solver can use them.
 """
 
-from .dls import BatchOptions
+from redik.kinematics.dls import BatchOptions
 
 __all__ = ["BatchOptions"]

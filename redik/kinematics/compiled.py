@@ -27,8 +27,8 @@ import math
 
 import numba
 
-from .. import lie
-from ..lie import MAX_COORDINATE
+from redik import lie
+from redik.lie import MAX_COORDINATE
 
 COMPILE = {"cache": True, "error_model": "numpy", "fastmath": {"contract"}}
 """numba options of every compiled kernel of redik: compiled once per machine; a division

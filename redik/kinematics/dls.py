@@ -44,9 +44,15 @@ import math
 import numba
 import numpy as np
 
-from ..exceptions import InvalidInput
-from ..lie import ROTATION_TOLERANCE
-from .compiled import COMPILE, chain_kinematics, pose_error, valid_target, world_jacobian
+from redik.exceptions import InvalidInput
+from redik.kinematics.compiled import (
+    COMPILE,
+    chain_kinematics,
+    pose_error,
+    valid_target,
+    world_jacobian,
+)
+from redik.lie import ROTATION_TOLERANCE
 
 CONVERGED, STALLED, MAX_ITERATIONS, INVALID, DIVERGED = range(5)
 """Status codes, shared with :data:`redik.batch.solve.BATCH_STATUSES`."""

@@ -50,9 +50,9 @@ from collections.abc import Collection, Sequence
 import mujoco
 import numpy as np
 
-from ..exceptions import InvalidInput, ModelError
-from ..robot import Robot
-from .limit import InequalityLimit
+from redik.exceptions import InvalidInput, ModelError
+from redik.limits.limit import InequalityLimit
+from redik.robot import Robot
 
 GeomGroup = Sequence[str]
 """Geom names, or body names standing for all of the body's geoms; ``fnmatch`` patterns

@@ -21,7 +21,7 @@ import abc
 
 import numpy as np
 
-from ..robot import Robot
+from redik.robot import Robot
 
 
 class Limit:

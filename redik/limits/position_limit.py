@@ -18,9 +18,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..exceptions import InvalidInput
-from ..robot import Robot
-from .limit import BoxLimit
+from redik.exceptions import InvalidInput
+from redik.limits.limit import BoxLimit
+from redik.robot import Robot
 
 
 class PositionLimit(BoxLimit):

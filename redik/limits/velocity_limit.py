@@ -10,9 +10,9 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ..exceptions import InvalidInput
-from ..robot import Robot
-from .limit import BoxLimit
+from redik.exceptions import InvalidInput
+from redik.limits.limit import BoxLimit
+from redik.robot import Robot
 
 
 class VelocityLimit(BoxLimit):

@@ -45,8 +45,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..exceptions import BackendError, InfeasibleProblem
-from .problem_data import QP
+from redik.exceptions import BackendError, InfeasibleProblem
+from redik.qp.problem_data import QP
 
 _BIG = 1e20  # proxsuite wants finite bounds
 

@@ -10,7 +10,7 @@
 * :mod:`.plot` — the manifold in joint space as matplotlib figures.
 """
 
-from ..criteria import (
+from redik.criteria import (
     jacobian_derivatives,
     joint_limit_distance,
     joint_limit_distance_gradient,
@@ -20,7 +20,7 @@ from ..criteria import (
     manipulability_gradient,
     posture_gradient,
 )
-from .criteria import (
+from redik.redundancy.criteria import (
     Criterion,
     JointLimitMargin,
     Manipulability,
@@ -29,14 +29,14 @@ from .criteria import (
     default_criteria,
     evaluate_criteria,
 )
-from .nullspace import (
+from redik.redundancy.nullspace import (
     gradient_projection_ik,
     nullspace_basis,
     nullspace_projector,
     nullspace_velocity,
     pseudo_inverse,
 )
-from .selfmotion import SelfMotion, explore_self_motion
+from redik.redundancy.selfmotion import SelfMotion, explore_self_motion
 
 __all__ = [
     "Criterion",

@@ -27,14 +27,14 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..batch.chain import Chain
-from ..batch.kinematics import chain_poses, world_jacobian
-from ..kinematics.dls import damped_step
-from ..lie import inverse, pose_errors, rotation_log, se3_log, world_jacobian_to, wrap_angle
-from .criteria import periodic_joints
+from redik.batch.chain import Chain
+from redik.batch.kinematics import chain_poses, world_jacobian
+from redik.kinematics.dls import damped_step
+from redik.lie import inverse, pose_errors, rotation_log, se3_log, world_jacobian_to, wrap_angle
+from redik.redundancy.criteria import periodic_joints
 
 if TYPE_CHECKING:
-    from ..robot import Frame, Robot
+    from redik.robot import Frame, Robot
 
 POSITION_TOLERANCE = 1e-9
 """Largest ``‖p_d − p‖`` (m) of a sample after correction."""

@@ -20,9 +20,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..batch.chain import Chain
-from ..batch.kinematics import jacobian
-from ..criteria import (
+from redik.batch.chain import Chain
+from redik.batch.kinematics import jacobian
+from redik.criteria import (
     joint_limit_margin,
     joint_limit_margin_gradient,
     manipulability,
@@ -30,10 +30,10 @@ from ..criteria import (
     posture_distance,
     posture_gradient,
 )
-from ..exceptions import InvalidInput
+from redik.exceptions import InvalidInput
 
 if TYPE_CHECKING:
-    from ..robot import Frame, Robot
+    from redik.robot import Frame, Robot
 
 
 def periodic_joints(robot: Robot) -> np.ndarray:

@@ -29,24 +29,21 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..criteria import (  # noqa: F401 - re-exported: the criteria's former home
-    jacobian_derivatives,
-    joint_limit_distance,
-    joint_limit_distance_gradient,
-    joint_limit_margin,
-    joint_limit_margin_gradient,
-    manipulability,
-    manipulability_gradient,
-    posture_difference,
-    posture_gradient,
+from redik.exceptions import InvalidInput
+from redik.lie import (
+    as_pose,
+    as_vector,
+    inverse,
+    pose_errors,
+    real_array,
+    se3_log,
+    world_jacobian_to,
 )
-from ..exceptions import InvalidInput
-from ..lie import as_pose, as_vector, inverse, pose_errors, real_array, se3_log, world_jacobian_to
-from ..result import IKResult
+from redik.result import IKResult
 
 if TYPE_CHECKING:
-    from ..robot import Frame, Robot
-    from .criteria import Criterion
+    from redik.redundancy.criteria import Criterion
+    from redik.robot import Frame, Robot
 
 _MAX_ENTRY = 1e100
 """Largest entry of ``J``, ``ẋ`` or ``q̇₀`` (and damping) :func:`nullspace_velocity` takes:

@@ -15,13 +15,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..exceptions import InvalidInput
-from ..plot import new_figure, save_figure
+from redik.exceptions import InvalidInput
+from redik.plot import new_figure, save_figure
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from .selfmotion import SelfMotion
+    from redik.redundancy.selfmotion import SelfMotion
 
 
 def default_pairs(motion: SelfMotion, count: int = 6) -> list[tuple[int, int]]:

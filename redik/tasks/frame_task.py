@@ -53,9 +53,9 @@ import math
 import numba
 import numpy as np
 
-from ..robot import Frame, Robot
-from .kinematics import KinematicState
-from .task import ResidualTask
+from redik.robot import Frame, Robot
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.task import ResidualTask
 
 _SMALL_ANGLE = 1e-3  # below it the series values of a and b are exact to O(θ⁴)
 

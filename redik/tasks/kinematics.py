@@ -19,8 +19,8 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from ..exceptions import InvalidInput
-from ..robot import Frame, Robot, frame_jacobian, frame_pose_views
+from redik.exceptions import InvalidInput
+from redik.robot import Frame, Robot, frame_jacobian, frame_pose_views
 
 
 class KinematicState:

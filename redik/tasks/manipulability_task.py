@@ -19,11 +19,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import criteria
-from ..exceptions import InvalidInput
-from ..robot import Frame, Robot
-from .kinematics import KinematicState
-from .task import Task, as_weight, weight_or_cost
+from redik import criteria
+from redik.exceptions import InvalidInput
+from redik.robot import Frame, Robot
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.task import Task, as_weight, weight_or_cost
 
 
 class ManipulabilityTask(Task):

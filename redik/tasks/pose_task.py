@@ -25,11 +25,11 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .. import lie
-from ..kinematics.compiled import apply_inverse_v, pose_error
-from .frame_task import FrameTask, se3_left_jacobian_inverse_entries
-from .kinematics import KinematicState
-from .task import as_weight, weight_or_cost
+from redik import lie
+from redik.kinematics.compiled import apply_inverse_v, pose_error
+from redik.tasks.frame_task import FrameTask, se3_left_jacobian_inverse_entries
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.task import as_weight, weight_or_cost
 
 
 def as_target_pose(target, name: str = "target", *, strict: bool = False) -> np.ndarray:

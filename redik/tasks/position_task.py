@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import lie
-from .frame_task import FrameTask
-from .kinematics import KinematicState
-from .task import weight_or_cost
+from redik import lie
+from redik.tasks.frame_task import FrameTask
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.task import weight_or_cost
 
 
 class PositionTask(FrameTask):

@@ -46,10 +46,10 @@ import numpy as np
 from mink.tasks import BaseTask, Objective
 from mink.tasks import Task as MinkTask
 
-from ..exceptions import InvalidInput
-from ..lie import real_array
-from ..robot import Robot
-from .kinematics import KinematicState
+from redik.exceptions import InvalidInput
+from redik.lie import real_array
+from redik.robot import Robot
+from redik.tasks.kinematics import KinematicState
 
 MAX_WEIGHT = 1e6
 """Largest task weight accepted. A weight enters the Hessian squared: beyond ``1e6`` (``w² =

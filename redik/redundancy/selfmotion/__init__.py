@@ -48,7 +48,7 @@ The package: :mod:`.result` (:class:`SelfMotion`), :mod:`.explore` (seeds, compo
 :mod:`.index` (joint-space metric and nearest-sample index).
 """
 
-from .explore import DEFAULT_SPACING, MAX_DIMENSION, explore_self_motion
-from .result import SelfMotion
+from redik.redundancy.selfmotion.explore import DEFAULT_SPACING, MAX_DIMENSION, explore_self_motion
+from redik.redundancy.selfmotion.result import SelfMotion
 
 __all__ = ["DEFAULT_SPACING", "MAX_DIMENSION", "SelfMotion", "explore_self_motion"]

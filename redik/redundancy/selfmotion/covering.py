@@ -15,8 +15,8 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from ...lie import wrap_angle
-from .index import SampleIndex, distances, spread
+from redik.lie import wrap_angle
+from redik.redundancy.selfmotion.index import SampleIndex, distances, spread
 
 _COVER_STEP = 0.7  # prediction distance of the surface covering, × spacing
 _COVER_EXCLUSION = 0.75  # a prediction this close (× step) to a sample is already covered

@@ -14,17 +14,17 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ...exceptions import InvalidInput
-from ...lie import as_pose, real_array
-from ..corrector import BatchCorrector, Corrector
-from ..criteria import Criterion, default_criteria, evaluate_criteria
-from .covering import SurfaceCovering
-from .index import SampleIndex, distance
-from .result import SelfMotion
-from .tracing import CurveTracing
+from redik.exceptions import InvalidInput
+from redik.lie import as_pose, real_array
+from redik.redundancy.corrector import BatchCorrector, Corrector
+from redik.redundancy.criteria import Criterion, default_criteria, evaluate_criteria
+from redik.redundancy.selfmotion.covering import SurfaceCovering
+from redik.redundancy.selfmotion.index import SampleIndex, distance
+from redik.redundancy.selfmotion.result import SelfMotion
+from redik.redundancy.selfmotion.tracing import CurveTracing
 
 if TYPE_CHECKING:
-    from ...robot import Frame, Robot
+    from redik.robot import Frame, Robot
 
 DEFAULT_SPACING = {0: 0.05, 1: 0.05, 2: 0.3}
 """Default ``spacing`` (joint-space distance between neighbouring samples) by dimension."""
@@ -164,7 +164,7 @@ def explore_self_motion(
 
 def _exact_curves(robot: Robot, T_target: np.ndarray, frame: Frame, spacing: float) -> list:
     """The closed-form self-motion loops (``exact=True``), for the robot's end-effector."""
-    from ...analytic.srs import self_motion_curves
+    from redik.analytic.srs import self_motion_curves
 
     if frame.name != robot.ee.name:
         raise InvalidInput(
@@ -220,7 +220,7 @@ def _seed_solutions(
     outside them still leads to the arcs and patches inside. Every solution is polished by
     the corrector to the sample tolerances.
     """
-    from ...pose_ik import solve_pose
+    from redik.pose_ik import solve_pose
 
     robot = corrector.robot
     seeds = []

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ...lie import wrap_angle
+from redik.lie import wrap_angle
 
 
 def distances(a: np.ndarray, b: np.ndarray, periodic: np.ndarray) -> np.ndarray:

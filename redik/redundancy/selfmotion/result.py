@@ -10,9 +10,9 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
-from ...exceptions import InvalidInput
-from ...result import STATUSES
-from .index import SampleIndex, distance
+from redik.exceptions import InvalidInput
+from redik.redundancy.selfmotion.index import SampleIndex, distance
+from redik.result import STATUSES
 
 
 @dataclasses.dataclass

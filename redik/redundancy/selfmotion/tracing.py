@@ -15,8 +15,8 @@ import math
 
 import numpy as np
 
-from ...lie import wrap_angle
-from .index import distance
+from redik.lie import wrap_angle
+from redik.redundancy.selfmotion.index import distance
 
 _MIN_TANGENT_COSINE = math.cos(math.radians(45.0))
 _MAX_STRIDE = 0.25  # rad: longest tracing step far outside the joint limits
