@@ -178,7 +178,10 @@ class Problem:
             )
         self.backends = [make_backend(backend, **options) for _ in self.levels]
         level0 = self._assembly.levels[0]
-        self._rows0 = level0.A if level0.least_squares and len(self.levels) > 1 else None
+        # Level 0's rows when it is a least-squares level: its null space comes from their
+        # QR, its unconstrained step from their Gram matrix (redik.qp.hierarchy).
+        self._rows0 = level0.A if level0.least_squares else None
+        self._rhs0 = level0.b
         self._curvature_rows = np.empty_like(level0.A)
         self._curvature_residual = np.empty_like(level0.b)
         tolerance = max(b.tolerance for b in self.backends)
@@ -300,7 +303,7 @@ class Problem:
         if objectives is None:
             objectives = self._assembly.objectives(self._state, self._configuration)
         curvature1 = None
-        if second_order and self._rows0 is not None:
+        if second_order and self._rows0 is not None and len(objectives) > 1:
             c1 = objectives[1][1].copy()  # level 1's gradient at q, before anything moves
             curvature1 = lambda N: self._level1_curvature(q, c1, N)  # noqa: E731
         if error_damping > 0.0:
@@ -352,6 +355,7 @@ class Problem:
             rank_tol=self.rank_tol,
             stats=self.stats,
             rows0=self._rows0,
+            rhs0=self._rhs0,
             kernel0=kernel0,
             curvature1=curvature1,
         )

@@ -148,6 +148,45 @@ def test_a_second_order_term_changes_level_1_model_only_when_it_stays_convex():
     np.testing.assert_allclose(run(-0.995, lb=lb, ub=ub), plain, atol=1e-9)
 
 
+def test_a_least_squares_level_skips_a_tolerance_based_back_end_when_no_bound_binds(rng):
+    from redik.qp.hierarchy import least_squares_minimiser
+
+    A, b = rng.normal(size=(6, 7)), rng.normal(size=6)
+    eps = 1e-9
+    H, c = A.T @ A + eps * np.eye(7), -A.T @ b
+    # The reference from the augmented least squares [A; √ε I] x ≈ [b; 0] (H's own solve
+    # loses ~1e-7 to its condition number σ²/ε).
+    exact = np.linalg.lstsq(np.vstack([A, np.sqrt(eps) * np.eye(7)]), np.r_[b, np.zeros(7)])[0]
+    wide = np.full(7, 1e3)
+    np.testing.assert_allclose(least_squares_minimiser(A, b, eps, -wide, wide, None, None, None),
+                               exact, atol=1e-9)  # fmt: skip
+    tight = np.abs(exact).max() / 2
+    assert least_squares_minimiser(A, b, eps, -wide / wide * tight, wide / wide * tight,
+                                   None, None, None) is None  # fmt: skip
+    row = np.eye(7)[:1]
+    assert least_squares_minimiser(A, b, eps, None, None, row, exact[:1] + 0.1, [np.inf]) is None
+    assert (
+        least_squares_minimiser(
+            rng.normal(size=(7, 7)), rng.normal(size=7), eps, None, None, None, None, None
+        )
+        is None
+    )  # fmt: skip  (not wide)
+    # A two-level step on proxsuite is then exact where no bound binds (ProxQP alone stops
+    # up to ~1e-7 away along the near-null directions of H = AᵀA + εI), and a binding
+    # bound still goes to the back-end.
+    H1, c1 = np.eye(7) + eps * np.eye(7), -np.arange(7.0)
+    objectives = [(H, c), (H1, c1)]
+    for bound, atol in ((wide, 1e-10), (np.full(7, tight), 1e-5)):
+        x, reference = (
+            solve_lexicographic(
+                objectives, [make_backend(name) for _ in objectives], -bound, bound,
+                damping=eps, rows0=A, rhs0=b,
+            )
+            for name in ("proxsuite", "quadprog")
+        )  # fmt: skip
+        np.testing.assert_allclose(x, reference, atol=atol)
+
+
 def test_free_directions_drop_the_linear_term_direction():
     H = np.diag([1.0, 0.0, 0.0])
     N = free_directions(H, np.zeros(3), 1e-10)
