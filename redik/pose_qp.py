@@ -12,11 +12,13 @@ against a limit — ends early, and a restart takes over from the nearest in pos
 :mod:`redik.batch`'s restarts), so few iterations are spent on hopeless starts. Each
 attempt also has its own budget, ``max_iter``.
 
-**A turn is free.** An attempt that stalls with a revolute joint against a bound of a range
-spanning a full turn or more (the UR arms' ±2π) is stopped by the box, not by the pose:
-``q_j ∓ 2π`` has the same pose and room to go on. The next attempt starts there — the same
-configuration, unblocked — before any random restart (``"dls"`` wraps such joints inside
-its iteration, :mod:`redik.kinematics.dls`).
+**A turn is free.** A revolute joint whose range spans a full turn or more (the UR arms'
+±2π) is periodic for this solver: it is not boxed, and each iterate is turned back into its
+range (:class:`~redik.limits.PositionLimit` with ``periodic=True``; ``"dls"`` wraps such
+joints the same way, :mod:`redik.kinematics.dls`): a bound the pose does not need never
+stops it. With extra ``tasks`` (a posture measures a turned joint differently) the box
+stays, and an attempt that stalls with such a joint against a bound restarts from the same
+configuration turned by 2π — the same pose, unblocked — before any random restart.
 
 It lives in the solvers layer beside :mod:`redik.problem`, which it drives (its old home
 ``redik.qp.solve`` sat below ``problem`` and imported it: a cycle); :mod:`redik.qp` is the
@@ -28,6 +30,8 @@ from __future__ import annotations
 import numpy as np
 
 from redik.exceptions import InvalidInput
+from redik.limits import BallJointLimit, PositionLimit
+from redik.limits.ball_joint_limit import limited_ball_joints
 from redik.problem import Problem
 from redik.result import IKResult
 from redik.robot import Robot
@@ -168,7 +172,7 @@ def _problem(robot: Robot, T_target, frame, respect_limits: bool, options: dict)
                 PoseTask(T_target, frame=frame, gain=options.get("gain", 1.0), priority=0),
                 *options.get("tasks", ()),
             ],
-            limits=None if respect_limits else [],
+            limits=_limits(robot, periodic="tasks" not in options) if respect_limits else [],
             backend=options.get("backend", "daqp"),
             damping=options.get("damping", 1e-9),
             backend_options=options.get("backend_options"),
@@ -193,6 +197,15 @@ def _problem(robot: Robot, T_target, frame, respect_limits: bool, options: dict)
     else:
         problem.tasks[0].set_target(T_target)
     return problem  # type: ignore[return-value]
+
+
+def _limits(robot: Robot, periodic: bool) -> list:
+    """The robot's own ranges (:class:`redik.Problem`'s default limits), full-turn joints
+    periodic when ``periodic`` (module docstring)."""
+    limits = [PositionLimit(periodic=periodic)]
+    if limited_ball_joints(robot):
+        limits.append(BallJointLimit())
+    return limits
 
 
 def _nearest_start(robot: Robot, task, rng: np.random.Generator, candidates: int) -> np.ndarray:

@@ -11,6 +11,8 @@ lexicographically (:mod:`redik.qp.hierarchy`) with the chosen back-end
 :math:`q + Δq` is then clipped into the joint limits, so every configuration ``step`` leads
 to and ``solve`` returns lies within them (:mod:`redik.limits.position_limit`). The default
 limits also hold every limited ball joint in its cone (:mod:`redik.limits.ball_joint_limit`).
+A ``PositionLimit(periodic=True)`` leaves joints whose range spans a full turn unboxed and
+``solve`` turns each iterate back into their range by multiples of 2π (same pose).
 
 **Whole models.** On a robot with ball or free joints (a floating base), ``q`` has
 ``robot.nq`` entries and ``Δq`` ``robot.dof`` (the tangent space): ``solve`` steps by
@@ -200,6 +202,12 @@ class Problem:
         self._boxes = [limit for limit in self.limits if isinstance(limit, BoxLimit)]
         self._rows = [limit for limit in self.limits if isinstance(limit, InequalityLimit)]
         self._clip = any(isinstance(limit, PositionLimit) for limit in self.limits)
+        # Position limits that turn full-turn joints back into range (periodic=True).
+        self._wraps = [
+            limit
+            for limit in self.limits
+            if isinstance(limit, PositionLimit) and limit.turning.any()
+        ]
         self._bounded = bool(self._boxes)
 
         self.stats: dict[str, int] = {}
@@ -512,7 +520,7 @@ class Problem:
             raise InvalidInput(f"progress must be in (0, 1), got {progress!r}")
         required = 1.0 - progress  # ‖e‖² must fall to this fraction in `patience` iterations
         if self._clip:
-            q = self.robot.clip(q)
+            q = self.robot.clip(self._wrapped(q))
         finish_lower = stationarity_tol is not None and len(self.levels) > 1 and self._targets
         history = [q.copy()]
         self._update(q)
@@ -560,7 +568,7 @@ class Problem:
             # them at its end (redik.limits.limit.InequalityLimit.admits).
             alpha = 1.0
             while True:
-                trial = self.robot.integrate(q, alpha * dq)
+                trial = self._wrapped(self.robot.integrate(q, alpha * dq))
                 self._update(trial)
                 result = self._level0_errors(pos_tol, rot_tol)
                 admitted = all(limit.admits() for limit in self._rows)
@@ -620,6 +628,12 @@ class Problem:
             stationarity=stationarity,
             stationary=bool(stationary),
         )
+
+    def _wrapped(self, q: np.ndarray) -> np.ndarray:
+        """``q`` with the full-turn joints of periodic position limits turned into range."""
+        for limit in self._wraps:
+            q = limit.wrap(q)
+        return q
 
     def stationarity(self, q: np.ndarray, dt: float | None = None) -> list[float]:
         r"""Per lower level, the norm of its projected gradient at ``q``.

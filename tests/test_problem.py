@@ -361,16 +361,22 @@ def test_solve_pose_qp_restarts_from_the_nearest_candidate(panda, rng):
         solve_pose_qp(panda, task.target, panda.home, candidates=0)
 
 
-def test_solve_pose_qp_turns_a_full_turn_joint_off_the_bound_it_stalled_against():
+def test_solve_pose_qp_turns_full_turn_joints_instead_of_stopping_at_their_bounds():
     # UR5e joints span ±2π. From the shoulder near its lower bound, the short way to a target
-    # at q₀ = −0.3 (≡ −2π − 0.3) runs into that bound: the first attempt stalls there. The
-    # same configuration turned by 2π reaches it; a random restart would land on another of
-    # the arm's up to eight solutions.
+    # at q₀ = −0.3 (≡ −2π − 0.3) runs into that bound. Periodic, the joint passes it and is
+    # turned back into range: no restart. With extra tasks the box stays; the attempt stalls
+    # at the bound, and the restart starts from the same configuration turned by 2π. A
+    # random restart would land on another of the arm's up to eight solutions.
     ur5e = redik.load("ur5e")
     q_star = np.array([-0.3, -1.2, 1.4, -1.8, -1.5, 0.4])
     start = q_star.copy()
     start[0] = ur5e.lower[0] + 0.05
     result = solve_pose_qp(ur5e, ur5e.fk(q_star), start, restarts=1, seed=3)
+    assert result.success and result.restarts == 0 and ur5e.within_limits(result.q)
+    assert np.all(result.history >= ur5e.lower) and np.all(result.history <= ur5e.upper)
+    np.testing.assert_allclose(result.q, q_star, atol=1e-5)
+    extra = [PostureTask(priority=1)]  # no freedom left on a 6-joint arm: the pose alone
+    result = solve_pose_qp(ur5e, ur5e.fk(q_star), start, restarts=1, seed=3, tasks=extra)
     assert result.success and result.restarts == 1
     np.testing.assert_allclose(result.q, q_star, atol=1e-5)
 
