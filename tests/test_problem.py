@@ -7,12 +7,12 @@ import pytest
 
 import redik
 from redik import lie
-from redik.exceptions import InvalidConfiguration, InvalidInput
+from redik.apps.trajectory import CircularPath
+from redik.core.exceptions import InvalidConfiguration, InvalidInput
 from redik.limits import PositionLimit, VelocityLimit
-from redik.pose_qp import solve_pose_qp
-from redik.problem import Problem
+from redik.solvers.pose_qp import solve_pose_qp
+from redik.solvers.problem import Problem
 from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
-from redik.trajectory import CircularPath
 
 
 @pytest.fixture(scope="module")
@@ -287,8 +287,8 @@ def test_the_lower_level_converges_fast_once_level_0_holds(panda):
 
 
 def test_level0_null_space_is_computed_once_per_iteration(panda, rng, monkeypatch):
-    import redik.problem
     import redik.qp.hierarchy
+    import redik.solvers.problem
 
     calls = []
     original = redik.qp.hierarchy.row_null_space
@@ -297,7 +297,7 @@ def test_level0_null_space_is_computed_once_per_iteration(panda, rng, monkeypatc
         calls.append(1)
         return original(A, rank_tol)
 
-    monkeypatch.setattr(redik.problem, "row_null_space", counted)
+    monkeypatch.setattr(redik.solvers.problem, "row_null_space", counted)
     monkeypatch.setattr(redik.qp.hierarchy, "row_null_space", counted)
     q0, T = nearby_targets(panda, rng, 1)[0]
     problem = Problem(panda, [PoseTask(T), PostureTask(q0, gain=0.5, priority=1)])
@@ -344,7 +344,7 @@ def test_patience_ends_an_attempt_that_stops_making_progress(panda):
 
 
 def test_solve_pose_qp_restarts_from_the_nearest_candidate(panda, rng):
-    from redik.pose_qp import _nearest_start
+    from redik.solvers.pose_qp import _nearest_start
 
     task = PoseTask(panda.fk(panda.random_q(rng)))
     problem = Problem(panda, [task])  # binds the task to the robot
@@ -401,7 +401,7 @@ def test_solve_pose_qp_reuses_its_problem_and_stays_reproducible(rng):
 
 
 def test_unwound_turns_only_revolute_joints_with_room_for_a_turn(panda):
-    from redik.pose_qp import _unwound
+    from redik.solvers.pose_qp import _unwound
 
     ur5e = redik.load("ur5e")
     q = np.zeros(6)

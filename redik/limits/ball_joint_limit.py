@@ -27,9 +27,9 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from redik.exceptions import InvalidInput
+from redik.core.exceptions import InvalidInput
+from redik.kinematics.robot import Robot
 from redik.limits.limit import InequalityLimit
-from redik.robot import Robot
 
 _ANGLE_TOLERANCE = 1e-9
 """Radians by which :meth:`BallJointLimit.admits` lets an angle exceed its bound (rounding)."""

@@ -27,9 +27,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from redik.exceptions import InvalidInput
+from redik.core.exceptions import InvalidInput
+from redik.kinematics.robot import Robot
 from redik.limits.limit import BoxLimit
-from redik.robot import Robot
 
 
 class PositionLimit(BoxLimit):

@@ -10,9 +10,9 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from redik.exceptions import InvalidInput
+from redik.core.exceptions import InvalidInput
+from redik.kinematics.robot import Robot
 from redik.limits.limit import BoxLimit
-from redik.robot import Robot
 
 
 class VelocityLimit(BoxLimit):

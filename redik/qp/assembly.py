@@ -34,7 +34,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from redik.robot import Robot
+from redik.kinematics.robot import Robot
 from redik.tasks.joint_space_task import JointSpaceTask
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import ResidualTask, Task

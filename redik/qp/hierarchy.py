@@ -69,7 +69,7 @@ from scipy.linalg.lapack import dposv as _dposv
 from scipy.linalg.lapack import dsyev as _dsyev
 from scipy.linalg.lapack import dtrcon as _dtrcon
 
-from redik.exceptions import BackendError, InfeasibleProblem
+from redik.core.exceptions import BackendError, InfeasibleProblem
 from redik.qp.backends import Backend
 from redik.qp.problem_data import QP
 

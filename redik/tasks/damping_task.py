@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from redik.robot import Robot
+from redik.kinematics.robot import Robot
 from redik.tasks.joint_space_task import JointSpaceTask
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import weight_or_cost

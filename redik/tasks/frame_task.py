@@ -2,7 +2,7 @@ r"""Shared ground of the tasks on a frame's pose: frame binding and the log-map 
 
 :class:`PoseTask`, :class:`PositionTask` and :class:`OrientationTask` regulate one frame
 (a site or body; ``None`` is the robot's end-effector) towards a target. Their errors are
-those of :mod:`redik.conventions`: the body twist :math:`e = \log(T^{-1} T_d)` for a pose,
+those of :mod:`redik.core.conventions`: the body twist :math:`e = \log(T^{-1} T_d)` for a pose,
 :math:`\log(R^\top R_d)` for an orientation, :math:`p - p_d` for a position.
 
 The derivative of a log-map error needs the inverse left Jacobian of the group. Perturbing
@@ -53,7 +53,7 @@ import math
 import numba
 import numpy as np
 
-from redik.robot import Frame, Robot
+from redik.kinematics.robot import Frame, Robot
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import ResidualTask
 

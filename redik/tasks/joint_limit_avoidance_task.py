@@ -27,7 +27,7 @@ import math
 import numpy as np
 
 from redik import criteria
-from redik.robot import Robot
+from redik.kinematics.robot import Robot
 from redik.tasks.joint_space_task import JointSpaceTask
 from redik.tasks.task import weight_or_cost
 

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from redik.robot import Robot
+from redik.kinematics.robot import Robot
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import ResidualTask
 

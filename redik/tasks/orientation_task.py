@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from redik import lie
-from redik.exceptions import InvalidRotation
+from redik.core.exceptions import InvalidRotation
 from redik.tasks.frame_task import FrameTask, so3_left_jacobian_inverse
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import weight_or_cost

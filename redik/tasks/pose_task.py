@@ -7,7 +7,7 @@ r"""Regulate the full pose of a frame: :math:`e = \log(T^{-1} T_d)`, a body twis
     \begin{pmatrix} R^\top & 0 \\ 0 & R^\top \end{pmatrix} J_w(q)
 
 with :math:`J_w` the world Jacobian and :math:`J_b` the body Jacobian
-(:mod:`redik.conventions`), and :math:`J_l^{-1}` the SE(3) inverse left Jacobian
+(:mod:`redik.core.conventions`), and :math:`J_l^{-1}` the SE(3) inverse left Jacobian
 (:mod:`redik.tasks.frame_task`). These are the error and Jacobian of ``mink.FrameTask``,
 so the two give the same step.
 

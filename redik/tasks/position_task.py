@@ -1,6 +1,6 @@
 r"""Regulate the position of a frame's origin: :math:`e = p - p_d`, :math:`J = J_v`.
 
-:math:`J_v` is the linear block of the world Jacobian (:mod:`redik.conventions`), the
+:math:`J_v` is the linear block of the world Jacobian (:mod:`redik.core.conventions`), the
 derivative of the origin's world position. The orientation is left free.
 """
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from redik import lie
-from redik.robot import Robot
+from redik.kinematics.robot import Robot
 from redik.tasks.joint_space_task import JointSpaceTask
 from redik.tasks.task import weight_or_cost
 
