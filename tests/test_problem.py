@@ -343,6 +343,26 @@ def test_patience_ends_an_attempt_that_stops_making_progress(panda):
             problem.solve(panda.home, patience=3, progress=progress)
 
 
+def test_plateau_ends_an_attempt_at_the_first_flat_step(panda):
+    far = np.eye(4)
+    far[:3, 3] = (3.0, 0.0, 0.0)  # out of reach: the error plateaus
+    problem = Problem(panda, [PoseTask(far)])
+    flat = problem.solve(panda.home, max_iter=200, plateau=0.01)
+    patient = problem.solve(panda.home, max_iter=200, patience=5)
+    assert flat.status == "stalled" and flat.iterations < patient.iterations
+    squared = flat.error_history**2
+    assert squared[-1] > 0.99 * squared[-2]  # it stopped at a step that gained < 1 %...
+    assert all(
+        squared[k] <= 0.99 * squared[k - 1] for k in range(1, len(squared) - 1)
+    )  # ...the first
+    for plateau in (0.0, 1.0, float("nan"), "0.1"):
+        with pytest.raises(InvalidInput, match="plateau"):
+            problem.solve(panda.home, plateau=plateau)
+    # A converging solve is not stopped by it.
+    q0, T = panda.home, panda.fk(np.clip(panda.home + 0.2, panda.lower, panda.upper))
+    assert Problem(panda, [PoseTask(T)]).solve(q0, plateau=0.01).success
+
+
 def test_solve_pose_qp_restarts_from_the_nearest_candidate(panda, rng):
     from redik.solvers.pose_qp import _nearest_start
 

@@ -48,6 +48,7 @@ _OPTIONS = (
     "stationarity_tol",
     "patience",
     "progress",
+    "plateau",
     "candidates",
     "lm_damping",
 )
@@ -82,7 +83,9 @@ def solve_pose_qp(
     gradient, :meth:`redik.Problem.solve`; default 1e-8), ``patience`` and ``progress``
     (an attempt whose ``‖e‖²`` fell by less than the fraction ``progress`` in ``patience``
     iterations ends as stalled; defaults 5 and 0.5; ``patience=None`` waits for
-    ``max_iter``), ``candidates`` (each restart starts from the nearest in pose of this
+    ``max_iter``), ``plateau`` (an attempt whose ``‖e‖²`` fell by less than this fraction in
+    one iteration ends as stalled: a plateau against a limit; default 0.01, None to wait),
+    ``candidates`` (each restart starts from the nearest in pose of this
     many random configurations; default 16), ``backend_options``. The defaults are those
     that gave the shortest tail over 200 random targets per robot (panda, iiwa14, ur5e)
     from home and from random seeds (``redik bench qp``).
@@ -123,6 +126,7 @@ def solve_pose_qp(
             stationarity_tol=options.get("stationarity_tol", 1e-8),
             patience=options.get("patience", 5),
             progress=options.get("progress", 0.5),
+            plateau=options.get("plateau", 0.01),
             lm_damping=options.get("lm_damping", 0.01),
         )
         iterations += result.iterations

@@ -425,6 +425,7 @@ class Problem:
         stationarity_tol: float | None = 1e-8,
         patience: int | None = None,
         progress: float = 0.5,
+        plateau: float | None = None,
     ) -> QPResult:
         r"""Iterate ``q ← q + αΔq`` from ``q0`` until the priority-0 tasks converge and the
         lower levels are stationary.
@@ -495,6 +496,12 @@ class Problem:
                 last ``patience`` iterations is ``"stalled"`` (slow progress near a
                 singularity or a limit rarely ends well; a restart is cheaper). None (the
                 default) waits for the budget.
+            plateau: Early stop for restarts, after one iteration: before level 0
+                converges, a step that lowered ``‖e‖²`` by less than this fraction ends the
+                attempt as ``"stalled"`` — the iterate has reached a plateau, typically a
+                constrained stationary point of the error against a limit, which
+                ``patience`` would only recognise ``patience`` iterations later. None (the
+                default): no such stop.
 
         Returns:
             :class:`QPResult` with ``method="qp"``, the history and the lower levels'
@@ -520,6 +527,9 @@ class Problem:
         if not (_is_real(progress) and 0.0 < progress < 1.0):
             raise InvalidInput(f"progress must be in (0, 1), got {progress!r}")
         required = 1.0 - progress  # ‖e‖² must fall to this fraction in `patience` iterations
+        if plateau is not None and not (_is_real(plateau) and 0.0 < plateau < 1.0):
+            raise InvalidInput(f"plateau must be in (0, 1) or None, got {plateau!r}")
+        flat = 1.0 - (plateau or 0.0)  # ‖e‖² must fall below this fraction in one iteration
         if self._clip:
             q = self.robot.clip(self._wrapped(q))
         finish_lower = stationarity_tol is not None and len(self.levels) > 1 and self._targets
@@ -599,6 +609,9 @@ class Problem:
                 and iterations >= patience
                 and error * error > required * errors[-1 - patience] ** 2
             ):
+                status = "stalled"
+                break
+            if plateau is not None and not converged and error * error > flat * errors[-2] ** 2:
                 status = "stalled"
                 break
             if alpha * math.sqrt(float(dq @ dq)) < q_tol:
