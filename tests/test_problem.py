@@ -10,7 +10,7 @@ from redik import lie
 from redik.apps.trajectory import CircularPath
 from redik.core.exceptions import InvalidConfiguration, InvalidInput
 from redik.limits import PositionLimit, VelocityLimit
-from redik.solvers.pose_qp import solve_pose_qp
+from redik.solvers.pose.qp import solve_pose_qp
 from redik.solvers.problem import Problem
 from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
 
@@ -364,7 +364,7 @@ def test_plateau_ends_an_attempt_at_the_first_flat_step(panda):
 
 
 def test_solve_pose_qp_restarts_from_the_nearest_candidate(panda, rng):
-    from redik.solvers.pose_qp import _nearest_start
+    from redik.solvers.pose.qp import _nearest_start
 
     task = PoseTask(panda.fk(panda.random_q(rng)))
     problem = Problem(panda, [task])  # binds the task to the robot
@@ -402,12 +402,14 @@ def test_solve_pose_qp_turns_full_turn_joints_instead_of_stopping_at_their_bound
 
 
 def test_solve_pose_qp_reuses_its_problem_and_stays_reproducible(rng):
+    from redik.solvers.pose.cache import PoseCache
+
     robot = redik.load("panda")  # a fresh robot: an empty solver cache
     targets = [robot.fk(q) for q in robot.random_q(rng, size=6)]
     starts = robot.random_q(rng, size=6)
     first = [solve_pose_qp(robot, T, q0, restarts=5, seed=i) for i, (T, q0) in
              enumerate(zip(targets, starts, strict=True))]  # fmt: skip
-    assert len([key for key in robot.solver_cache if key[0] == "pose_qp"]) == 1
+    assert len(PoseCache.of(robot).qp_problems) == 1
     # In reverse order: each call sets its own target and owes nothing to the calls before.
     for i in reversed(range(6)):
         again = solve_pose_qp(robot, targets[i], starts[i], restarts=5, seed=i)
@@ -417,11 +419,11 @@ def test_solve_pose_qp_reuses_its_problem_and_stays_reproducible(rng):
     # Extra tasks or another back-end: a problem of their own, not cached.
     solve_pose_qp(robot, targets[0], starts[0], backend="proxsuite")
     solve_pose_qp(robot, targets[0], starts[0], tasks=[PostureTask(priority=1)])
-    assert len([key for key in robot.solver_cache if key[0] == "pose_qp"]) == 1
+    assert len(PoseCache.of(robot).qp_problems) == 1
 
 
 def test_unwound_turns_only_revolute_joints_with_room_for_a_turn(panda):
-    from redik.solvers.pose_qp import _unwound
+    from redik.solvers.pose.qp import _unwound
 
     ur5e = redik.load("ur5e")
     q = np.zeros(6)

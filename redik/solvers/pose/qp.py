@@ -20,9 +20,9 @@ stops it. With extra ``tasks`` (a posture measures a turned joint differently) t
 stays, and an attempt that stalls with such a joint against a bound restarts from the same
 configuration turned by 2π — the same pose, unblocked — before any random restart.
 
-It lives in the solvers layer beside :mod:`redik.solvers.problem`, which it drives (its old home
-``redik.qp.solve`` sat below ``problem`` and imported it: a cycle); :mod:`redik.qp` is the
-QP core only.
+It lives in the solvers layer, in the pose package, and drives :mod:`redik.solvers.problem`
+(its first home ``redik.qp.solve`` sat below ``problem`` and imported it: a cycle);
+:mod:`redik.qp` is the QP core only.
 """
 
 from __future__ import annotations
@@ -34,6 +34,7 @@ from redik.core.result import IKResult
 from redik.kinematics.robot import Robot
 from redik.limits import BallJointLimit, PositionLimit
 from redik.limits.ball_joint_limit import limited_ball_joints
+from redik.solvers.pose.cache import PoseCache
 from redik.solvers.problem import Problem
 from redik.tasks.pose_task import PoseTask
 
@@ -161,8 +162,9 @@ def _problem(robot: Robot, T_target, frame, respect_limits: bool, options: dict)
     """The pose problem, with ``T_target`` set.
 
     On the default back-end, daqp, without extra ``tasks`` or ``backend_options`` (objects
-    of the caller's), it is kept in ``robot.solver_cache`` per frame and settings, as
-    ``"dls"`` keeps its compiled chain: building the task, the problem and the back-end's
+    of the caller's), it is kept in the robot's
+    :class:`~redik.solvers.pose.cache.PoseCache` per frame and settings, as ``"dls"`` keeps
+    its compiled chain: building the task, the problem and the back-end's
     workspace cost about a third of a typical solve. daqp's answer does not depend on the
     QPs it solved before (checked bitwise in ``tests/test_problem.py``); a warm-started
     back-end's (proxsuite) would, and would make a call depend on the calls before it, so
@@ -185,19 +187,19 @@ def _problem(robot: Robot, T_target, frame, respect_limits: bool, options: dict)
     backend = options.get("backend", "daqp")
     if "tasks" in options or "backend_options" in options or backend != "daqp":
         return build()
+    problems = PoseCache.of(robot).qp_problems
     key = (
-        "pose_qp",
         frame,
         bool(respect_limits),
         options.get("damping", 1e-9),
         options.get("gain", 1.0),
     )
     try:
-        problem = robot.solver_cache.get(key)
+        problem = problems.get(key)
     except TypeError:  # an unhashable setting (an array): built afresh
         return build()
     if problem is None:
-        problem = robot.solver_cache[key] = build()
+        problem = problems[key] = build()
     else:
         problem.tasks[0].set_target(T_target)
     return problem  # type: ignore[return-value]
