@@ -376,6 +376,16 @@ def test_solve_pose_qp_restarts_from_the_nearest_candidate(panda, rng):
         for q in candidates
     ]
     np.testing.assert_array_equal(start, candidates[int(np.argmin(distances))])
+    # The compiled chain's pick is the same.
+    from redik.solvers.pose.qp import _chain_of
+
+    chain = _chain_of(panda, task.frame)
+    assert chain is not None and _chain_of(panda, task.frame) is chain  # kept
+    for seed in range(10):
+        np.testing.assert_array_equal(
+            _nearest_start(panda, task, np.random.default_rng(seed), 16, chain),
+            _nearest_start(panda, task, np.random.default_rng(seed), 16),
+        )
     assert problem.levels == [0]
     with pytest.raises(InvalidInput, match="candidates"):
         solve_pose_qp(panda, task.target, panda.home, candidates=0)

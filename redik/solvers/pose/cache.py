@@ -32,6 +32,8 @@ class PoseCache:
         self.chains: dict[Frame, tuple[Robot, np.ndarray]] = {}
         self.qp_problems: dict[tuple, object] = {}
         """``"qp"``'s problems, by (frame argument, respect_limits, damping, gain)."""
+        self.qp_chains: dict[Frame, tuple | None] = {}
+        """``"qp"``'s compiled chains for restart seeds, by frame (None: whole model)."""
 
     @classmethod
     def of(cls, robot: Robot) -> PoseCache:
