@@ -387,10 +387,8 @@ def test_the_policy_helpers_refuse_non_numeric_input():
         lie.check_rotations(np.eye(3))
 
 
-def test_apply_inverse_v_inverts_v_and_its_compiled_twin_agrees(rng):
-    from redik.kinematics.compiled import apply_inverse_v
-
-    for angle in (0.0, 1e-9, 1e-7, 2e-6, 1e-3, 0.5, 2.0, np.pi - 1e-6):
+def test_apply_inverse_v_inverts_v_and_is_the_so3_inverse_left_jacobian(rng):
+    for angle in (0.0, 1e-9, 1e-7, 2e-6, 0.999e-3, 1.001e-3, 0.5, 2.0, np.pi - 1e-6):
         axis = rng.standard_normal(3)
         omega, p = angle * axis / np.linalg.norm(axis), rng.standard_normal(3)
         W = lie.skew(omega)
@@ -404,7 +402,36 @@ def test_apply_inverse_v_inverts_v_and_its_compiled_twin_agrees(rng):
         V = np.eye(3) + a * W + b * W @ W
         v = lie.apply_inverse_v(*omega, *p)
         np.testing.assert_allclose(V @ v, p, rtol=0, atol=1e-12 * max(1.0, 1.0 / (np.pi - angle)))
-        np.testing.assert_allclose(apply_inverse_v(*omega, *p), v, rtol=1e-14, atol=1e-15)
+        # One formula: V(ω)⁻¹ is J_l⁻¹(ω) on SO(3), the block of the SE(3) one.
+        np.testing.assert_allclose(lie.so3_left_jacobian_inverse(omega) @ p, v, atol=1e-14)
+
+
+def series_left_jacobian_inverse(xi: np.ndarray) -> np.ndarray:
+    """(Σ ad^k/(k+1)!)⁻¹: the definition, summed to convergence."""
+    ad = np.zeros((6, 6))
+    ad[:3, :3] = ad[3:, 3:] = lie.skew(xi[3:])
+    ad[:3, 3:] = lie.skew(xi[:3])
+    J, power = np.zeros((6, 6)), np.eye(6)
+    for k in range(40):
+        J += power / math.factorial(k + 1)
+        power = power @ ad
+    return np.linalg.inv(J)
+
+
+@pytest.mark.parametrize("angle", [0.0, 1e-9, 1e-4, 0.999e-3, 1.001e-3, 0.1, 1.0, 2.5, 3.1])
+def test_left_jacobian_inverse_closed_form_matches_its_series_and_mink(angle, rng):
+    xi = rng.normal(size=6)
+    xi[3:] *= angle / np.linalg.norm(xi[3:])
+    reference = series_left_jacobian_inverse(xi)
+    np.testing.assert_allclose(lie.se3_left_jacobian_inverse(xi), reference, atol=1e-12)
+    so3 = lie.so3_left_jacobian_inverse(xi[3:])
+    np.testing.assert_allclose(so3, reference[3:, 3:], atol=1e-12)
+    if angle >= 0.1:  # below, mink's closed form divides by 1 − cos θ (5e-9 off at 1e-4,
+        # 8e-4 at 1e-7, inf at 1e-9), and returns the identity on SE(3) for θ < 1.5e-8
+        np.testing.assert_allclose(so3, mink.SO3.ljacinv(xi[3:]), atol=1e-12)
+        np.testing.assert_allclose(
+            lie.se3_left_jacobian_inverse(xi), mink.SE3.ljacinv(xi), atol=1e-11
+        )
 
 
 @pytest.mark.parametrize("batch", [(), (5,), (2, 3)])
