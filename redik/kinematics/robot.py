@@ -114,6 +114,8 @@ class Robot:
             range, and on ball and free joints).
         revolute: Per tangent coordinate, True for rotations (hinge, ball, a free joint's
             angular part).
+        periodic: Per tangent coordinate, True for the rotations taken modulo 2π
+            (:func:`full_turn`, :mod:`redik.core.conventions`).
         home: The ``home`` keyframe's values (else ``qpos0``), clipped into the limits.
         solver_cache: What solvers compile once per robot and frame (e.g. the chain of
             :func:`redik.solve_pose`'s ``"dls"`` kernel), kept here so it lives and dies
@@ -223,7 +225,8 @@ class Robot:
         # Where a ball or free joint's quaternion, and a free joint's position, start in q.
         self._quaternion_q = tuple(quaternion_q)
         self._free_q = tuple(free_q)
-        for array in (self.lower, self.upper, self.revolute):
+        self.periodic = full_turn(self.revolute, self.lower, self.upper)
+        for array in (self.lower, self.upper, self.revolute, self.periodic):
             array.setflags(write=False)
 
         key = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, "home")
@@ -717,6 +720,16 @@ _FRAME_OBJECTS = {
     "geom": mujoco.mjtObj.mjOBJ_GEOM,
 }
 _JACOBIANS = {"site": mujoco.mj_jacSite, "body": mujoco.mj_jacBody, "geom": mujoco.mj_jacGeom}
+
+
+def full_turn(revolute: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """The periodic coordinates: rotations whose range spans a full turn, ``upper − lower ≥ 2π``
+    (an unlimited hinge included). Each angle of such a joint has an in-range representative,
+    so redik takes it modulo 2π: solutions and samples that differ by turns are one, and a
+    step that leaves the range is wrapped back into it rather than stopped at the limit
+    (:mod:`redik.core.conventions`, Joint vector). The one definition, for :class:`Robot`
+    and :class:`~redik.kinematics.chain.Chain`."""
+    return np.asarray(revolute, dtype=bool) & (np.subtract(upper, lower) >= 2.0 * np.pi)
 
 
 def frame_pose_views(data: mujoco.MjData, frame: Frame) -> tuple[np.ndarray, np.ndarray]:

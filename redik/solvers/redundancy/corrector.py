@@ -31,7 +31,6 @@ from redik.kinematics.batched import chain_poses, world_jacobian
 from redik.kinematics.chain import Chain
 from redik.kinematics.dls import damped_step
 from redik.lie import inverse, pose_errors, rotation_log, se3_log, world_jacobian_to, wrap_angle
-from redik.solvers.redundancy.criteria import periodic_joints
 
 if TYPE_CHECKING:
     from redik.kinematics.robot import Frame, Robot
@@ -67,7 +66,7 @@ class Corrector:
         self.T_target = T_target
         self.position_tolerance = position_tolerance
         self.rotation_tolerance = rotation_tolerance
-        self.periodic = periodic_joints(robot)
+        self.periodic = robot.periodic
         self.lower = np.asarray(robot.lower)
         self.upper = np.asarray(robot.upper)
         self._T = np.eye(4)
@@ -167,13 +166,14 @@ class Corrector:
 
     def shift_into_limits(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Every row of ``q`` (… × n) with its hinges shifted by multiples of 2π towards their
-        ranges (unlimited hinges wrapped to (−π, π]), and whether it then lies within them.
+        ranges, and whether it then lies within them.
 
         A hinge that cannot be brought into its range takes the angle nearest to it, on
         whichever side (what :meth:`limit_violation` measures): the start of a limit point.
-        A hinge whose range spans 2π or more has several in-range representatives: a row
-        already in range keeps its own, one beyond a limit takes the one nearest that limit.
-        The manifold is sampled at that one representative only.
+        A periodic hinge (range of 2π or more, :attr:`redik.Robot.periodic`) has several
+        in-range representatives; it takes the one in (−π, π] when its range holds it, else
+        the in-range one beyond the nearer limit. The manifold is sampled at that one
+        representative only.
         """
         revolute = self.robot.revolute
         with np.errstate(invalid="ignore"):  # ±inf limits
