@@ -31,14 +31,11 @@ import numpy as np
 
 from redik.core.exceptions import InvalidInput
 from redik.core.result import IKResult
-from redik.lie import (
-    as_pose,
-    as_vector,
-    inverse,
-    pose_errors,
-    real_array,
-    se3_log,
-    world_jacobian_to,
+from redik.lie import as_pose, as_vector, real_array
+from redik.solvers.redundancy.corrector import (
+    SAMPLE_POSITION_TOLERANCE,
+    SAMPLE_ROTATION_TOLERANCE,
+    Corrector,
 )
 
 if TYPE_CHECKING:
@@ -146,8 +143,8 @@ def gradient_projection_ik(
     *,
     gain: float = 0.5,
     max_step: float = 0.2,
-    position_tolerance: float = 1e-9,
-    rotation_tolerance: float = 1e-8,
+    position_tolerance: float = SAMPLE_POSITION_TOLERANCE,
+    rotation_tolerance: float = SAMPLE_ROTATION_TOLERANCE,
     step_tolerance: float = 1e-7,
     max_iterations: int = 2000,
 ) -> IKResult:
@@ -167,24 +164,17 @@ def gradient_projection_ik(
     """
     T_target = as_pose(T_target, "T_target")
     q = robot.check_q(q0, "q0").copy()
-    resolved = robot.frame(frame)
-    T = np.eye(4)
-    J = np.empty((6, robot.dof))
-    J_body = np.empty((6, robot.dof))
+    pose = Corrector(robot, T_target, robot.frame(frame), position_tolerance, rotation_tolerance)
     history = [q.copy()]
     errors: list[float] = []
     status = "max_iterations"
     for _ in range(max_iterations):
-        robot.kinematics(q, resolved, T, J)
-        R = T[:3, :3]
-        world_jacobian_to("body", J, R, T[:3, 3], out=J_body)
-        xi = se3_log(inverse(T) @ T_target)
+        xi, position_error, rotation_error = pose.body_error(q)
         errors.append(float(np.linalg.norm(xi)))
-        J_pinv = pseudo_inverse(J_body)
-        dq0 = gain * criterion.ascent(robot, q, J)
-        secondary = dq0 - J_pinv @ (J_body @ dq0)
+        J_pinv = pseudo_inverse(pose.J_body)
+        dq0 = gain * criterion.ascent(robot, q, pose.J)
+        secondary = dq0 - J_pinv @ (pose.J_body @ dq0)
         step = J_pinv @ xi + secondary
-        position_error, rotation_error = pose_errors(T, T_target)
         if (
             position_error <= position_tolerance
             and rotation_error <= rotation_tolerance
@@ -201,17 +191,14 @@ def gradient_projection_ik(
     if status != "converged":
         # The budget ran out mid-climb: drop the criterion and settle onto the pose.
         for _ in range(10):
-            robot.kinematics(q, resolved, T, J)
-            J_body[:3] = T[:3, :3].T @ J[:3]
-            J_body[3:] = T[:3, :3].T @ J[3:]
-            q = robot.clip(q + pseudo_inverse(J_body) @ se3_log(inverse(T) @ T_target))
+            xi, _, _ = pose.body_error(q)
+            q = robot.clip(q + pseudo_inverse(pose.J_body) @ xi)
         history.append(q.copy())
         message = "the criterion was still improving when the iteration budget ran out"
-    robot.kinematics(q, resolved, T)
-    position_error, rotation_error = pose_errors(T, T_target)
+    xi, position_error, rotation_error = pose.body_error(q)
     if position_error <= position_tolerance and rotation_error <= rotation_tolerance:
         status = "converged"
-    errors.append(float(np.linalg.norm(se3_log(inverse(T) @ T_target))))
+    errors.append(float(np.linalg.norm(xi)))
     return IKResult(
         q=q,
         success=status == "converged",
