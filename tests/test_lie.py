@@ -370,6 +370,26 @@ def test_analytic_wraps_with_the_same_function():
     assert analytic.wrap_angle is lie.wrap_angle
 
 
+def test_the_compiled_twins_in_the_closed_form_kernels_equal_lie(rng):
+    # The decomposition kernels (numba, one scalar at a time) wrap and rotate with their own
+    # compiled twins of wrap_angle and so3_exp: equal to the references, bit for bit for the
+    # wrap over the few turns a kernel angle spans.
+    from redik.solvers.analytic._decomposed_kernels import _wrap
+    from redik.solvers.analytic.subproblems import rotate
+
+    turns = np.pi * np.arange(-9, 10, 2)
+    angles = np.concatenate(
+        [rng.uniform(-9 * np.pi, 9 * np.pi, 2000), turns, np.nextafter(turns, np.inf)]
+    )
+    angles = np.concatenate([angles, np.nextafter(turns, -np.inf)])
+    np.testing.assert_array_equal([_wrap(a) for a in angles], lie.wrap_angle(angles))
+    for _ in range(50):
+        k, p = rng.standard_normal(3), rng.standard_normal(3)
+        k /= np.linalg.norm(k)
+        theta = rng.uniform(-4, 4)
+        np.testing.assert_allclose(rotate(k, theta, p), lie.so3_exp(theta * k) @ p, atol=1e-14)
+
+
 def test_the_policy_helpers_refuse_non_numeric_input():
     # Found by the fuzzing of lie's public helpers: np.linalg.svd / np.fmod raised raw
     # TypeErrors and ValueErrors on strings, None and ragged lists.
