@@ -31,6 +31,7 @@ from redik.kinematics.batched import chain_poses, world_jacobian
 from redik.kinematics.chain import Chain
 from redik.kinematics.dls import damped_step
 from redik.lie import inverse, pose_errors, rotation_log, se3_log, world_jacobian_to, wrap_angle
+from redik.solvers.redundancy.nullspace import nullspace_basis
 
 if TYPE_CHECKING:
     from redik.kinematics.robot import Frame, Robot
@@ -139,8 +140,7 @@ class Corrector:
         """
         if q is not None:
             self.body_error(q)
-        _, _, Vt = np.linalg.svd(self.J_body, full_matrices=True)
-        return Vt[self.robot.dof - dimension :].T
+        return nullspace_basis(self.J_body, dimension)
 
     def within_limits(self, q: np.ndarray) -> bool:
         return bool(np.all(q >= self.lower) and np.all(q <= self.upper))
@@ -303,8 +303,7 @@ class BatchCorrector:
             )
         _, p, axes, origins = chain_poses(self.chain, np.ascontiguousarray(q.T))
         J = world_jacobian(self.chain, p, axes, origins)
-        _, _, Vt = np.linalg.svd(J.transpose(2, 0, 1), full_matrices=True)
-        return Vt[:, self.dof - dimension :].transpose(0, 2, 1)
+        return nullspace_basis(J.transpose(2, 0, 1), dimension)
 
     def limit_points(
         self, q_inside: np.ndarray, q_outside: np.ndarray, max_rounds: int = 3
