@@ -1,11 +1,20 @@
 r"""Rotations, rigid transforms and the pose-error metrics built on them.
 
 Conventions (twist order ``(v, ω)``, scalar-first quaternions, ``T_ab``) are those of
-:mod:`redik.core.conventions`. Quaternion conversions use MuJoCo's ``mju_*`` functions; the
-exponential and logarithm maps are written here because they sit in every solver's inner
-loop, where ``mink.lie.SE3`` (a dataclass per call) is slower: its ``log`` takes 3× the time
-of :func:`se3_log`, 4× with ``SE3.from_matrix`` (15 and 21 µs against 5.5 µs, 2026-11-24,
-load 0.8). The tests check both maps against ``mink.lie`` as an independent implementation.
+:mod:`redik.core.conventions`. The one home of redik's group math: every other module calls
+these functions, and the compiled kernels call the compiled ones here
+(:func:`apply_inverse_v`, :func:`se3_left_jacobian_inverse_entries`) or twins tested equal
+to them (README, Architecture).
+
+Reuse before writing: quaternion conversions, the SO(3) log, SLERP and quaternion distances
+are MuJoCo's ``mju_*`` functions. The SE(3) maps and the inverse Jacobians are written here
+because they sit in every solver's inner loop, where ``mink.lie`` (a dataclass per call) is
+slower — ``SE3.from_matrix(T).log()`` takes 5.6× the time of :func:`se3_log` (44.9 against
+8.0 µs, 2026-11-24, same run, load 3.1) — and, for the inverse Jacobians, inaccurate at
+small angles (:func:`se3_left_jacobian_inverse`); scipy's ``Rotation`` gives the same
+matrices and Euler angles as :func:`closest_rotation` and :func:`euler_angles` more slowly
+(their docstrings). The tests check the maps against ``mink.lie`` as an independent
+implementation.
 
 Formulas follow Lynch & Park, *Modern Robotics* (2017), §3.2.3 (SO(3) exp/log), §3.3.3
 (SE(3) exp/log) and §3.3.2 (adjoint), rewritten for the ``(v, ω)`` order:
@@ -130,6 +139,9 @@ def closest_rotation(R: np.ndarray) -> np.ndarray:
     \mathrm{diag}(1, 1, \det(U V^\top))\,V^\top` (the orthogonal Procrustes problem;
     Higham, *Matrix nearness problems*, 1989, §3; Umeyama, IEEE TPAMI 13(4), 1991, for the
     determinant sign). For ``det R > 0`` it is the orthogonal polar factor ``R (RᵀR)^{-1/2}``.
+    ``scipy.spatial.transform.Rotation.from_matrix(R).as_matrix()`` gives the same matrices
+    (to 1.1e-15) but takes 3.8× the time for one (73 against 19 µs) and 1.2× for a stack of
+    200 (same run, load 3.6).
     """
     R = _matrix_stack(R, "R")
     if not np.isfinite(R).all():
@@ -706,7 +718,9 @@ def exp_coordinate_difference(T_a: np.ndarray, T_b: np.ndarray) -> np.ndarray:
 def euler_angles(R: np.ndarray, convention: str = "xyz") -> np.ndarray:
     """Euler angles of ``R``: intrinsic ``"xyz"`` (roll-pitch-yaw, ``R = Rx Ry Rz``) or
     ``"zyx"`` (``R = Rz Ry Rx``), or ``"zyz"``. Singular (gimbal lock) where the middle
-    angle is ±π/2 (``xyz``/``zyx``) or 0/π (``zyz``)."""
+    angle is ±π/2 (``xyz``/``zyx``) or 0/π (``zyz``). Equal to scipy's
+    ``Rotation.from_matrix(R).as_euler("XYZ")`` (``"ZYZ"``) to 1.3e-15, in 1/40 of its time
+    (1.3 against 52 µs, same run, load 3.6)."""
     convention = convention.lower()
     if convention == "xyz":
         beta = math.asin(max(-1.0, min(1.0, R[0, 2])))
