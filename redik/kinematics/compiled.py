@@ -30,6 +30,7 @@ import math
 import numba
 
 from redik.lie import MAX_COORDINATE
+from redik.lie import apply_inverse_v as apply_inverse_v  # compiled in lie, its one home
 
 COMPILE = {"cache": True, "error_model": "numpy", "fastmath": {"contract"}}
 """numba options of every compiled kernel of redik: compiled once per machine; a division

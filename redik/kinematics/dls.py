@@ -11,8 +11,9 @@ over threads with ``numba.prange``.
 
 The chain is that of :class:`~redik.kinematics.chain.Chain`; its FK, world Jacobian and pose
 error are those of :mod:`redik.kinematics.compiled`. This module sits in the kinematics
-layer (below the solvers) so that :mod:`redik.solvers.batch` and :mod:`redik.solvers.pose_ik`
-share it; its old home :mod:`redik.solvers.batch.kernel` re-exports it.
+layer (below the solvers) so that :mod:`redik.solvers.batch` and :mod:`redik.solvers.pose_ik` share
+it; its
+old home :mod:`redik.solvers.batch.kernel` re-exports it.
 
 Each attempt iterates (Wampler 1986; Nakamura & Hanafusa 1986; damping after Sugihara 2011)
 

@@ -30,7 +30,13 @@ import numpy as np
 from redik.kinematics.batched import chain_poses, world_jacobian
 from redik.kinematics.chain import Chain
 from redik.kinematics.dls import damped_step
-from redik.lie import inverse, pose_errors, rotation_log, se3_log, world_jacobian_to, wrap_angle
+from redik.lie import (
+    exp_coordinate_difference,
+    pose_errors,
+    rotation_log,
+    world_jacobian_to,
+    wrap_angle,
+)
 from redik.solvers.redundancy.nullspace import nullspace_basis
 
 if TYPE_CHECKING:
@@ -84,7 +90,7 @@ class Corrector:
         self.robot.kinematics(q, self.frame, self._T, self.J)
         R = self._T[:3, :3]
         world_jacobian_to("body", self.J, R, self._T[:3, 3], out=self.J_body)
-        xi = se3_log(inverse(self._T) @ self.T_target)
+        xi = exp_coordinate_difference(self._T, self.T_target)
         position_error = math.dist(self._T[:3, 3], self.T_target[:3, 3])
         return xi, position_error, float(np.linalg.norm(xi[3:]))
 
