@@ -304,8 +304,11 @@ def as_vector(x: np.ndarray, size: int, name: str) -> np.ndarray:
     return x
 
 
-def as_quaternion(quat: np.ndarray, name: str = "quat", tol: float = 1e-6) -> np.ndarray:
-    """Return a finite unit quaternion ``(w, x, y, z)`` or raise :class:`InvalidInput`."""
+def as_quaternion(
+    quat: np.ndarray, name: str = "quat", tol: float = ROTATION_TOLERANCE
+) -> np.ndarray:
+    """Return a finite unit quaternion ``(w, x, y, z)`` (``|‖quat‖ − 1| ≤ tol``, by default
+    the rotation policy's :data:`ROTATION_TOLERANCE`) or raise :class:`InvalidInput`."""
     quat = as_vector(quat, 4, name)
     norm = float(np.linalg.norm(quat))
     if abs(norm - 1.0) > tol:
