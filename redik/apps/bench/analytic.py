@@ -46,7 +46,7 @@ from redik.solvers.analytic import (
     solver_for,
     ur_batch,
 )
-from redik.solvers.pose_ik import solve_pose
+from redik.solvers.pose import solve_pose
 
 ROBOTS = ("puma560", "ur5e", "planar_2r")
 CLOCKS: dict[str, Callable[[], float]] = {"wall": time.perf_counter, "cpu": time.process_time}
