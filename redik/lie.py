@@ -781,6 +781,20 @@ def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
     return float(wrapped) if wrapped.ndim == 0 else wrapped
 
 
+def periodic_coordinates(revolute: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """Which coordinates are periodic: rotations whose range spans a full turn,
+    ``upper − lower ≥ 2π`` (an unlimited hinge included).
+
+    Each angle of such a joint has an in-range representative, so redik takes it modulo 2π:
+    solutions and samples that differ by whole turns are one, their differences are wrapped
+    by :func:`wrap_angle`, and a step that leaves the range is wrapped back into it rather
+    than stopped at the limit (:mod:`redik.core.conventions`, Joint vector). The one
+    definition, behind ``Robot.periodic`` and the compiled kernel's mask
+    (:meth:`redik.kinematics.chain.Chain.kernel_arrays`).
+    """
+    return np.asarray(revolute, dtype=bool) & (np.subtract(upper, lower) >= 2.0 * np.pi)
+
+
 def pose_errors(T: np.ndarray, T_target: np.ndarray) -> tuple[float, float]:
     """``(‖p_d − p‖, angle(Rᵀ R_d))``: the position (m) and rotation (rad) errors."""
     return position_distance(T, T_target), rotation_angle(T[:3, :3], T_target[:3, :3])

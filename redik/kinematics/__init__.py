@@ -3,8 +3,8 @@
 * :mod:`~redik.kinematics.robot` — :class:`~redik.kinematics.robot.Robot`, MuJoCo's FK and
   Jacobians (``mj_kinematics``, ``mj_jacSite``): the reference every other form is tested
   against. Jacobians in the ``"space"`` and ``"body"`` references come from the ``"world"``
-  one by :func:`redik.lie.world_jacobian_to`; the periodic joints are defined once,
-  :func:`~redik.kinematics.robot.full_turn`.
+  one by :func:`redik.lie.world_jacobian_to`; ``Robot.periodic`` marks the joints taken
+  modulo 2π (:func:`redik.lie.periodic_coordinates`).
 * :mod:`~redik.kinematics.chain` — :class:`~redik.kinematics.chain.Chain`, the serial chain
   folded into constant transforms, for the fast paths below.
 * :mod:`~redik.kinematics.batched` — FK and Jacobians of a chain over a batch, in numpy

@@ -52,7 +52,7 @@ import mujoco
 import numpy as np
 
 from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
-from redik.lie import MAX_COORDINATE, real_array, world_jacobian_to
+from redik.lie import MAX_COORDINATE, periodic_coordinates, real_array, world_jacobian_to
 from redik.models import loading, scenes
 
 JACOBIAN_REFERENCES = ("space", "body", "world")
@@ -114,8 +114,6 @@ class Robot:
             range, and on ball and free joints).
         revolute: Per tangent coordinate, True for rotations (hinge, ball, a free joint's
             angular part).
-        periodic: Per tangent coordinate, True for the rotations taken modulo 2π
-            (:func:`full_turn`, :mod:`redik.core.conventions`).
         home: The ``home`` keyframe's values (else ``qpos0``), clipped into the limits.
         solver_cache: What solvers compile once per robot and frame (e.g. the chain of
             :func:`redik.solve_pose`'s ``"dls"`` kernel), kept here so it lives and dies
@@ -225,8 +223,7 @@ class Robot:
         # Where a ball or free joint's quaternion, and a free joint's position, start in q.
         self._quaternion_q = tuple(quaternion_q)
         self._free_q = tuple(free_q)
-        self.periodic = full_turn(self.revolute, self.lower, self.upper)
-        for array in (self.lower, self.upper, self.revolute, self.periodic):
+        for array in (self.lower, self.upper, self.revolute):
             array.setflags(write=False)
 
         key = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, "home")
@@ -571,6 +568,13 @@ class Robot:
         """Upper bound used for random sampling: the limit, or π (or 1 m) where unlimited."""
         return np.where(np.isfinite(self.upper), self.upper, np.where(self.revolute, np.pi, 1.0))
 
+    @property
+    def periodic(self) -> np.ndarray:
+        """Per tangent coordinate, True for the rotations taken modulo 2π: those whose
+        range spans a full turn (:func:`redik.lie.periodic_coordinates`,
+        :mod:`redik.core.conventions`)."""
+        return periodic_coordinates(self.revolute, self.lower, self.upper)
+
     def random_q(self, rng: np.random.Generator | int | None = None, size: int | None = None):
         """Configurations drawn uniformly within the sampling bounds (one, or ``size`` × nq).
 
@@ -720,16 +724,6 @@ _FRAME_OBJECTS = {
     "geom": mujoco.mjtObj.mjOBJ_GEOM,
 }
 _JACOBIANS = {"site": mujoco.mj_jacSite, "body": mujoco.mj_jacBody, "geom": mujoco.mj_jacGeom}
-
-
-def full_turn(revolute: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
-    """The periodic coordinates: rotations whose range spans a full turn, ``upper − lower ≥ 2π``
-    (an unlimited hinge included). Each angle of such a joint has an in-range representative,
-    so redik takes it modulo 2π: solutions and samples that differ by turns are one, and a
-    step that leaves the range is wrapped back into it rather than stopped at the limit
-    (:mod:`redik.core.conventions`, Joint vector). The one definition, for :class:`Robot`
-    and :class:`~redik.kinematics.chain.Chain`."""
-    return np.asarray(revolute, dtype=bool) & (np.subtract(upper, lower) >= 2.0 * np.pi)
 
 
 def frame_pose_views(data: mujoco.MjData, frame: Frame) -> tuple[np.ndarray, np.ndarray]:
