@@ -25,6 +25,11 @@ from __future__ import annotations
 import abc
 
 from redik.kinematics.robot import Frame, Robot
+from redik.lie import (  # noqa: F401 (their home until this release: re-exported for one more)
+    se3_left_jacobian_inverse,
+    se3_left_jacobian_inverse_entries,
+    so3_left_jacobian_inverse,
+)
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import ResidualTask
 
