@@ -198,3 +198,14 @@ def test_nullspace_basis_of_a_stack_is_each_basis(rng):
     for Ji, Ni in zip(J, bases, strict=True):
         np.testing.assert_allclose(np.abs(Ni), np.abs(nullspace_basis(Ji, 2)), atol=1e-12)
         np.testing.assert_allclose(Ji @ Ni, 0.0, atol=1e-12)
+
+
+def test_damped_pseudo_inverse_is_the_damped_least_squares_step(panda, rng):
+    # One formula, Jᵀ(JJᵀ + λ²I)⁻¹: as a matrix here, as a step in kinematics.dls.
+    from redik.kinematics.dls import damped_step
+
+    J = panda.jacobian(panda.random_q(rng))
+    e = rng.standard_normal(6)
+    for damping in (1e-3, 0.1, 1.0):
+        step = damped_step(J[:, :, None], e[:, None], np.array([damping**2]))[:, 0]
+        np.testing.assert_allclose(pseudo_inverse(J, damping) @ e, step, rtol=1e-10, atol=1e-12)
