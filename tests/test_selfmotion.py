@@ -380,3 +380,17 @@ def test_explore_cli_reports_an_unreachable_pose(tmp_path, capsys):
     assert "unreachable" in out and "none of 2 IK starts" in out
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["status"] == "unreachable" and summary["max_position_error"] is None
+
+
+def test_the_corrector_takes_the_ikinbody_newton_steps_of_solve_pose(panda, rng):
+    # One IKinBody step q ← q + J_b⁺ log(T⁻¹ T_d): the pose solver's Newton and the
+    # self-motion corrector iterate alike (one through pinv, one through JJᵀ).
+    T = panda.fk(panda.random_q(rng))
+    q = panda.random_q(rng)
+    newton = redik.solve_pose(
+        panda, T, q, method="newton", respect_limits=False, restarts=0, max_iter=3
+    )
+    corrector = Corrector(panda, T, panda.ee)
+    for iterate in newton.history[1:]:
+        q, _ = corrector.correct(q, max_iterations=1)
+        np.testing.assert_allclose(q, iterate, atol=1e-12)
