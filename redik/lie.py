@@ -294,13 +294,16 @@ def real_array(value: object, name: str, error: type[InvalidInput] = InvalidInpu
     return array.astype(float, copy=False)
 
 
-def as_vector(x: np.ndarray, size: int, name: str) -> np.ndarray:
-    """Return ``x`` as a finite float vector of length ``size``, or raise :class:`InvalidInput`."""
-    x = real_array(x, name, InvalidInput)
+def as_vector(
+    x: np.ndarray, size: int, name: str, error: type[InvalidInput] = InvalidInput
+) -> np.ndarray:
+    """Return ``x`` as a finite float vector of length ``size``, or raise ``error`` (an
+    :class:`InvalidInput` subclass) naming it."""
+    x = real_array(x, name, error)
     if x.shape != (size,):
-        raise InvalidInput(f"{name} must have shape ({size},), got {x.shape}")
+        raise error(f"{name} must have shape ({size},), got {x.shape}")
     if not np.all(np.isfinite(x)):
-        raise InvalidInput(f"{name} holds NaN or inf: {x.tolist()}")
+        raise error(f"{name} must be finite, holds NaN or inf: {x.tolist()}")
     return x
 
 
