@@ -629,8 +629,15 @@ def _inverse(T):
 
 @numba.njit(cache=True)
 def _polish(G, row, T, fixed):
+    """:func:`newton` with :data:`POLISH_STEPS` steps: a closed-form slot near a singularity."""
+    return newton(G, row, T, fixed, POLISH_STEPS, 0.0)
+
+
+@numba.njit(cache=True)
+def newton(G, row, T, fixed, steps, stop):
     r"""Gauss–Newton steps on the chain of ``G`` from the slot ``row`` (angles, cosines, sines;
-    updated in place) towards ``T``; returns the final :func:`fk_error`.
+    updated in place) towards ``T``; returns the final :func:`fk_error`. At most ``steps``
+    steps, fewer once the error is at most ``stop`` (checked only when ``stop > 0``).
 
     Next to a singularity a subproblem can be ill-conditioned (SP4 with ``C ≈ ±r`` gives θ
     to only √ε): the closed form is then within :data:`POLISH_RANGE` and these steps,
@@ -641,7 +648,9 @@ def _polish(G, row, T, fixed):
     """
     J = np.empty((6, 6))
     e = np.empty(6)
-    for _ in range(POLISH_STEPS):
+    for _ in range(steps):
+        if stop > 0.0 and fk_error(G, row[6:12], row[12:], T) <= stop:
+            break
         R = np.eye(3)
         P = _row(G, 6)
         for i in range(6):
