@@ -69,6 +69,6 @@ lock:
 clean:
 	rm -rf $(VENV) .venv-lock out .pytest_cache .ruff_cache
 
-# Regenerate scenes/*.xml and scenes/README.md from redik/scene_library.py.
+# Regenerate scenes/*.xml and scenes/README.md from redik/models/scene_library.py.
 scenes: $(STAMP)
-	$(BIN)/python -m redik.scene_library
+	$(BIN)/python -m redik.models.scene_library

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from redik.analytic import planar_2r, planar_2r_batch, planar_3r_family
+from redik.solvers.analytic import planar_2r, planar_2r_batch, planar_3r_family
 
 l1, l2 = 1.0, 0.8
 for x, y in [(1.2, 0.5), (l1 + l2, 0.0), (l1 - l2, 0.0), (2.3, 0.0), (0.1, 0.0)]:

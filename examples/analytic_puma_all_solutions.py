@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 import redik
-from redik.analytic import puma_batch, solver_for
+from redik.solvers.analytic import puma_batch, solver_for
 
 robot = redik.load("puma560")
 solve = solver_for(robot)  # reads a2, a3, d3, d4 from the model's custom numerics

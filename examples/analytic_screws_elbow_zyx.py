@@ -2,7 +2,7 @@
 
 An elbow arm (waist about z, shoulder and elbow about y) with a ZYX wrist — axes z, y, x
 through one point, the yaw-pitch-roll wrist of Modern Robotics §6.1.1 — is built with
-``Robot.from_screws``; ``redik.analytic.solver_for`` recognises its geometry from the screws
+``Robot.from_screws``; ``redik.solvers.analytic.solver_for`` recognises its geometry from the screws
 (spherical wrist, axes 1 and 2 meeting) and returns all eight solutions, each checked here by FK.
 
 Run: python examples/analytic_screws_elbow_zyx.py

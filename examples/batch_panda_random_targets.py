@@ -8,7 +8,7 @@ import time
 import numpy as np
 
 import redik
-from redik.batch import Chain, forward_kinematics, solve_batch
+from redik.solvers.batch import Chain, forward_kinematics, solve_batch
 
 robot = redik.load("panda")
 chain = Chain.from_robot(robot)  # the kinematic chain as arrays, compiled once

@@ -14,11 +14,11 @@ import mujoco
 import numpy as np
 
 import redik
+from redik.apps.sim import simulate
+from redik.apps.trajectory import CircularPath
 from redik.lie import make_pose, pose_errors
-from redik.sim import simulate
-from redik.trajectory import CircularPath
 
-spec = redik.loading.load_spec(redik.models.example_robot_data("baxter"), meshes=False)
+spec = redik.models.loading.load_spec(redik.models.example_robot_data("baxter"), meshes=False)
 arms = [joint.name for joint in spec.joints if joint.name[:-1].endswith(("_s", "_e", "_w"))]
 for name in arms:
     servo = spec.add_actuator(name=name, target=name, trntype=mujoco.mjtTrn.mjTRN_JOINT)

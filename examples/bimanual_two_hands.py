@@ -12,9 +12,9 @@ import numpy as np
 import redik
 from redik.lie import make_pose, pose_errors
 
-spec = redik.loading.load_spec(redik.models.example_robot_data("baxter"), meshes=False)
+spec = redik.models.loading.load_spec(redik.models.example_robot_data("baxter"), meshes=False)
 table = spec.worldbody.add_geom(name="table", size=[0.3, 0.6, 0.02], pos=[0.85, 0.0, -0.2])
-table.type = redik.loading.mujoco.mjtGeom.mjGEOM_BOX
+table.type = redik.models.loading.mujoco.mjtGeom.mjGEOM_BOX
 robot = redik.Robot(spec.compile(), joints=["left_[sew][0-9]", "right_[sew][0-9]"])
 print(robot, "moves", robot.joint_names)
 

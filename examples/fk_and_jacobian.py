@@ -18,7 +18,7 @@ print("ee position at home [m]:", np.round(T[:3, 3], 4))
 J_space = robot.jacobian(q, reference="space")
 J_body = robot.jacobian(q, reference="body")
 J_world = robot.jacobian(q, reference="world")
-# The space and body Jacobians are related by the adjoint of the pose (redik.conventions).
+# The space and body Jacobians are related by the adjoint of the pose (redik.core.conventions).
 print("‖J_s − Ad_T J_b‖ =", np.linalg.norm(J_space - lie.adjoint(T) @ J_body))
 # The world Jacobian's linear rows are the velocity of the ee origin: check by differences.
 dq = 1e-6 * np.eye(robot.dof)[0]

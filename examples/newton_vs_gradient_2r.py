@@ -7,8 +7,8 @@ import sys
 
 import numpy as np
 
-from redik import plot
-from redik.iterative import gradient, newton
+from redik.apps import plot
+from redik.solvers.iterative import gradient, newton
 
 L1, L2 = 1.0, 0.8
 

@@ -11,7 +11,7 @@ import numpy as np
 
 import redik
 from redik.criteria import joint_limit_distance, joint_limit_distance_gradient, joint_limit_margin
-from redik.redundancy import nullspace_velocity
+from redik.solvers.redundancy import nullspace_velocity
 
 robot = redik.load("iiwa14")
 q = np.array([0.4, 1.2, -1.5, -1.6, 2.2, 1.0, 0.3])

@@ -9,7 +9,7 @@ which stopping at pose convergence is not. Run: python examples/qp_lower_level_o
 import numpy as np
 
 import redik
-from redik.problem import Problem
+from redik.solvers.problem import Problem
 from redik.tasks import PoseTask, PostureTask
 
 robot = redik.load("panda")

@@ -7,7 +7,7 @@ import mink
 import numpy as np
 
 import redik
-from redik.problem import Problem
+from redik.solvers.problem import Problem
 from redik.tasks import JointLimitAvoidanceTask, PoseTask
 
 robot = redik.load("panda")

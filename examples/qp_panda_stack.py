@@ -9,7 +9,7 @@ import numpy as np
 
 import redik
 from redik.limits import PositionLimit, VelocityLimit
-from redik.problem import Problem
+from redik.solvers.problem import Problem
 from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
 
 robot = redik.load("panda")

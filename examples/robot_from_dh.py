@@ -14,7 +14,7 @@ import numpy as np
 
 import redik
 from redik import dh
-from redik.model_builder import dh_to_mjcf, read_dh
+from redik.models.builder import dh_to_mjcf, read_dh
 
 # UR5e, standard DH (a, d, alpha) in metres and radians, as Universal Robots publish it.
 rows = [

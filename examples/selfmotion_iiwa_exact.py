@@ -2,7 +2,7 @@
 
 The iiwa is an S-R-S arm (axes 1–3 meet at the shoulder, 5–7 at the wrist): for a pose, each
 arm angle ψ — the angle of the elbow on its circle about the shoulder–wrist line — gives up
-to 8 configurations in closed form (``redik.analytic.srs``). ``explore_self_motion(...,
+to 8 configurations in closed form (``redik.solvers.analytic.srs``). ``explore_self_motion(...,
 exact=True)`` samples those loops; the default traces them numerically from IK seeds.
 
 Run: python examples/selfmotion_iiwa_exact.py
@@ -11,7 +11,7 @@ Run: python examples/selfmotion_iiwa_exact.py
 import numpy as np
 
 import redik
-from redik.analytic.srs import self_motion_curves
+from redik.solvers.analytic.srs import self_motion_curves
 
 robot = redik.load("iiwa14")
 q_true = np.array([0.3, 0.6, -0.4, -1.2, 0.5, 0.9, -0.2])

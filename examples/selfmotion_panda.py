@@ -16,10 +16,10 @@ from pathlib import Path
 import numpy as np
 
 import redik
-from redik.problem import Problem
-from redik.redundancy import Manipulability, PostureDistance, explore_self_motion
-from redik.redundancy.plot import plot_joint_pairs
-from redik.render import render_frames, save_gif
+from redik.apps.render import render_frames, save_gif
+from redik.apps.selfmotion_plot import plot_joint_pairs
+from redik.solvers.problem import Problem
+from redik.solvers.redundancy import Manipulability, PostureDistance, explore_self_motion
 from redik.tasks.pose_task import PoseTask
 from redik.tasks.posture_task import PostureTask
 
@@ -47,7 +47,7 @@ problem = Problem(robot, [PoseTask(T, priority=0), PostureTask(robot.home, prior
 q_qp = q_start.copy()
 for _ in range(200):  # the posture level keeps acting after the pose is met
     q_qp = q_qp + problem.step(q_qp)
-gp_posture = redik.redundancy.gradient_projection_ik(robot, T, q_start, posture)
+gp_posture = redik.solvers.redundancy.gradient_projection_ik(robot, T, q_start, posture)
 print("distance to home [rad]:")
 print(f"  start                       {value(posture, q_start):.4f}")
 print(f"  QP (PostureTask, level 1)   {value(posture, q_qp):.4f}")
@@ -55,7 +55,7 @@ print(f"  gradient projection         {value(posture, gp_posture.q):.4f}")
 print(f"  best of the manifold        {motion.criteria['posture_distance'].min():.4f}")
 
 manipulability = Manipulability()
-gp_manip = redik.redundancy.gradient_projection_ik(robot, T, q_start, manipulability)
+gp_manip = redik.solvers.redundancy.gradient_projection_ik(robot, T, q_start, manipulability)
 print("manipulability √det(JJᵀ):")
 print(f"  start                       {value(manipulability, q_start):.4f}")
 print(f"  gradient projection         {value(manipulability, gp_manip.q):.4f}")

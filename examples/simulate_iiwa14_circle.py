@@ -14,12 +14,12 @@ from pathlib import Path
 os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is imported: offscreen rendering
 
 import redik
+from redik.apps.render import render_states, save_video
+from redik.apps.sim import plot_tracking, simulate
+from redik.apps.trajectory import CircularPath
 from redik.limits import PositionLimit, VelocityLimit
-from redik.problem import Problem
-from redik.render import render_states, save_video
-from redik.sim import plot_tracking, simulate
+from redik.solvers.problem import Problem
 from redik.tasks import PoseTask, PostureTask
-from redik.trajectory import CircularPath
 
 robot = redik.load("iiwa14")
 T0 = robot.fk(robot.home)

@@ -16,11 +16,11 @@ import warnings
 import mujoco
 
 import redik
+from redik.apps.sim import TrackingWarning, joint_drives, simulate
+from redik.apps.trajectory import CircularPath
 from redik.limits import PositionLimit, VelocityLimit
-from redik.problem import Problem
-from redik.sim import TrackingWarning, joint_drives, simulate
+from redik.solvers.problem import Problem
 from redik.tasks import PoseTask, PostureTask
-from redik.trajectory import CircularPath
 
 
 def iiwa14(actuation: str) -> redik.Robot:

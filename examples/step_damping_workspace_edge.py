@@ -15,11 +15,11 @@ import warnings
 import numpy as np
 
 import redik
+from redik.apps.sim import TrackingWarning, simulate
+from redik.apps.trajectory import CircularPath
 from redik.limits import PositionLimit, VelocityLimit
-from redik.problem import Problem
-from redik.sim import TrackingWarning, simulate
+from redik.solvers.problem import Problem
 from redik.tasks import PoseTask
-from redik.trajectory import CircularPath
 
 robot = redik.load("panda")
 q0 = np.array([0.0, 0.0, 0.0, -1.57079, 0.0, 1.57079, -0.7853])  # Menagerie's home

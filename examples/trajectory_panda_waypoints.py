@@ -18,8 +18,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import redik
+from redik.apps.trajectory import CartesianPath, follow_path
 from redik.lie import make_pose, so3_exp
-from redik.trajectory import CartesianPath, follow_path
 
 robot = redik.load("panda")
 T0 = robot.fk(robot.home)

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 import redik
-from redik import workspace
+from redik.apps import workspace
 
 out = Path(os.environ.get("REDIK_OUT", "."))
 robot = redik.load("panda")

@@ -1,28 +1,18 @@
 """redik — optimisation-based, redundancy-resolving inverse kinematics on MuJoCo.
 
-Conventions (frames, twist order, units) are in :mod:`redik.conventions`.
+Conventions (frames, twist order, units) are in :mod:`redik.core.conventions`.
 """
 
-from . import (
-    analytic,
-    batch,
-    criteria,
-    dh,
-    lie,
-    limits,
-    loading,
-    model_builder,
-    models,
-    plot,
-    qp,
-    redundancy,
-    scene_library,
-    tasks,
-    trajectory,
-    workspace,
+from redik import _compat, criteria, lie, limits, models, qp, tasks  # noqa: F401 (_compat: old paths)
+from redik.apps import plot, trajectory, workspace
+from redik.apps.trajectory import (
+    CartesianPath,
+    CircularPath,
+    JointTrajectory,
+    PosePath,
+    follow_path,
 )
-from .batch import BatchResult, solve_batch
-from .exceptions import (
+from redik.core.exceptions import (
     BackendError,
     InfeasibleProblem,
     InvalidConfiguration,
@@ -37,23 +27,27 @@ from .exceptions import (
     TrackingWarning,
     UnknownFrame,
 )
-from .iterative import finite_difference_jacobian, gradient, hybrid, newton
-from .limits import (
+from redik.core.result import STATUSES, IKResult
+from redik.kinematics.robot import Frame, Robot, load
+from redik.limits import (
     BallJointLimit,
     CollisionAvoidanceLimit,
     MinkLimit,
     PositionLimit,
     VelocityLimit,
 )
-from .model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
-from .pose_ik import solve_all, solve_pose
-from .problem import Problem, QPResult
-from .qp import available_backends, make_backend
-from .redundancy import SelfMotion, explore_self_motion, nullspace_velocity
-from .result import STATUSES, IKResult
-from .robot import Frame, Robot
-from .scenes import list_scenes, load, scene_path
-from .tasks import (
+from redik.models import builder as model_builder
+from redik.models import dh, loading, scene_library
+from redik.models.builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
+from redik.models.scenes import list_scenes, scene_path
+from redik.qp import available_backends, make_backend
+from redik.solvers import analytic, batch, redundancy
+from redik.solvers.batch import BatchResult, solve_batch
+from redik.solvers.iterative import finite_difference_jacobian, gradient, hybrid, newton
+from redik.solvers.pose_ik import solve_all, solve_pose
+from redik.solvers.problem import Problem, QPResult
+from redik.solvers.redundancy import SelfMotion, explore_self_motion, nullspace_velocity
+from redik.tasks import (
     DampingTask,
     JointLimitAvoidanceTask,
     ManipulabilityTask,
@@ -62,7 +56,6 @@ from .tasks import (
     PositionTask,
     PostureTask,
 )
-from .trajectory import CartesianPath, CircularPath, JointTrajectory, PosePath, follow_path
 
 __version__ = "0.1.0"
 

@@ -4,8 +4,8 @@ Three scalar functions of the joint values that a redundant arm can improve with
 leaving its task — the classic secondary criteria of gradient projection (Liégeois 1977;
 Siciliano, Sciavicco, Villani & Oriolo, *Robotics: Modelling, Planning and Control*, §3.5.1).
 The tasks (:class:`redik.JointLimitAvoidanceTask`, :class:`redik.ManipulabilityTask`), the
-null-space tools (:mod:`redik.redundancy.nullspace`) and the self-motion scores
-(:mod:`redik.redundancy.criteria`) all call these functions.
+null-space tools (:mod:`redik.solvers.redundancy.nullspace`) and the self-motion scores
+(:mod:`redik.solvers.redundancy.criteria`) all call these functions.
 
 **Joint limits.** With the range scaling :math:`s_i = 1/(u_i - l_i)` and middle
 :math:`\bar q_i = \tfrac12 (l_i + u_i)` of each limited joint (:math:`s_i = \bar q_i = 0`
@@ -24,7 +24,7 @@ limit; its ascent direction is the gradient of the soft minimum
 :math:`-τ \log \sum_j e^{-m_j/τ}` of the :math:`2n` limit distances :math:`m`.
 
 **Manipulability** (Yoshikawa 1985; Siciliano et al. eq. 3.56): :math:`w = \sqrt{\det(J
-J^\top)}` of the 6 × n ``"world"`` Jacobian of :mod:`redik.conventions` (the same for the
+J^\top)}` of the 6 × n ``"world"`` Jacobian of :mod:`redik.core.conventions` (the same for the
 space and body Jacobians: they differ by a matrix of determinant 1). From
 :math:`∂ \det A = \det A\, \mathrm{tr}(A^{-1} ∂A)` with :math:`A = J J^\top`,
 
@@ -49,7 +49,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import softmax
 
-from .lie import wrap_angle
+from redik.lie import wrap_angle
 
 SINGULAR_MANIPULABILITY = 1e-12
 """Below this manipulability the gradient of :func:`manipulability_gradient` is zero."""

@@ -1,7 +1,7 @@
 r"""Rotations, rigid transforms and the pose-error metrics built on them.
 
 Conventions (twist order ``(v, ω)``, scalar-first quaternions, ``T_ab``) are those of
-:mod:`redik.conventions`. Quaternion conversions use MuJoCo's ``mju_*`` functions; the
+:mod:`redik.core.conventions`. Quaternion conversions use MuJoCo's ``mju_*`` functions; the
 exponential and logarithm maps are written here because they sit in every solver's inner
 loop, where ``mink.lie.SE3`` (a dataclass per call) is slower: its ``log`` takes 3× the time
 of :func:`se3_log`, 4× with ``SE3.from_matrix`` (15 and 21 µs against 5.5 µs, 2026-11-24,
@@ -28,10 +28,10 @@ matrix ``M`` with ``d = max|MᵀM − I|``:
 * ``d ≤`` :data:`ROTATION_TOLERANCE` (1e-6) and ``|det M − 1| ≤`` 1e-6: used as it is;
 * ``d ≤`` :data:`NEAR_ROTATION_TOLERANCE` (2e-3) and ``det M > 0``: replaced by
   :func:`closest_rotation` (the SVD projection onto SO(3)) with a
-  :class:`~redik.exceptions.NearRotationWarning` — a rotation typed with three or more
+  :class:`~redik.core.exceptions.NearRotationWarning` — a rotation typed with three or more
   decimals; with ``strict=True`` it is refused instead;
 * anything else (NaN/inf, a reflection, a scaled or sheared matrix): refused with
-  :class:`~redik.exceptions.InvalidRotation` or :class:`~redik.exceptions.InvalidPose`.
+  :class:`~redik.core.exceptions.InvalidRotation` or :class:`~redik.core.exceptions.InvalidPose`.
 
 The bottom row of a pose must be ``[0, 0, 0, 1]`` within 1e-6 in both modes, and its
 translation within ±:data:`MAX_COORDINATE` (1e10 m, MuJoCo's ``mjMAXVAL``).
@@ -39,7 +39,7 @@ translation within ±:data:`MAX_COORDINATE` (1e10 m, MuJoCo's ``mjMAXVAL``).
 Validation happens once, at the boundary: :func:`as_rotation`, :func:`as_pose`,
 :func:`as_vector`, :func:`as_quaternion`, :func:`check_rotations`, :func:`real_array` (and
 :func:`wrap_angle`, :func:`closest_rotation`, :func:`rotation_defect`, which refuse
-non-numeric input) raise :class:`~redik.exceptions.InvalidInput` subclasses. The maps
+non-numeric input) raise :class:`~redik.core.exceptions.InvalidInput` subclasses. The maps
 (``exp``/``log``, adjoint, inverse, metrics, interpolation) sit in solver loops and, like
 MuJoCo's ``mju_*``, take validated float input unchecked.
 """
@@ -53,7 +53,13 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from .exceptions import InvalidInput, InvalidPose, InvalidRotation, NearRotationWarning, warn
+from redik.core.exceptions import (
+    InvalidInput,
+    InvalidPose,
+    InvalidRotation,
+    NearRotationWarning,
+    warn,
+)
 
 ROTATION_TOLERANCE = 1e-6
 """Largest ``max|RᵀR − I|`` and ``|det R − 1|`` of a matrix used as a rotation as it is: what
@@ -62,7 +68,7 @@ tolerance of ``strict=True``."""
 
 NEAR_ROTATION_TOLERANCE = 2e-3
 """Largest ``max|RᵀR − I|`` of a matrix (with ``det R > 0``) accepted by the pose entry points
-after projection onto SO(3), with a :class:`~redik.exceptions.NearRotationWarning`: any
+after projection onto SO(3), with a :class:`~redik.core.exceptions.NearRotationWarning`: any
 rotation typed from a book with three or more decimals. Rounding each entry by ``|ε| ≤ 5e-4``
 moves an entry of ``RᵀR`` by at most ``2 ‖column‖ ‖ε‖ ≤ 2√3 · 5e-4 ≈ 1.7e-3`` (Modern
 Robotics' IKinBody quiz target has 5.4e-5; four decimals give at most 1.7e-4), while two
@@ -210,7 +216,7 @@ def as_rotation(R: np.ndarray, name: str = "R", *, strict: bool = False) -> np.n
     """Return ``R`` as a float (3, 3) rotation matrix, under the tolerance policy above.
 
     A near-rotation is returned projected onto SO(3) (with a
-    :class:`~redik.exceptions.NearRotationWarning`) unless ``strict``.
+    :class:`~redik.core.exceptions.NearRotationWarning`) unless ``strict``.
 
     Raises:
         InvalidRotation: wrong shape or dtype, non-finite entries, or not a rotation.
@@ -228,7 +234,7 @@ def as_pose(T: np.ndarray, name: str = "T", *, strict: bool = False) -> np.ndarr
     The bottom row must be ``[0, 0, 0, 1]`` within :data:`ROTATION_TOLERANCE` and the
     translation within ``±``:data:`MAX_COORDINATE`; a near-rotation
     block is returned projected onto SO(3) (in a copy, with a
-    :class:`~redik.exceptions.NearRotationWarning`) unless ``strict``.
+    :class:`~redik.core.exceptions.NearRotationWarning`) unless ``strict``.
 
     Raises:
         InvalidPose: wrong shape or dtype, non-finite entries, bad bottom row, a translation
@@ -313,11 +319,11 @@ def world_jacobian_to(
     reference: str, J: np.ndarray, R: np.ndarray, p: np.ndarray, out: np.ndarray | None = None
 ) -> np.ndarray:
     r"""The ``"world"`` Jacobian ``J`` (6 × n) of a frame at ``(R, p)`` in ``reference``
-    (:mod:`redik.conventions`), into ``out`` (may be ``J``).
+    (:mod:`redik.core.conventions`), into ``out`` (may be ``J``).
 
     ``"space"``: ``v_s = ṗ − ω × p = ṗ + [p] ω``, so ``J_s = [[I, [p]], [0, I]] J``;
     ``"body"``: ``J_b = blockdiag(Rᵀ, Rᵀ) J``; ``"world"``: ``J`` itself. A batch trails:
-    ``J`` 6 × n × …, ``R`` 3 × 3 × …, ``p`` 3 × … (the layout of :mod:`redik.batch`, where a
+    ``J`` 6 × n × …, ``R`` 3 × 3 × …, ``p`` 3 × … (the layout of :mod:`redik.solvers.batch`, where a
     vector per target is a column, so each entry is one vector operation). The one home of
     this conversion (robot, batch kinematics, pose IK's Newton forms, redundancy).
     """
@@ -578,7 +584,7 @@ def quaternion_chordal_distance(q_a: np.ndarray, q_b: np.ndarray) -> float:
 def exp_coordinate_difference(T_a: np.ndarray, T_b: np.ndarray) -> np.ndarray:
     """Exponential coordinates ``log(T_a⁻¹ T_b) = (v, ω)`` of ``T_b`` seen from ``T_a``.
 
-    This is the body-frame pose error of :mod:`redik.conventions` (``T_a`` the current pose,
+    This is the body-frame pose error of :mod:`redik.core.conventions` (``T_a`` the current pose,
     ``T_b`` the desired one).
     """
     return se3_log(inverse(T_a) @ T_b)

@@ -11,7 +11,7 @@ sample spacing, and the best sample by manipulability is at least as good as ``h
 import numpy as np
 
 import redik
-from redik.redundancy import explore_self_motion, manipulability
+from redik.solvers.redundancy import explore_self_motion, manipulability
 
 CRITERIA = {
     "max_position_error": "<= 1e-9",

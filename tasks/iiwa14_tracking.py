@@ -2,20 +2,20 @@
 
 Each control tick the QP (pose task over a posture task, position and velocity limits)
 computes the joint step, the scene's position servos track the integrated reference with
-velocity and inertial feed-forward, and ``mj_step`` advances the physics (``redik.sim``).
+velocity and inertial feed-forward, and ``mj_step`` advances the physics (``redik.apps.sim``).
 The end-effector traces a 10 cm circle in 4 s (peak 0.3 m/s). Success: the simulated
 end-effector stays within 3 mm and 0.01 rad of the moving reference and settles within
-0.05 mm — the bound stated in ``redik.sim`` and tested in ``tests/test_sim.py``.
+0.05 mm — the bound stated in ``redik.apps.sim`` and tested in ``tests/test_sim.py``.
 """
 
 import numpy as np
 
 import redik
+from redik.apps.sim import plot_tracking, simulate
+from redik.apps.trajectory import CircularPath
 from redik.limits import PositionLimit, VelocityLimit
-from redik.problem import Problem
-from redik.sim import plot_tracking, simulate
+from redik.solvers.problem import Problem
 from redik.tasks import PoseTask, PostureTask
-from redik.trajectory import CircularPath
 
 CRITERIA = {
     "max_position_error": "<= 3e-3",

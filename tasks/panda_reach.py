@@ -14,7 +14,7 @@ import numpy as np
 
 import redik
 from redik.lie import make_pose, pose_errors, so3_exp
-from redik.problem import Problem
+from redik.solvers.problem import Problem
 from redik.tasks import JointLimitAvoidanceTask, PoseTask
 
 CRITERIA = {

@@ -15,8 +15,8 @@ import itertools
 import numpy as np
 
 import redik
-from redik.iterative import gradient, newton
-from redik.plot import convergence
+from redik.apps.plot import convergence
+from redik.solvers.iterative import gradient, newton
 
 CRITERIA = {
     "newton_success_rate": ">= 1.0",

@@ -9,10 +9,10 @@ pose to 1e-10 by forward kinematics. Independently, multi-start numeric search
 import numpy as np
 
 import redik
-from redik.analytic import solver_for
+from redik.apps.taskspec import sample_poses
 from redik.lie import pose_errors, wrap_angle
-from redik.pose_ik import solve_all
-from redik.taskspec import sample_poses
+from redik.solvers.analytic import solver_for
+from redik.solvers.pose_ik import solve_all
 
 CRITERIA = {
     "eight_solution_rate": ">= 1.0",

@@ -12,10 +12,10 @@ import time
 import numpy as np
 
 import redik
-from redik.analytic import solver_for
+from redik.apps.taskspec import sample_poses
 from redik.lie import pose_errors, wrap_angle
-from redik.pose_ik import solve_pose
-from redik.taskspec import sample_poses
+from redik.solvers.analytic import solver_for
+from redik.solvers.pose_ik import solve_pose
 
 CRITERIA = {
     "analytic_success_rate": ">= 1.0",

@@ -1,4 +1,4 @@
-"""PUMA, UR and Stanford closed-form IK against redik.dh.forward (an independent FK)."""
+"""PUMA, UR and Stanford closed-form IK against redik.models.dh.forward (an independent FK)."""
 
 from __future__ import annotations
 
@@ -6,14 +6,14 @@ import numpy as np
 import pytest
 from scipy.optimize import least_squares
 
-from redik.analytic import puma, puma_batch, stanford, ur, ur_batch, wrap_angle
-from redik.analytic.puma import dh_rows as puma_rows
-from redik.analytic.stanford import REVOLUTE as STANFORD_REVOLUTE
-from redik.analytic.stanford import dh_rows as stanford_rows
-from redik.analytic.ur import UR5E
-from redik.analytic.ur import dh_rows as ur_rows
-from redik.dh import forward, forward_all, row_transform
-from redik.exceptions import InvalidInput, InvalidPose
+from redik.core.exceptions import InvalidInput, InvalidPose
+from redik.models.dh import forward, forward_all, row_transform
+from redik.solvers.analytic import puma, puma_batch, stanford, ur, ur_batch, wrap_angle
+from redik.solvers.analytic.puma import dh_rows as puma_rows
+from redik.solvers.analytic.stanford import REVOLUTE as STANFORD_REVOLUTE
+from redik.solvers.analytic.stanford import dh_rows as stanford_rows
+from redik.solvers.analytic.ur import UR5E
+from redik.solvers.analytic.ur import dh_rows as ur_rows
 
 PUMA560 = (0.4318, 0.01905, 0.1254, 0.4318)
 PUMA_VARIANTS = [PUMA560, (-0.4, 0.05, -0.15, 0.43), (0.4, -0.02, 0.0, 0.3)]

@@ -8,7 +8,7 @@ import time
 import pytest
 
 import redik
-from redik.bench.analytic import measure_ik_geo
+from redik.apps.bench.analytic import measure_ik_geo
 
 
 @pytest.mark.parametrize("name", ["puma560", "ur5e"])

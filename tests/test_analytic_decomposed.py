@@ -1,4 +1,5 @@
-"""The subproblem-decomposition solver (redik.analytic.decomposed) on bundled and generated arms.
+"""The subproblem-decomposition solver (redik.solvers.analytic.decomposed) on bundled and generated
+arms.
 
 Every solution must reproduce the target by MuJoCo's FK (robot.fk, independent of the screw
 chain the solver reads), include the configuration that generated the target, equal the PUMA
@@ -13,15 +14,15 @@ import pytest
 from scipy.optimize import brentq
 
 import redik
-from redik import analytic
-from redik.analytic import decomposed, wrap_angle
-from redik.analytic.decomposed import Chain
-from redik.analytic.puma import dh_rows as puma_rows
-from redik.analytic.ur import UR5E
-from redik.analytic.ur import dh_rows as ur_rows
-from redik.dh import DHRow
-from redik.exceptions import InvalidInput, InvalidPose, ModelError, NearRotationWarning
-from redik.pose_ik import solve_all
+from redik.core.exceptions import InvalidInput, InvalidPose, ModelError, NearRotationWarning
+from redik.models.dh import DHRow
+from redik.solvers import analytic
+from redik.solvers.analytic import decomposed, wrap_angle
+from redik.solvers.analytic.decomposed import Chain
+from redik.solvers.analytic.puma import dh_rows as puma_rows
+from redik.solvers.analytic.ur import UR5E
+from redik.solvers.analytic.ur import dh_rows as ur_rows
+from redik.solvers.pose_ik import solve_all
 
 FULL_TURN = [(-np.pi, np.pi)] * 6
 FK_TOL = 1e-9

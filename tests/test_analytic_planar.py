@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from redik.analytic import (
+from redik.core.exceptions import InvalidInput, InvalidRotation
+from redik.solvers.analytic import (
     hexapod_leg,
     planar_2r,
     planar_2r_batch,
@@ -16,7 +17,6 @@ from redik.analytic import (
     spherical_wrist,
     wrap_angle,
 )
-from redik.exceptions import InvalidInput, InvalidRotation
 
 L1, L2, L3 = 1.0, 0.8, 0.3
 

@@ -1,4 +1,4 @@
-"""The result types of redik.analytic: labelled solutions, limits modulo 2π, wrapping."""
+"""The result types of redik.solvers.analytic: labelled solutions, limits modulo 2π, wrapping."""
 
 from __future__ import annotations
 
@@ -7,9 +7,9 @@ import pickle
 import numpy as np
 import pytest
 
-from redik.analytic import JointSolution, planar_2r, wrap_angle
-from redik.analytic._solution import limit_representatives
-from redik.exceptions import InvalidInput
+from redik.core.exceptions import InvalidInput
+from redik.solvers.analytic import JointSolution, planar_2r, wrap_angle
+from redik.solvers.analytic._solution import limit_representatives
 
 
 def test_wrap_angle_range_is_minus_pi_exclusive_to_pi_inclusive():

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import redik
-from redik.analytic import params_from_model, solver_for, wrap_angle
-from redik.exceptions import InvalidInput, ModelError
-from redik.scene_library import get_scene
+from redik.core.exceptions import InvalidInput, ModelError
+from redik.models.scene_library import get_scene
+from redik.solvers.analytic import params_from_model, solver_for, wrap_angle
 
 SCENES = ["planar_2r", "planar_3r", "rrp_polar", "hexapod_leg", "puma560", "ur5e", "stanford_arm"]
 POSITION_ONLY = {"planar_2r", "rrp_polar", "hexapod_leg"}

@@ -1,4 +1,5 @@
-"""Exact self-motion of an S-R-S arm by the arm angle (redik.analytic.srs) on iiwa14, checked
+"""Exact self-motion of an S-R-S arm by the arm angle (redik.solvers.analytic.srs) on iiwa14,
+checked
 by MuJoCo's FK and against the numerical exploration of explore_self_motion."""
 
 from __future__ import annotations
@@ -7,9 +8,9 @@ import numpy as np
 import pytest
 
 import redik
-from redik.analytic.srs import SRSArm, self_motion_curves
-from redik.exceptions import ModelError
+from redik.core.exceptions import ModelError
 from redik.lie import wrap_angle
+from redik.solvers.analytic.srs import SRSArm, self_motion_curves
 
 
 def _torus(a: np.ndarray, b: np.ndarray) -> np.ndarray:

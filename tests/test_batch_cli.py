@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import redik
-from redik.cli import main
+from redik.apps.cli import main
 
 
 def test_random_targets_are_solved_and_written(tmp_path, capsys):

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import redik
-from redik.batch import Chain, forward_kinematics, solve_batch
-from redik.batch.engines import map_chunks
+from redik.solvers.batch import Chain, forward_kinematics, solve_batch
+from redik.solvers.batch.engines import map_chunks
 
 
 @pytest.fixture(scope="module")

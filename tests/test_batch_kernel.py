@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 import redik
-from redik.batch import Chain, forward_kinematics, solve_batch
 from redik.kinematics import compiled, dls
-from redik.pose_ik import solve_pose
+from redik.solvers.batch import Chain, forward_kinematics, solve_batch
+from redik.solvers.pose_ik import solve_pose
 
 from .test_batch_kinematics import ROBOTS
 
@@ -56,8 +56,8 @@ def test_chain_to_another_frame_matches_mujoco(rng):
 
 
 def test_kernel_pose_error_matches_the_batched_rotation_log(rng):
+    from redik.apps.workspace import random_rotations
     from redik.lie import rotation_log
-    from redik.workspace import random_rotations
 
     Rd, R = random_rotations(50, seed=3), random_rotations(50, seed=4)
     axis = np.array([0.0, 0.6, 0.8])
@@ -104,8 +104,8 @@ def test_damped_solve_equals_its_numpy_twin_damped_step(rng):
 
 
 def test_the_old_homes_re_export_the_moved_kernel():
-    from redik.batch import kernel, solve
-    from redik.redundancy import corrector
+    from redik.solvers.batch import kernel, solve
+    from redik.solvers.redundancy import corrector
 
     for name in kernel.__all__:
         home = compiled if hasattr(compiled, name) else dls

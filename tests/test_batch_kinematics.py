@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import redik
-from redik.batch import Chain, forward_kinematics, jacobian
+from redik.solvers.batch import Chain, forward_kinematics, jacobian
 
 from .conftest import ARM_XML
 

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import redik
-from redik.batch import BATCH_STATUSES, Chain, forward_kinematics, solve_batch
-from redik.pose_ik import solve_pose
-from redik.result import STATUSES
+from redik.core.result import STATUSES
+from redik.solvers.batch import BATCH_STATUSES, Chain, forward_kinematics, solve_batch
+from redik.solvers.pose_ik import solve_pose
 
 from .conftest import ARM_XML
 
@@ -143,8 +143,8 @@ def test_status_names_follow_redik_statuses():
 
 
 def test_rotation_log_matches_lie_at_every_angle(rng):
+    from redik.apps.workspace import random_rotations
     from redik.lie import rotation_log
-    from redik.workspace import random_rotations
 
     R = random_rotations(200, seed=1)
     axes = rng.standard_normal((40, 3))

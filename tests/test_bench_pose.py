@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import redik
-from redik.bench import pose
+from redik.apps.bench import pose
 
 ARMS = ("panda", "iiwa14", "ur5e")
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import redik
-from redik.cli import main
+from redik.apps.cli import main
 
 
 def test_info_lists_scenes(capsys):

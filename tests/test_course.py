@@ -22,13 +22,13 @@ import numpy as np
 import pytest
 
 import redik
-from redik.analytic import hexapod_leg, rrp_polar, stanford
-from redik.analytic.hexapod import SERVO
-from redik.analytic.stanford import COURSE, dh_rows
-from redik.exceptions import NearRotationWarning
-from redik.iterative import finite_difference_jacobian, newton
+from redik.core.exceptions import NearRotationWarning
 from redik.lie import inverse, se3_log
-from redik.scene_library import get_scene
+from redik.models.scene_library import get_scene
+from redik.solvers.analytic import hexapod_leg, rrp_polar, stanford
+from redik.solvers.analytic.hexapod import SERVO
+from redik.solvers.analytic.stanford import COURSE, dh_rows
+from redik.solvers.iterative import finite_difference_jacobian, newton
 
 
 def scene_robot(name: str) -> redik.Robot:
@@ -198,7 +198,7 @@ def test_stanford_course_angle_is_the_boom_elevation(rng):
     for _ in range(10):
         q = np.array([rng.uniform(-2, 2), rng.uniform(0.2, 1.4), rng.uniform(0.3, 1.0),
                       *rng.uniform(-2, 2, 3)])  # fmt: skip
-        T = redik.dh.forward(dh_rows(d2, d6), q, "standard")
+        T = redik.models.dh.forward(dh_rows(d2, d6), q, "standard")
         course = stanford(T, d2, d6, convention="course")
         dh = stanford(T, d2, d6)
         np.testing.assert_allclose(COURSE.to_joints(course.as_array()), dh.as_array(), atol=1e-12)
@@ -242,9 +242,9 @@ def test_ikinbody_stopping_rules_differ_where_the_rotation_error_is_large():
     orientation tolerance (1 rad) and a start 0.98 mm / 0.99 rad from the target, the pose
     rule accepts the start, while ‖v_b‖ = ‖(G(θ)/θ)⁻¹ Rᵀ(p_d − p)‖ ≈ 1.02 mm > ε_v."""
     robot = scene_robot("planar_3r")
-    T_d = robot.fk(redik.analytic.planar_3r(1.5, 1.0, 0.5, 1, 1, 1)[0].q)
+    T_d = robot.fk(redik.solvers.analytic.planar_3r(1.5, 1.0, 0.5, 1, 1, 1)[0].q)
     offset = 0.98e-3 * np.array([math.cos(2.0), math.sin(2.0)])
-    q0 = redik.analytic.planar_3r(1.5 + offset[0], 1.0 + offset[1], 1.49, 1, 1, 1)[0].q
+    q0 = redik.solvers.analytic.planar_3r(1.5 + offset[0], 1.0 + offset[1], 1.49, 1, 1, 1)[0].q
     V_b = se3_log(inverse(robot.fk(q0)) @ T_d)
     assert np.linalg.norm(V_b[:3]) > 1e-3 > np.linalg.norm(robot.fk(q0)[:3, 3] - T_d[:3, 3])
     options = {"method": "newton", "pos_tol": 1e-3, "rot_tol": 1.0, "restarts": 0}

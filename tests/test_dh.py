@@ -1,4 +1,4 @@
-"""redik.dh: forward kinematics against hand-computed poses, and table validation."""
+"""redik.models.dh: forward kinematics against hand-computed poses, and table validation."""
 
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from redik import dh
-from redik.exceptions import InvalidConfiguration, InvalidInput, InvalidPose, ModelError
+from redik.core.exceptions import InvalidConfiguration, InvalidInput, InvalidPose, ModelError
+from redik.models import dh
 
 
 def test_planar_2r_matches_trigonometry(rng):

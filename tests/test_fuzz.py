@@ -26,8 +26,8 @@ from hypothesis.extra import numpy as hnp
 
 import redik
 from redik import lie
-from redik.analytic import BatchSolutions, IKSolutions
-from redik.result import STATUSES
+from redik.core.result import STATUSES
+from redik.solvers.analytic import BatchSolutions, IKSolutions
 
 FUZZ = settings(
     max_examples=250,
@@ -332,7 +332,7 @@ def options() -> st.SearchStrategy:
 
 @SLOW
 @given(data=st.data())
-@pytest.mark.parametrize("method", redik.pose_ik.METHODS)
+@pytest.mark.parametrize("method", redik.solvers.pose_ik.METHODS)
 def test_solve_pose(panda, method, data):
     T = data.draw(targets(panda))
     q0 = data.draw(st.one_of(st.none(), configurations(panda)))
@@ -439,18 +439,18 @@ def test_solve_batch(panda, data, strict):
 @given(data=st.data(), strict=st.booleans(), limits=st.sampled_from([None, "robot", "junk"]))
 def test_analytic_solvers(ur5e, data, strict, limits):
     T = data.draw(targets(ur5e))
-    solver = redik.analytic.solver_for(ur5e)
+    solver = redik.solvers.analytic.solver_for(ur5e)
     chosen = {"junk": (np.zeros(6), np.full(5, np.nan)), "robot": "robot", None: None}[limits]
     holds(lambda: solver(T, limits=chosen, strict=strict))
-    decomposed = redik.analytic.solver_for(ur5e, "decomposed")
+    decomposed = redik.solvers.analytic.solver_for(ur5e, "decomposed")
     holds(lambda: decomposed(T, limits=chosen, strict=strict))
     holds(lambda: decomposed.raw(T, limits=chosen, strict=strict))
-    params = redik.analytic.UR5E
-    holds(lambda: redik.analytic.ur(T, *params, strict=strict))
-    holds(lambda: redik.analytic.puma(T, 0.43, 0.02, 0.15, 0.43, strict=strict))
-    holds(lambda: redik.analytic.stanford(T, 0.1, 0.1, strict=strict))
-    holds(lambda: redik.analytic.ur_batch([T], *params, strict=strict))
-    holds(lambda: redik.analytic.puma_batch(T, 0.43, 0.02, 0.15, 0.43))
+    params = redik.solvers.analytic.UR5E
+    holds(lambda: redik.solvers.analytic.ur(T, *params, strict=strict))
+    holds(lambda: redik.solvers.analytic.puma(T, 0.43, 0.02, 0.15, 0.43, strict=strict))
+    holds(lambda: redik.solvers.analytic.stanford(T, 0.1, 0.1, strict=strict))
+    holds(lambda: redik.solvers.analytic.ur_batch([T], *params, strict=strict))
+    holds(lambda: redik.solvers.analytic.puma_batch(T, 0.43, 0.02, 0.15, 0.43))
 
 
 @FUZZ
@@ -460,21 +460,27 @@ def test_analytic_solvers(ur5e, data, strict, limits):
     length=st.one_of(st.just(0.3), number, junk()),
 )
 def test_analytic_small_solvers(R, p, length):
-    holds(lambda: redik.analytic.spherical_wrist(R, "ZYX"))
+    holds(lambda: redik.solvers.analytic.spherical_wrist(R, "ZYX"))
     holds(
-        lambda: redik.analytic.planar_2r(p[0] if isinstance(p, list) and p else p, 0.2, length, 0.3)
+        lambda: redik.solvers.analytic.planar_2r(
+            p[0] if isinstance(p, list) and p else p, 0.2, length, 0.3
+        )
     )
-    holds(lambda: redik.analytic.planar_3r(0.3, 0.1, p, 0.3, 0.3, length))
-    holds(lambda: redik.analytic.rrp_polar(p, length))
-    holds(lambda: redik.analytic.hexapod_leg(p, 0.05, length, 0.1))
-    holds(lambda: redik.analytic.planar_2r_batch(p, 0.3, length))
-    holds(lambda: redik.analytic.planar_2r_batch([p[:2]] if isinstance(p, list) else p, 0.3, 0.3))
+    holds(lambda: redik.solvers.analytic.planar_3r(0.3, 0.1, p, 0.3, 0.3, length))
+    holds(lambda: redik.solvers.analytic.rrp_polar(p, length))
+    holds(lambda: redik.solvers.analytic.hexapod_leg(p, 0.05, length, 0.1))
+    holds(lambda: redik.solvers.analytic.planar_2r_batch(p, 0.3, length))
+    holds(
+        lambda: redik.solvers.analytic.planar_2r_batch(
+            [p[:2]] if isinstance(p, list) else p, 0.3, 0.3
+        )
+    )
 
 
 @FUZZ
 @given(family=st.one_of(st.text(max_size=8), junk(), st.sampled_from(["ur", "puma", "planar_2r"])))
 def test_solver_for(ur5e, family):
-    holds(lambda: redik.analytic.solver_for(ur5e, family))
+    holds(lambda: redik.solvers.analytic.solver_for(ur5e, family))
 
 
 # --------------------------------------------------------------------------------------
@@ -550,9 +556,9 @@ def test_pose_translation_beyond_mjmaxval_is_refused_everywhere(panda, ur5e):
     with pytest.raises(redik.InvalidPose, match="beyond ±1e\\+10 m"):
         redik.PoseTask(T)
     with pytest.raises(redik.InvalidPose, match="beyond"):
-        redik.analytic.solver_for(ur5e)(T)
+        redik.solvers.analytic.solver_for(ur5e)(T)
     with pytest.raises(redik.InvalidPose, match="beyond"):
-        redik.analytic.ur_batch(T[None], *redik.analytic.UR5E)
+        redik.solvers.analytic.ur_batch(T[None], *redik.solvers.analytic.UR5E)
     result = redik.solve_batch(panda, T[None], restarts=0, max_iterations=1)
     assert result.status_names.tolist() == ["invalid"]
     T[2, 3] = 1e9  # far, but a number MuJoCo and the QP handle: an explicit status
@@ -593,9 +599,9 @@ def test_solver_for_and_analytic_targets_refuse_junk(ur5e):
     # Found by test_solver_for / test_analytic_solvers: a list as family name raised
     # "unhashable type"; a string target a raw ValueError.
     with pytest.raises(redik.InvalidInput, match="no closed-form solver"):
-        redik.analytic.solver_for(ur5e, [])  # type: ignore[arg-type]
+        redik.solvers.analytic.solver_for(ur5e, [])  # type: ignore[arg-type]
     with pytest.raises(redik.InvalidInput, match="target must hold real numbers"):
-        redik.analytic.solver_for(ur5e)("")
+        redik.solvers.analytic.solver_for(ur5e)("")
 
 
 @pytest.mark.parametrize(
@@ -605,12 +611,12 @@ def test_analytic_scalars_refuse_ragged_strings_and_huge_values(value):
     # Found by test_analytic_small_solvers: a ragged list raised a raw ValueError in np.ndim,
     # "1.5" was parsed as a number, 10**400 overflowed float(), 1e300 overflowed the kernel.
     with pytest.raises(redik.InvalidInput, match="x must be"):
-        redik.analytic.planar_2r(value, 0.2, 0.3, 0.3)
+        redik.solvers.analytic.planar_2r(value, 0.2, 0.3, 0.3)
 
 
 def test_analytic_batch_refuses_huge_coordinates():
     with pytest.raises(redik.InvalidInput, match="within ±1e\\+10"):
-        redik.analytic.planar_2r_batch([[1e300, 1e300]], 0.3, 0.3)
+        redik.solvers.analytic.planar_2r_batch([[1e300, 1e300]], 0.3, 0.3)
 
 
 def test_nullspace_velocity_refuses_junk_and_overflowing_input():

@@ -7,8 +7,8 @@ import itertools
 import numpy as np
 import pytest
 
-from redik.exceptions import InvalidInput, RedikError
-from redik.iterative import finite_difference_jacobian, gradient, hybrid, newton
+from redik.core.exceptions import InvalidInput, RedikError
+from redik.solvers.iterative import finite_difference_jacobian, gradient, hybrid, newton
 
 L1, L2 = 1.0, 0.8
 

@@ -13,7 +13,7 @@ import pytest
 
 import redik
 from redik import lie
-from redik.exceptions import InvalidInput, InvalidPose, InvalidRotation, NearRotationWarning
+from redik.core.exceptions import InvalidInput, InvalidPose, InvalidRotation, NearRotationWarning
 
 
 def random_rotation(rng: np.random.Generator) -> np.ndarray:
@@ -257,8 +257,8 @@ def test_check_rotations_reports_per_matrix_and_warns_once(rng):
 def _families(strict: bool):
     """Each family's pose entry point, as ``accepts(T) -> bool`` (True: used, False: refused)."""
     robot = redik.load("ur5e")
-    solver = redik.analytic.solver_for(robot)
-    decomposed = redik.analytic.solver_for(robot, "decomposed")
+    solver = redik.solvers.analytic.solver_for(robot)
+    decomposed = redik.solvers.analytic.solver_for(robot, "decomposed")
 
     def batch(T):
         result = redik.solve_batch(robot, T[None], restarts=0, max_iterations=1, strict=strict)
@@ -269,9 +269,11 @@ def _families(strict: bool):
         "analytic.solver_for": lambda T: solver(T, strict=strict),
         "analytic decomposed": lambda T: decomposed(T, strict=strict),
         "analytic decomposed raw": lambda T: decomposed.raw(T, strict=strict),
-        "analytic.ur": lambda T: redik.analytic.ur(T, *redik.analytic.UR5E, strict=strict),
-        "analytic.ur_batch": lambda T: redik.analytic.ur_batch(
-            T[None], *redik.analytic.UR5E, strict=strict
+        "analytic.ur": lambda T: redik.solvers.analytic.ur(
+            T, *redik.solvers.analytic.UR5E, strict=strict
+        ),
+        "analytic.ur_batch": lambda T: redik.solvers.analytic.ur_batch(
+            T[None], *redik.solvers.analytic.UR5E, strict=strict
         ),
         "solve_pose": lambda T: redik.solve_pose(
             robot, T, method="newton", max_iter=1, restarts=0, strict=strict
@@ -279,7 +281,7 @@ def _families(strict: bool):
         "PoseTask": lambda T: redik.PoseTask(T, strict=strict),
         "PoseTask.set_target": lambda T: redik.PoseTask(np.eye(4)).set_target(T, strict=strict),
         "OrientationTask": lambda T: redik.OrientationTask(T[:3, :3], strict=strict),
-        "analytic.spherical_wrist": lambda T: redik.analytic.spherical_wrist(
+        "analytic.spherical_wrist": lambda T: redik.solvers.analytic.spherical_wrist(
             T[:3, :3], strict=strict
         ),
         "solve_batch": batch,
@@ -359,7 +361,7 @@ def test_wrap_angle_never_returns_minus_pi_and_is_odd(rng):
 
 
 def test_analytic_wraps_with_the_same_function():
-    from redik import analytic
+    from redik.solvers import analytic
 
     assert analytic.wrap_angle is lie.wrap_angle
 

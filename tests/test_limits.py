@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 import redik
-from redik.exceptions import InfeasibleProblem, InvalidInput
+from redik.core.exceptions import InfeasibleProblem, InvalidInput
 from redik.limits import InequalityLimit, MinkLimit, PositionLimit, VelocityLimit
-from redik.problem import Problem
 from redik.qp import available_backends
+from redik.solvers.problem import Problem
 from redik.tasks import PoseTask, PositionTask, PostureTask
 
 

@@ -13,7 +13,8 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import redik
-from redik import loading, models
+from redik.models import loading
+from redik.models import registry as models
 
 pybullet = pytest.importorskip("pybullet")
 pytest.importorskip("pybullet_data")

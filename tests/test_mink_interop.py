@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 import redik
-from redik.exceptions import InvalidInput
+from redik.core.exceptions import InvalidInput
 from redik.limits import MinkLimit, PositionLimit
-from redik.problem import Problem
 from redik.qp.backends import QPSOLVERS_SETTINGS
+from redik.solvers.problem import Problem
 from redik.tasks import (
     DampingTask,
     JointLimitAvoidanceTask,

@@ -1,4 +1,4 @@
-"""redik.model_builder: the generated MJCF reproduces the DH / product-of-exponentials FK."""
+"""redik.models.builder: the generated MJCF reproduces the DH / product-of-exponentials FK."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from redik import dh
-from redik.exceptions import InvalidInput, InvalidPose, ModelError
-from redik.model_builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
+from redik.core.exceptions import InvalidInput, InvalidPose, ModelError
+from redik.models import dh
+from redik.models.builder import dh_to_mjcf, read_dh, read_screws, screws_to_mjcf
 
 SAMPLES = 60
 

@@ -1,4 +1,4 @@
-"""Null-space projection and secondary-criterion gradients (redik.redundancy.nullspace)."""
+"""Null-space projection and secondary-criterion gradients (redik.solvers.redundancy.nullspace)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import redik
-from redik.redundancy import (
+from redik.solvers.redundancy import (
     JointLimitMargin,
     Manipulability,
     PostureDistance,
@@ -160,7 +160,7 @@ def test_gradient_projection_keeps_the_pose_and_improves_the_criterion(panda, cr
 def test_qp_priority_level_equals_the_nullspace_formula(panda, rng):
     """Unconstrained, a PoseTask at priority 0 and a PostureTask at priority 1 give the
     textbook step ``Δq = J⁺ẋ + (I − J⁺J) q̇₀`` with ``ẋ = −e``, ``q̇₀ = −e_posture``."""
-    from redik.problem import Problem
+    from redik.solvers.problem import Problem
     from redik.tasks.kinematics import KinematicState
     from redik.tasks.pose_task import PoseTask
     from redik.tasks.posture_task import PostureTask

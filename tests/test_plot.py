@@ -1,4 +1,4 @@
-"""redik.plot: convergence curves are drawn from results and saved as PNG."""
+"""redik.apps.plot: convergence curves are drawn from results and saved as PNG."""
 
 from __future__ import annotations
 
@@ -7,9 +7,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from redik import plot
-from redik.exceptions import InvalidInput
-from redik.iterative import gradient, newton
+from redik.apps import plot
+from redik.core.exceptions import InvalidInput
+from redik.solvers.iterative import gradient, newton
 
 
 def square(q: np.ndarray) -> np.ndarray:

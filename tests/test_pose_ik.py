@@ -9,9 +9,9 @@ import pytest
 
 import redik
 from redik import lie
-from redik.exceptions import InvalidInput, InvalidPose, RedikError
-from redik.pose_ik import _body_twist_norm, _Problem, solve_all, solve_pose
-from redik.result import IKResult
+from redik.core.exceptions import InvalidInput, InvalidPose, RedikError
+from redik.core.result import IKResult
+from redik.solvers.pose_ik import _body_twist_norm, _Problem, solve_all, solve_pose
 
 SCENES = redik.list_scenes()
 

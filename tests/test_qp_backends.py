@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import redik
-from redik.exceptions import BackendError, InfeasibleProblem
+from redik.core.exceptions import BackendError, InfeasibleProblem
 from redik.qp import QP, Backend, FallbackChain, available_backends, make_backend
 
 TIGHT = 1e-6  # the agreement the older tests ask of persistent/fallback back-ends
@@ -168,7 +168,7 @@ def test_persistent_proxsuite_follows_changing_problems(rng):
 
 def test_daqp_solves_every_step_of_ik_runs_with_the_default_regularisation(rng):
     """mink's 1e-12 damping lets DAQP call valid IK QPs infeasible; redik's 1e-6 must not."""
-    from redik.problem import Problem
+    from redik.solvers.problem import Problem
     from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
 
     robot = redik.load("panda")

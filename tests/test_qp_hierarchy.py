@@ -8,9 +8,9 @@ import pytest
 
 import redik
 from redik.limits import PositionLimit
-from redik.problem import Problem
 from redik.qp import QP, make_backend, solve_lexicographic
 from redik.qp.hierarchy import free_directions
+from redik.solvers.problem import Problem
 from redik.tasks import (
     DampingTask,
     KinematicState,

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from redik.cli import main
-from redik.regress import compare, load_baseline, run_regression
+from redik.apps.cli import main
+from redik.apps.regress import compare, load_baseline, run_regression
 
 SPEC = '''
 """A spec whose quality is set by the constants below (edited to inject a degradation)."""

@@ -1,4 +1,4 @@
-"""Headless rendering (redik.render): frames, PNG, GIF and MP4."""
+"""Headless rendering (redik.apps.render): frames, PNG, GIF and MP4."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import imageio.v2 as imageio
 import imageio.v3 as iio
 
 import redik
-from redik.render import render_frames, save_gif, save_mp4, save_png, save_pngs
+from redik.apps.render import render_frames, save_gif, save_mp4, save_png, save_pngs
 
 
 @pytest.fixture(scope="module")

@@ -8,7 +8,7 @@ import pytest
 
 import redik
 from redik import lie
-from redik.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
+from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
 
 from .conftest import ARM_XML
 

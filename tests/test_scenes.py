@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import redik
-from redik import dh
-from redik.model_builder import read_dh
-from redik.scene_library import SCENES, write_scenes
+from redik.models import dh
+from redik.models.builder import read_dh
+from redik.models.scene_library import SCENES, write_scenes
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENE_DIR = ROOT / "scenes"
@@ -86,7 +86,8 @@ def test_committed_files_are_what_the_library_writes(tmp_path):
     for path in written:
         committed = SCENE_DIR / path.name
         assert committed.read_bytes() == path.read_bytes(), (
-            f"{committed} drifted from redik.scene_library: run python -m redik.scene_library"
+            f"{committed} drifted from redik.models.scene_library: run "
+            "python -m redik.models.scene_library"
         )
 
 

@@ -1,4 +1,5 @@
-"""Self-motion exploration (redik.redundancy.selfmotion) on the bundled 6R, 7R and 8R arms."""
+"""Self-motion exploration (redik.solvers.redundancy.selfmotion) on the bundled 6R, 7R and 8R
+arms."""
 
 from __future__ import annotations
 
@@ -10,20 +11,20 @@ import pytest
 from scipy.spatial import cKDTree
 
 import redik
-from redik.pose_ik import solve_pose
-from redik.redundancy import (
+from redik.solvers.pose_ik import solve_pose
+from redik.solvers.redundancy import (
     Manipulability,
     SelfMotion,
     explore_self_motion,
     gradient_projection_ik,
 )
-from redik.redundancy.corrector import (
+from redik.solvers.redundancy.corrector import (
     POSITION_TOLERANCE,
     ROTATION_TOLERANCE,
     BatchCorrector,
     Corrector,
 )
-from redik.redundancy.selfmotion.index import SampleIndex
+from redik.solvers.redundancy.selfmotion.index import SampleIndex
 
 
 def without_limits(scene: str) -> redik.Robot:
@@ -247,7 +248,7 @@ def test_a_6r_arm_has_isolated_solutions(scene):
 
 
 def test_criteria_scored_in_batch_match_one_sample_at_a_time(panda, panda_motion):
-    from redik.redundancy import default_criteria
+    from redik.solvers.redundancy import default_criteria
 
     for criterion in default_criteria(panda):
         for k in range(0, len(panda_motion), max(1, len(panda_motion) // 7)):
@@ -287,7 +288,7 @@ def test_bad_inputs_raise(panda, panda_motion):
 
 
 def test_explore_cli_writes_samples_summary_and_pictures(tmp_path, monkeypatch):
-    from redik.cli import main
+    from redik.apps.cli import main
 
     monkeypatch.setenv("MUJOCO_GL", "egl")
     out = tmp_path / "panda"
@@ -368,7 +369,7 @@ def test_a_pose_reached_only_outside_the_limits_has_status_limits():
 
 
 def test_explore_cli_reports_an_unreachable_pose(tmp_path, capsys):
-    from redik.cli import main
+    from redik.apps.cli import main
 
     args = ["explore", "panda", "--pose", "3", "0", "0.5", "1", "0", "0", "0", "--starts", "2"]
     assert main([*args, "--out", str(tmp_path), "--frames", "0"]) == 1

@@ -1,6 +1,6 @@
 """Headless closed-loop simulation: the QP drives MuJoCo's position servos along a path.
 
-Stated bound (also in :mod:`redik.sim`): iiwa14 tracing a 10 cm circle in 4 s at 100 Hz
+Stated bound (also in :mod:`redik.apps.sim`): iiwa14 tracing a 10 cm circle in 4 s at 100 Hz
 with the default ``command="integrate"`` stays within 3 mm and 0.01 rad of the reference
 and ends within 0.05 mm.
 """
@@ -15,17 +15,17 @@ import numpy as np
 import pytest
 
 import redik
-from redik.limits import PositionLimit, VelocityLimit
-from redik.problem import Problem
-from redik.sim import (
+from redik.apps.sim import (
     TrackingWarning,
     actuator_indices,
     joint_drives,
     plot_tracking,
     simulate,
 )
+from redik.apps.trajectory import CircularPath
+from redik.limits import PositionLimit, VelocityLimit
+from redik.solvers.problem import Problem
 from redik.tasks import PoseTask, PostureTask
-from redik.trajectory import CircularPath
 
 POSITION_BOUND, ROTATION_BOUND, FINAL_BOUND = 3e-3, 1e-2, 5e-5
 
@@ -231,7 +231,7 @@ def test_force_limited_servos_report_saturation():
 def test_inertial_feedforward_is_cut_to_what_the_actuator_can_give():
     # A chattering reference (near a singularity) asks for accelerations no servo can give;
     # sent whole, the feed-forward saturated the servo and lost the gravity and PD terms.
-    from redik.sim import _Controller
+    from redik.apps.sim import _Controller
 
     robot = menagerie_like_iiwa14(forcerange=60.0)
     drives = joint_drives(robot)

@@ -10,7 +10,7 @@ import pytest
 
 import redik
 from redik import lie
-from redik.exceptions import InvalidInput, InvalidPose
+from redik.core.exceptions import InvalidInput, InvalidPose
 from redik.tasks import (
     DampingTask,
     JointLimitAvoidanceTask,

@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 import redik
-from redik.regress import default_tasks_dir
-from redik.taskspec import (
+from redik.apps.regress import default_tasks_dir
+from redik.apps.taskspec import (
     Context,
     Criterion,
     TaskSpec,
@@ -117,7 +117,7 @@ def test_spec_without_run_or_file_is_misuse(tmp_path):
 
 
 def test_cli_run_exit_code_follows_the_criteria(tmp_path, capsys):
-    from redik.cli import main
+    from redik.apps.cli import main
 
     good = write_spec(
         tmp_path, "good", 'CRITERIA = {"x": ">= 1"}\ndef run(ctx):\n    return {"x": 1}\n'

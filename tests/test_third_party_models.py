@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import redik
+from redik.apps.trajectory import CartesianPath, follow_path
 from redik.lie import make_pose, pose_errors
-from redik.trajectory import CartesianPath, follow_path
 
 pytest.importorskip("cmeel")
 
@@ -24,7 +24,7 @@ def _load(name, **options):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # Baxter's .DAE meshes are dropped with a warning
         path = name if "/" in str(name) else redik.models.example_robot_data(name)
-        return redik.loading.load_model(path, **options)
+        return redik.models.loading.load_model(path, **options)
 
 
 @pytest.fixture(scope="module")
@@ -121,7 +121,7 @@ def test_baxter_carries_a_box_along_a_path(baxter):
 
 
 def test_baxter_self_motion_of_one_arm_with_the_other_held(baxter):
-    from redik.redundancy import explore_self_motion
+    from redik.solvers.redundancy import explore_self_motion
 
     q = baxter.home.copy()
     q[:7] = [0.3, -0.5, 0.2, 1.0, 0.0, 0.5, 0.0]  # the right arm somewhere else
@@ -139,7 +139,7 @@ def test_baxter_self_motion_of_one_arm_with_the_other_held(baxter):
 
 
 def test_urdfs_have_no_actuators_so_no_simulation(baxter):
-    from redik.sim import actuator_indices
+    from redik.apps.sim import actuator_indices
 
     assert baxter.model.nu == 0
     with pytest.raises(redik.ModelError, match="has no actuator"):
@@ -286,7 +286,7 @@ def test_third_party_model_stack_and_chain(spec):
 
 
 def test_explore_cli_on_one_arm_of_baxter(tmp_path, capsys):
-    from redik.cli import main
+    from redik.apps.cli import main
 
     out = tmp_path / "explore"
     argv = ["explore", "example-robot-data:baxter", "--ee", "left_gripper", "--frames", "0"]

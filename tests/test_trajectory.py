@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import redik
+from redik.apps.trajectory import CartesianPath, PosePath, follow_path, joint_steps, time_scaling
 from redik.lie import make_pose, pose_errors, rotation_angle, so3_exp
-from redik.trajectory import CartesianPath, PosePath, follow_path, joint_steps, time_scaling
 
 
 def pose(rotation_vector, position) -> np.ndarray:
@@ -101,14 +101,14 @@ def replaying(joint_path: np.ndarray):
     answers = iter(joint_path)
 
     def solver(T, q):
-        return redik.result.IKResult(q=next(answers), success=True, status="converged",
+        return redik.core.result.IKResult(q=next(answers), success=True, status="converged",
                                      iterations=0, error=0.0)  # fmt: skip
 
     return solver
 
 
 def test_a_qp_stack_can_follow_the_path_too():
-    from redik.problem import Problem
+    from redik.solvers.problem import Problem
     from redik.tasks import PoseTask, PostureTask
 
     robot = redik.load("panda")
@@ -162,9 +162,9 @@ def test_branch_switch_is_flagged_as_discontinuous():
 
 def test_path_is_a_deprecated_alias_of_pose_path():
     assert issubclass(CartesianPath, PosePath) and redik.PosePath is PosePath
-    with pytest.warns(DeprecationWarning, match="use redik.trajectory.PosePath"):
-        assert redik.trajectory.Path is PosePath
+    with pytest.warns(DeprecationWarning, match="use redik.apps.trajectory.PosePath"):
+        assert redik.apps.trajectory.Path is PosePath
     with pytest.warns(DeprecationWarning, match="clashes with pathlib.Path"):
-        from redik.trajectory import Path  # noqa: F401
+        from redik.apps.trajectory import Path  # noqa: F401
     with pytest.raises(AttributeError, match="no attribute 'Paths'"):
-        _ = redik.trajectory.Paths
+        _ = redik.apps.trajectory.Paths

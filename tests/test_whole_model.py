@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import redik
-from redik.exceptions import InvalidInput, ModelError, UnknownFrame
+from redik.core.exceptions import InvalidInput, ModelError, UnknownFrame
 from redik.lie import pose_errors
 
 # A floating torso (free joint) with a ball-jointed head, two 6-joint arms with a finger each
@@ -568,7 +568,7 @@ BALL_ARM_XML = """
 
 
 def test_explore_cli_holds_a_ball_joint_only_when_asked(tmp_path, capsys):
-    from redik.cli import main
+    from redik.apps.cli import main
 
     path = tmp_path / "ball_arm.xml"
     path.write_text(BALL_ARM_XML)
@@ -582,7 +582,7 @@ def test_explore_cli_holds_a_ball_joint_only_when_asked(tmp_path, capsys):
 
 
 def test_explore_self_motion_on_a_whole_model_uses_the_chain(model):
-    from redik.redundancy import explore_self_motion
+    from redik.solvers.redundancy import explore_self_motion
 
     ball = redik.Robot(mujoco.MjModel.from_xml_string(BALL_ARM_XML), joints="all")
     T = ball.fk(ball.home, "ee")

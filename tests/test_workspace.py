@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import redik
-from redik import workspace
-from redik.batch import Chain, forward_kinematics
+from redik.apps import workspace
+from redik.solvers.batch import Chain, forward_kinematics
 
 
 @pytest.fixture(scope="module")

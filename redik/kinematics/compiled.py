@@ -1,11 +1,12 @@
-r"""Compiled kinematics of a :class:`~redik.batch.chain.Chain`: FK, world Jacobian, pose error.
+r"""Compiled kinematics of a :class:`~redik.kinematics.chain.Chain`: FK, world Jacobian, pose error.
 
 The scalar building blocks of every compiled pose solver (:mod:`redik.kinematics.dls`, which
-:func:`redik.batch.solve_batch` and :func:`redik.solve_pose` with ``method="dls"`` run) and of
+:func:`redik.solvers.batch.solve_batch` and :func:`redik.solve_pose` with ``method="dls"`` run) and
+of
 :class:`redik.tasks.pose_task.PoseTask`'s residual, compiled by numba (``cache=True``).
 
 The chain is ``T(q) = F_0 M_1(q_1) F_1 ⋯ M_n(q_n) F_n``; FK walks it joint by joint and the
-world Jacobian (``"world"`` in :mod:`redik.conventions`) follows from each joint's world axis
+world Jacobian (``"world"`` in :mod:`redik.core.conventions`) follows from each joint's world axis
 ``ω_i`` and origin ``o_i``: ``J_i = (ω_i × (p − o_i), ω_i)`` for a hinge, ``(ω_i, 0)`` for a
 slide. The pose error is ``e = (p_d − p, log(R_d Rᵀ)^∨)``.
 
@@ -27,8 +28,8 @@ import math
 
 import numba
 
-from .. import lie
-from ..lie import MAX_COORDINATE
+from redik import lie
+from redik.lie import MAX_COORDINATE
 
 COMPILE = {"cache": True, "error_model": "numpy", "fastmath": {"contract"}}
 """numba options of every compiled kernel of redik: compiled once per machine; a division

@@ -1,7 +1,7 @@
 r"""Damped least squares: the step (compiled, and batched in numpy), its settings
 (:class:`BatchOptions`) and the compiled Levenberg–Marquardt kernel, one solve per target.
 
-Every pose solver of redik that uses damped least squares — :func:`redik.batch.solve_batch`
+Every pose solver of redik that uses damped least squares — :func:`redik.solvers.batch.solve_batch`
 over many targets and :func:`redik.solve_pose` with ``method="dls"`` for one — runs this
 kernel, compiled by numba (``cache=True``: once per machine, a few seconds). Per target it is
 scalar code on a handful of 3-vectors and one small matrix, which numpy cannot vectorise well
@@ -9,10 +9,11 @@ across a shrinking set of unsolved targets; compiled, one iteration of a 7-joint
 well under a microsecond. Targets are independent, so the batch entry point spreads them
 over threads with ``numba.prange``.
 
-The chain is that of :class:`~redik.batch.chain.Chain`; its FK, world Jacobian and pose
+The chain is that of :class:`~redik.kinematics.chain.Chain`; its FK, world Jacobian and pose
 error are those of :mod:`redik.kinematics.compiled`. This module sits in the kinematics
-layer (below the solvers) so that :mod:`redik.batch` and :mod:`redik.pose_ik` share it; its
-old home :mod:`redik.batch.kernel` re-exports it.
+layer (below the solvers) so that :mod:`redik.solvers.batch` and :mod:`redik.solvers.pose_ik` share
+it; its
+old home :mod:`redik.solvers.batch.kernel` re-exports it.
 
 Each attempt iterates (Wampler 1986; Nakamura & Hanafusa 1986; damping after Sugihara 2011)
 
@@ -44,12 +45,18 @@ import math
 import numba
 import numpy as np
 
-from ..exceptions import InvalidInput
-from ..lie import ROTATION_TOLERANCE
-from .compiled import COMPILE, chain_kinematics, pose_error, valid_target, world_jacobian
+from redik.core.exceptions import InvalidInput
+from redik.kinematics.compiled import (
+    COMPILE,
+    chain_kinematics,
+    pose_error,
+    valid_target,
+    world_jacobian,
+)
+from redik.lie import ROTATION_TOLERANCE
 
 CONVERGED, STALLED, MAX_ITERATIONS, INVALID, DIVERGED = range(5)
-"""Status codes, shared with :data:`redik.batch.solve.BATCH_STATUSES`."""
+"""Status codes, shared with :data:`redik.solvers.batch.solve.BATCH_STATUSES`."""
 
 # Indices into the float and integer settings arrays (few arguments keep the call cheap).
 POS_TOL, ROT_TOL, DAMPING, MIN_DAMPING, MAX_DAMPING, REQUIRED, REACH, TARGET_TOL = range(8)
@@ -183,7 +190,7 @@ def damped_step(J: np.ndarray, e: np.ndarray, damping: np.ndarray) -> np.ndarray
     forward and back substitution, each entry one vector operation over the batch; below
     ``_SMALL_BATCH`` columns by LAPACK, one system after another. The batch is last (a
     vector per target is a column), for callers that iterate a whole batch in numpy
-    themselves (:class:`redik.redundancy.corrector.BatchCorrector`); the compiled
+    themselves (:class:`redik.solvers.redundancy.corrector.BatchCorrector`); the compiled
     one-target form is :func:`damped_solve`, tested equal to this one.
     """
     m, _, size = J.shape

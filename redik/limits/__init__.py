@@ -1,11 +1,11 @@
 """Limits: hard inequalities on the joint step. The contract is in :mod:`redik.limits.limit`."""
 
-from .ball_joint_limit import BallJointLimit
-from .collision_avoidance_limit import CollisionAvoidanceLimit
-from .limit import BoxLimit, InequalityLimit, Limit
-from .mink_limit import MinkLimit
-from .position_limit import PositionLimit
-from .velocity_limit import VelocityLimit
+from redik.limits.ball_joint_limit import BallJointLimit
+from redik.limits.collision_avoidance_limit import CollisionAvoidanceLimit
+from redik.limits.limit import BoxLimit, InequalityLimit, Limit
+from redik.limits.mink_limit import MinkLimit
+from redik.limits.position_limit import PositionLimit
+from redik.limits.velocity_limit import VelocityLimit
 
 __all__ = [
     "BallJointLimit",

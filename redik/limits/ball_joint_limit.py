@@ -27,9 +27,9 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from ..exceptions import InvalidInput
-from ..robot import Robot
-from .limit import InequalityLimit
+from redik.core.exceptions import InvalidInput
+from redik.kinematics.robot import Robot
+from redik.limits.limit import InequalityLimit
 
 _ANGLE_TOLERANCE = 1e-9
 """Radians by which :meth:`BallJointLimit.admits` lets an angle exceed its bound (rounding)."""

@@ -26,7 +26,7 @@ positive lower bound on :math:`Δd` and is pushed back out at the same rate (min
 still instead). Pairs farther than :math:`d_i` give no row; a cheap bounding-sphere test
 (``geom_rbound``, MuJoCo's broad phase) skips most of them before ``mj_geomDistance``.
 Distances are computed on the robot's own ``MjData`` after the problem's forward
-kinematics; only the robot's moved joints get columns (:mod:`redik.robot`).
+kinematics; only the robot's moved joints get columns (:mod:`redik.kinematics.robot`).
 
 The rows are hard: a :class:`redik.Problem` imposes them while solving every priority
 level, so no lower level (a posture, a second hand) can buy its objective with a
@@ -50,9 +50,9 @@ from collections.abc import Collection, Sequence
 import mujoco
 import numpy as np
 
-from ..exceptions import InvalidInput, ModelError
-from ..robot import Robot
-from .limit import InequalityLimit
+from redik.core.exceptions import InvalidInput, ModelError
+from redik.kinematics.robot import Robot
+from redik.limits.limit import InequalityLimit
 
 GeomGroup = Sequence[str]
 """Geom names, or body names standing for all of the body's geoms; ``fnmatch`` patterns

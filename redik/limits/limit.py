@@ -1,6 +1,7 @@
 r"""The limit contract: hard inequalities on the joint step ``Δq``.
 
-A limit restricts the joint step (``robot.dof`` tangent coordinates, :mod:`redik.robot`) to
+A limit restricts the joint step (``robot.dof`` tangent coordinates, :mod:`redik.kinematics.robot`)
+to
 
 .. math::
 
@@ -21,7 +22,7 @@ import abc
 
 import numpy as np
 
-from ..robot import Robot
+from redik.kinematics.robot import Robot
 
 
 class Limit:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .limit import InequalityLimit
+from redik.limits.limit import InequalityLimit
 
 
 class MinkLimit(InequalityLimit):

@@ -18,9 +18,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..exceptions import InvalidInput
-from ..robot import Robot
-from .limit import BoxLimit
+from redik.core.exceptions import InvalidInput
+from redik.kinematics.robot import Robot
+from redik.limits.limit import BoxLimit
 
 
 class PositionLimit(BoxLimit):

@@ -10,9 +10,9 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ..exceptions import InvalidInput
-from ..robot import Robot
-from .limit import BoxLimit
+from redik.core.exceptions import InvalidInput
+from redik.kinematics.robot import Robot
+from redik.limits.limit import BoxLimit
 
 
 class VelocityLimit(BoxLimit):

@@ -4,9 +4,9 @@ Formulation in :mod:`redik.qp.assembly`, strict priorities in :mod:`redik.qp.hie
 back-ends in :mod:`redik.qp.backends`.
 """
 
-from .backends import Backend, FallbackChain, available_backends, make_backend
-from .hierarchy import solve_lexicographic
-from .problem_data import QP
+from redik.qp.backends import Backend, FallbackChain, available_backends, make_backend
+from redik.qp.hierarchy import solve_lexicographic
+from redik.qp.problem_data import QP
 
 __all__ = [
     "QP",

@@ -34,10 +34,10 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..robot import Robot
-from ..tasks.joint_space_task import JointSpaceTask
-from ..tasks.kinematics import KinematicState
-from ..tasks.task import ResidualTask, Task
+from redik.kinematics.robot import Robot
+from redik.tasks.joint_space_task import JointSpaceTask
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.task import ResidualTask, Task
 
 
 def task_priority(task) -> int:

@@ -1,8 +1,8 @@
 r"""QP back-ends behind one small interface, chosen by name.
 
 A :class:`Backend` solves a :class:`~redik.qp.problem_data.QP` and returns ``x``, or
-raises :class:`~redik.exceptions.InfeasibleProblem` (the solver proved the constraints
-empty) or :class:`~redik.exceptions.BackendError` (anything else), each naming the
+raises :class:`~redik.core.exceptions.InfeasibleProblem` (the solver proved the constraints
+empty) or :class:`~redik.core.exceptions.BackendError` (anything else), each naming the
 back-end and the problem size. Names accepted by :func:`make_backend`:
 
 ``"daqp"``
@@ -45,8 +45,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..exceptions import BackendError, InfeasibleProblem
-from .problem_data import QP
+from redik.core.exceptions import BackendError, InfeasibleProblem
+from redik.qp.problem_data import QP
 
 _BIG = 1e20  # proxsuite wants finite bounds
 

@@ -60,9 +60,9 @@ from scipy.linalg.lapack import dormqr as _dormqr
 from scipy.linalg.lapack import dsyev as _dsyev
 from scipy.linalg.lapack import dtrcon as _dtrcon
 
-from ..exceptions import BackendError, InfeasibleProblem
-from .backends import Backend
-from .problem_data import QP
+from redik.core.exceptions import BackendError, InfeasibleProblem
+from redik.qp.backends import Backend
+from redik.qp.problem_data import QP
 
 
 def free_directions(H: np.ndarray, c: np.ndarray, rank_tol: float, shift: float = 0.0):

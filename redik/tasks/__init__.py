@@ -4,15 +4,15 @@ The contract (error, Jacobian, weight, gain, priority, and mink's protocol) is i
 :mod:`redik.tasks.task`; one task per module.
 """
 
-from .damping_task import DampingTask
-from .joint_limit_avoidance_task import JointLimitAvoidanceTask
-from .kinematics import KinematicState
-from .manipulability_task import ManipulabilityTask
-from .orientation_task import OrientationTask
-from .pose_task import PoseTask
-from .position_task import PositionTask
-from .posture_task import PostureTask
-from .task import ResidualTask, Task
+from redik.tasks.damping_task import DampingTask
+from redik.tasks.joint_limit_avoidance_task import JointLimitAvoidanceTask
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.manipulability_task import ManipulabilityTask
+from redik.tasks.orientation_task import OrientationTask
+from redik.tasks.pose_task import PoseTask
+from redik.tasks.position_task import PositionTask
+from redik.tasks.posture_task import PostureTask
+from redik.tasks.task import ResidualTask, Task
 
 __all__ = [
     "DampingTask",

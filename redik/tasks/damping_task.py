@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..robot import Robot
-from .joint_space_task import JointSpaceTask
-from .kinematics import KinematicState
-from .task import weight_or_cost
+from redik.kinematics.robot import Robot
+from redik.tasks.joint_space_task import JointSpaceTask
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.task import weight_or_cost
 
 
 class DampingTask(JointSpaceTask):

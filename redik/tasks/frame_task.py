@@ -2,7 +2,7 @@ r"""Shared ground of the tasks on a frame's pose: frame binding and the log-map 
 
 :class:`PoseTask`, :class:`PositionTask` and :class:`OrientationTask` regulate one frame
 (a site or body; ``None`` is the robot's end-effector) towards a target. Their errors are
-those of :mod:`redik.conventions`: the body twist :math:`e = \log(T^{-1} T_d)` for a pose,
+those of :mod:`redik.core.conventions`: the body twist :math:`e = \log(T^{-1} T_d)` for a pose,
 :math:`\log(R^\top R_d)` for an orientation, :math:`p - p_d` for a position.
 
 The derivative of a log-map error needs the inverse left Jacobian of the group. Perturbing
@@ -53,9 +53,9 @@ import math
 import numba
 import numpy as np
 
-from ..robot import Frame, Robot
-from .kinematics import KinematicState
-from .task import ResidualTask
+from redik.kinematics.robot import Frame, Robot
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.task import ResidualTask
 
 _SMALL_ANGLE = 1e-3  # below it the series values of a and b are exact to O(θ⁴)
 

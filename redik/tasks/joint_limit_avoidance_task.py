@@ -26,10 +26,10 @@ import math
 
 import numpy as np
 
-from .. import criteria
-from ..robot import Robot
-from .joint_space_task import JointSpaceTask
-from .task import weight_or_cost
+from redik import criteria
+from redik.kinematics.robot import Robot
+from redik.tasks.joint_space_task import JointSpaceTask
+from redik.tasks.task import weight_or_cost
 
 
 class JointLimitAvoidanceTask(JointSpaceTask):

@@ -29,9 +29,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..robot import Robot
-from .kinematics import KinematicState
-from .task import ResidualTask
+from redik.kinematics.robot import Robot
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.task import ResidualTask
 
 
 class JointSpaceTask(ResidualTask):

@@ -4,12 +4,12 @@ A redik task is evaluated in two settings, and both hand it a :class:`KinematicS
 
 - inside a :class:`redik.Problem` (the hot path), the state wraps the robot's own
   ``MjData`` after **one** ``robot.update(q)`` per step, and Jacobians have one column per
-  tangent coordinate of the robot's joints (``robot.dof`` columns, :mod:`redik.robot`);
+  tangent coordinate of the robot's joints (``robot.dof`` columns, :mod:`redik.kinematics.robot`);
 - inside ``mink.solve_ik`` (interoperability), the state wraps the ``mink.Configuration``'s
   data, and Jacobians have one column per degree of freedom of the model (``model.nv``),
   the robot's sitting at ``robot.dof_indices``.
 
-Jacobians are MuJoCo's ``"world"`` Jacobians of :mod:`redik.conventions` (origin velocity
+Jacobians are MuJoCo's ``"world"`` Jacobians of :mod:`redik.core.conventions` (origin velocity
 and angular velocity in world axes, ``(v, ω)`` order). They are computed at most once per
 frame and per update, into preallocated buffers.
 """
@@ -19,8 +19,8 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from ..exceptions import InvalidInput
-from ..robot import Frame, Robot, frame_jacobian, frame_pose_views
+from redik.core.exceptions import InvalidInput
+from redik.kinematics.robot import Frame, Robot, frame_jacobian, frame_pose_views
 
 
 class KinematicState:

@@ -1,6 +1,6 @@
 r"""Ascend Yoshikawa's manipulability :math:`w(q) = \sqrt{\det(J J^\top)}` of a frame.
 
-:math:`J` is the frame's 6 × n ``"world"`` Jacobian (:mod:`redik.conventions`); value and
+:math:`J` is the frame's 6 × n ``"world"`` Jacobian (:mod:`redik.core.conventions`); value and
 analytic gradient :math:`∇w` are :func:`redik.criteria.manipulability` and
 :func:`redik.criteria.manipulability_gradient` (Yoshikawa 1985; Haviland & Corke 2023). The
 task is the gradient-projection step of Liégeois (1977) written as a least-squares
@@ -19,11 +19,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import criteria
-from ..exceptions import InvalidInput
-from ..robot import Frame, Robot
-from .kinematics import KinematicState
-from .task import Task, as_weight, weight_or_cost
+from redik import criteria
+from redik.core.exceptions import InvalidInput
+from redik.kinematics.robot import Frame, Robot
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.task import Task, as_weight, weight_or_cost
 
 
 class ManipulabilityTask(Task):

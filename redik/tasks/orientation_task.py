@@ -14,11 +14,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import lie
-from ..exceptions import InvalidRotation
-from .frame_task import FrameTask, so3_left_jacobian_inverse
-from .kinematics import KinematicState
-from .task import weight_or_cost
+from redik import lie
+from redik.core.exceptions import InvalidRotation
+from redik.tasks.frame_task import FrameTask, so3_left_jacobian_inverse
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.task import weight_or_cost
 
 
 def as_target_rotation(target, *, strict: bool = False) -> np.ndarray:

@@ -7,7 +7,7 @@ r"""Regulate the full pose of a frame: :math:`e = \log(T^{-1} T_d)`, a body twis
     \begin{pmatrix} R^\top & 0 \\ 0 & R^\top \end{pmatrix} J_w(q)
 
 with :math:`J_w` the world Jacobian and :math:`J_b` the body Jacobian
-(:mod:`redik.conventions`), and :math:`J_l^{-1}` the SE(3) inverse left Jacobian
+(:mod:`redik.core.conventions`), and :math:`J_l^{-1}` the SE(3) inverse left Jacobian
 (:mod:`redik.tasks.frame_task`). These are the error and Jacobian of ``mink.FrameTask``,
 so the two give the same step.
 
@@ -25,11 +25,11 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .. import lie
-from ..kinematics.compiled import apply_inverse_v, pose_error
-from .frame_task import FrameTask, se3_left_jacobian_inverse_entries
-from .kinematics import KinematicState
-from .task import as_weight, weight_or_cost
+from redik import lie
+from redik.kinematics.compiled import apply_inverse_v, pose_error
+from redik.tasks.frame_task import FrameTask, se3_left_jacobian_inverse_entries
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.task import as_weight, weight_or_cost
 
 
 def as_target_pose(target, name: str = "target", *, strict: bool = False) -> np.ndarray:

@@ -1,6 +1,6 @@
 r"""Regulate the position of a frame's origin: :math:`e = p - p_d`, :math:`J = J_v`.
 
-:math:`J_v` is the linear block of the world Jacobian (:mod:`redik.conventions`), the
+:math:`J_v` is the linear block of the world Jacobian (:mod:`redik.core.conventions`), the
 derivative of the origin's world position. The orientation is left free.
 """
 
@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import lie
-from .frame_task import FrameTask
-from .kinematics import KinematicState
-from .task import weight_or_cost
+from redik import lie
+from redik.tasks.frame_task import FrameTask
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.task import weight_or_cost
 
 
 class PositionTask(FrameTask):

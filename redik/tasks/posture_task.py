@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import lie
-from ..robot import Robot
-from .joint_space_task import JointSpaceTask
-from .task import weight_or_cost
+from redik import lie
+from redik.kinematics.robot import Robot
+from redik.tasks.joint_space_task import JointSpaceTask
+from redik.tasks.task import weight_or_cost
 
 
 class PostureTask(JointSpaceTask):

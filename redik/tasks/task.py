@@ -35,7 +35,7 @@ Tasks that are not least squares (:class:`ManipulabilityTask`) implement
 
 A task names frames, not ids; :meth:`Task.bind` resolves them against a
 :class:`redik.Robot` (a :class:`redik.Problem` binds its tasks; ``frame=None`` is the
-robot's end-effector). Errors and Jacobians follow :mod:`redik.conventions`.
+robot's end-effector). Errors and Jacobians follow :mod:`redik.core.conventions`.
 """
 
 from __future__ import annotations
@@ -46,10 +46,10 @@ import numpy as np
 from mink.tasks import BaseTask, Objective
 from mink.tasks import Task as MinkTask
 
-from ..exceptions import InvalidInput
-from ..lie import real_array
-from ..robot import Robot
-from .kinematics import KinematicState
+from redik.core.exceptions import InvalidInput
+from redik.kinematics.robot import Robot
+from redik.lie import real_array
+from redik.tasks.kinematics import KinematicState
 
 MAX_WEIGHT = 1e6
 """Largest task weight accepted. A weight enters the Hessian squared: beyond ``1e6`` (``w² =

@@ -1,0 +1,295 @@
+"""Closed-form IK (PUMA 560, UR5e, planar 2R): µs per pose, single and batched, vs iterative DLS.
+
+Protocol: for each scene, ``--batch`` targets are the FK of configurations drawn uniformly
+within the joint limits (world frame, as ``robot.fk`` returns them); the first ``--n`` of them
+are solved one at a time. In the same run:
+
+- *single*: the scene's :func:`redik.solvers.analytic.solver_for` solver, one pose per call (robot
+  limits applied, every solution returned);
+- *batched*: the vectorised solver (``puma_batch``, ``ur_batch``, ``planar_2r_batch``) on all
+  ``--batch`` targets at once, including the world-to-base transform and the robot limits;
+- *dls*: :func:`redik.solve_pose` with ``method="dls"`` on the first ``--n`` targets from the
+  home keyframe (default restarts), which returns one solution.
+
+Single and dls times are the median over every call of every repeat; batched is the median
+over repeats of the batch time divided by ``--batch``. Speed-ups are ratios of those medians.
+
+A second table compares, for the 6R scenes, the compiled subproblem-decomposition path
+(:meth:`redik.solvers.analytic.DecomposedSolver.raw`: every solution as an array, FK-verified, no
+limits) with the ``ik-geo`` package (Elias & Wen's Rust IK-Geo, ``ik_geo.Robot`` of the same
+geometry class built from the same screw axes) when it is installed: the same ``--n`` poses,
+the two calls interleaved pose by pose (alternating which goes first, as the first call on
+a pose pays for loading it into cache), median µs per call, their ratio, the mean number of
+solutions each returns and the largest FK error (by ``robot.fk``) among ik-geo's answers that
+are not flagged least-squares. The load average is printed with it.
+``--clock cpu`` times with the process CPU clock instead of the wall clock: on a shared,
+loaded machine it leaves out the time spent waiting for a core.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from redik.kinematics.robot import Robot, load
+from redik.solvers.analytic import (
+    AnalyticSolver,
+    BatchSolutions,
+    planar_2r_batch,
+    puma_batch,
+    solver_for,
+    ur_batch,
+)
+from redik.solvers.pose_ik import solve_pose
+
+ROBOTS = ("puma560", "ur5e", "planar_2r")
+CLOCKS: dict[str, Callable[[], float]] = {"wall": time.perf_counter, "cpu": time.process_time}
+
+#: ``batch(T_base, params, limits)`` for a (B, 4, 4) stack of targets in the arm's base frame.
+Batch = Callable[[np.ndarray, dict, tuple[np.ndarray, np.ndarray]], BatchSolutions]
+
+BATCH: dict[str, Batch] = {
+    "puma": lambda T, p, limits: puma_batch(T, p["a2"], p["a3"], p["d3"], p["d4"], limits=limits),
+    "ur": lambda T, p, limits: ur_batch(
+        T, p["d1"], p["a2"], p["a3"], p["d4"], p["d5"], p["d6"], limits=limits
+    ),
+    "planar_2r": lambda T, p, limits: planar_2r_batch(T[:, :2, 3], p["l1"], p["l2"], limits=limits),
+}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--n", type=int, default=300, help="targets solved one by one (default 300)"
+    )
+    parser.add_argument(
+        "--batch", type=int, default=2000, help="targets in the batched call (default 2000)"
+    )
+    parser.add_argument("--repeats", type=int, default=5, help="repeats (default 5)")
+    parser.add_argument("--robots", nargs="+", default=list(ROBOTS), help="scenes to use")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the targets")
+    parser.add_argument(
+        "--clock", choices=sorted(CLOCKS), default="wall", help="wall (default) or cpu time"
+    )
+    parser.add_argument(
+        "--no-dls", action="store_true", help="skip the iterative reference (closed form only)"
+    )
+    parser.add_argument(
+        "--no-ik-geo", action="store_true", help="skip the comparison with the ik-geo package"
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    print(
+        f"redik bench analytic: targets = FK of q uniform in the limits; {args.n} solved one "
+        f"by one (single, dls = solve_pose from home), {max(args.batch, args.n)} batched; "
+        f"median µs per pose ({args.clock} clock) over {args.repeats} repeats"
+    )
+    header = (
+        f"{'robot':<10}{'single':>9}{'batched':>9}{'dls':>10}{'dls ok':>8}"
+        f"{'dls/single':>12}{'dls/batched':>13}{'solutions':>11}"
+    )
+    print(header)
+    for name in args.robots:
+        row = measure(
+            load(name),
+            args.n,
+            args.batch,
+            args.repeats,
+            args.seed,
+            dls=not args.no_dls,
+            clock=CLOCKS[args.clock],
+        )
+        dls = row["dls_us"]
+        reference = (
+            f"{dls:>10.1f}{row['dls_success']:>8.0%}"
+            f"{dls / row['single_us']:>11.0f}×{dls / row['batch_us']:>12.0f}×"
+            if not args.no_dls
+            else f"{'-':>10}{'-':>8}{'-':>12}{'-':>13}"
+        )
+        print(
+            f"{name:<10}{row['single_us']:>9.1f}{row['batch_us']:>9.2f}{reference}"
+            f"{row['solutions']:>11.2f}"
+        )
+    if not args.no_ik_geo:
+        compare_ik_geo(args)
+    return 0
+
+
+#: Decomposition classes that ik-geo builds from axes and offsets, by redik's class name.
+IK_GEO_CLASSES = {
+    "spherical_two_intersecting": "spherical_two_intersecting",
+    "spherical_two_parallel": "spherical_two_parallel",
+    "spherical": "spherical",
+    "three_parallel_two_intersecting": "three_parallel_two_intersecting",
+}
+
+
+def compare_ik_geo(args: argparse.Namespace) -> None:
+    """The second table of the module docstring (skipped, with a note, without ik-geo)."""
+    try:
+        import ik_geo
+    except ImportError:
+        print("\nik-geo is not installed (pip install ik-geo): comparison skipped")
+        return
+    load_average = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+    print(
+        f"\nsubproblem decomposition (raw array) vs ik-geo, {args.n} poses interleaved, "
+        f"median µs per call ({args.clock} clock) over {args.repeats} repeats; "
+        f"load average {load_average}"
+    )
+    print(
+        f"{'robot':<10}{'class':>33}{'redik':>8}{'ik-geo':>8}{'ik-geo/redik':>14}"
+        f"{'solutions':>11}{'ik-geo sols':>12}{'ik-geo FK err':>15}"
+    )
+    for name in args.robots:
+        robot = load(name)
+        if robot.dof != 6 or not robot.revolute.all():
+            continue
+        row = measure_ik_geo(robot, args.n, args.repeats, args.seed, ik_geo, CLOCKS[args.clock])
+        if row is None:
+            print(f"{name:<10}  (no ik-geo class for this geometry)")
+            continue
+        print(
+            f"{name:<10}{row['kind']:>33}{row['redik_us']:>8.2f}{row['ik_geo_us']:>8.2f}"
+            f"{row['ik_geo_us'] / row['redik_us']:>13.2f}×{row['solutions']:>11.2f}"
+            f"{row['ik_geo_solutions']:>12.2f}{row['ik_geo_error']:>15.1e}"
+        )
+
+
+def measure_ik_geo(
+    robot: Robot,
+    n: int,
+    repeats: int,
+    seed: int,
+    ik_geo: Any,
+    clock: Callable[[], float] = time.perf_counter,
+) -> dict | None:
+    """Time :meth:`DecomposedSolver.raw` and ik-geo's ``get_ik`` on the same poses
+    (module docstring); None when ik-geo has no class for the arm (a reversed chain)."""
+    solver = solver_for(robot, "decomposed")
+    if solver.reversed or solver.kind not in IK_GEO_CLASSES:
+        return None
+    G = solver.geometry
+    axes, points, home = G[0:6], G[6:12], G[12]
+    offsets = np.vstack([points[0], np.diff(points, axis=0), home - points[5]])
+    factory = getattr(ik_geo.Robot, IK_GEO_CLASSES[solver.kind])
+    reference = factory(axes.tolist(), offsets.tolist())
+    R_home = G[13:16]
+    rng = np.random.default_rng(seed)
+    targets = [robot.fk(q) for q in robot.random_q(rng, size=n)]
+    # ik-geo's chain ends with the identity rotation at q = 0: its target is R R_Mᵀ, passed
+    # as a list of columns (its forward_kinematics returns the transpose of redik's).
+    inputs = [((T[:3, :3] @ R_home.T).T.tolist(), T[:3, 3].tolist()) for T in targets]
+    ours, theirs = [], []
+    for _ in range(repeats):
+        for index, (T, (R, p)) in enumerate(zip(targets, inputs, strict=True)):
+            # Whichever runs first on a pose pays for bringing it into cache: alternate.
+            if index % 2:
+                start = clock()
+                reference.get_ik(R, p)
+                middle = clock()
+                solver.raw(T, limits=None)
+                end = clock()
+                theirs.append(middle - start)
+                ours.append(end - middle)
+            else:
+                start = clock()
+                solver.raw(T, limits=None)
+                middle = clock()
+                reference.get_ik(R, p)
+                end = clock()
+                ours.append(middle - start)
+                theirs.append(end - middle)
+    counts, reference_counts, worst = [], [], 0.0
+    for T, (R, p) in zip(targets, inputs, strict=True):
+        counts.append(len(solver.raw(T, limits=None)))
+        exact = [q for q, least_squares in reference.get_ik(R, p) if not least_squares]
+        reference_counts.append(len(exact))
+        for q in exact:
+            worst = max(worst, float(np.abs(robot.fk(np.asarray(q)) - T).max()))
+    return {
+        "kind": solver.kind,
+        "redik_us": 1e6 * statistics.median(ours),
+        "ik_geo_us": 1e6 * statistics.median(theirs),
+        "solutions": float(np.mean(counts)),
+        "ik_geo_solutions": float(np.mean(reference_counts)),
+        "ik_geo_error": worst,
+    }
+
+
+def measure(
+    robot: Robot,
+    n: int,
+    n_batch: int,
+    repeats: int,
+    seed: int,
+    *,
+    dls: bool = True,
+    clock: Callable[[], float] = time.perf_counter,
+) -> dict:
+    """Time one scene (module docstring); µs per pose, ``nan`` for dls when skipped."""
+    solver = solver_for(robot)
+    rng = np.random.default_rng(seed)
+    every = np.stack([robot.fk(q) for q in robot.random_q(rng, size=max(n, n_batch))])
+    targets = every[:n]
+    batch = _batch(solver)
+    single_us = _median_per_call(lambda T: solver(T), targets, repeats, clock)
+    batch_us = _median_per_batch(lambda: batch(every), len(every), repeats, clock)
+    solutions = float(batch(every).valid.sum() / len(every))
+    dls_us, dls_success = float("nan"), float("nan")
+    if dls:
+        home = np.asarray(robot.home, dtype=float)
+        results = []
+
+        def solve(T: np.ndarray) -> None:
+            results.append(solve_pose(robot, T, home, method="dls", seed=0).success)
+
+        dls_us = _median_per_call(solve, targets, repeats, clock)
+        dls_success = float(np.mean(results))
+    return {
+        "single_us": single_us,
+        "batch_us": batch_us,
+        "dls_us": dls_us,
+        "dls_success": dls_success,
+        "solutions": solutions,
+    }
+
+
+def _batch(solver: AnalyticSolver) -> Callable[[np.ndarray], BatchSolutions]:
+    """The vectorised solver of ``solver``'s family on world-frame targets."""
+    base_inverse = np.linalg.inv(solver.base)
+    limits = (solver.lower, solver.upper)
+    family = BATCH[solver.family]
+    return lambda targets: family(base_inverse @ targets, dict(solver.params), limits)
+
+
+def _median_per_call(
+    call: Callable[[np.ndarray], object],
+    targets: np.ndarray,
+    repeats: int,
+    clock: Callable[[], float],
+) -> float:
+    samples = []
+    for _ in range(repeats):
+        for T in targets:
+            start = clock()
+            call(T)
+            samples.append(clock() - start)
+    return 1e6 * statistics.median(samples)
+
+
+def _median_per_batch(
+    call: Callable[[], object], n: int, repeats: int, clock: Callable[[], float]
+) -> float:
+    samples = []
+    for _ in range(repeats):
+        start = clock()
+        call()
+        samples.append(clock() - start)
+    return 1e6 * statistics.median(samples) / n

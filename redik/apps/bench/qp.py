@@ -1,0 +1,362 @@
+"""QP core: per-step time of every back-end beside mink.solve_ik, and convergence on FK targets.
+
+Part 1 times one differential-IK step of the panda stack (PoseTask + JointLimitAvoidanceTask
++ PostureTask at equal priority, joint position box) for each back-end, and mink's
+``solve_ik`` on the equivalent stack (``FrameTask``, ``PostureTask``, and a ``PostureTask``
+towards the mid-range with cost ``√2 w / (q_max − q_min)`` standing in for joint-limit
+avoidance; ``ConfigurationLimit``) with the same solver. Both are timed interleaved, step
+by step at the same ``q``, so machine load hits both alike; the table gives medians and
+their ratio. A step includes forward kinematics in both; both use the same solver
+tolerances (:data:`redik.qp.backends.QPSOLVERS_SETTINGS`).
+
+Part 2 solves the FK targets (seeded random configurations, start at ``home``) to
+``pos_tol``/``rot_tol`` with both loops — the same weighted stack (weights small enough not
+to bias the converged pose) — and reports success, median iterations, median time to
+converge and the worst joint-limit overshoot of any iterate. redik's strict-priority
+stack (joint-space tasks at priority 1) is reported beside them.
+
+Part 1b times the same three tasks as one weighted level and as two strict levels (pose,
+then posture and joint-limit avoidance), interleaved at the same ``q``: the price of strict
+priorities, as a ratio.
+
+Part 3 is the latency of ``solve_pose(method="qp")`` with its defaults (restarts included)
+over ``--latency-targets`` random reachable targets per robot, from ``home`` and from
+random seeds: success, p50/p95/p99/max of the CPU time of the calling thread (on a
+shared machine the wall time also counts the time slices other processes take: a 10 ms
+preemption in a 1 ms solve; its p99 is printed beside), the p99 iterations, and the CPU
+p99 in units of the median single QP step measured in the same run. One warm-up call
+precedes each robot's timings.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import statistics
+import time
+import warnings
+
+import mink
+import numpy as np
+
+from redik import lie
+from redik.core.exceptions import BackendError, InfeasibleProblem
+from redik.kinematics.robot import load
+from redik.limits import PositionLimit
+from redik.qp.backends import QPSOLVERS_SETTINGS, available_backends
+from redik.solvers.problem import Problem
+from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
+
+MINK_SOLVER = {"daqp": "daqp", "proxsuite": "proxqp", "qpsolvers:daqp": "daqp", "cvxpy": None}
+"""The mink (qpsolvers) solver compared with each redik back-end."""
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--robot", default="panda")
+    parser.add_argument("--backends", nargs="+", default=None, help="default: all installed")
+    parser.add_argument("--steps", type=int, default=400, help="timed steps per back-end")
+    parser.add_argument("--targets", type=int, default=500, help="FK targets for part 2")
+    parser.add_argument("--converge-backends", nargs="*", default=["daqp", "proxsuite", "quadprog"])
+    parser.add_argument("--max-iter", type=int, default=200)
+    parser.add_argument("--pos-tol", type=float, default=1e-6)
+    parser.add_argument("--rot-tol", type=float, default=1e-5)
+    parser.add_argument("--weight", type=float, default=1e-2, help="posture/limit weight, part 1")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--latency-robots", nargs="*", default=["panda", "iiwa14", "ur5e"])
+    parser.add_argument("--latency-targets", type=int, default=200)
+
+
+class _MinkStack:
+    """mink's equivalent of the redik stack, on a configuration of the full model."""
+
+    def __init__(self, robot, weight: float, solver: str):
+        model = robot.model
+        self.robot = robot
+        self.solver = solver
+        # The tolerances redik's back-end of the same name uses, for a like-for-like QP.
+        self.settings = QPSOLVERS_SETTINGS.get(solver, {})
+        self.configuration = mink.Configuration(model, robot.full_qpos(robot.home))
+        self.frame = mink.FrameTask(robot.ee.name, robot.ee.kind, 1.0, 1.0)
+        posture_cost = np.zeros(model.nv)
+        posture_cost[robot.dof_indices] = weight
+        self.posture = mink.PostureTask(model, cost=posture_cost)
+        self.posture.set_target(robot.full_qpos(robot.home))
+        limits = JointLimitAvoidanceTask(weight).bind(robot)
+        limit_cost = np.zeros(model.nv)
+        limit_cost[robot.dof_indices] = weight * math.sqrt(2.0) * limits.scale
+        self.limit_avoidance = mink.PostureTask(model, cost=limit_cost)
+        self.limit_avoidance.set_target(robot.full_qpos(limits.middle))
+        self.tasks = [self.frame, self.posture, self.limit_avoidance]
+        self.limits = [mink.ConfigurationLimit(model)]
+
+    def set_target(self, T: np.ndarray) -> None:
+        self.frame.set_target(mink.SE3.from_matrix(T))
+
+    def step(self, qpos: np.ndarray) -> np.ndarray:
+        self.configuration.update(qpos)
+        return self.solve()
+
+    def solve(self) -> np.ndarray:
+        return mink.solve_ik(
+            self.configuration,
+            self.tasks,
+            1.0,
+            self.solver,
+            damping=1e-6,
+            limits=self.limits,
+            **self.settings,
+        )
+
+
+def _redik_problem(robot, weight: float, backend: str, strict: bool) -> Problem:
+    priority = 1 if strict else 0
+    tasks = [
+        PoseTask(robot.fk(robot.home)),
+        JointLimitAvoidanceTask(weight, priority=priority),
+        PostureTask(weight=weight, priority=priority),
+    ]
+    return Problem(robot, tasks, [PositionLimit()], backend=backend, damping=1e-6)
+
+
+def _time_steps(robot, backend: str, solver: str | None, args, targets) -> tuple:
+    problem = _redik_problem(robot, args.weight, backend, strict=False)
+    reference = _MinkStack(robot, args.weight, solver) if solver else None
+    redik_times, mink_times = [], []
+    steps_per_target = 8
+    for i in range(math.ceil(args.steps / steps_per_target)):
+        T = targets[i % len(targets)]
+        problem.tasks[0].set_target(T)
+        if reference:
+            reference.set_target(T)
+        q = robot.home.copy()
+        for _ in range(steps_per_target):
+            if reference:
+                qpos = robot.full_qpos(q)
+                start = time.perf_counter()
+                reference.step(qpos)
+                mink_times.append(time.perf_counter() - start)
+            start = time.perf_counter()
+            dq = problem.step(q)
+            redik_times.append(time.perf_counter() - start)
+            q = q + dq
+    redik_us = statistics.median(redik_times) * 1e6
+    mink_us = statistics.median(mink_times) * 1e6 if mink_times else float("nan")
+    return redik_us, mink_us
+
+
+def _time_priorities(robot, backend: str, args, targets) -> tuple[float, float]:
+    """Median step time of the same three tasks as one weighted level and as two strict
+    levels (pose, then posture + joint-limit avoidance), interleaved at the same ``q``."""
+    one = _redik_problem(robot, args.weight, backend, strict=False)
+    two = _redik_problem(robot, args.weight, backend, strict=True)
+    times: tuple[list, list] = ([], [])
+    steps_per_target = 8
+    for i in range(math.ceil(args.steps / steps_per_target)):
+        T = targets[i % len(targets)]
+        one.tasks[0].set_target(T)
+        two.tasks[0].set_target(T)
+        q = robot.home.copy()
+        for _ in range(steps_per_target):
+            for problem, record in zip((one, two), times, strict=True):
+                start = time.perf_counter()
+                dq = problem.step(q)
+                record.append(time.perf_counter() - start)
+            q = q + dq
+    return statistics.median(times[0]) * 1e6, statistics.median(times[1]) * 1e6
+
+
+def _converge_redik(robot, backend, args, targets, strict: bool) -> dict:
+    weight = 1.0 if strict else 1e-4
+    problem = _redik_problem(robot, weight, backend, strict)
+    results = []
+    overshoot = 0.0
+    start_all = time.perf_counter()
+    for T in targets:
+        problem.tasks[0].set_target(T)
+        start = time.perf_counter()
+        result = problem.solve(robot.home, args.pos_tol, args.rot_tol, args.max_iter)
+        elapsed = time.perf_counter() - start
+        results.append((result.success, result.iterations, elapsed))
+        over = np.maximum(robot.lower - result.history, result.history - robot.upper)
+        overshoot = max(overshoot, float(np.max(over)))
+    return _summary(results, overshoot, time.perf_counter() - start_all)
+
+
+def _converge_mink(robot, solver, args, targets) -> dict:
+    stack = _MinkStack(robot, 1e-4, solver)
+    configuration = stack.configuration
+    site = robot.ee
+    results = []
+    overshoot = 0.0
+    start_all = time.perf_counter()
+    for T in targets:
+        stack.set_target(T)
+        configuration.update(robot.full_qpos(robot.home))
+        success, iterations = False, 0
+        start = time.perf_counter()
+        while True:
+            data = configuration.data
+            if site.kind == "site":
+                R, p = data.site_xmat[site.id].reshape(3, 3), data.site_xpos[site.id]
+            else:
+                R, p = data.xmat[site.id].reshape(3, 3), data.xpos[site.id]
+            position_error = float(np.linalg.norm(T[:3, 3] - p))
+            if position_error <= args.pos_tol and lie.rotation_angle(R, T[:3, :3]) <= args.rot_tol:
+                success = True
+                break
+            if iterations >= args.max_iter:
+                break
+            try:
+                velocity = stack.solve()
+            except mink.exceptions.NoSolutionFound:
+                break
+            configuration.integrate_inplace(velocity, 1.0)
+            iterations += 1
+            q = configuration.data.qpos[robot.qpos_indices]
+            overshoot = max(overshoot, float(np.max(np.maximum(robot.lower - q, q - robot.upper))))
+        results.append((success, iterations, time.perf_counter() - start))
+    return _summary(results, overshoot, time.perf_counter() - start_all)
+
+
+def _summary(results, overshoot: float, total: float) -> dict:
+    successes = [r for r in results if r[0]]
+    return {
+        "success": len(successes) / len(results),
+        "iterations": statistics.median(r[1] for r in successes) if successes else float("nan"),
+        "time_ms": statistics.median(r[2] for r in successes) * 1e3 if successes else float("nan"),
+        "overshoot": max(overshoot, 0.0),
+        "total_s": total,
+    }
+
+
+def _latency(robot, args) -> list[dict]:
+    """``solve_pose(method="qp")`` wall times over random reachable targets, per seed mode."""
+    from redik.solvers.pose_ik import solve_pose
+
+    rng = np.random.default_rng(args.seed)
+    targets = [robot.fk(q) for q in robot.random_q(rng, size=args.latency_targets)]
+    seeds = robot.random_q(rng, size=args.latency_targets)
+    solve_pose(robot, targets[0], method="qp")  # warm-up: imports, first allocations
+    step_problem = Problem(robot, [PoseTask(targets[0])], backend="daqp")
+    rows = []
+    for mode in ("home", "random"):
+        times, walls, successes, iterations, step_times = [], [], 0, [], []
+        for i, T in enumerate(targets):
+            q0 = robot.home if mode == "home" else seeds[i]
+            start, start_wall = time.thread_time(), time.perf_counter()
+            result = solve_pose(robot, T, q0, method="qp", seed=i)
+            times.append(time.thread_time() - start)
+            walls.append(time.perf_counter() - start_wall)
+            successes += result.success
+            iterations.append(result.iterations)
+            # A reference measured alongside: one QP step of the same robot.
+            start = time.thread_time()
+            step_problem.step(q0)
+            step_times.append(time.thread_time() - start)
+        ms = np.array(times) * 1e3
+        step_ms = statistics.median(step_times) * 1e3
+        rows.append(
+            {
+                "mode": mode,
+                "success": successes / len(targets),
+                "p50": float(np.percentile(ms, 50)),
+                "p95": float(np.percentile(ms, 95)),
+                "p99": float(np.percentile(ms, 99)),
+                "max": float(ms.max()),
+                "wall_p99": float(np.percentile(walls, 99)) * 1e3,
+                "iterations_p99": float(np.percentile(iterations, 99)),
+                "p99_steps": float(np.percentile(ms, 99)) / step_ms,
+            }
+        )
+    return rows
+
+
+def _load() -> str:
+    return " ".join(f"{value:.2f}" for value in os.getloadavg())
+
+
+def run(args: argparse.Namespace) -> int:
+    with warnings.catch_warnings():
+        # qpsolvers warns on every dense-to-sparse conversion mink's calls make.
+        warnings.simplefilter("ignore")
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
+    robot = load(args.robot)
+    rng = np.random.default_rng(args.seed)
+    targets = [robot.fk(q) for q in robot.random_q(rng, size=args.targets)]
+    backends = args.backends or available_backends()
+    print(
+        f"{robot!r}: per-step time, weighted stack (weight {args.weight}), medians, "
+        f"load average {_load()}"
+    )
+    print(f"{'redik back-end':<16}{'mink solver':<13}{'redik µs':>10}{'mink µs':>10}{'ratio':>8}")
+    for backend in backends:
+        solver = MINK_SOLVER.get(backend, backend)
+        try:
+            redik_us, mink_us = _time_steps(robot, backend, solver, args, targets)
+        except (BackendError, InfeasibleProblem, mink.exceptions.NoSolutionFound) as error:
+            print(f"{backend:<16}failed: {error}")
+            continue
+        if solver:
+            ratio = f"{mink_us / redik_us:>7.2f}x"
+            print(f"{backend:<16}{solver:<13}{redik_us:>10.1f}{mink_us:>10.1f}{ratio}")
+        else:
+            print(f"{backend:<16}{'-':<13}{redik_us:>10.1f}{'-':>10}{'-':>8}")
+
+    print(
+        f"\nstrict priorities: one weighted level vs pose > (posture, limits), medians, "
+        f"load average {_load()}"
+    )
+    print(f"{'redik back-end':<16}{'1 level µs':>12}{'2 levels µs':>13}{'ratio':>8}")
+    for backend in backends:
+        try:
+            one_us, two_us = _time_priorities(robot, backend, args, targets)
+        except (BackendError, InfeasibleProblem) as error:
+            print(f"{backend:<16}failed: {error}")
+            continue
+        print(f"{backend:<16}{one_us:>12.1f}{two_us:>13.1f}{two_us / one_us:>7.2f}x")
+
+    print(
+        f"\n{len(targets)} FK targets from home, pos_tol {args.pos_tol:g} m, rot_tol "
+        f"{args.rot_tol:g} rad, max_iter {args.max_iter}"
+    )
+    header = f"{'loop':<34}{'success':>9}{'iters':>7}{'ms/solve':>10}{'overshoot':>11}"
+    print(header)
+    for backend in args.converge_backends:
+        solver = MINK_SOLVER.get(backend, backend)
+        rows = [
+            (f"redik {backend} (weighted 1e-4)", _converge_redik(robot, backend, args, targets, 0)),
+            (f"redik {backend} (strict)", _converge_redik(robot, backend, args, targets, 1)),
+        ]
+        if solver:
+            mink_row = _converge_mink(robot, solver, args, targets)
+            rows.append((f"mink {solver} (weighted 1e-4)", mink_row))
+        for name, s in rows:
+            print(
+                f"{name:<34}{s['success']:>8.1%}{s['iterations']:>7}{s['time_ms']:>10.2f}"
+                f"{s['overshoot']:>11.1e}"
+            )
+
+    if args.latency_robots:
+        print(
+            f"\nsolve_pose(method='qp') latency, {args.latency_targets} random reachable "
+            f"targets per robot, defaults (restarts included), CPU time of the thread, "
+            f"load average {_load()}"
+        )
+        print(
+            f"{'robot':<9}{'seed':<8}{'success':>8}{'p50 ms':>8}{'p95 ms':>8}{'p99 ms':>8}"
+            f"{'max ms':>8}{'p99 it':>8}{'p99/step':>10}{'wall p99':>10}"
+        )
+        for name in args.latency_robots:
+            latency_robot = load(name)
+            for row in _latency(latency_robot, args):
+                print(
+                    f"{name:<9}{row['mode']:<8}{row['success']:>7.1%}{row['p50']:>8.2f}"
+                    f"{row['p95']:>8.2f}{row['p99']:>8.2f}{row['max']:>8.2f}"
+                    f"{row['iterations_p99']:>8.0f}{row['p99_steps']:>9.0f}x"
+                    f"{row['wall_p99']:>10.2f}"
+                )
+    return 0

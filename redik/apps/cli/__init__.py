@@ -1,0 +1,47 @@
+"""The ``redik`` command line.
+
+Each subcommand lives in its own module of this package and defines
+``register(subparsers) -> None``, adding a parser whose ``func`` default takes the parsed
+arguments and returns an exit code. Modules are discovered, so a new subcommand is a new
+file here and nothing else.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import pkgutil
+import sys
+from collections.abc import Sequence
+
+from redik.core.exceptions import RedikError
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="redik",
+        description="Optimisation-based, redundancy-resolving inverse kinematics on MuJoCo.",
+    )
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for module in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):
+        if module.name.startswith("_"):
+            continue
+        importlib.import_module(f"{__name__}.{module.name}").register(subparsers)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 2
+    try:
+        return int(args.func(args) or 0)
+    except RedikError as error:
+        print(f"redik {args.command}: error: {error}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

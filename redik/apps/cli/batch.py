@@ -1,0 +1,126 @@
+"""``redik batch SCENE``: solve many pose targets at once (see :mod:`redik.solvers.batch`).
+
+Targets come from ``--targets FILE.npz`` (array ``T``, ``B × 4 × 4``, and optionally seeds
+``q0``) or ``--random N`` (N reachable targets: the poses of random configurations). The
+solutions go to ``--out FILE.npz``: ``T``, ``q``, ``success``, ``position_error``,
+``rotation_error``, ``iterations``, ``restarts``, ``status`` (codes) and ``statuses`` (the
+names of the codes), plus ``q_sampled`` with ``--random``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import inspect
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from redik.core.exceptions import InvalidInput
+from redik.kinematics.robot import load
+from redik.solvers.batch import BATCH_STATUSES, ENGINES, Chain, forward_kinematics, solve_batch
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser(
+        "batch",
+        help="solve many pose targets at once, on all cores or a Ray cluster",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("scene", help="bundled scene name or MJCF/URDF path")
+    parser.add_argument("--ee", default=None, help="end-effector site or body (default: 'ee')")
+    source = parser.add_mutually_exclusive_group(required=True)
+    source.add_argument("--targets", type=Path, help=".npz with T (B×4×4) and optional q0")
+    source.add_argument("--random", type=int, metavar="N", help="solve N random reachable poses")
+    parser.add_argument("--out", type=Path, required=True, help="where to write the .npz")
+    defaults = inspect.signature(solve_batch).parameters
+    parser.add_argument(
+        "--engine", choices=ENGINES, default=defaults["engine"].default, help="as solve_batch"
+    )
+    parser.add_argument(
+        "--workers", type=int, default=None, help="threads or processes (default: all cores)"
+    )
+    parser.add_argument("--address", default=None, help="Ray cluster address (--engine ray)")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--pos-tol", type=float, default=1e-6, help="metres")
+    parser.add_argument("--rot-tol", type=float, default=1e-5, help="radians")
+    parser.add_argument("--restarts", type=int, default=defaults["restarts"].default)
+    parser.add_argument("--chunk-size", type=int, default=None, help="default: automatic")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    robot = load(args.scene, ee=args.ee)
+    chain = Chain.from_robot(robot)
+    extra: dict[str, np.ndarray] = {}
+    q0 = None
+    if args.random is not None:
+        if args.random < 1:
+            raise InvalidInput(f"--random needs a positive count, got {args.random}")
+        q_sampled = np.random.default_rng(args.seed).uniform(
+            chain.sampling_lower, chain.sampling_upper, (args.random, chain.dof)
+        )
+        T = forward_kinematics(chain, q_sampled)
+        extra["q_sampled"] = q_sampled
+    else:
+        T, q0 = _read_targets(args.targets)
+
+    bar = None
+    if not args.quiet:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(T), desc="batch IK", unit="pose", file=sys.stderr)
+    start = time.perf_counter()
+    try:
+        result = solve_batch(
+            chain,
+            T,
+            q0=q0,
+            pos_tol=args.pos_tol,
+            rot_tol=args.rot_tol,
+            restarts=args.restarts,
+            seed=args.seed,
+            engine=args.engine,
+            workers=args.workers,
+            address=args.address,
+            chunk_size=args.chunk_size,
+            progress=None if bar is None else bar.update,
+        )
+    finally:
+        if bar is not None:
+            bar.close()
+    elapsed = time.perf_counter() - start
+
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    np.savez_compressed(
+        args.out,
+        T=T,
+        q=result.q,
+        success=result.success,
+        position_error=result.position_error,
+        rotation_error=result.rotation_error,
+        iterations=result.iterations,
+        restarts=result.restarts,
+        status=result.status,
+        statuses=np.asarray(BATCH_STATUSES),
+        **extra,
+    )
+    rate = result.success.sum() / elapsed if elapsed > 0 else float("inf")
+    print(f"{robot.name}: {result.summary()}")
+    print(f"{elapsed:.2f} s on engine {args.engine!r}: {rate:,.0f} strict solves/s")
+    print(f"wrote {args.out}")
+    return 0
+
+
+def _read_targets(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
+    if not path.is_file():
+        raise InvalidInput(f"targets file not found: {str(path)!r}")
+    with np.load(path) as data:
+        if "T" not in data:
+            raise InvalidInput(
+                f"{str(path)!r} must hold an array 'T' (B × 4 × 4); it has {sorted(data.files)}"
+            )
+        return data["T"], data["q0"] if "q0" in data else None

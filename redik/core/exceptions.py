@@ -1,0 +1,86 @@
+"""Exceptions raised by redik.
+
+Every error redik raises on misuse derives from :class:`RedikError`. Ordinary failures of a
+solver (a target out of reach, an iteration limit) are *not* exceptions: they come back as
+a result with ``success=False`` and a ``status``. Input that redik can repair without changing
+its meaning beyond a stated tolerance (a rotation typed with three decimals) is repaired with a
+:class:`RedikWarning`, never silently; a run that misses a bound the caller set (a simulated
+arm leaving its path) warns the same way.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import warnings
+from pathlib import Path
+
+_PACKAGE = str(Path(__file__).resolve().parents[1]) + os.sep  # redik/, not redik/core/
+
+
+class RedikError(Exception):
+    """Root of every redik exception."""
+
+
+class InvalidInput(RedikError, ValueError):
+    """An argument has the wrong shape, holds NaN/inf, or is outside its domain."""
+
+
+class InvalidConfiguration(InvalidInput):
+    """A joint vector ``q`` has the wrong length or non-finite entries."""
+
+
+class InvalidRotation(InvalidInput):
+    """A matrix that should be a rotation (orthonormal, det = +1) is not."""
+
+
+class InvalidPose(InvalidInput):
+    """A 4×4 matrix that should be a rigid transform is not."""
+
+
+class ModelError(RedikError):
+    """A robot model cannot be loaded or built (missing file, bad MJCF/URDF, bad table)."""
+
+
+class UnknownFrame(RedikError, KeyError):
+    """A frame name names no site or body of the model."""
+
+    def __str__(self) -> str:  # KeyError would otherwise quote the message
+        return str(self.args[0]) if self.args else ""
+
+
+class BackendError(RedikError):
+    """A QP back-end is unknown, not installed, or failed on a problem."""
+
+
+class InfeasibleProblem(RedikError):
+    """The hard constraints of a problem admit no solution."""
+
+
+class RedikWarning(UserWarning):
+    """Root of every warning redik issues: the input was used after a documented repair, or a
+    result missed a bound the caller set."""
+
+
+class ModelWarning(RedikWarning):
+    """A model loaded after a stated repair: a part left out (a mesh in a format MuJoCo cannot
+    read) or replaced (an indefinite inertia tensor); see :mod:`redik.models.loading`."""
+
+
+class NearRotationWarning(RedikWarning):
+    """A matrix close to a rotation was replaced by the closest rotation
+    (:func:`redik.lie.closest_rotation`); see :mod:`redik.lie` for the tolerance policy."""
+
+
+class TrackingWarning(RedikWarning):
+    """A closed-loop run (:func:`redik.apps.sim.simulate`) left the reference by more than the
+    bound it was given."""
+
+
+def warn(message: str, category: type[RedikWarning] = RedikWarning) -> None:
+    """Issue ``message`` attributed to the first caller outside redik, so that the warning
+    names the user's line (and filters by module work) however deep the check sits."""
+    frame, level = sys._getframe(1), 2  # stacklevel 2 is the caller of warn()
+    while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(message, category, stacklevel=level)

@@ -1,0 +1,198 @@
+r"""A robot's kinematic chain compiled once from the MuJoCo model into plain arrays.
+
+MuJoCo composes a body's pose from its parent's (``body_pos``, ``body_quat``) and then applies
+the body's joints in order (``mj_kinematics``): a hinge rotates about ``jnt_axis`` through the
+anchor ``jnt_pos`` by ``q − qpos0``, a slide translates along ``jnt_axis`` by ``q − qpos0``, a
+ball rotates about the anchor by its quaternion, a free joint sets the pose outright. Folding
+every fixed part into constant transforms gives the chain as a product
+
+.. math::
+
+    T_{we}(q) = F_0 \, M_1(q_1) \, F_1 \, M_2(q_2) \cdots M_n(q_n) \, F_n,
+
+where each *joint frame* is chosen with the joint's axis as its local ``z`` and its anchor as
+its origin, so ``M_i`` is simply ``R_z(q_i)`` (hinge) or a translation ``q_i`` along ``z``
+(slide). The rotation aligning ``z`` with the axis, the anchor offset and the ``qpos0``
+reference are all absorbed into the neighbouring ``F``. Joints that are not on the chain (and
+ball/free joints on it) are frozen at the robot's home ``qpos``, as :class:`redik.Robot` does.
+
+The :class:`Chain` holds only numpy arrays, so it pickles cheaply to worker processes and Ray
+tasks, which then need neither MuJoCo nor the model.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import mujoco
+import numpy as np
+
+from redik.core.exceptions import InvalidInput, ModelError
+from redik.kinematics.robot import Frame, Robot
+from redik.lie import make_pose, matrix_from_quat
+
+_CHAIN_TYPES = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
+
+
+@dataclasses.dataclass(frozen=True)
+class Chain:
+    """A serial chain ``T(q) = F_0 M_1(q_1) F_1 ⋯ M_n(q_n) F_n`` as arrays.
+
+    Attributes:
+        base: ``F_0`` (4 × 4), world → first joint frame at ``q_1 = 0``.
+        links: ``F_1 … F_n`` (n × 4 × 4); ``links[i]`` maps joint ``i``'s moved frame to joint
+            ``i + 1``'s frame, and the last one to the end-effector.
+        revolute: True for hinges (``M_i = R_z(q_i)``), False for slides (``M_i = T_z(q_i)``).
+        lower, upper: Joint limits (``±inf`` where unlimited).
+        sampling_lower, sampling_upper: Bounds for random seeds (the limits, or ±π / ±1 m).
+        home: The robot's home configuration.
+        name: The robot's name.
+        columns: Where each joint sits in the robot's ``q``: ``0 … n−1`` for the
+            end-effector, fewer for a frame that only some of the robot's joints move.
+    """
+
+    base: np.ndarray
+    links: np.ndarray
+    revolute: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    sampling_lower: np.ndarray
+    sampling_upper: np.ndarray
+    home: np.ndarray
+    name: str
+    columns: np.ndarray
+
+    @property
+    def dof(self) -> int:
+        """Number of joints ``n``."""
+        return len(self.revolute)
+
+    def reach(self) -> tuple[np.ndarray, float]:
+        """``(centre, radius)``: a ball in the world that holds every end-effector position.
+
+        Hinges do not move the first joint's origin ``centre``; each fixed link adds at most
+        its length and each slide its largest extent, so ``radius = Σ ‖p(F_i)‖ + Σ max|q|``
+        (infinite with an unlimited slide). A sound bound, not a tight one.
+        """
+        slide = ~self.revolute
+        extent = np.maximum(np.abs(self.lower[slide]), np.abs(self.upper[slide])).sum()
+        radius = float(np.linalg.norm(self.links[:, :3, 3], axis=1).sum() + extent)
+        return self.base[:3, 3].copy(), radius
+
+    def kernel_arrays(self) -> tuple[np.ndarray, ...]:
+        """The arrays :mod:`redik.kinematics.dls` takes, in its order; the last marks limited
+        hinges whose range spans a full turn (the kernel wraps them by 2π)."""
+        periodic = (
+            self.revolute
+            & np.isfinite(self.lower)
+            & np.isfinite(self.upper)
+            & (self.upper - self.lower >= 2.0 * np.pi)
+        )
+        return (
+            self.base, self.links, self.revolute, self.lower, self.upper,
+            self.sampling_lower, self.sampling_upper, periodic,
+        )  # fmt: skip
+
+    @classmethod
+    def from_robot(cls, robot: Robot, frame: str | Frame | None = None) -> Chain:
+        """Compile ``robot``'s chain to ``frame`` (default the end-effector) from its MuJoCo
+        model; joints off the chain stay at home.
+
+        The chain holds the robot's joints that move ``frame``, in the robot's order
+        (:attr:`columns`): all of them for the end-effector or a frame attached below it.
+        """
+        if not robot.is_chain:
+            raise InvalidInput(
+                f"{robot!r} is a whole-model robot; compile one of its chains: "
+                "Chain.from_robot(robot.chain(frame)) (the other joints held)"
+            )
+        frame = robot.frame(frame)
+        base, links, addresses = _fold(robot, frame)
+        columns = np.array(
+            [int(np.flatnonzero(robot.qpos_indices == adr)[0]) for adr in addresses], dtype=int
+        )
+        return cls(
+            base,
+            links,
+            revolute=np.array(robot.revolute[columns], dtype=bool),
+            lower=np.array(robot.lower[columns], dtype=float),
+            upper=np.array(robot.upper[columns], dtype=float),
+            sampling_lower=np.array(robot.sampling_lower[columns], dtype=float),
+            sampling_upper=np.array(robot.sampling_upper[columns], dtype=float),
+            home=np.array(robot.home[columns], dtype=float),
+            name=robot.name if frame == robot.ee else f"{robot.name}:{frame.name}",
+            columns=columns,
+        )
+
+
+def _fold(robot: Robot, ee: Frame) -> tuple[np.ndarray, np.ndarray, list[int]]:
+    """``(F_0, [F_1 … F_n], qpos addresses)`` by walking the bodies from the world to ``ee``."""
+    model = robot.model
+    home_qpos = robot.full_qpos(robot.home)
+    chain_qpos = {int(adr) for adr in robot.qpos_indices}
+    ee_body = robot.body_of(ee)
+
+    path = []
+    body = ee_body
+    while body > 0:
+        path.append(body)
+        body = int(model.body_parentid[body])
+    path.reverse()
+
+    fixed: list[np.ndarray] = []  # one F per joint boundary, built up as we walk
+    addresses: list[int] = []
+    current = np.eye(4)
+    for body in path:
+        if model.body_mocapid[body] >= 0:
+            raise ModelError(f"mocap body {body} on the chain of {robot.name!r} is not supported")
+        current = current @ make_pose(matrix_from_quat(model.body_quat[body]), model.body_pos[body])
+        start = int(model.body_jntadr[body])
+        for joint in range(start, start + int(model.body_jntnum[body])):
+            kind = int(model.jnt_type[joint])
+            anchor = model.jnt_pos[joint]
+            adr = int(model.jnt_qposadr[joint])
+            if kind in _CHAIN_TYPES and adr in chain_qpos:
+                align = make_pose(_z_to(model.jnt_axis[joint]), np.zeros(3))
+                hinge = kind == int(mujoco.mjtJoint.mjJNT_HINGE)
+                to_anchor = make_pose(np.eye(3), anchor if hinge else np.zeros(3))
+                fixed.append(current @ to_anchor @ align)
+                addresses.append(adr)
+                reference = float(model.qpos0[adr])
+                undo = np.eye(4)
+                if hinge:
+                    undo[:3, :3] = _rot_z(-reference)
+                else:
+                    undo[2, 3] = -reference
+                current = undo @ align.T @ make_pose(np.eye(3), -anchor if hinge else np.zeros(3))
+            elif kind == int(mujoco.mjtJoint.mjJNT_BALL):
+                rotation = make_pose(matrix_from_quat(home_qpos[adr : adr + 4]), np.zeros(3))
+                current = current @ _about(anchor, rotation)
+            elif kind == int(mujoco.mjtJoint.mjJNT_FREE):
+                # A free joint sets the body's world pose outright; nothing before it matters.
+                current = make_pose(
+                    matrix_from_quat(home_qpos[adr + 3 : adr + 7]), home_qpos[adr : adr + 3]
+                )
+    if ee.kind == "site":
+        site = ee.id
+        current = current @ make_pose(matrix_from_quat(model.site_quat[site]), model.site_pos[site])
+    fixed.append(current)
+    return fixed[0], np.stack(fixed[1:]) if addresses else np.empty((0, 4, 4)), addresses
+
+
+def _about(anchor: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+    """A rotation about the point ``anchor``: ``T(anchor) · R · T(−anchor)``."""
+    return make_pose(np.eye(3), anchor) @ rotation @ make_pose(np.eye(3), -anchor)
+
+
+def _rot_z(angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _z_to(axis: np.ndarray) -> np.ndarray:
+    """A rotation ``A`` with ``A e_z = axis / ‖axis‖`` (columns: a right-handed frame)."""
+    z = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = np.cross(helper, z)
+    x /= np.linalg.norm(x)
+    return np.column_stack((x, np.cross(z, x), z))

@@ -1,0 +1,13 @@
+"""The solvers, peers of one another (each uses another only through its entry points):
+
+- :mod:`~redik.solvers.pose_ik`: pose IK on a robot, ``solve_pose`` / ``solve_all``
+  (damped least squares, Newton–Raphson, gradient, QP, closed form), with
+  :mod:`~redik.solvers.pose_qp` its QP driver;
+- :mod:`~redik.solvers.iterative`: root finding on a user function (``newton``, ``gradient``,
+  ``hybrid``), the textbook iterations;
+- :mod:`~redik.solvers.problem`: the differential ``Problem`` (tasks and limits stacked into
+  per-step QPs, weights and strict priorities);
+- :mod:`~redik.solvers.analytic`: closed forms with every solution;
+- :mod:`~redik.solvers.batch`: many targets at once, compiled, on every core;
+- :mod:`~redik.solvers.redundancy`: null-space motion and the self-motion manifold.
+"""

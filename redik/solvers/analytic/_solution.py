@@ -1,0 +1,297 @@
+r"""Result types shared by the closed-form solvers, and the steps every solver ends with.
+
+Every solver in :mod:`redik.solvers.analytic` returns an :class:`IKSolutions`: a sequence of
+:class:`JointSolution` (a joint vector that carries a ``label``), with ``reachable`` and, when
+empty, a ``reason``. A configuration at a singularity is still returned once, as a
+representative, with its ``singular`` text and, where the solutions form a continuum, the
+:class:`SolutionFamily` that generates the others. The batch solvers return a
+:class:`BatchSolutions` with a fixed label per slot.
+
+Angles are wrapped to (−π, π] (:func:`redik.lie.wrap_angle`); prismatic joints are left as they are.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass, field
+from typing import NamedTuple, overload
+
+import numpy as np
+
+from redik.core.exceptions import InvalidInput
+from redik.lie import wrap_angle
+
+#: Default tolerance (metres) by which a target may lie outside the workspace and still be
+#: solved, clipped onto the boundary; also the size of a sine below which a configuration is
+#: reported as singular. A solution then reproduces the pose to about this tolerance.
+DEFAULT_TOL = 1e-10
+
+#: Two solutions closer than this (radians or metres, per joint, angles modulo 2π) are one.
+DUPLICATE_TOL = 1e-9
+
+
+class JointSolution(np.ndarray):
+    """A joint vector (a 1-D numpy array) with the name of its branch.
+
+    Attributes:
+        label: Branch name, e.g. ``"left-up-noflip"`` or ``"elbow-down"``.
+        singular: Empty for a regular solution, else what is singular about it.
+        family: The continuum this representative belongs to, when there is one.
+
+    Arithmetic on a solution returns a plain array: the label describes only the solution.
+    """
+
+    label: str = ""
+    singular: str = ""
+    family: SolutionFamily | None = None
+
+    def __new__(
+        cls,
+        q: np.ndarray,
+        label: str,
+        singular: str = "",
+        family: SolutionFamily | None = None,
+    ) -> JointSolution:
+        solution = np.array(q, dtype=float).view(cls)
+        solution.label = label
+        solution.singular = singular
+        solution.family = family
+        return solution
+
+    def __array_finalize__(self, obj: object) -> None:
+        # A view of a plain array keeps the class defaults.
+        if isinstance(obj, JointSolution):
+            self.label, self.singular, self.family = obj.label, obj.singular, obj.family
+
+    def __array_wrap__(
+        self, array: np.ndarray, context: object = None, return_scalar: bool = False
+    ) -> np.ndarray:
+        plain = np.asarray(array)
+        return plain[()] if return_scalar else plain
+
+    def __reduce__(self) -> tuple:
+        # Keep the label through pickling (multiprocessing); a family holds a closure and is
+        # not pickled.
+        rebuild, args, state = super().__reduce__()
+        return rebuild, args, (state, self.label, self.singular)
+
+    def __setstate__(self, state: tuple) -> None:
+        array_state, self.label, self.singular = state
+        self.family = None
+        super().__setstate__(array_state)
+
+    @property
+    def q(self) -> np.ndarray:
+        """The joint vector as a plain array."""
+        return np.asarray(self)
+
+    def __repr__(self) -> str:
+        text = np.array2string(np.asarray(self), precision=6, separator=", ")
+        extra = f", singular={self.singular!r}" if self.singular else ""
+        return f"JointSolution({text}, label={self.label!r}{extra})"
+
+
+@dataclass(frozen=True)
+class SolutionFamily:
+    """A continuum of solutions ``q(t)`` through one representative.
+
+    Attributes:
+        free: Indices of the joints whose values may be chosen (one per parameter of ``at``).
+        description: What is determined and what is not, e.g. ``"θ4 + θ6 = 0.5236"``.
+        invariants: The quantities every member shares, e.g. ``{"theta4+theta6": 0.5236}``.
+        generator: ``generator(*t) -> q``; use :meth:`at`.
+    """
+
+    free: tuple[int, ...]
+    description: str
+    generator: Callable[..., np.ndarray] = field(repr=False)
+    invariants: dict[str, float] = field(default_factory=dict)
+
+    def at(self, *t: float) -> np.ndarray:
+        """The member whose free joints take the values ``t`` (one value per free joint)."""
+        if len(t) != len(self.free):
+            raise InvalidInput(
+                f"this family has {len(self.free)} free parameter(s) (joints {self.free}), "
+                f"got {len(t)} value(s)"
+            )
+        return self.generator(*(float(v) for v in t))
+
+
+@dataclass(frozen=True)
+class IKSolutions(Sequence[JointSolution]):
+    """Every closed-form solution of one target, as a sequence of :class:`JointSolution`.
+
+    Attributes:
+        solutions: The solutions, distinct modulo 2π, in the solver's slot order.
+        n_joints: Length of each joint vector (so an empty result still has a shape).
+        reachable: Whether the target lies in the workspace (joint limits aside).
+        reason: Why there is no solution, when there is none; else empty.
+        preferred: Label of the branch conventionally used by the hardware (e.g. a hexapod's
+            ``"knee-up"``), or empty.
+    """
+
+    solutions: tuple[JointSolution, ...]
+    n_joints: int
+    reachable: bool
+    reason: str = ""
+    preferred: str = ""
+
+    @overload
+    def __getitem__(self, index: int) -> JointSolution: ...
+    @overload
+    def __getitem__(self, index: slice) -> tuple[JointSolution, ...]: ...
+    def __getitem__(self, index: int | slice) -> JointSolution | tuple[JointSolution, ...]:
+        return self.solutions[index]
+
+    def __len__(self) -> int:
+        return len(self.solutions)
+
+    def __iter__(self) -> Iterator[JointSolution]:
+        return iter(self.solutions)
+
+    @property
+    def labels(self) -> tuple[str, ...]:
+        return tuple(solution.label for solution in self.solutions)
+
+    @property
+    def singular(self) -> bool:
+        """Whether any returned solution is at a singularity."""
+        return any(solution.singular for solution in self.solutions)
+
+    @property
+    def families(self) -> tuple[SolutionFamily, ...]:
+        """The continua of solutions, one per singular representative that has one."""
+        return tuple(s.family for s in self.solutions if s.family is not None)
+
+    def as_array(self) -> np.ndarray:
+        """The solutions stacked as a (k, n) array (k = 0 when there is none)."""
+        return np.array([s.q for s in self.solutions], dtype=float).reshape(-1, self.n_joints)
+
+    def by_label(self, label: str) -> JointSolution:
+        """The solution with this label; raises :class:`InvalidInput` naming the labels."""
+        for solution in self.solutions:
+            if solution.label == label:
+                return solution
+        raise InvalidInput(f"no solution labelled {label!r}; the labels are {list(self.labels)}")
+
+    def nearest(self, q_ref: np.ndarray, revolute: np.ndarray | None = None) -> JointSolution:
+        """The solution closest to ``q_ref`` (angles compared modulo 2π, all joints if
+        ``revolute`` is None): the branch to follow along a trajectory."""
+        if not self.solutions:
+            raise InvalidInput(f"there is no solution to choose from: {self.reason}")
+        q_ref = np.asarray(q_ref, dtype=float)
+        if q_ref.shape != (self.n_joints,):
+            raise InvalidInput(f"q_ref must have shape ({self.n_joints},), got {q_ref.shape}")
+        mask = np.ones(self.n_joints, bool) if revolute is None else np.asarray(revolute, bool)
+        difference = self.as_array() - q_ref
+        difference[:, mask] = wrap_angle(difference[:, mask])
+        return self.solutions[int(np.argmin(np.linalg.norm(difference, axis=1)))]
+
+
+@dataclass(frozen=True)
+class BatchSolutions:
+    """Closed-form solutions of B targets at once, slot by slot.
+
+    Attributes:
+        q: (B, S, n) joint vectors; a slot that is not ``valid`` holds NaN.
+        valid: (B, S) whether the slot holds a solution (reachable and within the limits).
+        singular: (B, S) whether that solution is at (within the tolerance of) a singularity;
+            two valid slots of one target may then hold the same configuration.
+        labels: The S slot labels, the same for every target.
+    """
+
+    q: np.ndarray
+    valid: np.ndarray
+    singular: np.ndarray
+    labels: tuple[str, ...]
+
+    def __len__(self) -> int:
+        return self.q.shape[0]
+
+    @property
+    def n_solutions(self) -> np.ndarray:
+        """(B,) number of valid slots per target (duplicates at singularities included)."""
+        return self.valid.sum(axis=1)
+
+
+def limit_representatives(
+    q: np.ndarray, lower: np.ndarray, upper: np.ndarray, revolute: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Move each revolute angle by a multiple of 2π into ``[lower, upper]`` when one exists.
+
+    Returns ``(q_shifted, inside)`` for ``q`` of shape (..., n): the shift is the smallest that
+    brings the angle into range (none if it is already in range), and ``inside`` (..., n) says
+    which joints are then in range. A value outside by less than :data:`DUPLICATE_TOL` is
+    clipped onto the limit.
+    """
+    two_pi = 2.0 * np.pi
+    # The turns k with lower ≤ q + 2πk ≤ upper run from ceil((lower − q)/2π) to
+    # floor((upper − q)/2π); the one nearest 0 is the smallest shift (0 when q is in range, as
+    # an infinite limit gives ∓inf). When the range is empty no shift puts q inside.
+    turns = np.minimum(
+        np.maximum(np.ceil((lower - q) / two_pi), 0.0), np.floor((upper - q) / two_pi)
+    )
+    shifted = q + np.where(revolute, two_pi * turns, 0.0)
+    clipped = np.minimum(np.maximum(shifted, lower), upper)
+    return clipped, np.abs(clipped - shifted) <= DUPLICATE_TOL
+
+
+class Candidate(NamedTuple):
+    """A solution before :func:`finalize`: its joint values and what the solver knows of it
+    (the fields of a :class:`JointSolution`, without building the array subclass)."""
+
+    q: Sequence[float] | np.ndarray
+    label: str
+    singular: str = ""
+    family: SolutionFamily | None = None
+
+
+def finalize(
+    candidates: Sequence[Candidate | JointSolution],
+    n_joints: int,
+    revolute: np.ndarray,
+    limits: tuple[np.ndarray, np.ndarray] | None,
+    preferred: str = "",
+) -> IKSolutions:
+    """Wrap angles, drop duplicates (modulo 2π, the first of equals is kept) and filter by
+    joint limits.
+
+    The candidates come from a reachable target; if the limits exclude all of them the result
+    is empty with a reason naming the joints that are out of range. Regular solutions differ
+    by construction (in the sign of a non-zero square root, or by π in an angle), so only when
+    a candidate is singular are the candidates compared for duplicates.
+    """
+    q = np.array([c.q for c in candidates], dtype=float).reshape(-1, n_joints)
+    q = np.where(revolute, wrap_angle(q), q)
+    distinct = np.ones(len(q), bool)
+    if any(c.singular for c in candidates):
+        difference = q[:, None, :] - q[None, :, :]
+        difference[..., revolute] = wrap_angle(difference[..., revolute])
+        same = np.all(np.abs(difference) < DUPLICATE_TOL, axis=-1)
+        distinct = ~np.any(np.tril(same, k=-1), axis=1)
+    keep = distinct
+    if limits is not None:
+        q, inside = limit_representatives(q, limits[0], limits[1], revolute)
+        keep = distinct & inside.all(axis=1)
+    # Rows of one view: half the cost of building each solution from its values.
+    block = q.view(JointSolution)
+    kept = []
+    for index, candidate in enumerate(candidates):
+        if keep[index]:
+            solution = block[index]
+            solution.label, solution.singular = candidate.label, candidate.singular
+            solution.family = candidate.family
+            kept.append(solution)
+    reason = ""
+    if limits is not None and not kept:
+        reason = (
+            f"none of the {int(distinct.sum())} solutions lies within the joint limits "
+            f"(joints out of range in some solution: "
+            f"{np.flatnonzero(~inside[distinct].all(axis=0)).tolist()})"
+        )
+    return IKSolutions(tuple(kept), n_joints, True, reason, preferred)
+
+
+def unreachable(n_joints: int, reason: str) -> IKSolutions:
+    """The empty result for a target outside the workspace."""
+    return IKSolutions((), n_joints, False, reason)

@@ -1,0 +1,333 @@
+r"""Damped least squares over a batch of pose targets: :func:`solve_batch`.
+
+Every target runs its own Levenberg–Marquardt solve (Nocedal & Wright §10.3; Buss,
+*Introduction to inverse kinematics with Jacobian transpose, pseudoinverse and damped least
+squares methods*, 2004) in the compiled kernel of :mod:`redik.kinematics.dls`, which states
+the iteration, the joint-limit handling and the restarts:
+
+.. math::
+
+    Δq = J^\top (J J^\top + λ I_6)^{-1} e, \qquad λ = μ\,‖e‖^2 + λ_{min}, \qquad
+    e = \begin{pmatrix} p_d − p \\ \log(R_d R^\top)^\vee \end{pmatrix},
+
+with ``J`` the ``"world"`` Jacobian of :mod:`redik.core.conventions`. A failed target restarts
+from random configurations within the limits, up to ``restarts`` times; each target's random
+stream comes from ``(seed, its index in the batch)`` alone, so results do not depend on the
+chunk size, the engine or the number of workers. The batch is cut into chunks (the unit of
+work and memory of every engine); on the ``"local"`` engine the targets of a chunk are spread
+over numba's threads, on ``"process"`` and ``"ray"`` each worker solves whole chunks.
+
+Success is **strict**: position error ``‖p_d − p‖ ≤ pos_tol``, rotation angle of ``Rᵀ R_d`` ``≤
+rot_tol`` and ``q`` within the limits, checked by a fresh FK of the returned ``q``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+
+import numba
+import numpy as np
+
+from redik.core.exceptions import InvalidInput
+from redik.kinematics import dls
+from redik.kinematics.chain import Chain
+from redik.kinematics.compiled import valid_targets
+from redik.kinematics.dls import BatchOptions
+from redik.kinematics.dls import damped_step as damped_step  # re-exported: its old home
+from redik.kinematics.robot import Robot
+from redik.lie import MAX_COORDINATE, ROTATION_TOLERANCE, check_rotations, real_array
+from redik.lie import rotation_log as rotation_log  # re-exported: its old home
+from redik.solvers.batch.engines import ENGINES, default_workers, map_chunks
+
+BATCH_STATUSES = ("converged", "stalled", "max_iterations", "invalid", "diverged")
+"""Status names by code (those of :mod:`redik.kinematics.dls`). All but ``"invalid"`` are
+those of :data:`redik.core.result.STATUSES`; ``"invalid"`` marks a target that is not a finite
+rigid transform (it is not solved)."""
+
+METHODS = ("dls",)
+"""Methods of :func:`solve_batch`: damped least squares (Levenberg–Marquardt)."""
+
+CHUNK_SIZE_RANGE = (1024, 16384)
+"""Bounds of the automatic chunk size: enough targets to keep every thread busy, few enough
+to bound memory and to give every worker a share of a 10k batch."""
+
+
+@dataclasses.dataclass
+class BatchResult:
+    """Outcome of :func:`solve_batch`, one row per target.
+
+    Attributes:
+        q: ``B × n`` joint vectors, always finite and within the limits (for an invalid target
+            its seed).
+        success: Strict success mask (tolerances and limits, verified by FK of ``q``).
+        position_error: ``‖p_d − p‖`` in metres (NaN for an invalid target).
+        rotation_error: Angle of ``Rᵀ R_d`` in radians (NaN for an invalid target).
+        iterations: Iterations spent on each target, summed over its attempts.
+        restarts: Random re-seeds used by each target.
+        status: Codes indexing :data:`BATCH_STATUSES`.
+    """
+
+    q: np.ndarray
+    success: np.ndarray
+    position_error: np.ndarray
+    rotation_error: np.ndarray
+    iterations: np.ndarray
+    restarts: np.ndarray
+    status: np.ndarray
+
+    STATUSES = BATCH_STATUSES
+
+    def __len__(self) -> int:
+        return len(self.success)
+
+    @property
+    def status_names(self) -> np.ndarray:
+        """``status`` as strings."""
+        return np.asarray(BATCH_STATUSES)[self.status]
+
+    @property
+    def success_rate(self) -> float:
+        """Fraction of targets solved (0 for an empty batch)."""
+        return float(np.mean(self.success)) if len(self) else 0.0
+
+    def summary(self) -> str:
+        """One line: successes, and the worst errors among them."""
+        solved = self.success
+        parts = [f"{int(solved.sum())}/{len(self)} solved ({100 * self.success_rate:.2f} %)"]
+        if solved.any():
+            parts.append(f"max pos {self.position_error[solved].max():.1e} m")
+            parts.append(f"max rot {self.rotation_error[solved].max():.1e} rad")
+            parts.append(f"mean {self.iterations[solved].mean():.1f} it")
+        counts = np.bincount(self.status, minlength=len(BATCH_STATUSES))
+        parts += [
+            f"{name} {count}" for name, count in zip(BATCH_STATUSES, counts, strict=True) if count
+        ]
+        return ", ".join(parts)
+
+    @classmethod
+    def concatenate(cls, parts: list[BatchResult]) -> BatchResult:
+        """The results of consecutive chunks as one."""
+        fields = [f.name for f in dataclasses.fields(cls)]
+        return cls(**{name: np.concatenate([getattr(p, name) for p in parts]) for name in fields})
+
+
+# --------------------------------------------------------------------------------------
+# Boundary checks
+
+
+def check_targets(T_targets: np.ndarray, strict: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """``(T, valid)``: the targets as a float ``B × 4 × 4`` array and a per-target mask.
+
+    A target is valid when it is finite, ends with ``[0, 0, 0, 1]``, has a translation within
+    ``±``:data:`redik.lie.MAX_COORDINATE` and a rotation block
+    accepted by :mod:`redik.lie`'s tolerance policy, as :func:`redik.lie.as_pose` checks one
+    pose: near-rotations come back projected onto SO(3) (one warning), or invalid when
+    ``strict``. Malformed targets are reported, not raised.
+
+    Raises:
+        InvalidInput: the array is not ``B × 4 × 4`` real numbers.
+    """
+    T = real_array(T_targets, "T_targets")
+    if T.ndim != 3 or T.shape[1:] != (4, 4):
+        raise InvalidInput(f"T_targets must have shape (B, 4, 4), got {T.shape}")
+    T = np.ascontiguousarray(T)
+    # Compiled and on every core: the exact rigid transforms, nearly all of a batch (a serial
+    # numpy pass took a tenth of the time of the solves). The policy then only sees the rest.
+    valid = np.empty(len(T), dtype=bool)
+    valid_targets(T, ROTATION_TOLERANCE, valid)
+    if valid.all():
+        return T, valid
+    rest = np.flatnonzero(~valid)
+    with np.errstate(invalid="ignore"):
+        finite = np.isfinite(T[rest]).all(axis=(1, 2))
+        bottom = np.abs(T[rest, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1, initial=0.0)
+        far = np.abs(T[rest, :3, 3]).max(axis=1, initial=0.0)
+        well_formed = finite & (bottom <= ROTATION_TOLERANCE) & (far <= MAX_COORDINATE)
+    block = np.where(well_formed[:, None, None], T[rest, :3, :3], np.eye(3))
+    R, accepted = check_rotations(block, "T_targets[:, :3, :3]", strict=strict)
+    if R is not block:
+        T = T.copy()
+        T[rest, :3, :3] = np.where(well_formed[:, None, None], R, T[rest, :3, :3])
+    valid[rest] = well_formed & accepted
+    return T, valid
+
+
+def _is_integer(value: object) -> bool:
+    return isinstance(value, int | np.integer) and not isinstance(value, bool)
+
+
+def check_seeds(chain: Chain, q0: np.ndarray | None, size: int) -> np.ndarray:
+    """Seeds as ``B × n`` within the limits: ``q0`` broadcast, or the home configuration.
+
+    Raises:
+        InvalidInput: ``q0`` is neither ``(n,)`` nor ``(B, n)``, or holds NaN/inf.
+    """
+    n = chain.dof
+    if q0 is None:
+        q0 = chain.home
+    q0 = real_array(q0, "q0")
+    if q0.shape not in ((n,), (size, n)):
+        raise InvalidInput(f"q0 must have shape ({n},) or ({size}, {n}), got {q0.shape}")
+    if not np.all(np.isfinite(q0)):
+        raise InvalidInput("q0 holds NaN or inf")
+    return np.clip(np.broadcast_to(q0, (size, n)), chain.lower, chain.upper)
+
+
+# --------------------------------------------------------------------------------------
+# --------------------------------------------------------------------------------------
+# One chunk
+
+
+def solve_chunk(
+    chain: Chain,
+    T_targets: np.ndarray,
+    q0: np.ndarray,
+    options: BatchOptions,
+    key: int,
+    first: int = 0,
+    parallel: bool = False,
+) -> BatchResult:
+    """Solve one chunk in this process: the unit of work of every engine.
+
+    ``T_targets`` is ``B × 4 × 4``, ``q0`` ``B × n`` within limits, the targets ``first …
+    first + B − 1`` of the batch; their random re-seeds depend on ``key`` and those indices
+    alone. ``parallel`` spreads the targets over numba's threads. A target that is not a
+    finite rigid transform (:func:`redik.kinematics.compiled.valid_target`, checked in the
+    compiled code beside the solve) gets status ``"invalid"``.
+    """
+    T = np.ascontiguousarray(T_targets, dtype=float)
+    size = len(T)
+    results = (
+        np.empty((size, chain.dof)),
+        np.empty(size, dtype=np.int8),
+        np.empty(size, dtype=np.int64),
+        np.empty(size, dtype=np.int64),
+        np.empty(size),
+        np.empty(size),
+    )
+    settings, counts = options.kernel_settings()
+    solve = dls.solve_parallel if parallel else dls.solve_serial
+    solve(
+        chain.kernel_arrays(), T, np.ascontiguousarray(q0, dtype=float),
+        np.int64(first), np.uint64(key), settings, counts, results,
+    )  # fmt: skip
+    q, status, iterations, restarts, position, rotation = results
+    return BatchResult(
+        q=q,
+        success=status == dls.CONVERGED,
+        position_error=position,
+        rotation_error=rotation,
+        iterations=iterations,
+        restarts=restarts,
+        status=status,
+    )
+
+
+def solve_batch(
+    robot: Robot | Chain,
+    T_targets: np.ndarray,
+    q0: np.ndarray | None = None,
+    method: str = "dls",
+    pos_tol: float = 1e-6,
+    rot_tol: float = 1e-5,
+    restarts: int = 100,
+    seed: int | np.random.SeedSequence | None = None,
+    engine: str = "local",
+    workers: int | None = None,
+    address: str | None = None,
+    chunk_size: int | None = None,
+    max_iterations: int = 60,
+    progress: Callable[[int], None] | None = None,
+    strict: bool = False,
+) -> BatchResult:
+    """Solve ``B`` pose targets at once; strict success per target (see the module docstring).
+
+    Args:
+        robot: The robot, or its compiled :class:`~redik.kinematics.chain.Chain` (to compile once
+            for many calls).
+        T_targets: ``B × 4 × 4`` desired end-effector poses ``T_wd``. A target that is not a
+            finite rigid transform is reported with status ``"invalid"``; the others are solved.
+        q0: Seeds, ``(n,)`` for all or ``(B, n)``; default the robot's home configuration.
+        method: ``"dls"``, damped least squares (Levenberg–Marquardt).
+        pos_tol, rot_tol: Position (m) and rotation (rad) tolerances.
+        restarts: Random re-seeds allowed per target after its first attempt.
+        seed: Seed of the re-seeds; the same seed gives the same result on every engine,
+            worker count and chunk size.
+        engine: ``"local"`` (this process, the targets spread over threads on every core:
+            the default), ``"process"`` (a pool of single-threaded processes) or ``"ray"``;
+            see :mod:`redik.solvers.batch.engines`.
+        workers: Threads, processes or Ray CPUs; default every core.
+        address: Ray cluster address (``engine="ray"``); default a local Ray instance.
+        chunk_size: Targets per chunk, the unit of work (and of memory) of every engine;
+            default a quarter of the batch within :data:`CHUNK_SIZE_RANGE`. Results do not
+            depend on it.
+        max_iterations: Iterations per attempt.
+        progress: Called with the number of targets in each finished chunk.
+        strict: Report near-rotation targets as ``"invalid"`` instead of projecting them
+            onto SO(3) with a warning (:mod:`redik.lie`'s tolerance policy).
+
+    Returns:
+        A :class:`BatchResult` with one row per target.
+
+    Raises:
+        InvalidInput: ``T_targets`` is not ``B × 4 × 4``, a bad ``q0``, method, engine or
+            tolerance.
+    """
+    if not isinstance(method, str) or method not in METHODS:
+        raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
+    if not isinstance(engine, str) or engine not in ENGINES:
+        raise InvalidInput(f"engine must be one of {ENGINES}, got {engine!r}")
+    for name, count in (("chunk_size", chunk_size), ("workers", workers)):
+        if count is not None and not (_is_integer(count) and count >= 1):
+            raise InvalidInput(f"{name} must be a positive integer or None, got {count!r}")
+    if not (seed is None or isinstance(seed, np.random.SeedSequence) or _is_integer(seed)) or (
+        _is_integer(seed) and seed < 0
+    ):
+        raise InvalidInput(f"seed must be None, an integer ≥ 0 or a SeedSequence, got {seed!r}")
+    chain = robot if isinstance(robot, Chain) else Chain.from_robot(robot)
+    options = BatchOptions(
+        pos_tol=pos_tol, rot_tol=rot_tol, restarts=restarts, max_iterations=max_iterations
+    )
+    T, valid = check_targets(T_targets, strict)  # once here: one warning, not one per chunk
+    if not valid.all():
+        T = np.where(valid[:, None, None], T, np.nan)  # each chunk sees the refused as invalid
+    size = len(T)
+    seeds = check_seeds(chain, q0, size)
+    if chunk_size is None:
+        chunk_size = int(np.clip(-(-size // 4), *CHUNK_SIZE_RANGE))
+    starts = range(0, max(size, 1), chunk_size)  # an empty batch is one empty chunk
+    root = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
+    key = int(root.generate_state(1, np.uint64)[0])
+    chunks = (
+        (T[start : start + chunk_size], seeds[start : start + chunk_size], start)
+        for start in starts
+    )
+    parallel = engine == "local"
+    threads = numba.get_num_threads()
+    if parallel:
+        numba.set_num_threads(min(workers or default_workers(), numba.config.NUMBA_NUM_THREADS))
+    try:
+        with numba.parallel_chunksize(1):  # hand out blocks of targets as threads free up
+            parts = map_chunks(
+                _solve_chunk_task,
+                (chain, options, key, parallel),
+                chunks,
+                engine=engine,
+                workers=workers,
+                address=address,
+                on_result=None if progress is None else lambda part: progress(len(part)),
+            )
+    finally:
+        numba.set_num_threads(threads)
+    return BatchResult.concatenate(parts)
+
+
+def _solve_chunk_task(
+    shared: tuple[Chain, BatchOptions, int, bool],
+    T_targets: np.ndarray,
+    q0: np.ndarray,
+    first: int,
+) -> BatchResult:
+    chain, options, key, parallel = shared
+    return solve_chunk(chain, T_targets, q0, options, key, first, parallel)

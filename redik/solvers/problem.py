@@ -1,0 +1,672 @@
+r"""The optimisation driver: a robot, a stack of tasks and limits, one QP per step.
+
+``problem.step(q, dt)`` returns the joint step :math:`Δq` for online control at a fixed
+rate; ``problem.solve(q0)`` iterates :math:`q \leftarrow q + Δq` until the highest-priority
+tasks converge. Each step runs forward kinematics once, fills preallocated per-level
+objectives (:mod:`redik.qp.assembly`), intersects the box limits, and solves the levels
+lexicographically (:mod:`redik.qp.hierarchy`) with the chosen back-end
+(:mod:`redik.qp.backends`).
+
+**Limits are never left.** The position box is shrunk by the back-end's tolerance and
+:math:`q + Δq` is then clipped into the joint limits, so every configuration ``step`` leads
+to and ``solve`` returns lies within them (:mod:`redik.limits.position_limit`). The default
+limits also hold every limited ball joint in its cone (:mod:`redik.limits.ball_joint_limit`).
+
+**Whole models.** On a robot with ball or free joints (a floating base), ``q`` has
+``robot.nq`` entries and ``Δq`` ``robot.dof`` (the tangent space): ``solve`` steps by
+``robot.integrate(q, αΔq)`` (``mj_integratePos``) and joint-space tasks measure
+``q ⊖ r`` by ``mj_differentiatePos``; pose tasks on several frames (two hands, the feet)
+at any priorities (:mod:`redik.kinematics.robot`). Limits linearised at ``q`` (collision distances)
+are re-checked at the end of a step, which ``solve`` shortens until they hold.
+
+mink tasks and limits may be mixed in; a ``mink.Configuration`` is then kept in sync with
+``q`` (one more forward kinematics per step, paid only when one is present).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Sequence
+
+import mink
+import numpy as np
+from scipy.optimize import nnls
+
+from redik.core._validate import non_negative, positive
+from redik.core.exceptions import InfeasibleProblem, InvalidInput
+from redik.core.result import IKResult
+from redik.kinematics.robot import Robot
+from redik.limits import BallJointLimit, BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
+from redik.limits.ball_joint_limit import limited_ball_joints
+from redik.qp.assembly import Assembly
+from redik.qp.backends import Backend, make_backend
+from redik.qp.hierarchy import free_directions, row_null_space, solve_lexicographic
+from redik.tasks.frame_task import FrameTask
+from redik.tasks.joint_space_task import JointSpaceTask
+from redik.tasks.kinematics import KinematicState
+from redik.tasks.task import ResidualTask, Task
+
+_MIN_STEP_FRACTION = 1.0 / 64.0
+"""Smallest fraction of a QP step ``solve`` tries before calling the iterate stalled."""
+
+_MU_MIN, _MU_MAX = 1e-9, 1e6
+"""Bounds of the adaptive Levenberg–Marquardt scale of ``solve``."""
+
+
+_ACTIVE_TOL = 1e-9
+"""A limit whose bound on ``Δq`` is within this of 0 is active (stationarity test)."""
+
+
+@dataclasses.dataclass
+class QPResult(IKResult):
+    """:class:`~redik.core.result.IKResult` of :meth:`Problem.solve`, with the lower levels'
+    optimality.
+
+    Attributes:
+        stationarity: Per lower level (priority order, level 0 excluded), the norm of its
+            objective's gradient projected onto the directions the higher levels and the
+            active limits leave free, at ``q`` (:meth:`Problem.stationarity`); empty with one
+            level.
+        stationary: True when every value is within ``stationarity_tol``: ``q`` is a
+            (first-order) optimum of the lower levels subject to the higher ones and the
+            limits, not merely a point where level 0 converged.
+    """
+
+    stationarity: list[float] = dataclasses.field(default_factory=list)
+    stationary: bool = True
+
+
+def _is_real(value) -> bool:
+    return isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool)
+
+
+def _joint_vector(robot: Robot, q, name: str) -> np.ndarray:
+    """``robot.check_q``: a non-numeric (string, complex, object, ragged) ``q`` is an
+    :class:`InvalidConfiguration` there too."""
+    return robot.check_q(q, name)
+
+
+def _check_dt(dt) -> None:
+    if dt is not None:
+        positive(dt, "dt", unit="s")
+
+
+def _as_list(items, name: str, marker: str) -> list:
+    """``items`` as a list; one object having ``marker`` (a task, a limit) is the list of it."""
+    if hasattr(items, marker) or isinstance(items, Limit):
+        return [items]
+    try:
+        if isinstance(items, str | bytes):
+            raise TypeError
+        return list(items)
+    except TypeError:  # None, a number, a 0-d array
+        raise InvalidInput(f"{name} must be a list (or a single one), got {items!r}") from None
+
+
+class Problem:
+    """Differential IK as a (hierarchical) QP over the joints ``robot`` moves.
+
+    Args:
+        robot: The robot; ``Δq`` has ``robot.dof`` entries (its tangent coordinates), a
+            configuration ``q`` has ``robot.nq`` (see :mod:`redik.kinematics.robot`).
+        tasks: redik tasks and/or mink tasks (``mink.FrameTask``, ``mink.ComTask``…). Tasks
+            of equal ``priority`` are weighted and summed; priorities are strict. A single
+            task is accepted as the list of it, ``Problem(robot, PoseTask(T))``.
+        limits: redik or mink limits; None is the robot's own ranges, ``[PositionLimit()]``
+            plus a :class:`~redik.limits.BallJointLimit` when it moves limited ball joints
+            (whose cones no box holds); ``[]`` is none; a single limit is the list of it.
+        backend: A back-end name, a list of names (a fallback chain) or a
+            :class:`~redik.qp.backends.Backend` (see :func:`~redik.qp.backends.make_backend`);
+            an instance serves one priority level only, since back-ends keep per-QP state
+            (a workspace, a warm start): with several levels, pass a name.
+        damping: Regularisation ``ε`` added to each level's Hessian (default 1e-6: keeps
+            active-set solvers out of trouble, changes a converged solution by nothing).
+        rank_tol: Relative eigenvalue threshold of the null space between levels.
+        backend_options: Settings passed to the back-end.
+        step_damping: Levenberg–Marquardt scale ``μ`` of :meth:`step` (≥ 0; default 0,
+            undamped): level 0's Hessian gets ``λ = μ‖b₀‖²``, ``b₀ = −αWe`` its weighted
+            task error (see :meth:`step`). ``solve`` has its own adaptive ``lm_damping``.
+
+    Attributes:
+        levels: The priority values, highest first.
+        stats: Counters; ``"skipped_levels"``: lower levels whose back-end failed
+            (:mod:`redik.qp.hierarchy`).
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        tasks: Sequence,
+        limits: Sequence | None = None,
+        backend: str | Sequence[str] | Backend = "daqp",
+        *,
+        damping: float = 1e-6,
+        rank_tol: float = 1e-10,
+        backend_options: dict | None = None,
+        step_damping: float = 0.0,
+    ):
+        if not isinstance(robot, Robot):
+            raise InvalidInput(f"robot must be a redik.Robot, got {type(robot).__name__}")
+        tasks = _as_list(tasks, "tasks", "compute_qp_objective")
+        if not tasks:
+            raise InvalidInput("a Problem needs at least one task")
+        for task in tasks:
+            if not hasattr(task, "compute_qp_objective"):
+                raise InvalidInput(f"{task!r} is not a task (no compute_qp_objective)")
+        non_negative(damping, "damping")
+        non_negative(step_damping, "step_damping")
+        if not _is_real(rank_tol) or not (np.isfinite(rank_tol) and 0.0 <= rank_tol < 1.0):
+            raise InvalidInput(f"rank_tol must be in [0, 1), got {rank_tol!r}")
+        if backend_options is not None and not isinstance(backend_options, dict):
+            raise InvalidInput(f"backend_options must be a dict, got {backend_options!r}")
+        self.robot = robot
+        self.step_damping = float(step_damping)
+        self.tasks = tasks
+        self.damping = float(damping)
+        self.rank_tol = float(rank_tol)
+        self._assembly = Assembly(robot, tasks, self.damping)
+        self.levels = [level.priority for level in self._assembly.levels]
+        options = backend_options or {}
+        if isinstance(backend, Backend) and (len(self.levels) > 1 or options):
+            raise InvalidInput(
+                f"a Backend instance ({backend.name!r}) keeps one QP's state and its own "
+                f"settings: it cannot serve {len(self.levels)} priority levels or take "
+                "backend_options; pass the back-end by name"
+            )
+        self.backends = [make_backend(backend, **options) for _ in self.levels]
+        level0 = self._assembly.levels[0]
+        self._rows0 = level0.A if level0.least_squares and len(self.levels) > 1 else None
+        tolerance = max(b.tolerance for b in self.backends)
+
+        if limits is None:
+            limits = [PositionLimit()] + ([BallJointLimit()] if limited_ball_joints(robot) else [])
+        else:
+            limits = _as_list(limits, "limits", "compute_qp_inequalities")
+        self.limits: list[Limit] = []
+        for limit in limits:
+            if not isinstance(limit, Limit):
+                if not hasattr(limit, "compute_qp_inequalities"):
+                    raise InvalidInput(f"{limit!r} is not a limit")
+                limit = MinkLimit(limit)
+            self.limits.append(limit.bind(robot, tolerance))
+        self._boxes = [limit for limit in self.limits if isinstance(limit, BoxLimit)]
+        self._rows = [limit for limit in self.limits if isinstance(limit, InequalityLimit)]
+        self._clip = any(isinstance(limit, PositionLimit) for limit in self.limits)
+        self._bounded = bool(self._boxes)
+
+        self.stats: dict[str, int] = {}
+        self._state = KinematicState.for_robot(robot)
+        self._configuration = None
+        if self._assembly.needs_configuration or any(r.needs_configuration for r in self._rows):
+            self._configuration = mink.Configuration(robot.model)
+        self._lb = np.full(robot.dof, -np.inf)
+        self._ub = np.full(robot.dof, np.inf)
+        # What "converged" waits for: the level-0 tasks with a target. Joint-space
+        # regularisers and gradient tasks have none.
+        self._targets = [
+            task
+            for task in self._assembly.levels[0].tasks
+            if not isinstance(task, JointSpaceTask)
+            and (isinstance(task, ResidualTask) or not isinstance(task, Task))
+        ]
+        # (task, e, J, is a frame task): error buffers of the residual tasks, filled in place.
+        self._target_buffers = [
+            (
+                task,
+                np.empty(task.k),
+                np.empty((task.k, self._state.n_columns)),
+                isinstance(task, FrameTask),
+            )
+            if isinstance(task, ResidualTask)
+            else (task, None, None, False)
+            for task in self._targets
+        ]
+
+    # ----------------------------------------------------------------------------------
+    # Online control
+
+    def step(self, q: np.ndarray, dt: float | None = None) -> np.ndarray:
+        r"""The joint step ``Δq`` at ``q`` (``q ⊕ Δq`` stays within the position limits).
+
+        ``Δq`` is a tangent vector (``robot.dof``,): apply it with
+        ``robot.integrate(q, Δq)`` (``q + Δq`` when ``robot.flat``). ``dt`` (seconds) is
+        needed by velocity limits; divide ``Δq`` by it for a velocity.
+
+        With ``step_damping = μ > 0`` level 0 is solved as damped least squares,
+        :math:`\min ½‖AΔq − b‖² + ½λ‖Δq‖²` with :math:`λ = μ‖b‖²` (Levenberg–Marquardt
+        with Sugihara's error-dependent choice, *Solvability-unconcerned inverse kinematics
+        by the Levenberg–Marquardt method*, IEEE T-RO 2011; :math:`A = WJ`,
+        :math:`b = −αWe` the stacked level-0 rows). Why a tracking loop needs it: when the
+        target leaves the workspace the arm stretches to a fold of its reach, where
+        :math:`J` loses rank in the direction of the error. There the Gauss–Newton step
+        :math:`σ^{-1} u^\top b` along the weakest singular pair :math:`(σ, u, v)` grows
+        without bound as :math:`σ → 0` and jumps across the fold; the velocity box clips it
+        to a vertex and the next tick jumps back — a two-tick cycle at the velocity limit.
+        Damped, that component is :math:`σ/(σ² + λ)\, u^\top b → 0`; in one dimension,
+        with reach :math:`r(θ) ≈ r^* − ½κ(θ − θ^*)²`, the fold is a stable, non-oscillating
+        fixed point once :math:`λ ≥ κ‖e‖` (Gauss–Newton neglects exactly this
+        :math:`Σ e_i ∇² e_i` term: Nocedal & Wright §10.3). On a reachable path the error
+        of one tick is small and :math:`λ = μ‖b‖²` vanishes quadratically: tracking is
+        unchanged. Lower levels still move in the null space of level 0's rows
+        (the λ shift is discounted, :mod:`redik.qp.hierarchy`).
+
+        Measured (``tests/test_problem.py``; Panda from q₂ = 0 along a circle whose top is
+        39 mm out of reach, 100 Hz, 2 rad/s): undamped, 441 velocity reversals of more than
+        1 rad/s; ``μ = 10``, none, and the same 38.8 mm miss. Limits of the remedy: the
+        quadratic law under-damps a small gap (a fold missed by 8 mm: reversals drop from
+        188 to 6, the miss grows from 8 to 12 mm); and damping does not make a *lower*
+        level smooth — near the fold the null space of :math:`A` turns by
+        :math:`O(‖δA‖/σ)` per tick, so a posture regulator at priority 1 that saturates the
+        velocity box (gain 1) still reverses there, and the arm may leave the fold on the
+        other branch of the elbow and stall at a joint limit (there: 90 mm at the end).
+        Keep such a regulator's gain low (0.02 on that circle: no reversal) or put it at
+        level 0 with a small weight.
+
+        Raises:
+            InfeasibleProblem: the limits admit no step (e.g. a joint outside its range
+                by more than its velocity limit allows to recover in ``dt``).
+            BackendError: the back-end (every back-end of a chain) failed.
+        """
+        q = _joint_vector(self.robot, q, "q")
+        _check_dt(dt)
+        self._update(q)
+        return self._step(q, dt, error_damping=self.step_damping)
+
+    def _update(self, q: np.ndarray) -> None:
+        self._state.update(q)
+        if self._configuration is not None:
+            self._configuration.update(self.robot.data.qpos)
+
+    def _step(
+        self,
+        q: np.ndarray,
+        dt: float | None,
+        max_step: float | None = None,
+        lm_damping: float = 0.0,
+        error_damping: float = 0.0,
+        objectives: list | None = None,
+    ):
+        """The step at the current state (``q``); ``objectives``, when given, are this
+        state's (:meth:`_stationarity` just built them) and are not rebuilt."""
+        if objectives is None:
+            objectives = self._assembly.objectives(self._state, self._configuration)
+        if error_damping > 0.0:
+            b0 = self._assembly.levels[0].b  # level 0's weighted residual rows, just built
+            lm_damping += error_damping * float(b0 @ b0)
+        damping: float | list[float] = self.damping
+        if lm_damping > 0.0:
+            # Levenberg–Marquardt on level 0 only; the arrays are rebuilt every step.
+            H0 = objectives[0][0]
+            H0.flat[:: H0.shape[0] + 1] += lm_damping
+            damping = [self.damping + lm_damping] + [self.damping] * (len(objectives) - 1)
+        lb, ub = self._lb, self._ub
+        if self._boxes:
+            q_box = self.robot.scalar_values(q)
+            self._boxes[0].set_bounds(q_box, dt, lb, ub)
+            for limit in self._boxes[1:]:
+                limit.bounds_into(q_box, dt, lb, ub)
+        if max_step is not None:
+            np.maximum(lb, -max_step, out=lb)
+            np.minimum(ub, max_step, out=ub)
+        # One position box is never empty (bind shrinks it by at most a quarter range).
+        if len(self._boxes) > 1 and (lb > ub).any():
+            bad = np.flatnonzero(lb > ub)
+            names = [self.robot.dof_names[i] for i in bad]
+            raise InfeasibleProblem(
+                f"the limits admit no step for joints {names}: lower bounds "
+                f"{lb[bad].tolist()} exceed upper bounds {ub[bad].tolist()} at q = "
+                f"{q_box[bad].tolist()} (dt = {dt})"
+            )
+        C = low = up = None
+        if self._rows:
+            source = self._configuration
+            blocks = [limit.inequalities(source, dt) for limit in self._rows]
+            blocks = [block for block in blocks if block is not None]
+            if blocks:
+                C = np.vstack([G for G, _ in blocks])
+                up = np.concatenate([h for _, h in blocks])
+                low = np.full_like(up, -np.inf)
+        bounded = self._bounded or max_step is not None
+        dq = solve_lexicographic(
+            objectives,
+            self.backends,
+            lb if bounded else None,
+            ub if bounded else None,
+            C,
+            low,
+            up,
+            damping=damping,
+            rank_tol=self.rank_tol,
+            stats=self.stats,
+            rows0=self._rows0,
+        )
+        if self._clip:
+            # Into the (shrunk) box the solver was given: inside the limits, whatever its
+            # tolerance.
+            np.maximum(dq, lb, out=dq)
+            np.minimum(dq, ub, out=dq)
+        return dq
+
+    # ----------------------------------------------------------------------------------
+    # Iterative solve
+
+    def solve(
+        self,
+        q0: np.ndarray,
+        pos_tol: float = 1e-6,
+        rot_tol: float = 1e-5,
+        max_iter: int = 100,
+        *,
+        q_tol: float = 1e-12,
+        max_step: float | None = None,
+        dt: float | None = None,
+        lm_damping: float = 0.1,
+        stationarity_tol: float | None = 1e-8,
+        patience: int | None = None,
+        progress: float = 0.5,
+    ) -> QPResult:
+        r"""Iterate ``q ← q + αΔq`` from ``q0`` until the priority-0 tasks converge and the
+        lower levels are stationary.
+
+        Level 0 is solved as damped least squares: its Hessian gets ``λ = μ‖e‖²`` (``e`` the
+        level-0 error; Levenberg–Marquardt with Sugihara's 2011 choice, as ``solve_pose``'s
+        ``"dls"``), so far from the target the step is short and gradient-like and near it
+        λ → 0 leaves Gauss–Newton's quadratic convergence. ``μ`` starts at ``lm_damping``,
+        halves after a full step and grows ×8 after a cut one; the lower levels still move
+        only in the null space of level 0's residual. ``lm_damping=0`` keeps ``μ = 0``:
+        undamped Gauss–Newton steps, still backtracked.
+
+        ``Δq`` is the lexicographic QP step of :meth:`step`; ``α ∈ {1, ½, ¼, …, 1/64}`` is
+        the first fraction that lowers the level-0 error (backtracking, as in damped
+        Gauss–Newton: Nocedal & Wright §10.3); a step is taken only when it lowers that
+        error or meets the tolerances, so the iteration cannot cycle. No fraction lowering
+        it means a (constrained) stationary point: ``"stalled"``.
+
+        Converged means: every frame task of level 0 within ``pos_tol`` (m) and
+        ``rot_tol`` (rad) — position and rotation errors of :mod:`redik.core.conventions` —
+        and every other level-0 task that has a target (a mink task) with
+        ``‖W e‖ ≤ pos_tol``, ``W = diag(cost)`` its cost-weighted error — what its QP
+        term asks for: a component of zero cost (the height of a ``mink.ComTask`` with
+        cost ``[1, 1, 0]``) is not waited for, and the backtracking measures the same
+        weighted error. Joint-space regularisers (posture, joint-limit avoidance,
+        damping) and gradient tasks have no target and are not waited for. With frame tasks
+        on several frames (two hands, the feet) the reported position and rotation errors
+        are the largest. With no target at level 0, the solve converges when the step taken
+        vanishes (``‖αΔq‖ < q_tol``).
+
+        **Lower levels are finished, not abandoned.** Stopping as soon as level 0 converges
+        leaves the lower levels wherever the iteration happened to be: a posture task at
+        priority 1 is then only partly served. With ``stationarity_tol`` set and several
+        levels, the iteration goes on after level 0 converges — a step is then accepted
+        when level 0 stays converged — until every lower level is stationary
+        (:meth:`stationarity` ≤ ``stationarity_tol``): the first-order condition of
+
+        .. math:: \min_q f_k(q) \quad\text{s.t.}\quad e_0(q) = 0,\ \dots,
+                  \ q \in \mathcal{Q},
+
+        i.e. ``q`` is the constrained optimum of the lower levels (Nocedal & Wright
+        §12.3; the lexicographic form of Kanoun et al. 2011). Should the budget run out
+        first, the result keeps ``success`` (level 0 is met) with ``stationary=False``.
+        ``stationarity_tol=None`` stops at level-0 convergence.
+
+        Args:
+            q0: Initial chain configuration.
+            pos_tol, rot_tol: Tolerances.
+            max_iter: Iteration budget.
+            q_tol: Stop as ``"stalled"`` when the step taken, ``‖αΔq‖``, falls below it
+                before converging.
+            max_step: Optional trust region, ``|Δq_i| ≤ max_step`` per iteration.
+            dt: Passed to the limits (velocity limits need it).
+            lm_damping: Initial Levenberg–Marquardt scale ``μ`` (≥ 0).
+            stationarity_tol: Bound on each lower level's projected gradient (units of
+                that gradient: ``α w² (q − r)`` for a posture task), or None.
+            patience, progress: Early stop for restarts: before level 0 converges, an
+                iterate whose ``‖e‖²`` fell by less than the fraction ``progress`` over the
+                last ``patience`` iterations is ``"stalled"`` (slow progress near a
+                singularity or a limit rarely ends well; a restart is cheaper). None (the
+                default) waits for the budget.
+
+        Returns:
+            :class:`QPResult` with ``method="qp"``, the history and the lower levels'
+            stationarity at ``q``.
+        """
+        q = _joint_vector(self.robot, q0, "q0").copy()
+        for name, value in (("pos_tol", pos_tol), ("rot_tol", rot_tol), ("q_tol", q_tol)):
+            non_negative(value, name)
+        if stationarity_tol is not None:
+            positive(stationarity_tol, "stationarity_tol")
+        if isinstance(max_iter, bool) or not isinstance(max_iter, int | np.integer):
+            raise InvalidInput(f"max_iter must be an integer, got {max_iter!r}")
+        if max_iter < 0:
+            raise InvalidInput(f"max_iter must be >= 0, got {max_iter}")
+        _check_dt(dt)
+        if max_step is not None:
+            positive(max_step, "max_step", allow_inf=True)
+        non_negative(lm_damping, "lm_damping")
+        if patience is not None and (
+            isinstance(patience, bool) or not isinstance(patience, int | np.integer) or patience < 1
+        ):
+            raise InvalidInput(f"patience must be an integer >= 1 (or None), got {patience!r}")
+        if not (_is_real(progress) and 0.0 < progress < 1.0):
+            raise InvalidInput(f"progress must be in (0, 1), got {progress!r}")
+        required = 1.0 - progress  # ‖e‖² must fall to this fraction in `patience` iterations
+        if self._clip:
+            q = self.robot.clip(q)
+        finish_lower = stationarity_tol is not None and len(self.levels) > 1 and self._targets
+        history = [q.copy()]
+        self._update(q)
+        converged, error, position_error, rotation_error = self._level0_errors(pos_tol, rot_tol)
+        errors = [error]
+        stationarity: list[float] = []
+        stationarity_at_q = False  # `stationarity` is that of the current q
+        iterations = 0
+        mu = lm_damping
+        status = "max_iterations"
+        while True:
+            # The state is at q here. Once level 0 converged, the objectives that measure
+            # the lower levels' stationarity are also those of the next step: built once.
+            objectives = None
+            if converged and self._targets:
+                if not finish_lower:
+                    status = "converged"
+                    break
+                objectives = self._assembly.objectives(self._state, self._configuration)
+                stationarity = self._stationarity(q, dt, objectives)
+                stationarity_at_q = True
+                if max(stationarity) <= stationarity_tol:
+                    status = "converged"
+                    break
+            if iterations >= max_iter:
+                status = "converged" if converged and self._targets else "max_iterations"
+                break
+            dq = self._step(
+                q, dt, max_step, mu * error * error if self._targets else 0.0, 0.0, objectives
+            )
+            # Backtracking on the level-0 error: far from the target a full Gauss–Newton
+            # step overshoots (into the limits, or into a two-point cycle). Scaling the
+            # whole lexicographic Δq keeps every level's direction; q + αΔq stays in the
+            # box for α ≤ 1. Without a level-0 target there is nothing to backtrack on.
+            # Once converged, a step must keep level 0 converged (the lower levels move).
+            # Limits linearised at q (collision distances) also reject a step that breaks
+            # them at its end (redik.limits.limit.InequalityLimit.admits).
+            alpha = 1.0
+            while True:
+                trial = self.robot.integrate(q, alpha * dq)
+                self._update(trial)
+                result = self._level0_errors(pos_tol, rot_tol)
+                admitted = all(limit.admits() for limit in self._rows)
+                accepted = admitted and (
+                    not self._targets
+                    or (result[0] if converged else (result[1] < error or result[0]))
+                )
+                if accepted or alpha <= _MIN_STEP_FRACTION:
+                    break
+                alpha *= 0.5
+            if not accepted:
+                self._update(q)  # no acceptable step along Δq: a (constrained) stationary point
+                status = "converged" if converged and self._targets else "stalled"
+                break
+            # A full step trusted the model: damp less; a cut step: damp more (Nielsen 1999).
+            if mu > 0.0:
+                mu = max(mu * 0.5, _MU_MIN) if alpha == 1.0 else min(mu * 8.0, _MU_MAX)
+            q = trial
+            stationarity_at_q = False
+            iterations += 1
+            history.append(q.copy())
+            converged, error, position_error, rotation_error = result
+            errors.append(error)
+            if (
+                patience is not None
+                and not converged
+                and iterations >= patience
+                and error * error > required * errors[-1 - patience] ** 2
+            ):
+                status = "stalled"
+                break
+            if alpha * math.sqrt(float(dq @ dq)) < q_tol:
+                # Without level-0 targets, a vanishing step converges.
+                status = "converged" if converged or not self._targets else "stalled"
+                break
+        if finish_lower and not stationarity_at_q:
+            stationarity = self._stationarity(q, dt)
+        stationary = not stationarity or max(stationarity) <= (stationarity_tol or np.inf)
+        message = self._message(status, position_error, rotation_error, error)
+        if status == "converged" and not stationary:
+            message = (
+                f"level 0 converged; lower levels not stationary within {stationarity_tol:g} "
+                f"(projected gradients {[float(f'{v:.3g}') for v in stationarity]})"
+            )
+        return QPResult(
+            q=q,
+            success=status == "converged",
+            status=status,
+            iterations=iterations,
+            error=error,
+            position_error=position_error,
+            rotation_error=rotation_error,
+            history=np.array(history),
+            error_history=np.array(errors),
+            method="qp",
+            message=message,
+            stationarity=stationarity,
+            stationary=bool(stationary),
+        )
+
+    def stationarity(self, q: np.ndarray, dt: float | None = None) -> list[float]:
+        r"""Per lower level, the norm of its projected gradient at ``q``.
+
+        With :math:`g_k` the gradient of level :math:`k`'s objective at ``q`` (the linear
+        term :math:`c_k` of its QP), :math:`N_{k-1}` an orthonormal basis of the directions
+        the levels above leave free (the null spaces of their Hessians, as in
+        :mod:`redik.qp.hierarchy`) and :math:`\mathcal{A}` the limits active at ``q``
+        (bounds on ``Δq`` within 1e-9 of zero), the value is
+
+        .. math:: \|P_{T}(-g_k)\|, \qquad
+                  T = \{N_{k-1} z : a_i^\top N_{k-1} z \le 0,\ i \in \mathcal{A}\},
+
+        the projection onto the tangent cone, computed through its dual, a non-negative
+        least-squares problem (Lawson & Hanson's NNLS, ``scipy.optimize.nnls``). Zero is the
+        first-order (KKT) condition of level :math:`k` subject to the higher levels and the
+        limits (Nocedal & Wright, Theorem 12.1).
+        """
+        q = _joint_vector(self.robot, q, "q")
+        _check_dt(dt)
+        return self._stationarity(q, dt)
+
+    def _stationarity(self, q: np.ndarray, dt: float | None, objectives=None) -> list[float]:
+        """:meth:`stationarity`; with ``objectives`` (built at ``q``, the current state)
+        nothing is recomputed."""
+        if objectives is None:
+            self._update(q)
+            objectives = self._assembly.objectives(self._state, self._configuration)
+        n = self.robot.dof
+        # Active limits as rows a_i of a_i·Δq ≤ 0.
+        active = []
+        if self._boxes:
+            lb, ub = np.full(n, -np.inf), np.full(n, np.inf)
+            q_box = self.robot.scalar_values(q)
+            for limit in self._boxes:
+                limit.bounds_into(q_box, dt, lb, ub)
+            at_lower, at_upper = lb >= -_ACTIVE_TOL, ub <= _ACTIVE_TOL
+            if at_lower.any() or at_upper.any():
+                eye = np.eye(n)
+                active += [-eye[at_lower], eye[at_upper]]
+        for limit in self._rows:
+            block = limit.inequalities(self._configuration, dt)
+            if block is not None:
+                G, h = block
+                active.append(G[h <= _ACTIVE_TOL])
+        A = np.vstack(active) if active else None
+        N = None if self._rows0 is None else row_null_space(self._rows0, self.rank_tol)
+        if N is None:
+            N = free_directions(objectives[0][0], np.zeros(n), self.rank_tol, self.damping)
+        values = []
+        last = len(objectives) - 1
+        for level, (H_k, c_k) in enumerate(objectives[1:], start=1):
+            if N.shape[1] == 0:
+                values.append(0.0)
+                continue
+            g = c_k @ N
+            rows = None if A is None else A @ N
+            if rows is None or rows.shape[0] == 0:
+                values.append(math.sqrt(float(g @ g)))
+            else:
+                # P_T(−g) = argmin_{z: rows z ≤ 0} ½‖z + g‖² = −(g + rowsᵀλ) with λ the
+                # non-negative least-squares solution of rowsᵀλ ≈ −g (its dual).
+                multipliers, _ = nnls(rows.T, -g)
+                values.append(float(np.linalg.norm(g + rows.T @ multipliers)))
+            if level < last:
+                HN = N.T @ H_k @ N
+                N = N @ free_directions(HN, np.zeros(N.shape[1]), self.rank_tol, self.damping)
+        return values
+
+    def _level0_errors(self, pos_tol: float, rot_tol: float):
+        converged = True
+        squared = 0.0
+        position_error = rotation_error = None
+        for task, e, J, is_frame in self._target_buffers:
+            if J is not None:
+                task.residual_into(self._state, e, J)
+            else:
+                # A mink task asks for its cost-weighted error (mink's W = diag(cost)): a
+                # component of zero cost (the height of a ComTask) is no part of its target.
+                e = task.cost * task.compute_error(self._configuration)
+            norm_squared = float(e @ e)
+            squared += norm_squared
+            if is_frame:
+                p_err, r_err = task.pose_errors(self._state)
+                if p_err is not None:
+                    converged = converged and p_err <= pos_tol
+                    position_error = p_err if position_error is None else max(position_error, p_err)
+                if r_err is not None:
+                    converged = converged and r_err <= rot_tol
+                    rotation_error = r_err if rotation_error is None else max(rotation_error, r_err)
+            else:
+                converged = converged and math.sqrt(norm_squared) <= pos_tol
+        return bool(converged), math.sqrt(squared), position_error, rotation_error
+
+    @staticmethod
+    def _message(status, position_error, rotation_error, error) -> str:
+        if status == "converged":
+            return ""
+        parts = []
+        if position_error is not None:
+            parts.append(f"position error {position_error:.3g} m")
+        if rotation_error is not None:
+            parts.append(f"rotation error {rotation_error:.3g} rad")
+        if not parts:
+            parts.append(f"|e| = {error:.3g}")
+        reason = (
+            "the level-0 error stopped falling"
+            if status == "stalled"
+            else "the iteration budget ran out"
+        )
+        return f"{reason} with {', '.join(parts)} (limits may block the target)"
+
+    def __repr__(self) -> str:
+        names = [type(task).__name__ for task in self.tasks]
+        return (
+            f"Problem({self.robot!r}, tasks={names}, levels={self.levels}, "
+            f"backend={self.backends[0].name!r})"
+        )

@@ -1,0 +1,51 @@
+"""The flat tree's import paths still work for one release (redik/_compat.py)."""
+
+import subprocess
+import sys
+
+from redik import _compat
+
+MOVES = {
+    "redik.robot": "redik.kinematics.robot",
+    "redik.pose_ik": "redik.solvers.pose_ik",
+    "redik.batch.chain": "redik.kinematics.chain",
+    "redik.analytic.puma": "redik.solvers.analytic.puma",
+    "redik.redundancy.plot": "redik.apps.selfmotion_plot",
+    "redik.cli": "redik.apps.cli",
+}
+
+
+def test_the_map_takes_the_longest_moved_prefix():
+    for old, new in MOVES.items():
+        assert _compat.new_name(old) == new
+    assert _compat.new_name("redik.batch.solve") == "redik.solvers.batch.solve"
+    assert _compat.new_name("redik.lie") is None
+    assert _compat.new_name("redik.solvers.pose_ik") is None
+    assert _compat.new_name("numpy") is None
+
+
+def test_old_paths_import_the_new_modules_with_a_warning():
+    # A fresh interpreter: this process has imported (some of) the old paths already.
+    code = f"""
+import importlib, warnings
+moves = {MOVES!r}
+for old, new in moves.items():
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        module = importlib.import_module(old)
+    assert module is importlib.import_module(new), old
+    assert module.__spec__.name == new, module.__spec__
+    assert any(new.rsplit(".", 1)[0] in str(w.message) and w.category is DeprecationWarning
+               for w in caught), (old, [str(w.message) for w in caught])
+import redik
+from redik.robot import Robot
+assert Robot is redik.Robot
+# The functions named like their modules are still the functions.
+assert callable(redik.solvers.analytic.puma) and callable(redik.solvers.analytic.ur)
+from redik.analytic import puma
+assert callable(puma)
+print("ok")
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "ok"
