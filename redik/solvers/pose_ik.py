@@ -304,6 +304,12 @@ def solve_all(
 ) -> list[IKResult]:
     """The distinct solutions reached from ``n_starts`` starts: ``q0`` if given, then random.
 
+    ``method="analytic"`` returns instead every solution of the robot's closed-form solver
+    (:func:`redik.solvers.analytic.solver_for`: a bundled family, the subproblem
+    decomposition, or for a general 6R arm the Raghavan–Roth elimination), exact to rounding
+    and complete, with no starts; ``n_starts``, ``seed``, tolerances and ``cluster_tol`` do
+    not apply, and a robot with no closed form raises its ``ModelError``/``InvalidInput``.
+
     Each start is solved by :func:`solve_pose` without restarts; the successful results are
     clustered: two solutions are the same when every joint differs by at most
     ``cluster_tol`` (radians or metres), comparing angles modulo 2π for revolute joints
@@ -331,6 +337,8 @@ def solve_all(
             result.history = np.array([robot.embed(chain, row, q_whole) for row in result.history])
         return results
     T_target = as_pose(T_target, "T_target", strict=strict)  # once, not per start
+    if method == "analytic":
+        return _closed_form_solutions(robot, T_target, respect_limits, frame, method_options)
     n_starts = _count(n_starts, "n_starts", 1)
     cluster_tol = positive(cluster_tol, "cluster_tol")
     first = None if q0 is None else robot.check_q(q0, "q0")
@@ -356,6 +364,57 @@ def solve_all(
         else:
             solutions.append(result)
     return sorted(solutions, key=lambda r: r.error)
+
+
+def _closed_form_solutions(
+    robot: Robot,
+    T_target: np.ndarray,
+    respect_limits: bool,
+    frame: str | Frame | None,
+    options: dict[str, object],
+) -> list[IKResult]:
+    """:func:`solve_all` with ``method="analytic"``: every solution of the robot's
+    closed-form solver (:func:`redik.solvers.analytic.solver_for`, kept in
+    ``robot.solver_cache``), as results ordered by error like the numeric ones; ``message``
+    carries the solver's family and the solution's label (and singularity, if any)."""
+    from redik.solvers.analytic import solver_for  # on use: the numeric path needs none
+
+    if options:
+        raise InvalidInput(f"method 'analytic' takes no options, got {sorted(options)}")
+    if frame is not None and robot.frame(frame) != robot.frame(None):
+        raise InvalidInput(
+            "method 'analytic' solves for the end-effector the closed-form solver was built "
+            f"for, not {frame!r}"
+        )
+    solver = robot.solver_cache.get("analytic")
+    if solver is None:
+        solver = robot.solver_cache["analytic"] = solver_for(robot)
+    solutions = solver(T_target, limits="robot" if respect_limits else None)
+    method = f"analytic:{solver.family}"
+    results = []
+    for solution in solutions:
+        q = np.array(solution, dtype=float)
+        T = robot.fk(q)
+        position_error, rotation_error = pose_errors(T, T_target)
+        note = f"{solution.label}" + (
+            f" (singular: {solution.singular})" if solution.singular else ""
+        )
+        results.append(
+            IKResult(
+                q=q,
+                success=True,
+                status="converged",
+                iterations=0,
+                error=float(np.linalg.norm(se3_log(inverse(T) @ T_target))),
+                position_error=position_error,
+                rotation_error=rotation_error,
+                history=q[None].copy(),
+                restarts=0,
+                method=method,
+                message=note,
+            )
+        )
+    return sorted(results, key=lambda r: r.error)
 
 
 # --------------------------------------------------------------------------------------

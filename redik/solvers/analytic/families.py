@@ -22,7 +22,15 @@ from redik.core.exceptions import InvalidInput, ModelError
 from redik.models.dh import DHRow, forward
 from redik.solvers.analytic import _checks
 from redik.solvers.analytic._solution import DEFAULT_TOL, IKSolutions, unreachable
-from redik.solvers.analytic.decomposed import DecomposedSolver, solver_from_robot
+from redik.solvers.analytic.decomposed import (
+    DecomposedSolver,
+    classify,
+    decomposed_solver,
+    screws_of,
+    solver_from_robot,
+)
+from redik.solvers.analytic.general import GeneralSolver, general_solver
+from redik.solvers.analytic.general import solver_from_robot as general_from_robot
 from redik.solvers.analytic.hexapod import hexapod_leg
 from redik.solvers.analytic.planar import planar_2r, planar_3r
 from redik.solvers.analytic.polar import rrp_polar
@@ -168,7 +176,8 @@ def family_of(name: str) -> Family:
     if key not in FAMILIES:
         raise InvalidInput(
             f"no closed-form solver for {name!r}; families: {sorted(FAMILIES)} "
-            f"(scene names {sorted(ALIASES)} also work)"
+            f"(scene names {sorted(ALIASES)} also work), or 'decomposed' / 'general_6r' "
+            "for a 6R arm given by its screw axes"
         )
     return FAMILIES[key]
 
@@ -253,27 +262,36 @@ class AnalyticSolver:
         return np.linalg.inv(self.base)
 
 
-def solver_for(robot: Robot, family: str | None = None) -> AnalyticSolver | DecomposedSolver:
-    """The closed-form solver of a robot.
+def solver_for(
+    robot: Robot, family: str | None = None
+) -> AnalyticSolver | DecomposedSolver | GeneralSolver:
+    """The closed-form (all-solutions) solver of a robot.
 
     Args:
         robot: A :class:`redik.Robot`, e.g. ``redik.load("puma560")`` or one built with
             :meth:`redik.Robot.from_screws`.
         family: The arm family; default: inferred from the model name (``robot.name``), and
             for any other 6R arm the subproblem decomposition of its screw axes
-            (:mod:`redik.solvers.analytic.decomposed`); ``"decomposed"`` forces that one.
+            (:mod:`redik.solvers.analytic.decomposed`) when its geometry has one, else the
+            general 6R elimination (:mod:`redik.solvers.analytic.general`).
+            ``"decomposed"`` or ``"general_6r"`` forces one of those; the solver's
+            ``family`` (and ``kind``) say which was chosen.
 
     A family's solver is checked against its DH table (``robot.fk`` at two configurations,
-    up to a constant base transform), the decomposition against the product of exponentials
-    of the screw axes, so that a solver never silently answers for a different arm.
+    up to a constant base transform), the decomposition and the elimination against the
+    product of exponentials of the screw axes, so that a solver never silently answers for a
+    different arm.
 
     Raises:
         InvalidInput: No family of that name.
         ModelError: A parameter is missing, the model does not match the table, or no
-            family fits (for a 6R arm: its geometry fits no decomposition class).
+            family fits (for a 6R arm: its geometry fits no decomposition class and the
+            general elimination is degenerate for it).
     """
     if family is not None and not isinstance(family, str):
         family_of(family)  # raises, naming the families
+    if family == "general_6r":
+        return general_from_robot(robot)
     if family == "decomposed" or (
         family is None and ALIASES.get(robot.name, robot.name) not in FAMILIES
     ):
@@ -281,8 +299,13 @@ def solver_for(robot: Robot, family: str | None = None) -> AnalyticSolver | Deco
             raise InvalidInput(
                 f"no closed-form solver for {robot.name!r} ({robot.dof} joints): the families "
                 f"are {sorted(FAMILIES)} (scene names {sorted(ALIASES)} also work), and "
-                "the subproblem decomposition takes 6R arms"
+                "the subproblem decomposition and general 6R elimination take 6R arms"
             )
+        if family is None and robot.revolute.all():
+            S, M = screws_of(robot)
+            if classify(S, M) is None:
+                return general_solver(S, M, robot.lower, robot.upper)
+            return decomposed_solver(S, M, robot.lower, robot.upper)
         return solver_from_robot(robot)
     spec = family_of(family if family is not None else robot.name)
     if robot.dof != spec.dof:

@@ -37,7 +37,7 @@ Robot. Autom. 10(5), 1994):
    eigenproblem) — and θ4, θ5 from ratios of its entries; θ1, θ2 from ``Q S = P R`` (least
    squares), θ6 from :math:`A_6 = (A_1 ⋯ A_5)^{-1} T`.
 5. Every candidate is polished by Gauss–Newton on the screw chain's FK and kept only if that
-   FK reaches the target within :data:`~redik.analytic.decomposed.VERIFY_TOL`; duplicates
+   FK reaches the target within :data:`~redik.solvers.analytic.decomposed.VERIFY_TOL`; duplicates
    are merged.
 
 The alternative, IK-Geo's 2-D search (Elias & Wen 2022, arXiv 2211.05737, §IV-C: sample two
@@ -48,7 +48,7 @@ eigenproblem has no such parameter, which is why it is used here.
 The elimination is degenerate for some special geometries (``Q`` rank-deficient or the
 pencil singular, e.g. many arms with a closed form); :func:`general_solver` checks both on a
 probe pose and tries the chain run backwards before refusing with
-:class:`~redik.exceptions.ModelError`. Labels are ``"root1"``… by increasing θ3 of the
+:class:`~redik.core.exceptions.ModelError`. Labels are ``"root1"``… by increasing θ3 of the
 chain the elimination ran on.
 """
 
@@ -60,9 +60,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import scipy.linalg
 
-from redik.analytic import _checks
-from redik.analytic import _decomposed_kernels as kernels
-from redik.analytic._solution import (
+from redik.core.exceptions import InvalidInput, ModelError
+from redik.solvers.analytic import _checks
+from redik.solvers.analytic import _decomposed_kernels as kernels
+from redik.solvers.analytic._solution import (
     DEFAULT_TOL,
     DUPLICATE_TOL,
     Candidate,
@@ -70,17 +71,16 @@ from redik.analytic._solution import (
     finalize,
     unreachable,
 )
-from redik.analytic.decomposed import (
+from redik.solvers.analytic.decomposed import (
     REVOLUTE,
     VERIFY_TOL,
     Chain,
     _pack,
     screws_of,
 )
-from redik.exceptions import InvalidInput, ModelError
 
 if TYPE_CHECKING:
-    from redik.robot import Robot
+    from redik.kinematics.robot import Robot
 
 #: Most solutions a 6R arm can have (Lee & Liang 1988; Raghavan & Roth 1993).
 MAX_SOLUTIONS = 16
@@ -137,7 +137,7 @@ def _link(theta: np.ndarray, d: float, a: float, alpha: float) -> np.ndarray:
     theta = np.asarray(theta, dtype=float)
     c, s = np.cos(theta), np.sin(theta)
     ca, sa = np.cos(alpha), np.sin(alpha)
-    A = np.zeros(theta.shape + (4, 4))
+    A = np.zeros((*theta.shape, 4, 4))
     A[..., 0, 0], A[..., 0, 1], A[..., 0, 2], A[..., 0, 3] = c, -s * ca, s * sa, a * c
     A[..., 1, 0], A[..., 1, 1], A[..., 1, 2], A[..., 1, 3] = s, c * ca, -c * sa, a * s
     A[..., 2, 1], A[..., 2, 2], A[..., 2, 3] = sa, ca, d
@@ -297,10 +297,12 @@ def _angles(alpha: np.ndarray, beta: np.ndarray) -> np.ndarray:
     """``2 atan(α/β)`` of homogeneous eigenvalues, complex, finite at β = 0."""
     angles = np.empty(alpha.shape, complex)
     small = np.abs(alpha) <= np.abs(beta)
-    angles[small] = 2.0 * np.arctan(alpha[small] / beta[small])
-    ratio = beta[~small] / alpha[~small]
-    sign = np.where(ratio.real >= 0.0, 1.0, -1.0)
-    angles[~small] = sign * np.pi - 2.0 * np.arctan(ratio)
+    # The spurious roots x = ±i of (1 + x²) are arctan's poles: non-finite, then dropped.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        angles[small] = 2.0 * np.arctan(alpha[small] / beta[small])
+        ratio = beta[~small] / alpha[~small]
+        sign = np.where(ratio.real >= 0.0, 1.0, -1.0)
+        angles[~small] = sign * np.pi - 2.0 * np.arctan(ratio)
     return angles
 
 
@@ -326,7 +328,7 @@ def _monomials(M: np.ndarray, x: float, k: int) -> list[np.ndarray]:
 @dataclass(frozen=True)
 class GeneralSolver:
     """Every solution of a general 6R arm (module docstring); make one with
-    :func:`general_solver` or :func:`redik.analytic.solver_for`.
+    :func:`general_solver` or :func:`redik.solvers.analytic.solver_for`.
 
     Attributes:
         chain: The screw chain solved (the robot's, or run backwards if ``reversed``).
@@ -353,7 +355,7 @@ class GeneralSolver:
     ) -> IKSolutions:
         """Every solution of a world-frame target pose, labelled ``"root1"``… (``limits``:
         ``"robot"``, None or ``(lower, upper)``; ``tol`` is unused: every solution is exact
-        to :data:`~redik.analytic.decomposed.VERIFY_TOL`, and kept for the common
+        to :data:`~redik.solvers.analytic.decomposed.VERIFY_TOL`, and kept for the common
         signature)."""
         T = _checks.pose(target, "target", strict=strict)
         _checks.length(tol, "tol", allow_zero=True)
@@ -408,7 +410,7 @@ class GeneralSolver:
         (alpha, beta), _ = scipy.linalg.eig(A, B, homogeneous_eigvals=True)
         finite = (np.abs(alpha) > 1e-300) | (np.abs(beta) > 1e-300)
         psi = _angles(alpha[finite], beta[finite])
-        real = np.sort(psi[np.abs(psi.imag) <= IMAGINARY_TOL].real)
+        real = np.sort(psi[np.isfinite(psi) & (np.abs(psi.imag) <= IMAGINARY_TOL)].real)
         dh = self.elimination.dh
         w3_offset, w4_offset, w5_offset = OFFSETS
         candidates = []
@@ -515,14 +517,12 @@ def general_solver(
             lower = np.full(6, -np.inf) if lower is None else np.asarray(lower, float).copy()
             upper = np.full(6, np.inf) if upper is None else np.asarray(upper, float).copy()
             geometry = _pack(candidate, candidate.a, candidate.h[5])
-            return GeneralSolver(
-                candidate, reverse, scale, elimination, geometry, lower, upper
-            )
+            return GeneralSolver(candidate, reverse, scale, elimination, geometry, lower, upper)
         reasons.append(reason)
     raise ModelError(
         "the Raghavan–Roth elimination is degenerate for this 6R arm "
         f"(forwards: {reasons[0]}; backwards: {reasons[1]}); arms with intersecting or "
-        "parallel axes have closed forms in redik.analytic.decomposed"
+        "parallel axes have closed forms in redik.solvers.analytic.decomposed"
     )
 
 
