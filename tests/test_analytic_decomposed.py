@@ -302,6 +302,24 @@ def test_bad_input_is_refused_with_redik_errors():
         solver.raw(np.eye(4), limits="none")
 
 
+def test_raw_checks_a_pose_by_the_same_rule_as_redik_lie():
+    """The compiled check is redik.kinematics.compiled.valid_target, as_pose's "use as it is":
+    a translation beyond MAX_COORDINATE is refused on the raw path too (it used to be solved
+    and silently give no solution), and a bottom row within the tolerance is accepted."""
+    robot = redik.load("ur5e")
+    solver = analytic.solver_for(robot, "decomposed")
+    far = np.eye(4)
+    far[0, 3] = 2e10
+    with pytest.raises(InvalidPose, match="translation"):
+        solver.raw(far)
+    with pytest.raises(InvalidPose, match="translation"):
+        solver(far)
+    T = robot.fk(robot.random_q(np.random.default_rng(4)))
+    nudged = T.copy()
+    nudged[3, :3] = 1e-8
+    assert _same_set(solver.raw(nudged, limits=None), solver.raw(T, limits=None), 1e-12)
+
+
 def test_a_near_rotation_is_projected_with_a_warning_on_both_paths():
     robot = redik.load("ur5e")
     solver = analytic.solver_for(robot, "decomposed")
@@ -326,8 +344,10 @@ def test_arms_without_a_decomposition_are_refused():
         DHRow(rng.uniform(0.1, 0.4), rng.uniform(-0.2, 0.2), rng.uniform(0.3, 1.2))
         for _ in range(6)
     )
+    robot = _dh_robot(rows, "general_6r")
     with pytest.raises(ModelError, match="no closed-form decomposition"):
-        analytic.solver_for(_dh_robot(rows, "general_6r"))
+        analytic.solver_for(robot, "decomposed")
+    assert analytic.solver_for(robot).family == "general_6r"  # the elimination instead
 
 
 def test_ur5e_parameters_reach_eight_solutions():

@@ -19,7 +19,9 @@ A second table compares, for the 6R scenes, the compiled subproblem-decompositio
 limits) with the ``ik-geo`` package (Elias & Wen's Rust IK-Geo, ``ik_geo.Robot`` of the same
 geometry class built from the same screw axes) when it is installed: the same ``--n`` poses,
 the two calls interleaved pose by pose (alternating which goes first, as the first call on
-a pose pays for loading it into cache), median µs per call, their ratio, the mean number of
+a pose pays for loading it into cache), median µs per call, their ratio, the labelled call
+(:meth:`~redik.solvers.analytic.DecomposedSolver.__call__`, an ``IKSolutions`` with labels
+and families, timed on each pose before the pair) and its ratio to ik-geo, the mean number of
 solutions each returns and the largest FK error (by ``robot.fk``) among ik-geo's answers that
 are not flagged least-squares. The load average is printed with it.
 ``--clock cpu`` times with the process CPU clock instead of the wall clock: on a shared,
@@ -145,6 +147,7 @@ def compare_ik_geo(args: argparse.Namespace) -> None:
     )
     print(
         f"{'robot':<10}{'class':>33}{'redik':>8}{'ik-geo':>8}{'ik-geo/redik':>14}"
+        f"{'labelled':>10}{'labelled/ik-geo':>17}"
         f"{'solutions':>11}{'ik-geo sols':>12}{'ik-geo FK err':>15}"
     )
     for name in args.robots:
@@ -157,7 +160,8 @@ def compare_ik_geo(args: argparse.Namespace) -> None:
             continue
         print(
             f"{name:<10}{row['kind']:>33}{row['redik_us']:>8.2f}{row['ik_geo_us']:>8.2f}"
-            f"{row['ik_geo_us'] / row['redik_us']:>13.2f}×{row['solutions']:>11.2f}"
+            f"{row['ik_geo_us'] / row['redik_us']:>13.2f}×{row['labelled_us']:>10.2f}"
+            f"{row['labelled_us'] / row['ik_geo_us']:>16.2f}×{row['solutions']:>11.2f}"
             f"{row['ik_geo_solutions']:>12.2f}{row['ik_geo_error']:>15.1e}"
         )
 
@@ -186,9 +190,12 @@ def measure_ik_geo(
     # ik-geo's chain ends with the identity rotation at q = 0: its target is R R_Mᵀ, passed
     # as a list of columns (its forward_kinematics returns the transpose of redik's).
     inputs = [((T[:3, :3] @ R_home.T).T.tolist(), T[:3, 3].tolist()) for T in targets]
-    ours, theirs = [], []
+    ours, theirs, labelled = [], [], []
     for _ in range(repeats):
         for index, (T, (R, p)) in enumerate(zip(targets, inputs, strict=True)):
+            start = clock()
+            solver(T, limits=None)
+            labelled.append(clock() - start)
             # Whichever runs first on a pose pays for bringing it into cache: alternate.
             if index % 2:
                 start = clock()
@@ -217,6 +224,7 @@ def measure_ik_geo(
         "kind": solver.kind,
         "redik_us": 1e6 * statistics.median(ours),
         "ik_geo_us": 1e6 * statistics.median(theirs),
+        "labelled_us": 1e6 * statistics.median(labelled),
         "solutions": float(np.mean(counts)),
         "ik_geo_solutions": float(np.mean(reference_counts)),
         "ik_geo_error": worst,

@@ -32,6 +32,7 @@ import math
 import numba
 import numpy as np
 
+from redik.kinematics.compiled import COMPILE, valid_target
 from redik.lie import ROTATION_TOLERANCE
 from redik.solvers.analytic.subproblems import (
     BOUNDARY,
@@ -86,22 +87,22 @@ GOLDEN_STEPS = 80
 TOUCH_TOL = 1e-9
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _row(G, i):
     return (G[i, 0], G[i, 1], G[i, 2])
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _neg(a):
     return (-a[0], -a[1], -a[2])
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _fixed(fix_joint, fix_value, joint):
     return fix_value if fix_joint == joint else 0.0
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _target(T, G):
     """``(Z rows, p)`` with ``Z = R R_Mᵀ``."""
     m0, m1, m2 = _row(G, 13), _row(G, 14), _row(G, 15)
@@ -118,19 +119,19 @@ def _target(T, G):
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _mul(z0, z1, z2, v):
     """``Z v`` for the rows of Z."""
     return (dot(z0, v), dot(z1, v), dot(z2, v))
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _mul_t(z0, z1, z2, v):
     """``Zᵀ v``."""
     return add(add(scale(z0, v[0]), scale(z1, v[1])), scale(z2, v[2]))
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _wrist(G, z, y, t, cs, fix_joint, fix_value, tol, slot, q, status, free, stage, pos):
     r"""Fill slots ``slot`` (noflip) and ``slot + 1`` (flip) of a spherical wrist after the arm
     angles ``t = (θ1, θ2, θ3)`` with cosines and sines ``cs = (c1, s1, c2, s2, c3, s3)``
@@ -179,7 +180,7 @@ def _wrist(G, z, y, t, cs, fix_joint, fix_value, tol, slot, q, status, free, sta
             status[index] = pos
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _store(q, slot, angles, cosines, sines):
     """Write a slot: its six angles, then their cosines, then their sines (a row of 18)."""
     for j in range(6):
@@ -188,13 +189,13 @@ def _store(q, slot, angles, cosines, sines):
         q[slot, 12 + j] = sines[j]
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _empty(slot, count, stage_code, status, stage, free):
     for index in range(slot, slot + count):
         status[index], stage[index], free[index] = EMPTY, stage_code, -1
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _status_of(*codes):
     for code in codes:
         if code != 0:
@@ -202,7 +203,7 @@ def _status_of(*codes):
     return REGULAR
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def spherical_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free, stage):
     r"""Spherical wrist (axes 4, 5, 6 meet at ``w``) and axes 1, 2 meeting at ``o``.
 
@@ -264,7 +265,7 @@ def spherical_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free,
                 _empty(slot, 2, 0, status, stage, free)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _shoulder_sp4(G, pw, fix_joint, fix_value, tol, parallel):
     """θ1 (two roots) from ``h·rot(−h1, θ1)(p_w − a1) = h·(w − a1)``, h the axis parallel to the
     next ones (axis 2): everything after joint 1 keeps its offset along h."""
@@ -275,7 +276,7 @@ def _shoulder_sp4(G, pw, fix_joint, fix_value, tol, parallel):
     return t1a, t1b, result
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def spherical_two_parallel(T, G, fix_joint, fix_value, tol, q, status, free, stage):
     r"""Spherical wrist (axes 4, 5, 6 meet at ``w``) and axes 2 ∥ 3.
 
@@ -333,7 +334,7 @@ def spherical_two_parallel(T, G, fix_joint, fix_value, tol, q, status, free, sta
                 _empty(slot, 2, 0, status, stage, free)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _search_residual(G, pw, t1, tol):
     """The two residuals ``h2·v − h2·u±`` of the 1-D search at θ1 (SP3 clipped, so both are
     continuous in θ1), with the two θ3 and whether SP3 was within reach."""
@@ -347,14 +348,14 @@ def _search_residual(G, pw, t1, tol):
     return ra, rb, t3a, t3b, elbow
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _branch_residual(G, pw, t1, tol, branch):
     """``f+`` (branch 0) or ``f−`` (branch 1) of :func:`_search_residual` at θ1."""
     ra, rb, _, _, _ = _search_residual(G, pw, t1, tol)
     return ra if branch == 0 else rb
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _touch(G, pw, low, high, tol, branch):
     r"""``(θ1, f(θ1))`` at the minimum of ``|f|`` on [low, high] by golden-section search.
 
@@ -380,7 +381,7 @@ def _touch(G, pw, low, high, tol, branch):
     return root, _branch_residual(G, pw, root, tol, branch)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
     r"""Spherical wrist (axes 4, 5, 6 meet at ``w``), general axes 1–3: a 1-D search on θ1.
 
@@ -465,7 +466,7 @@ def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
         )
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free, stage):
     r"""Axes 2 ∥ 3 ∥ 4 (direction h) and axes 5, 6 meeting at ``w`` (the UR class).
 
@@ -558,7 +559,7 @@ def three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, 
                     _empty(slot, 1, 0, status, stage, free)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def solve_kind(kind, T, G, fix_joint, fix_value, tol):
     """Run kernel ``kind`` on the 4×4 target ``T``: ``(q, status, free, stage)``, ``q`` of
     shape (S, 18) (module docstring)."""
@@ -578,7 +579,7 @@ def solve_kind(kind, T, G, fix_joint, fix_value, tol):
     return q, status, free, stage
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def fk_error(G, cosines, sines, T):
     r"""``max(‖p(q) − p‖, max |R(q) − R| over the first two columns)`` for the chain of ``G``
     at the joint angles whose cosines and sines are given (the third column of a rotation
@@ -605,7 +606,7 @@ def fk_error(G, cosines, sines, T):
     return error
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _wrap(angle):
     """``angle`` wrapped to (−π, π] (kernel angles are within a few turns of it)."""
     while angle > math.pi:
@@ -615,7 +616,7 @@ def _wrap(angle):
     return angle
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _inverse(T):
     """``T⁻¹`` of a rigid transform."""
     inverse = np.zeros((4, 4))
@@ -627,13 +628,13 @@ def _inverse(T):
     return inverse
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _polish(G, row, T, fixed):
     """:func:`newton` with :data:`POLISH_STEPS` steps: a closed-form slot near a singularity."""
     return newton(G, row, T, fixed, POLISH_STEPS, 0.0)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def newton(G, row, T, fixed, steps, stop):
     r"""Gauss–Newton steps on the chain of ``G`` from the slot ``row`` (angles, cosines, sines;
     updated in place) towards ``T``; returns the final :func:`fk_error`. At most ``steps``
@@ -700,7 +701,7 @@ def newton(G, row, T, fixed, steps, stop):
     return fk_error(G, row[6:12], row[12:], T)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
     """:func:`solve_kind` on the robot's joint order (``reverse``: the chain of ``G`` is the
     robot's run backwards, solved for ``T⁻¹``), each non-empty slot checked by FK (of the
@@ -727,34 +728,15 @@ def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
     return angles, status, free, stage
 
 
-@numba.njit(cache=True)
-def _is_pose(T):
-    """Whether ``T`` is finite with bottom row (0, 0, 0, 1) and an orthonormal, det +1
-    rotation block as it is (to :data:`redik.lie.ROTATION_TOLERANCE`)."""
-    for i in range(4):
-        for j in range(4):
-            if not math.isfinite(T[i, j]):
-                return False
-    if T[3, 0] != 0.0 or T[3, 1] != 0.0 or T[3, 2] != 0.0 or T[3, 3] != 1.0:
-        return False
-    for j in range(3):
-        for k in range(j, 3):
-            product = T[0, j] * T[0, k] + T[1, j] * T[1, k] + T[2, j] * T[2, k]
-            if abs(product - (1.0 if j == k else 0.0)) > ROTATION_TOLERANCE:
-                return False
-    c0 = (T[0, 0], T[1, 0], T[2, 0])
-    c1 = (T[0, 1], T[1, 1], T[2, 1])
-    return dot(cross(c0, c1), (T[0, 2], T[1, 2], T[2, 2])) > 0.0
-
-
-@numba.njit(numba.float64[:, :](numba.float64[:, ::1], numba.float64[::1]), cache=True)
+@numba.njit(numba.float64[:, :](numba.float64[:, ::1], numba.float64[::1]), **COMPILE)
 def solve_raw(T, plan):
     """The fast path: every verified solution within the limits (each angle moved by the
     smallest multiple of 2π that brings it into range), duplicates (within the duplicate
     tolerance per joint, modulo 2π) dropped, as a (k, 6) array in slot order — or a (0, 0)
-    array when ``T`` is not a 4 × 4 finite rigid transform to be used as it is (nothing is
-    solved: the caller raises, or projects a near-rotation as :mod:`redik.lie` does and calls
-    again). Compiled for one signature only (C-contiguous float64 ``T``): any other array or
+    array when ``T`` is not a 4 × 4 finite rigid transform to be used as it is — the one rule
+    of :func:`redik.kinematics.compiled.valid_target` at :data:`redik.lie.ROTATION_TOLERANCE`,
+    which is :func:`redik.lie.as_pose`'s "use as it is" (nothing is solved: the caller raises,
+    or projects a near-rotation as :mod:`redik.lie` does and calls again). Compiled for one signature only (C-contiguous float64 ``T``): any other array or
     object raises ``TypeError`` at the call instead of compiling a new specialisation, and the
     caller converts it after its checks.
 
@@ -768,7 +750,7 @@ def solve_raw(T, plan):
     settings = plan[GEOMETRY_SIZE + 12 :]
     kind, reverse = int(settings[KIND]), settings[REVERSE] != 0.0
     tol, verify_tol, duplicate_tol = settings[TOL], settings[VERIFY], settings[DUPLICATE]
-    if T.shape[0] != 4 or T.shape[1] != 4 or not _is_pose(T):
+    if T.shape[0] != 4 or T.shape[1] != 4 or not valid_target(T, ROTATION_TOLERANCE):
         return np.empty((0, 0))
     q, status, _, _ = solve_slots(kind, reverse, T, G, -1, 0.0, tol, verify_tol)
     out = q  # compacted in place: row ``count`` ≤ ``slot`` is written after ``slot`` is read
