@@ -728,31 +728,12 @@ def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
     return angles, status, free, stage
 
 
-@numba.njit(numba.float64[:, :](numba.float64[:, ::1], numba.float64[::1]), **COMPILE)
-def solve_raw(T, plan):
-    """The fast path: every verified solution within the limits (each angle moved by the
-    smallest multiple of 2π that brings it into range), duplicates (within the duplicate
-    tolerance per joint, modulo 2π) dropped, as a (k, 6) array in slot order — or a (0, 0)
-    array when ``T`` is not a 4 × 4 finite rigid transform to be used as it is — the one rule
-    of :func:`redik.kinematics.compiled.valid_target` at :data:`redik.lie.ROTATION_TOLERANCE`,
-    which is :func:`redik.lie.as_pose`'s "use as it is" (nothing is solved: the caller raises,
-    or projects a near-rotation as :mod:`redik.lie` does and calls again). Compiled for one signature only (C-contiguous float64 ``T``): any other array or
-    object raises ``TypeError`` at the call instead of compiling a new specialisation, and the
-    caller converts it after its checks.
-
-    ``plan`` packs everything but the target into one array (one argument keeps the call
-    cheap): the (17, 3) geometry ``G`` row by row, the lower and upper limits, then the
-    settings (:data:`KIND`, :data:`REVERSE`, :data:`TOL`, :data:`VERIFY`, :data:`DUPLICATE`).
-    """
-    G = plan[:GEOMETRY_SIZE].reshape(17, 3)
-    lower = plan[GEOMETRY_SIZE : GEOMETRY_SIZE + 6]
-    upper = plan[GEOMETRY_SIZE + 6 : GEOMETRY_SIZE + 12]
-    settings = plan[GEOMETRY_SIZE + 12 :]
-    kind, reverse = int(settings[KIND]), settings[REVERSE] != 0.0
-    tol, verify_tol, duplicate_tol = settings[TOL], settings[VERIFY], settings[DUPLICATE]
-    if T.shape[0] != 4 or T.shape[1] != 4 or not valid_target(T, ROTATION_TOLERANCE):
-        return np.empty((0, 0))
-    q, status, _, _ = solve_slots(kind, reverse, T, G, -1, 0.0, tol, verify_tol)
+@numba.njit(**COMPILE)
+def _select(q, status, lower, upper, duplicate_tol, slots):
+    """Compact the slots of :func:`solve_slots` in place: each non-empty slot moved by the
+    smallest multiple of 2π per angle into the limits (dropped if there is none), duplicates
+    (within ``duplicate_tol`` per joint, modulo 2π) dropped; ``slots[row]`` is the slot of
+    each kept row. Returns the number kept."""
     out = q  # compacted in place: row ``count`` ≤ ``slot`` is written after ``slot`` is read
     count = 0
     two_pi = 2.0 * math.pi
@@ -788,5 +769,68 @@ def solve_raw(T, plan):
                 repeated = True
                 break
         if not repeated:
+            slots[count] = slot
             count += 1
-    return out[:count]
+    return count
+
+
+@numba.njit(**COMPILE)
+def _solve_planned(T, plan, slots):
+    """:func:`solve_slots` then :func:`_select` with everything read from ``plan``:
+    ``(q, count, status, free, stage)``, or ``count = −1`` (nothing solved) when ``T`` is not
+    a rigid transform to be used as it is."""
+    G = plan[:GEOMETRY_SIZE].reshape(17, 3)
+    lower = plan[GEOMETRY_SIZE : GEOMETRY_SIZE + 6]
+    upper = plan[GEOMETRY_SIZE + 6 : GEOMETRY_SIZE + 12]
+    settings = plan[GEOMETRY_SIZE + 12 :]
+    kind, reverse = int(settings[KIND]), settings[REVERSE] != 0.0
+    tol, verify_tol, duplicate_tol = settings[TOL], settings[VERIFY], settings[DUPLICATE]
+    if T.shape[0] != 4 or T.shape[1] != 4 or not valid_target(T, ROTATION_TOLERANCE):
+        empty = np.empty(0, np.int64)
+        return np.empty((0, 6)), -1, empty, empty, empty
+    q, status, free, stage = solve_slots(kind, reverse, T, G, -1, 0.0, tol, verify_tol)
+    count = _select(q, status, lower, upper, duplicate_tol, slots)
+    return q, count, status, free, stage
+
+
+@numba.njit(numba.float64[:, :](numba.float64[:, ::1], numba.float64[::1]), **COMPILE)
+def solve_raw(T, plan):
+    """The fast path: every verified solution within the limits (each angle moved by the
+    smallest multiple of 2π that brings it into range), duplicates (within the duplicate
+    tolerance per joint, modulo 2π) dropped, as a (k, 6) array in slot order — or a (0, 0)
+    array when ``T`` is not a 4 × 4 finite rigid transform to be used as it is — the one rule
+    of :func:`redik.kinematics.compiled.valid_target` at :data:`redik.lie.ROTATION_TOLERANCE`,
+    which is :func:`redik.lie.as_pose`'s "use as it is" (nothing is solved: the caller raises,
+    or projects a near-rotation as :mod:`redik.lie` does and calls again). Compiled for one
+    signature only (C-contiguous float64 ``T``): any other array or object raises
+    ``TypeError`` at the call instead of compiling a new specialisation, and the caller
+    converts it after its checks.
+
+    ``plan`` packs everything but the target into one array (one argument keeps the call
+    cheap): the (17, 3) geometry ``G`` row by row, the lower and upper limits, then the
+    settings (:data:`KIND`, :data:`REVERSE`, :data:`TOL`, :data:`VERIFY`, :data:`DUPLICATE`).
+    """
+    slots = np.empty(SLOTS[int(plan[GEOMETRY_SIZE + 12 + KIND])], np.int64)
+    q, count, _, _, _ = _solve_planned(T, plan, slots)
+    if count < 0:
+        return np.empty((0, 0))
+    return q[:count]
+
+
+@numba.njit(
+    numba.types.Tuple((numba.float64[:, :], numba.int64[:], numba.int64[:, ::1]))(
+        numba.float64[:, ::1], numba.float64[::1]
+    ),
+    **COMPILE,
+)
+def solve_labelled(T, plan):
+    """:func:`solve_raw` with what labels need: ``(q, slots, flags)``, ``q`` (k, 6) the kept
+    solutions, ``slots`` (k,) the slot of each and ``flags`` (3, S) the ``status``, ``free``
+    and ``stage`` of every slot (:func:`solve_slots`); ``flags`` has no column when ``T`` is
+    not to be used as it is (compiled for one signature, like :func:`solve_raw`; three
+    arrays, as each returned array costs the caller a box)."""
+    slots = np.empty(SLOTS[int(plan[GEOMETRY_SIZE + 12 + KIND])], np.int64)
+    q, count, status, free, stage = _solve_planned(T, plan, slots)
+    flags = np.empty((3, status.shape[0]), np.int64)
+    flags[0], flags[1], flags[2] = status, free, stage
+    return q[: max(count, 0)], slots[: max(count, 0)], flags

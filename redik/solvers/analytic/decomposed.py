@@ -88,6 +88,9 @@ MATCH_TOL = 1e-9
 
 REVOLUTE = np.ones(6, bool)
 
+_BRANCH_LABELS = tuple(f"s{s}e{e}w{w}" for s in "+-" for e in "+-" for w in "+-")
+_SEARCH_LABELS = tuple(f"arm{i + 1}-w{w}" for i in range(8) for w in "+-")
+
 
 @dataclass(frozen=True)
 class Chain:
@@ -249,9 +252,7 @@ class DecomposedSolver:
     @property
     def labels(self) -> tuple[str, ...]:
         """Slot labels (module docstring)."""
-        if self.kind == "spherical":
-            return tuple(f"arm{i + 1}-w{w}" for i in range(8) for w in "+-")
-        return tuple(f"s{s}e{e}w{w}" for s in "+-" for e in "+-" for w in "+-")
+        return _SEARCH_LABELS if self.kind == "spherical" else _BRANCH_LABELS
 
     def raw(
         self, T: np.ndarray, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
@@ -262,13 +263,7 @@ class DecomposedSolver:
         ``strict`` refuses a near-rotation instead of projecting it (:mod:`redik.lie`)."""
         if strict:
             T = np.ascontiguousarray(_checks.pose(T, "target", strict=True))
-        # The common calls take two identity tests to their plan; anything else is checked.
-        if limits is None and tol is DEFAULT_TOL:
-            plan = self._unbounded_plan
-        elif limits.__class__ is str and limits == "robot" and tol is DEFAULT_TOL:
-            plan = self._robot_plan
-        else:
-            plan = self._plan(self._limits(limits), _checks.length(tol, "tol", allow_zero=True))
+        plan = self._plan_for(limits, tol)
         try:
             q = kernels.solve_raw(T, plan)
         except (TypeError, ValueError):  # not a C-contiguous float64 array: a list (numba
@@ -285,23 +280,67 @@ class DecomposedSolver:
         self, target: Any, *, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
     ) -> IKSolutions:
         """Every solution of a world-frame target pose, labelled, with families at
-        singularities (see :meth:`raw` for the arguments)."""
-        T = _checks.pose(target, "target", strict=strict)
-        lower, upper = self._limits(limits)
-        kind = KINDS.index(self.kind)
-        q, status, free, stage = kernels.solve_slots(
-            kind, self.reversed, T, self.geometry, -1, 0.0, tol, VERIFY_TOL
-        )
+        singularities (see :meth:`raw` for the arguments).
+
+        The same compiled call as :meth:`raw` (:func:`._decomposed_kernels.solve_labelled`
+        also returns each solution's slot); the labels are picked by slot and the Python per
+        solution is left to singular slots (their text and family) and to
+        :class:`~redik.solvers.analytic.IKSolutions`' lazy rows."""
+        T = target
+        if strict:
+            T = np.ascontiguousarray(_checks.pose(T, "target", strict=True))
+        plan = self._plan_for(limits, tol)
+        try:
+            q, slots, flags = kernels.solve_labelled(T, plan)
+        except (TypeError, ValueError):  # not a C-contiguous float64 array (as in raw):
+            flags = _NO_FLAGS  # checked and converted below
+        if not flags.shape[1]:
+            T = np.ascontiguousarray(_checks.pose(T, "target", strict=strict))
+            q, slots, flags = kernels.solve_labelled(T, plan)
+        if not len(slots):
+            return self._nothing(T, plan, flags[0], flags[2])
         labels = self.labels
-        candidates = []
-        for slot in np.flatnonzero(status != kernels.EMPTY):
-            text, family = self._singular(T, int(status[slot]), int(free[slot]), slot)
-            candidates.append(Candidate(q[slot], labels[slot], text, family))
-        if not candidates:
+        kept = slots.tolist()  # Python ints: cheaper to index with than numpy scalars
+        names = [labels[slot] for slot in kept]
+        codes = flags[0].tolist()
+        if kernels.SINGULAR not in codes:
+            return IKSolutions.from_arrays(q, names)
+        texts, families = [], []
+        for slot in kept:
+            text, family = self._singular(T, codes[slot], int(flags[1, slot]), slot)
+            texts.append(text)
+            families.append(family)
+        return IKSolutions.from_arrays(q, names, singular=texts, families=families)
+
+    def _nothing(
+        self, T: np.ndarray, plan: np.ndarray, status: np.ndarray, stage: np.ndarray
+    ) -> IKSolutions:
+        """The empty result: unreachable (the stage that failed), or every solution outside
+        the limits of ``plan`` (:func:`~._solution.finalize` names the joints)."""
+        if not (status != kernels.EMPTY).any():
             worst = int(stage.max())
             return unreachable(6, f"no branch reaches the target: {_STAGES.get(worst, '')}")
-        bounded = np.isfinite(lower).any() or np.isfinite(upper).any()
-        return finalize(candidates, 6, REVOLUTE, (lower, upper) if bounded else None)
+        q, status, _, _ = kernels.solve_slots(
+            KINDS.index(self.kind), self.reversed, T, self.geometry, -1, 0.0,
+            plan[-5 + kernels.TOL], VERIFY_TOL,
+        )  # fmt: skip
+        labels = self.labels
+        candidates = [
+            Candidate(q[slot], labels[slot]) for slot in np.flatnonzero(status != kernels.EMPTY)
+        ]
+        start = kernels.GEOMETRY_SIZE
+        return finalize(
+            candidates, 6, REVOLUTE, (plan[start : start + 6], plan[start + 6 : start + 12])
+        )
+
+    def _plan_for(self, limits: Any, tol: Any) -> np.ndarray:
+        """The plan of these limits and tolerance: the common calls take two identity tests
+        to a plan made once; anything else is checked."""
+        if limits is None and tol is DEFAULT_TOL:
+            return self._unbounded_plan
+        if limits.__class__ is str and limits == "robot" and tol is DEFAULT_TOL:
+            return self._robot_plan
+        return self._plan(self._limits(limits), _checks.length(tol, "tol", allow_zero=True))
 
     def _plan(self, limits: tuple[np.ndarray, np.ndarray], tol: float) -> np.ndarray:
         """The ``plan`` array of :func:`._decomposed_kernels.solve_raw`."""
@@ -356,6 +395,7 @@ class DecomposedSolver:
 
 _UNBOUNDED = (np.full(6, -np.inf), np.full(6, np.inf))
 _NOTHING = np.empty((0, 0))
+_NO_FLAGS = np.empty((3, 0), np.int64)
 
 
 def decomposed_solver(
