@@ -21,6 +21,9 @@ from redik import lie
 from redik.core.exceptions import InvalidInput, ModelError
 from redik.models.dh import DHRow, forward
 from redik.solvers.analytic import _checks
+from redik.solvers.analytic import _decomposed_kernels as kernels
+from redik.solvers.analytic._arm import ARM_LABELS
+from redik.solvers.analytic._branches import puma_slots_of, ur_slots_of
 from redik.solvers.analytic._solution import DEFAULT_TOL, IKSolutions, unreachable
 from redik.solvers.analytic.decomposed import (
     DecomposedSolver,
@@ -214,6 +217,12 @@ class AnalyticSolver:
         params: Its parameters, as read from the model.
         base: ``T_wb``, the pose of the arm's DH base frame in the world.
         lower, upper: The robot's joint limits, applied by default.
+        compiled: For the PUMA and UR families, the subproblem decomposition of the same
+            robot (:mod:`.decomposed`): a call solves with it and names each solution by the
+            family's slot (:mod:`._branches`), in a few µs instead of the family's Python
+            kernel; a target with a singular solution, or with none, goes to the family's
+            kernel (its singularity texts, families and reasons). The two give the same
+            labelled set (tested on random poses).
     """
 
     family: str
@@ -221,6 +230,7 @@ class AnalyticSolver:
     base: np.ndarray
     lower: np.ndarray
     upper: np.ndarray
+    compiled: DecomposedSolver | None = None
 
     def __call__(
         self,
@@ -239,12 +249,18 @@ class AnalyticSolver:
             tol: As in the family's solver.
             strict: Refuse a near-rotation instead of projecting it (:mod:`redik.lie`'s policy).
         """
-        array = lie.real_array(target, "target")
+        # A 4 × 4 array (the usual call) goes straight to the pose check.
+        square = target.__class__ is np.ndarray and target.shape == (4, 4)
+        array = target if square else lie.real_array(target, "target")
         if array.shape == (3,) and self.family in ("planar_2r", "rrp_polar", "hexapod_leg"):
             T = np.eye(4)
             T[:3, 3] = _checks.finite_array(array, "target", (3,))
         else:
             T = _checks.pose(target, "target", strict=strict)
+            if self.compiled is not None:
+                solutions = self._compiled_solutions(T, limits, tol)
+                if solutions is not None:
+                    return solutions
         if isinstance(limits, str):
             if limits != "robot":
                 raise InvalidInput(
@@ -255,6 +271,27 @@ class AnalyticSolver:
             chosen = _checks.limits(limits, len(self.lower))
         family = FAMILIES[self.family]
         return family.solve(self._base_inverse @ T, self.params, chosen, tol)
+
+    def _compiled_solutions(self, T: np.ndarray, limits: Any, tol: Any) -> IKSolutions | None:
+        """The labelled solutions by :attr:`compiled` (None: leave the target to the
+        family's kernel)."""
+        solver = self.compiled
+        assert solver is not None
+        T = np.ascontiguousarray(T)
+        q, slots, flags = kernels.solve_labelled(T, solver._plan_for(limits, tol))
+        if not len(slots) or kernels.SINGULAR in flags[0].tolist():
+            return None
+        local = self._base_inverse @ T
+        p = self.params
+        if self.family == "puma":
+            branch = puma_slots_of(q, local, p["a2"], p["a3"], p["d3"], p["d4"], 0.0)
+        else:
+            branch = ur_slots_of(q, local, p["a2"], p["a3"], p["d4"], p["d6"])
+        order = np.argsort(branch)
+        named = branch[order].tolist()
+        if len(set(named)) != len(named):  # two solutions on one branch: not regular after all
+            return None
+        return IKSolutions.from_arrays(q[order], [ARM_LABELS[slot] for slot in named])
 
     @cached_property
     def _base_inverse(self) -> np.ndarray:
@@ -323,4 +360,14 @@ def solver_for(
             f"{robot.name!r} does not move like the {spec.name} DH table with parameters "
             f"{params}: poses differ by {mismatch:.3g} (tolerance {MATCH_TOL:g})"
         )
-    return AnalyticSolver(spec.name, params, base, robot.lower.copy(), robot.upper.copy())
+    compiled = None
+    if spec.name in _COMPILED_CLASS:
+        S, M = screws_of(robot)
+        found = classify(S, M)
+        if found is not None and found[:2] == (_COMPILED_CLASS[spec.name], False):
+            compiled = decomposed_solver(S, M, robot.lower, robot.upper)
+    return AnalyticSolver(spec.name, params, base, robot.lower.copy(), robot.upper.copy(), compiled)
+
+
+#: The decomposition class that solves a family's arms (forwards), for AnalyticSolver.compiled.
+_COMPILED_CLASS = {"puma": "spherical_two_intersecting", "ur": "three_parallel_two_intersecting"}
