@@ -19,4 +19,4 @@ def test_ik_geo_gets_the_same_arm_and_finds_the_same_number_of_solutions(name):
     # ik-geo's answers reach redik's targets by redik's FK: the geometry was translated right.
     assert row["ik_geo_error"] < 1e-9
     assert row["solutions"] == pytest.approx(row["ik_geo_solutions"])
-    assert row["redik_us"] > 0.0 and row["ik_geo_us"] > 0.0
+    assert row["redik_us"] > 0.0 and row["ik_geo_us"] > 0.0 and row["labelled_us"] > 0.0

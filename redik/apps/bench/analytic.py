@@ -24,6 +24,9 @@ a pose pays for loading it into cache), median µs per call, their ratio, the la
 and families, timed on each pose before the pair) and its ratio to ik-geo, the mean number of
 solutions each returns and the largest FK error (by ``robot.fk``) among ik-geo's answers that
 are not flagged least-squares. The load average is printed with it.
+A third table times the general 6R solver (:mod:`redik.solvers.analytic.general`, every
+solution of an arm with no closed form) against a multistart ``dls`` ``solve_all`` on the
+same poses, with the share of poses on which the multistart found the whole set.
 ``--clock cpu`` times with the process CPU clock instead of the wall clock: on a shared,
 loaded machine it leaves out the time spent waiting for a core.
 """
@@ -84,6 +87,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--no-ik-geo", action="store_true", help="skip the comparison with the ik-geo package"
     )
+    parser.add_argument(
+        "--no-general", action="store_true", help="skip the general 6R table (no closed form)"
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -120,7 +126,68 @@ def run(args: argparse.Namespace) -> int:
         )
     if not args.no_ik_geo:
         compare_ik_geo(args)
+    if not args.no_general:
+        compare_general(args)
     return 0
+
+
+#: The general 6R arm of the third table (every a, d, α non-zero: no decomposition fits);
+#: the arm of ``examples/analytic_general_6r.py``.
+GENERAL_ROWS = (
+    (0.30, 0.40, 1.10),
+    (0.45, 0.15, -0.70),
+    (0.25, 0.20, 0.90),
+    (0.20, 0.35, -1.20),
+    (0.15, 0.10, 0.60),
+    (0.10, 0.12, 0.80),
+)
+
+
+def compare_general(args: argparse.Namespace, n_poses: int = 20, n_starts: int = 100) -> None:
+    """The third table: the general 6R solver (:mod:`redik.solvers.analytic.general`) on
+    ``n_poses`` FK targets of a fixed general arm, median ms per call, mean solutions, and a
+    multistart ``dls`` :func:`~redik.solvers.pose_ik.solve_all` (``n_starts`` random starts)
+    on the same poses: its ms per call and the share of poses on which it found every one of
+    the elimination's solutions (and nothing else)."""
+    from redik.models.dh import DHRow
+    from redik.solvers.pose_ik import solve_all
+
+    robot = Robot.from_dh(
+        [DHRow(*row) for row in GENERAL_ROWS], limits=[(-np.pi, np.pi)] * 6, name="general_6r"
+    )
+    solver = solver_for(robot)
+    clock = CLOCKS[args.clock]
+    rng = np.random.default_rng(args.seed)
+    targets = [robot.fk(q) for q in robot.random_q(rng, size=n_poses)]
+    solver(targets[0])  # compiles the polishing kernel
+    ours, theirs, counts, complete = [], [], [], 0
+    for index, T in enumerate(targets):
+        start = clock()
+        exact = solver(T).as_array()
+        middle = clock()
+        numeric = solve_all(robot, T, n_starts=n_starts, seed=index, pos_tol=1e-9)
+        end = clock()
+        ours.append(middle - start)
+        theirs.append(end - middle)
+        counts.append(len(exact))
+        found = np.array([result.q for result in numeric]).reshape(-1, 6)
+        gap = np.abs(np.angle(np.exp(1j * (found[:, None] - exact[None])))).max(axis=2)
+        complete += len(found) == len(exact) and bool((gap.min(axis=1) < 1e-5).all())
+    load_average = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+    print(
+        f"\ngeneral 6R (DH rows a, d, α all non-zero; {solver.method}) vs multistart dls "
+        f"solve_all ({n_starts} starts), {n_poses} poses, median ms per call "
+        f"({args.clock} clock); load average {load_average}"
+    )
+    print(f"{'method':<28}{'ms':>9}{'solutions':>11}{'all found':>13}")
+    print(
+        f"{'elimination (every root)':<28}{1e3 * statistics.median(ours):>9.2f}"
+        f"{np.mean(counts):>11.2f}{'(reference)':>13}"
+    )
+    print(
+        f"{f'dls solve_all ({n_starts} starts)':<28}{1e3 * statistics.median(theirs):>9.2f}"
+        f"{'':>11}{complete / n_poses:>13.0%}"
+    )
 
 
 #: Decomposition classes that ik-geo builds from axes and offsets, by redik's class name.

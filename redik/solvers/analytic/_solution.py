@@ -12,13 +12,16 @@ Angles are wrapped to (−π, π] (:func:`redik.lie.wrap_angle`); prismatic join
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import NamedTuple, overload
 
+import numba
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
+from redik.kinematics.compiled import COMPILE
 from redik.lie import wrap_angle
 
 #: Default tolerance (metres) by which a target may lie outside the workspace and still be
@@ -377,6 +380,14 @@ def finalize(
     a candidate is singular are the candidates compared for duplicates.
     """
     q = np.array([c.q for c in candidates], dtype=float).reshape(-1, n_joints)
+    singular = [c.singular for c in candidates]
+    if limits is not None and len(q):
+        # The usual case in one compiled call: numpy on arrays this small costs ~1 µs per
+        # operation, most of a closed-form call.
+        work = q.copy()  # q stays as it is for the explanation of an empty result below
+        keep = _wrap_select(work, revolute, limits[0], limits[1], any(singular), DUPLICATE_TOL)
+        if keep.any():
+            return _kept(work, np.flatnonzero(keep), candidates, singular, "", preferred)
     q = np.where(revolute, wrap_angle(q), q)
     distinct = np.ones(len(q), bool)
     if any(c.singular for c in candidates):
@@ -396,15 +407,76 @@ def finalize(
             f"(joints out of range in some solution: "
             f"{np.flatnonzero(~inside[distinct].all(axis=0)).tolist()})"
         )
-    singular = [candidates[index].singular for index in kept]
+    return _kept(q, kept, candidates, singular, reason, preferred)
+
+
+def _kept(
+    q: np.ndarray,
+    kept: np.ndarray,
+    candidates: Sequence[Candidate | JointSolution],
+    singular: list[str],
+    reason: str,
+    preferred: str,
+) -> IKSolutions:
+    """The result of :func:`finalize`: rows ``kept`` of ``q`` with their candidates' fields."""
+    rows = kept.tolist()
+    texts = [singular[index] for index in rows]
     return IKSolutions.from_arrays(
         q[kept],
-        [candidates[index].label for index in kept],
-        singular=singular,
-        families=[candidates[index].family for index in kept] if any(singular) else None,
+        [candidates[index].label for index in rows],
+        singular=texts,
+        families=[candidates[index].family for index in rows] if any(texts) else None,
         reason=reason,
         preferred=preferred,
     )
+
+
+@numba.njit(**COMPILE)
+def _wrap_select(q, revolute, lower, upper, dedupe, duplicate_tol):
+    """:func:`finalize` on (k, n) ``q`` in place, compiled: revolute angles wrapped as
+    :func:`redik.lie.wrap_angle` does (``fmod``, then one exact shift by 2π), duplicates of an
+    earlier row dropped when ``dedupe`` (modulo 2π for revolute joints), each row moved into
+    the limits as :func:`limit_representatives` does; returns which rows are kept."""
+    two_pi = 2.0 * math.pi
+    k, n = q.shape
+    for row in range(k):
+        for j in range(n):
+            if revolute[j]:
+                r = np.fmod(q[row, j], two_pi)
+                q[row, j] = r - two_pi if r > math.pi else (r + two_pi if r <= -math.pi else r)
+    keep = np.ones(k, np.bool_)
+    if dedupe:
+        for row in range(k):
+            for other in range(row):  # every earlier row, as the numpy path compares
+                same = True
+                for j in range(n):
+                    difference = q[row, j] - q[other, j]
+                    if revolute[j]:
+                        r = np.fmod(difference, two_pi)
+                        difference = (
+                            r - two_pi if r > math.pi else (r + two_pi if r <= -math.pi else r)
+                        )
+                    if abs(difference) >= duplicate_tol:
+                        same = False
+                        break
+                if same:
+                    keep[row] = False
+                    break
+    for row in range(k):
+        for j in range(n):
+            value = q[row, j]
+            turns = 0.0
+            if revolute[j]:
+                turns = min(
+                    max(np.ceil((lower[j] - value) / two_pi), 0.0),
+                    np.floor((upper[j] - value) / two_pi),
+                )
+            shifted = value + two_pi * turns
+            clipped = min(max(shifted, lower[j]), upper[j])
+            q[row, j] = clipped
+            if abs(clipped - shifted) > duplicate_tol:
+                keep[row] = False
+    return keep
 
 
 def unreachable(n_joints: int, reason: str) -> IKSolutions:

@@ -35,7 +35,7 @@ from redik.solvers.analytic.decomposed import (
 from redik.solvers.analytic.general import GeneralSolver, general_solver
 from redik.solvers.analytic.general import solver_from_robot as general_from_robot
 from redik.solvers.analytic.hexapod import hexapod_leg
-from redik.solvers.analytic.planar import planar_2r, planar_3r
+from redik.solvers.analytic.planar import planar_2r_solutions, planar_3r
 from redik.solvers.analytic.polar import rrp_polar
 from redik.solvers.analytic.puma import dh_rows as puma_rows
 from redik.solvers.analytic.puma import puma_parameters, puma_solutions
@@ -85,7 +85,7 @@ def _solve_planar_2r(T: np.ndarray, p: Mapping[str, float], limits: Limits, tol:
     reason = _planar(T, tol, orientation=False)
     if reason:
         return unreachable(2, reason)
-    return planar_2r(T[0, 3], T[1, 3], p["l1"], p["l2"], limits=limits, tol=tol)
+    return planar_2r_solutions(float(T[0, 3]), float(T[1, 3]), p["l1"], p["l2"], limits, tol)
 
 
 def _solve_planar_3r(T: np.ndarray, p: Mapping[str, float], limits: Limits, tol: float):
