@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 from scipy.spatial.transform import Rotation
 
 import redik
@@ -212,3 +213,30 @@ def test_bad_input_and_degenerate_arms_are_refused():
         solver(np.eye(4), limits="joints")
     with pytest.raises(ModelError, match="degenerate"):
         analytic.solver_for(redik.load("puma560"), "general_6r")
+
+
+def test_singular_targets_where_two_solutions_merge_are_found():
+    """On det J = 0 two of the 16 roots coincide (a double root, split by rounding into a
+    near-real complex pair): the configuration is still found, once, verified by FK."""
+    rng = np.random.default_rng(11)
+    robot = _random_screw_robot(rng)
+    solver = analytic.solver_for(robot)
+    found = 0
+    while found < 3:
+        q0, direction = rng.uniform(-np.pi, np.pi, 6), rng.normal(size=6)
+
+        def determinant(t: float, q0=q0, direction=direction) -> float:
+            return float(np.linalg.det(robot.jacobian(q0 + t * direction)))
+
+        grid = np.linspace(-1.0, 1.0, 100)
+        values = [determinant(t) for t in grid]
+        crossings = [i for i in range(99) if values[i] * values[i + 1] < 0.0]
+        if not crossings:
+            continue
+        t = brentq(determinant, grid[crossings[0]], grid[crossings[0] + 1], xtol=1e-15)
+        q_singular = q0 + t * direction
+        T = robot.fk(q_singular)
+        solutions = solver(T)
+        assert min(_distance(q, q_singular) for q in solutions) < 1e-7
+        assert all(np.abs(robot.fk(q) - T).max() < FK_TOL for q in solutions)
+        found += 1
