@@ -10,10 +10,12 @@ The arm is ``T(q) = e^{[S_1]q_1} ⋯ e^{[S_6]q_6} M`` (Modern Robotics §4.1), w
 
 With :math:`Z = R R_M^\top = R_1 ⋯ R_6` known from the target, each kernel peels the chain
 with the subproblems of :mod:`.subproblems`; the derivations are in the docstring of each.
-The geometry is packed in one (17, 3) array ``G``: rows 0–5 the axes, 6–11 the points (where
+The geometry is packed in one (19, 3) array ``G``: rows 0–5 the axes (a slide's direction for a
+prismatic joint), 6–11 the points (where
 axes meet, the same point), 12 ``p_M``, 13–15 the rows of ``R_M``, 16 a unit vector
 perpendicular to the axis of the last SP1 (``h_6`` for a spherical wrist, the parallel axis of
-the three-parallel class).
+the three-parallel class), 17–18 one flag per joint, non-zero for a prismatic joint (which
+translates by its value along ``h_i``; only the Stanford-type class has one).
 
 A kernel fills slots: ``q`` (S, 18), the six unwrapped angles then their cosines and sines
 (which the subproblems produce with each root, so that the FK check needs no trigonometric
@@ -37,6 +39,7 @@ from redik.lie import ROTATION_TOLERANCE
 from redik.solvers.analytic.subproblems import (
     BOUNDARY,
     FREE,
+    OK,
     OUT,
     add,
     cross,
@@ -61,15 +64,19 @@ EMPTY, REGULAR, SINGULAR = 0, 1, 2
 KIND, REVERSE, TOL, VERIFY, DUPLICATE = range(5)
 
 #: Entries of the packed geometry at the start of a ``plan`` (17 rows of 3).
-GEOMETRY_SIZE = 51
+GEOMETRY_SIZE = 57
 
 #: Kernel identifiers (``kind`` of :func:`solve_raw`).
-SPHERICAL_TWO_INTERSECTING, SPHERICAL_TWO_PARALLEL, SPHERICAL, THREE_PARALLEL_TWO_INTERSECTING = (
-    range(4)
-)
+(
+    SPHERICAL_TWO_INTERSECTING,
+    SPHERICAL_TWO_PARALLEL,
+    SPHERICAL,
+    THREE_PARALLEL_TWO_INTERSECTING,
+    SPHERICAL_TWO_INTERSECTING_PRISMATIC,
+) = range(5)
 
 #: Slots per kernel: 8 for the closed forms, 16 for the searched one (up to 8 arm roots).
-SLOTS = (8, 8, 16, 8)
+SLOTS = (8, 8, 16, 8, 8)
 
 #: FK errors (m / rotation entries) a closed-form slot may have and still be polished by
 #: Gauss–Newton (:func:`_polish`), and the steps taken.
@@ -90,6 +97,12 @@ TOUCH_TOL = 1e-9
 @numba.njit(**COMPILE)
 def _row(G, i):
     return (G[i, 0], G[i, 1], G[i, 2])
+
+
+@numba.njit(**COMPILE)
+def _prismatic(G, i):
+    """Whether chain joint ``i`` slides (rows 17–18 of ``G`` hold the six flags)."""
+    return G[17 + i // 3, i % 3] != 0.0
 
 
 @numba.njit(**COMPILE)
@@ -560,6 +573,81 @@ def three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, 
 
 
 @numba.njit(**COMPILE)
+def spherical_two_intersecting_prismatic(T, G, fix_joint, fix_value, tol, q, status, free, stage):
+    r"""Axes 1, 2 meeting at ``o``, joint 3 sliding along ``h3``, spherical wrist (axes 4, 5,
+    6 meeting at ``w`` when joint 3 is at 0): the Stanford arm's class.
+
+    The slide carries the wrist: :math:`p_w - o = R_1 R_2 u(d_3)`,
+    :math:`u = (w - o) + d_3 h_3`, so ‖u‖ = ‖p_w − o‖ is the intersection of the slide's line
+    with a sphere about ``o`` (the prismatic counterpart of SP3):
+    :math:`d_3 = -b·h_3 ± \sqrt{‖p_w - o‖^2 - ‖b_⊥‖^2}`, ``b = w − o`` and ``b⊥`` its part
+    across ``h3`` (two roots, "d±"; none when the sphere misses the line, one when it
+    touches it, within ``tol``); then SP2 gives θ1, θ2 (shoulder ±) and the wrist as in
+    :func:`spherical_two_intersecting`. Slot = 4·shoulder + 2·slide + wrist.
+    """
+    z0, z1, z2, p = _target(T, G)
+    h1, h2, h3 = _row(G, 0), _row(G, 1), _row(G, 2)
+    o, w, pM = _row(G, 6), _row(G, 9), _row(G, 12)
+    pw = sub(p, _mul(z0, z1, z2, sub(pM, w)))
+    z = _mul(z0, z1, z2, _row(G, 5))
+    y = _mul(z0, z1, z2, _row(G, 16))
+    b = sub(w, o)
+    along = dot(b, h3)
+    across = norm(sub(b, scale(h3, along)))  # distance of the slide's line from o
+    radius = norm(sub(pw, o))
+    reach = OK
+    if radius < across - tol:
+        reach = OUT
+    elif abs(radius - across) <= tol:
+        reach = BOUNDARY
+    half = 0.0 if reach != OK else math.sqrt((radius - across) * (radius + across))
+    for e in range(2):
+        if reach == OUT:
+            _empty(2 * e, 2, 2, status, stage, free)
+            _empty(4 + 2 * e, 2, 2, status, stage, free)
+            continue
+        d3 = -along + half if e == 0 else -along - half
+        u = add(b, scale(h3, d3))
+        t1a, t2a, t1b, t2b, shoulder, which, trig = sp2_cs(
+            _neg(h1),
+            sub(pw, o),
+            h2,
+            u,
+            _fixed(fix_joint, fix_value, 0),
+            _fixed(fix_joint, fix_value, 1),
+            tol,
+        )
+        for s in range(2):
+            slot = 4 * s + 2 * e
+            if shoulder == OUT:
+                _empty(slot, 2, 1, status, stage, free)
+                continue
+            free[slot] = -1 if which == 0 else which - 1
+            t1, t2 = (t1a, t2a) if s == 0 else (t1b, t2b)
+            c1, s1, c2, s2 = trig[4 * s], trig[4 * s + 1], trig[4 * s + 2], trig[4 * s + 3]
+            pos = _status_of(reach, shoulder)
+            # The slide's "cosine and sine" are those of no rotation: _wrist's R3 is I.
+            _wrist(
+                G,
+                z,
+                y,
+                (t1, t2, d3),
+                (c1, s1, c2, s2, 1.0, 0.0),
+                fix_joint,
+                fix_value,
+                tol,
+                slot,
+                q,
+                status,
+                free,
+                stage,
+                pos,
+            )
+            if shoulder == FREE and s == 1:
+                _empty(slot, 2, 0, status, stage, free)
+
+
+@numba.njit(**COMPILE)
 def solve_kind(kind, T, G, fix_joint, fix_value, tol):
     """Run kernel ``kind`` on the 4×4 target ``T``: ``(q, status, free, stage)``, ``q`` of
     shape (S, 18) (module docstring)."""
@@ -574,16 +662,21 @@ def solve_kind(kind, T, G, fix_joint, fix_value, tol):
         spherical_two_parallel(T, G, fix_joint, fix_value, tol, q, status, free, stage)
     elif kind == SPHERICAL:
         spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage)
-    else:
+    elif kind == THREE_PARALLEL_TWO_INTERSECTING:
         three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free, stage)
+    else:
+        spherical_two_intersecting_prismatic(
+            T, G, fix_joint, fix_value, tol, q, status, free, stage
+        )
     return q, status, free, stage
 
 
 @numba.njit(**COMPILE)
-def fk_error(G, cosines, sines, T):
+def fk_error(G, row, T):
     r"""``max(‖p(q) − p‖, max |R(q) − R| over the first two columns)`` for the chain of ``G``
-    at the joint angles whose cosines and sines are given (the third column of a rotation
-    follows from the first two).
+    at the slot ``row`` (joint values, then the cosines and sines of the angles; the third
+    column of a rotation follows from the first two). A prismatic joint (:func:`_prismatic`)
+    translates by its value along its direction instead of rotating.
 
     Evaluated from the tip inwards, :math:`p = a_1 + R_1(a_2 - a_1 + R_2(⋯ + R_6(p_M - a_6)))`
     and :math:`R\,\hat x = R_1(⋯ R_6 (R_M \hat x))`, three vectors rotated per joint.
@@ -593,10 +686,13 @@ def fk_error(G, cosines, sines, T):
     y = (G[13, 1], G[14, 1], G[15, 1])
     for i in range(5, -1, -1):
         k = _row(G, i)
-        c, s = cosines[i], sines[i]
-        p = rotate_cs(k, c, s, p)
-        x = rotate_cs(k, c, s, x)
-        y = rotate_cs(k, c, s, y)
+        if _prismatic(G, i):
+            p = add(p, scale(k, row[i]))
+        else:
+            c, s = row[6 + i], row[12 + i]
+            p = rotate_cs(k, c, s, p)
+            x = rotate_cs(k, c, s, x)
+            y = rotate_cs(k, c, s, y)
         if i > 0:
             p = add(p, sub(_row(G, 6 + i), _row(G, 5 + i)))
     p = add(p, _row(G, 6))
@@ -650,7 +746,7 @@ def newton(G, row, T, fixed, steps, stop):
     J = np.empty((6, 6))
     e = np.empty(6)
     for _ in range(steps):
-        if stop > 0.0 and fk_error(G, row[6:12], row[12:], T) <= stop:
+        if stop > 0.0 and fk_error(G, row, T) <= stop:
             break
         R = np.eye(3)
         P = _row(G, 6)
@@ -660,10 +756,16 @@ def newton(G, row, T, fixed, steps, stop):
                 R[1, 0] * G[i, 0] + R[1, 1] * G[i, 1] + R[1, 2] * G[i, 2],
                 R[2, 0] * G[i, 0] + R[2, 1] * G[i, 1] + R[2, 2] * G[i, 2],
             )
-            J[0, i], J[1, i], J[2, i] = axis
-            J[3, i], J[4, i], J[5, i] = P  # joint origin for now: J_v = ω × (p − o) below
+            if _prismatic(G, i):  # J = (ω, v) = (0, axis); the slide moves what follows
+                J[0, i], J[1, i], J[2, i] = 0.0, 0.0, 0.0
+                J[3, i], J[4, i], J[5, i] = axis
+                P = add(P, scale(axis, row[i]))
+            else:
+                J[0, i], J[1, i], J[2, i] = axis
+                J[3, i], J[4, i], J[5, i] = P  # joint origin for now: J_v = ω × (p − o) below
             step = np.empty((3, 3))
-            c, s = math.cos(row[i]), math.sin(row[i])
+            slide = _prismatic(G, i)
+            c, s = (1.0, 0.0) if slide else (math.cos(row[i]), math.sin(row[i]))
             for j in range(3):
                 column = rotate_cs(
                     _row(G, i), c, s, (1.0 * (j == 0), 1.0 * (j == 1), 1.0 * (j == 2))
@@ -681,6 +783,8 @@ def newton(G, row, T, fixed, steps, stop):
                 ),
             )
         for i in range(6):
+            if _prismatic(G, i):
+                continue
             omega = (J[0, i], J[1, i], J[2, i])
             linear = cross(omega, sub(P, (J[3, i], J[4, i], J[5, i])))
             J[3, i], J[4, i], J[5, i] = linear
@@ -697,8 +801,9 @@ def newton(G, row, T, fixed, steps, stop):
         step_q = np.linalg.lstsq(J, e, 1e-10)[0]
         for i in range(6):
             row[i] += step_q[i]
-            row[6 + i], row[12 + i] = math.cos(row[i]), math.sin(row[i])
-    return fk_error(G, row[6:12], row[12:], T)
+            if not _prismatic(G, i):
+                row[6 + i], row[12 + i] = math.cos(row[i]), math.sin(row[i])
+    return fk_error(G, row, T)
 
 
 @numba.njit(**COMPILE)
@@ -714,7 +819,7 @@ def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
     for slot in range(q.shape[0]):
         if status[slot] == EMPTY:
             continue
-        error = fk_error(G, q[slot, 6:12], q[slot, 12:], target)
+        error = fk_error(G, q[slot], target)
         if verify_tol < error <= POLISH_RANGE:
             error = _polish(G, q[slot], target, free[slot])
         if error > verify_tol:
@@ -722,14 +827,16 @@ def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
     angles = np.empty((q.shape[0], 6))
     for slot in range(q.shape[0]):
         for j in range(6):
-            angles[slot, j] = _wrap(q[slot, 5 - j if reverse else j])
+            joint = 5 - j if reverse else j
+            value = q[slot, joint]
+            angles[slot, j] = value if _prismatic(G, joint) else _wrap(value)
         if reverse and free[slot] >= 0:
             free[slot] = 5 - free[slot]
     return angles, status, free, stage
 
 
 @numba.njit(**COMPILE)
-def _select(q, status, lower, upper, duplicate_tol, slots):
+def _select(q, status, lower, upper, duplicate_tol, slots, revolute):
     """Compact the slots of :func:`solve_slots` in place: each non-empty slot moved by the
     smallest multiple of 2π per angle into the limits (dropped if there is none), duplicates
     (within ``duplicate_tol`` per joint, modulo 2π) dropped; ``slots[row]`` is the slot of
@@ -746,6 +853,9 @@ def _select(q, status, lower, upper, duplicate_tol, slots):
             if lower[j] <= value <= upper[j]:  # the usual case: no turn to find
                 out[count, j] = value
                 continue
+            if not revolute[j]:  # a slide out of its range: no turn brings it in
+                inside = False
+                break
             turns = min(
                 max(np.ceil((lower[j] - value) / two_pi), 0.0),
                 np.floor((upper[j] - value) / two_pi),
@@ -762,7 +872,8 @@ def _select(q, status, lower, upper, duplicate_tol, slots):
         for other in range(count):
             same = True
             for j in range(6):
-                if abs(_wrap(out[other, j] - out[count, j])) >= duplicate_tol:
+                difference = out[other, j] - out[count, j]
+                if abs(_wrap(difference) if revolute[j] else difference) >= duplicate_tol:
                     same = False
                     break
             if same:
@@ -779,7 +890,7 @@ def _solve_planned(T, plan, slots):
     """:func:`solve_slots` then :func:`_select` with everything read from ``plan``:
     ``(q, count, status, free, stage)``, or ``count = −1`` (nothing solved) when ``T`` is not
     a rigid transform to be used as it is."""
-    G = plan[:GEOMETRY_SIZE].reshape(17, 3)
+    G = plan[:GEOMETRY_SIZE].reshape(19, 3)
     lower = plan[GEOMETRY_SIZE : GEOMETRY_SIZE + 6]
     upper = plan[GEOMETRY_SIZE + 6 : GEOMETRY_SIZE + 12]
     settings = plan[GEOMETRY_SIZE + 12 :]
@@ -789,7 +900,10 @@ def _solve_planned(T, plan, slots):
         empty = np.empty(0, np.int64)
         return np.empty((0, 6)), -1, empty, empty, empty
     q, status, free, stage = solve_slots(kind, reverse, T, G, -1, 0.0, tol, verify_tol)
-    count = _select(q, status, lower, upper, duplicate_tol, slots)
+    revolute = np.empty(6, np.bool_)
+    for j in range(6):
+        revolute[j] = not _prismatic(G, 5 - j if reverse else j)
+    count = _select(q, status, lower, upper, duplicate_tol, slots, revolute)
     return q, count, status, free, stage
 
 
@@ -807,7 +921,7 @@ def solve_raw(T, plan):
     converts it after its checks.
 
     ``plan`` packs everything but the target into one array (one argument keeps the call
-    cheap): the (17, 3) geometry ``G`` row by row, the lower and upper limits, then the
+    cheap): the (19, 3) geometry ``G`` row by row, the lower and upper limits, then the
     settings (:data:`KIND`, :data:`REVERSE`, :data:`TOL`, :data:`VERIFY`, :data:`DUPLICATE`).
     """
     slots = np.empty(SLOTS[int(plan[GEOMETRY_SIZE + 12 + KIND])], np.int64)

@@ -20,10 +20,14 @@ are):
     touches zero — a double root, where two arm solutions merge at a singularity — refined
     by golden section), then SP3, SP1 and the wrist.
 
-Arms outside these classes are refused with :class:`~redik.core.exceptions.ModelError`: a general
-6R (no three axes meeting or parallel) needs a 2-D search or an elimination to a degree-16
-polynomial (Raghavan & Roth 1993), neither of which is implemented; prismatic joints are not
-decomposed (the Stanford arm, RRPRRR, keeps :func:`redik.solvers.analytic.stanford`). Each class is
+``spherical_two_intersecting_prismatic``
+    axes 1, 2 meeting, joint 3 prismatic, spherical wrist (the Stanford arm, RRPRRR): the
+    slide's line meets a sphere about the shoulder point (the prismatic counterpart of SP3:
+    d3 ±), SP2 (shoulder ±), the wrist. Up to 8 solutions (4 with d3 ≥ 0).
+
+Arms outside these classes are refused with :class:`~redik.core.exceptions.ModelError`; a
+general 6R (no three axes meeting or parallel) has :mod:`redik.solvers.analytic.general`
+(an elimination to a degree-16 polynomial, Raghavan & Roth 1993). Each revolute class is
 also recognised with the chain run backwards (a spherical *shoulder*, axes
 1–3 meeting, solved as the reversed arm's wrist for ``T⁻¹``). The wrist may be any three
 axes through one point with consecutive axes not parallel: ZYZ, ZYX, ZXZ and skew ones.
@@ -45,7 +49,7 @@ subproblem leaves a joint arbitrary (a singularity).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
@@ -74,6 +78,7 @@ KINDS = (
     "spherical_two_parallel",
     "spherical",
     "three_parallel_two_intersecting",
+    "spherical_two_intersecting_prismatic",
 )
 
 #: How close (m; rad for directions) axes must be to intersecting or parallel to count as such.
@@ -90,6 +95,7 @@ REVOLUTE = np.ones(6, bool)
 
 _BRANCH_LABELS = tuple(f"s{s}e{e}w{w}" for s in "+-" for e in "+-" for w in "+-")
 _SEARCH_LABELS = tuple(f"arm{i + 1}-w{w}" for i in range(8) for w in "+-")
+_SLIDE_LABELS = tuple(f"s{s}d{d}w{w}" for s in "+-" for d in "+-" for w in "+-")
 
 
 @dataclass(frozen=True)
@@ -100,14 +106,18 @@ class Chain:
     h: np.ndarray
     a: np.ndarray
     M: np.ndarray
+    prismatic: np.ndarray = field(default_factory=lambda: np.zeros(6, bool))
 
     @classmethod
     def from_screws(cls, S: np.ndarray, M: np.ndarray) -> Chain:
         """From space screws ``S`` (6 × 6, columns (ω, v), Modern Robotics order): the axis is
-        ω and its point nearest the origin is ω × v (v = −ω × a)."""
+        ω and its point nearest the origin is ω × v (v = −ω × a); a prismatic joint
+        (ω = 0) slides along v, and its point is the origin (any point would do)."""
         S = np.asarray(S, dtype=float)
-        h = S[:3].T.copy()
-        return cls(h, np.cross(h, S[3:].T), np.asarray(M, dtype=float))
+        prismatic = np.linalg.norm(S[:3], axis=0) < 0.5
+        h = np.where(prismatic[:, None], S[3:].T, S[:3].T)
+        a = np.where(prismatic[:, None], 0.0, np.cross(h, S[3:].T))
+        return cls(h, a, np.asarray(M, dtype=float), prismatic)
 
     def reversed(self) -> Chain:
         r"""The chain run backwards: :math:`T^{-1} = M^{-1} e^{-[S_6]q_6} ⋯ e^{-[S_1]q_1}
@@ -116,7 +126,12 @@ class Chain:
         R, p = self.M[:3, :3], self.M[:3, 3]
         M_inverse = np.eye(4)
         M_inverse[:3, :3], M_inverse[:3, 3] = R.T, -R.T @ p
-        return Chain(-(self.h @ R)[::-1].copy(), ((self.a - p) @ R)[::-1].copy(), M_inverse)
+        return Chain(
+            -(self.h @ R)[::-1].copy(),
+            ((self.a - p) @ R)[::-1].copy(),
+            M_inverse,
+            self.prismatic[::-1].copy(),
+        )
 
 
 def _parallel(chain: Chain, i: int, j: int) -> bool:
@@ -159,15 +174,18 @@ def _perpendicular(axis: np.ndarray) -> np.ndarray:
 
 
 def _pack(chain: Chain, points: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """The (17, 3) geometry array of :mod:`._decomposed_kernels`."""
+    """The (19, 3) geometry array of :mod:`._decomposed_kernels`."""
+    flags = chain.prismatic.astype(float).reshape(2, 3)
     return np.vstack(
-        [chain.h, points, chain.M[:3, 3], chain.M[:3, :3], _perpendicular(reference)]
+        [chain.h, points, chain.M[:3, 3], chain.M[:3, :3], _perpendicular(reference), flags]
     ).copy()
 
 
 def _classify_chain(chain: Chain) -> tuple[int, np.ndarray] | None:
     """The kernel and packed geometry for a chain run forwards, or None."""
     points = chain.a.copy()
+    if chain.prismatic.any():
+        return _classify_prismatic(chain)
     wrist_ok = not (_parallel(chain, 3, 4) or _parallel(chain, 4, 5))
     centre = _common_point(chain, 3, 4, 5) if wrist_ok else None
     if centre is not None and not _on_axis(chain, 2, centre):
@@ -188,6 +206,21 @@ def _classify_chain(chain: Chain) -> tuple[int, np.ndarray] | None:
             points[4:6] = wrist
             return kernels.THREE_PARALLEL_TWO_INTERSECTING, _pack(chain, points, chain.h[1])
     return None
+
+
+def _classify_prismatic(chain: Chain) -> tuple[int, np.ndarray] | None:
+    """The Stanford-type class (axes 1, 2 meeting, joint 3 sliding, spherical wrist), or None."""
+    if not np.array_equal(chain.prismatic, [False, False, True, False, False, False]):
+        return None
+    if _parallel(chain, 3, 4) or _parallel(chain, 4, 5) or _parallel(chain, 0, 1):
+        return None
+    centre = _common_point(chain, 3, 4, 5)
+    shoulder = _meeting_point(chain, 0, 1)
+    if centre is None or shoulder is None:
+        return None
+    points = chain.a.copy()
+    points[0:2], points[2], points[3:6] = shoulder, shoulder, centre
+    return kernels.SPHERICAL_TWO_INTERSECTING_PRISMATIC, _pack(chain, points, chain.h[5])
 
 
 def classify(S: np.ndarray, M: np.ndarray) -> tuple[str, bool, np.ndarray] | None:
@@ -214,6 +247,11 @@ _FREE_REASONS = {
         3: "wrist singular: the first and last wrist axes are aligned",
     },
     "spherical": {3: "wrist singular: the first and last wrist axes are aligned"},
+    "spherical_two_intersecting_prismatic": {
+        0: "the wrist centre lies on the first axis",
+        1: "the wrist centre lies on the second axis",
+        3: "wrist singular: the first and last wrist axes are aligned",
+    },
     "three_parallel_two_intersecting": {
         0: "the wrist point lies on the first axis",
         1: "the point after the three parallel axes lies on the second axis",
@@ -252,7 +290,9 @@ class DecomposedSolver:
     @property
     def labels(self) -> tuple[str, ...]:
         """Slot labels (module docstring)."""
-        return _SEARCH_LABELS if self.kind == "spherical" else _BRANCH_LABELS
+        if self.kind == "spherical":
+            return _SEARCH_LABELS
+        return _SLIDE_LABELS if self.kind.endswith("prismatic") else _BRANCH_LABELS
 
     def raw(
         self, T: np.ndarray, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
@@ -330,7 +370,10 @@ class DecomposedSolver:
         ]
         start = kernels.GEOMETRY_SIZE
         return finalize(
-            candidates, 6, REVOLUTE, (plan[start : start + 6], plan[start + 6 : start + 12])
+            candidates,
+            6,
+            ~self.geometry[17:19].ravel().astype(bool)[:: -1 if self.reversed else 1],
+            (plan[start : start + 6], plan[start + 6 : start + 12]),
         )
 
     def _plan_for(self, limits: Any, tol: Any) -> np.ndarray:
@@ -413,12 +456,13 @@ def decomposed_solver(
     S = _checks.finite_array(S, "S", (6, 6))
     M = _checks.pose(M, "M")
     prismatic = np.flatnonzero(np.linalg.norm(S[:3], axis=0) < 0.5)
-    if prismatic.size:
-        raise ModelError(
-            f"joint(s) {(prismatic + 1).tolist()} are prismatic; the decomposition solver takes "
-            "6R arms (the Stanford arm has its own solver: family 'stanford')"
-        )
     found = classify(S, M)
+    if found is None and prismatic.size:
+        raise ModelError(
+            f"joint(s) {(prismatic + 1).tolist()} are prismatic and no decomposition fits: "
+            "the one class with a prismatic joint is the Stanford arm's (axes 1 and 2 "
+            "meeting, joint 3 sliding, a spherical wrist)"
+        )
     if found is None:
         raise ModelError(
             "no closed-form decomposition fits this 6R arm: it needs a spherical wrist or "
@@ -462,11 +506,5 @@ def solver_from_robot(robot: Robot) -> DecomposedSolver:
     """:func:`decomposed_solver` for a 6-joint :class:`redik.Robot` and its joint limits."""
     if robot.dof != 6:
         raise ModelError(f"{robot.name!r} has {robot.dof} joints; the decomposition takes 6")
-    if not robot.revolute.all():
-        prismatic = (np.flatnonzero(~robot.revolute) + 1).tolist()
-        raise ModelError(
-            f"{robot.name!r}: joint(s) {prismatic} are prismatic; the decomposition solver "
-            "takes 6R arms (the Stanford arm has its own solver: family 'stanford')"
-        )
     S, M = screws_of(robot)
     return decomposed_solver(S, M, robot.lower, robot.upper)
