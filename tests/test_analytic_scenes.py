@@ -86,9 +86,9 @@ def test_solver_for_refuses_a_model_that_does_not_match_its_family():
         solver_for(redik.load("panda"))
 
 
-@pytest.mark.parametrize("name", ["puma560", "ur5e"])
-def test_puma_and_ur_take_the_compiled_path_with_the_family_labels(name):
-    """AnalyticSolver solves PUMA and UR targets with the compiled decomposition and names
+@pytest.mark.parametrize("name", ["puma560", "ur5e", "stanford_arm"])
+def test_puma_ur_stanford_take_the_compiled_path_with_the_family_labels(name):
+    """AnalyticSolver solves PUMA, UR and Stanford targets with the compiled decomposition and names
     each solution by the family's slot: the same labels and joint vectors as the family's
     own kernel, with and without limits; a singular target goes to the family's kernel
     (its texts and families)."""

@@ -22,8 +22,8 @@ from redik.core.exceptions import InvalidInput, ModelError
 from redik.models.dh import DHRow, forward
 from redik.solvers.analytic import _checks
 from redik.solvers.analytic import _decomposed_kernels as kernels
-from redik.solvers.analytic._arm import ARM_LABELS
-from redik.solvers.analytic._branches import puma_slots_of, ur_slots_of
+from redik.solvers.analytic._arm import ARM_LABELS, SHOULDER_WRIST_LABELS
+from redik.solvers.analytic._branches import puma_slots_of, stanford_slots_of, ur_slots_of
 from redik.solvers.analytic._solution import DEFAULT_TOL, IKSolutions, unreachable
 from redik.solvers.analytic.decomposed import (
     DecomposedSolver,
@@ -217,7 +217,7 @@ class AnalyticSolver:
         params: Its parameters, as read from the model.
         base: ``T_wb``, the pose of the arm's DH base frame in the world.
         lower, upper: The robot's joint limits, applied by default.
-        compiled: For the PUMA and UR families, the subproblem decomposition of the same
+        compiled: For the PUMA, UR and Stanford families, the subproblem decomposition of the same
             robot (:mod:`.decomposed`): a call solves with it and names each solution by the
             family's slot (:mod:`._branches`), in a few µs instead of the family's Python
             kernel; a target with a singular solution, or with none, goes to the family's
@@ -283,15 +283,23 @@ class AnalyticSolver:
             return None
         local = self._base_inverse @ T
         p = self.params
+        labels = ARM_LABELS
         if self.family == "puma":
             branch = puma_slots_of(q, local, p["a2"], p["a3"], p["d3"], p["d4"], 0.0)
-        else:
+        elif self.family == "ur":
             branch = ur_slots_of(q, local, p["a2"], p["a3"], p["d4"], p["d6"])
+        else:
+            branch, labels = stanford_slots_of(q, local, p["d2"], p["d6"]), SHOULDER_WRIST_LABELS
         order = np.argsort(branch)
         named = branch[order].tolist()
+        if named and named[0] < 0:  # Stanford rows with d3 < 0, which its solver excludes
+            start = named.count(-1)
+            order, named = order[start:], named[start:]
+            if not named:
+                return None
         if len(set(named)) != len(named):  # two solutions on one branch: not regular after all
             return None
-        return IKSolutions.from_arrays(q[order], [ARM_LABELS[slot] for slot in named])
+        return IKSolutions.from_arrays(q[order], [labels[slot] for slot in named])
 
     @cached_property
     def _base_inverse(self) -> np.ndarray:
@@ -370,4 +378,8 @@ def solver_for(
 
 
 #: The decomposition class that solves a family's arms (forwards), for AnalyticSolver.compiled.
-_COMPILED_CLASS = {"puma": "spherical_two_intersecting", "ur": "three_parallel_two_intersecting"}
+_COMPILED_CLASS = {
+    "puma": "spherical_two_intersecting",
+    "ur": "three_parallel_two_intersecting",
+    "stanford": "spherical_two_intersecting_prismatic",
+}
