@@ -21,8 +21,9 @@ against iterative DLS.
 :func:`solver_for` binds a solver to a bundled scene's :class:`redik.Robot`, and to any other
 6R arm whose screw axes fit a subproblem decomposition (:mod:`.decomposed`: spherical wrist or
 shoulder, three parallel axes; IK-Geo's classes), compiled with numba
-(:meth:`DecomposedSolver.raw` returns a plain array in a few microseconds; the PUMA and UR
-families solve with it too and keep their labels), and to any other 6R arm by the
+(:meth:`DecomposedSolver.raw` returns a plain array in a few microseconds; it also takes the
+Stanford arm's prismatic joint, and the PUMA, UR and Stanford families solve with it and keep
+their labels), and to any other 6R arm by the
 Raghavan–Roth elimination solved as an eigenproblem (:mod:`.general`: every solution, up to
 16, of an arm with no closed form; :class:`GeneralSolver`). :mod:`.srs` gives
 the exact self-motion loops of a 7R arm with a spherical shoulder and wrist by the arm angle.

@@ -447,11 +447,13 @@ def decomposed_solver(
     lower: np.ndarray | None = None,
     upper: np.ndarray | None = None,
 ) -> DecomposedSolver:
-    """The solver of the 6R chain with space screws ``S`` (6 × 6, (ω, v) columns) and home
-    pose ``M``, with default limits ``lower``/``upper`` (none by default).
+    """The solver of the 6-joint chain with space screws ``S`` (6 × 6, (ω, v) columns; a
+    prismatic joint has ω = 0) and home pose ``M``, with default limits ``lower``/``upper``
+    (none by default).
 
     Raises:
-        ModelError: A joint is prismatic, or the geometry fits no class (module docstring).
+        ModelError: The geometry fits no class (module docstring; the one class with a
+            prismatic joint is the Stanford arm's).
     """
     S = _checks.finite_array(S, "S", (6, 6))
     M = _checks.pose(M, "M")
