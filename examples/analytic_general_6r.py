@@ -16,7 +16,7 @@ import numpy as np
 import redik
 from redik.models.dh import DHRow
 from redik.solvers import analytic
-from redik.solvers.pose_ik import solve_all
+from redik.solvers.pose import solve_all
 
 rows = [  # a (m), d (m), α (rad)
     DHRow(0.30, 0.40, 1.10),

@@ -9,7 +9,7 @@ Run: python examples/solve_all_solutions.py
 import numpy as np
 
 import redik
-from redik.solvers.pose_ik import solve_all
+from redik.solvers.pose import solve_all
 
 robot = redik.load("ur5e")
 T_target = robot.fk(np.array([0.3, -1.2, 1.4, -1.6, -1.5, 0.4]))

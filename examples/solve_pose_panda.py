@@ -6,7 +6,7 @@ Run: python examples/solve_pose_panda.py
 import numpy as np
 
 import redik
-from redik.solvers.pose_ik import solve_pose
+from redik.solvers.pose import solve_pose
 
 robot = redik.load("panda")
 q_goal = robot.random_q(np.random.default_rng(0))

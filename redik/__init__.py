@@ -44,7 +44,7 @@ from redik.qp import available_backends, make_backend
 from redik.solvers import analytic, batch, redundancy
 from redik.solvers.batch import BatchResult, solve_batch
 from redik.solvers.iterative import finite_difference_jacobian, gradient, hybrid, newton
-from redik.solvers.pose_ik import solve_all, solve_pose
+from redik.solvers.pose import solve_all, solve_pose
 from redik.solvers.problem import Problem, QPResult
 from redik.solvers.redundancy import SelfMotion, explore_self_motion, nullspace_velocity
 from redik.tasks import (

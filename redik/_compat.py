@@ -3,7 +3,9 @@
 ``import redik.pose_ik`` or ``from redik.robot import Robot`` still work: a finder on
 ``sys.meta_path`` answers the old dotted name with the module that now holds the code (the same
 module object, so ``isinstance`` checks and monkeypatching see one module), and warns once with
-a :class:`DeprecationWarning` that names the new path. The table below is the whole map; the
+a :class:`DeprecationWarning` that names the new path. Modules split after the move into
+packages are mapped the same way (``redik.solvers.pose_ik`` → ``redik.solvers.pose``, whose
+public names are those of the old module). The table below is the whole map; the
 longest old prefix wins (``redik.batch.chain`` → ``redik.kinematics.chain`` before
 ``redik.batch`` → ``redik.solvers.batch``).
 """
@@ -31,8 +33,10 @@ MOVED: dict[str, str] = {
     "redik.batch.chain": "redik.kinematics.chain",
     "redik.batch.kinematics": "redik.kinematics.batched",
     "redik.iterative": "redik.solvers.iterative",
-    "redik.pose_ik": "redik.solvers.pose_ik",
-    "redik.pose_qp": "redik.solvers.pose_qp",
+    "redik.pose_ik": "redik.solvers.pose",
+    "redik.pose_qp": "redik.solvers.pose.qp",
+    "redik.solvers.pose_ik": "redik.solvers.pose",
+    "redik.solvers.pose_qp": "redik.solvers.pose.qp",
     "redik.problem": "redik.solvers.problem",
     "redik.analytic": "redik.solvers.analytic",
     "redik.batch": "redik.solvers.batch",

@@ -12,7 +12,7 @@ import redik
 from redik.apps.taskspec import sample_poses
 from redik.lie import pose_errors, wrap_angle
 from redik.solvers.analytic import solver_for
-from redik.solvers.pose_ik import solve_all
+from redik.solvers.pose import solve_all
 
 CRITERIA = {
     "eight_solution_rate": ">= 1.0",

@@ -15,7 +15,7 @@ import redik
 from redik.apps.taskspec import sample_poses
 from redik.lie import pose_errors, wrap_angle
 from redik.solvers.analytic import solver_for
-from redik.solvers.pose_ik import solve_pose
+from redik.solvers.pose import solve_pose
 
 CRITERIA = {
     "analytic_success_rate": ">= 1.0",

@@ -14,7 +14,7 @@ import pytest
 
 import redik
 from redik.solvers.analytic import solver_for, wrap_angle
-from redik.solvers.pose_ik import solve_all
+from redik.solvers.pose import solve_all
 
 #: A solve_all solution is within pos 1e-6 m / rot 1e-5 rad of the target, so its joints are
 #: within about 1e-4 rad of the exact solution; distinct solutions are much farther apart.

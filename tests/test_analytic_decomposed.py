@@ -22,7 +22,7 @@ from redik.solvers.analytic.decomposed import Chain
 from redik.solvers.analytic.puma import dh_rows as puma_rows
 from redik.solvers.analytic.ur import UR5E
 from redik.solvers.analytic.ur import dh_rows as ur_rows
-from redik.solvers.pose_ik import solve_all
+from redik.solvers.pose import solve_all
 
 FULL_TURN = [(-np.pi, np.pi)] * 6
 FK_TOL = 1e-9

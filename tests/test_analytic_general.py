@@ -19,7 +19,7 @@ from redik.models.dh import DHRow
 from redik.solvers import analytic
 from redik.solvers.analytic import general, wrap_angle
 from redik.solvers.analytic.decomposed import Chain, classify, screws_of
-from redik.solvers.pose_ik import solve_all
+from redik.solvers.pose import solve_all
 
 FULL_TURN = [(-np.pi, np.pi)] * 6
 FK_TOL = 1e-9

@@ -9,7 +9,7 @@ import pytest
 import redik
 from redik.kinematics import compiled, dls
 from redik.solvers.batch import Chain, forward_kinematics, solve_batch
-from redik.solvers.pose_ik import solve_pose
+from redik.solvers.pose import solve_pose
 
 from .test_batch_kinematics import ROBOTS
 

@@ -8,7 +8,7 @@ import pytest
 import redik
 from redik.core.result import STATUSES
 from redik.solvers.batch import BATCH_STATUSES, Chain, forward_kinematics, solve_batch
-from redik.solvers.pose_ik import solve_pose
+from redik.solvers.pose import solve_pose
 
 from .conftest import ARM_XML
 

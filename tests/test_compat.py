@@ -7,7 +7,9 @@ from redik import _compat
 
 MOVES = {
     "redik.robot": "redik.kinematics.robot",
-    "redik.pose_ik": "redik.solvers.pose_ik",
+    "redik.pose_ik": "redik.solvers.pose",
+    "redik.solvers.pose_ik": "redik.solvers.pose",
+    "redik.solvers.pose_qp": "redik.solvers.pose.qp",
     "redik.batch.chain": "redik.kinematics.chain",
     "redik.analytic.puma": "redik.solvers.analytic.puma",
     "redik.redundancy.plot": "redik.apps.selfmotion_plot",
@@ -20,7 +22,7 @@ def test_the_map_takes_the_longest_moved_prefix():
         assert _compat.new_name(old) == new
     assert _compat.new_name("redik.batch.solve") == "redik.solvers.batch.solve"
     assert _compat.new_name("redik.lie") is None
-    assert _compat.new_name("redik.solvers.pose_ik") is None
+    assert _compat.new_name("redik.solvers.pose") is None
     assert _compat.new_name("numpy") is None
 
 

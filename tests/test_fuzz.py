@@ -332,7 +332,7 @@ def options() -> st.SearchStrategy:
 
 @SLOW
 @given(data=st.data())
-@pytest.mark.parametrize("method", redik.solvers.pose_ik.METHODS)
+@pytest.mark.parametrize("method", redik.solvers.pose.METHODS)
 def test_solve_pose(panda, method, data):
     T = data.draw(targets(panda))
     q0 = data.draw(st.one_of(st.none(), configurations(panda)))

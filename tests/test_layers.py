@@ -55,15 +55,14 @@ everything in it; the most specific entry wins)."""
 
 SOLVER_PACKAGES = tuple(
     f"solvers.{name}"
-    for name in ("analytic", "iterative", "pose_ik", "pose_qp", "problem", "batch", "redundancy")
+    for name in ("analytic", "iterative", "pose", "problem", "batch", "redundancy")
 )
 
 SOLVER_ENTRY_POINTS = {
     "solvers.analytic": ("solvers.analytic", "solvers.analytic.srs"),
     "solvers.batch": ("solvers.batch",),
     "solvers.iterative": ("solvers.iterative",),
-    "solvers.pose_ik": ("solvers.pose_ik",),
-    "solvers.pose_qp": ("solvers.pose_qp",),
+    "solvers.pose": ("solvers.pose", "solvers.pose.qp"),
     "solvers.problem": ("solvers.problem",),
     "solvers.redundancy": ("solvers.redundancy",),
 }
@@ -189,7 +188,7 @@ def test_every_allowed_violation_still_exists():
 @pytest.mark.parametrize(
     ("source", "expected"),
     [
-        ("from ..solvers.pose_qp import solve_pose_qp\n", {"solvers.pose_qp"}),
+        ("from ..solvers.pose.qp import solve_pose_qp\n", {"solvers.pose.qp"}),
         ("from .. import criteria\n", {"criteria"}),
         ("from .task import Task\n", {"tasks.task"}),
         ("import redik.solvers.problem\n", {"solvers.problem"}),

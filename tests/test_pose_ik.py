@@ -9,9 +9,17 @@ import pytest
 
 import redik
 from redik import lie
-from redik.core.exceptions import InvalidInput, InvalidPose, RedikError
+from redik.core.exceptions import (
+    InvalidConfiguration,
+    InvalidInput,
+    InvalidPose,
+    NearRotationWarning,
+    RedikError,
+)
 from redik.core.result import IKResult
-from redik.solvers.pose_ik import _body_twist_norm, _Problem, solve_all, solve_pose
+from redik.solvers.pose import solve_all, solve_pose
+from redik.solvers.pose.attempt import PoseProblem
+from redik.solvers.pose.result import body_twist_norm
 
 SCENES = redik.list_scenes()
 
@@ -257,9 +265,9 @@ def test_body_twist_norm_from_the_world_error(rng):
     for _ in range(10):
         T, T_d = robot.fk(robot.random_q(rng)), robot.fk(robot.random_q(rng))
         e = np.empty(6)
-        _Problem(robot, robot.ee, T_d, 1e-6, 1e-5, True).world_error(T, e)
+        PoseProblem(robot, robot.ee, T_d, 1e-6, 1e-5, True).world_error(T, e)
         expected = np.linalg.norm(lie.se3_log(lie.inverse(T) @ T_d))
-        assert _body_twist_norm(e) == pytest.approx(expected, rel=1e-12)
+        assert body_twist_norm(e) == pytest.approx(expected, rel=1e-12)
 
 
 def test_solve_all_finds_the_elbow_up_and_down_solutions_of_a_planar_3r_arm():
@@ -324,3 +332,58 @@ def test_scalar_options_take_numpy_numbers_and_refuse_bools_nan_and_inf():
             solve_pose(robot, T, pos_tol=bad)
         with pytest.raises(InvalidInput, match="cluster_tol must be a finite positive number"):
             solve_all(robot, T, n_starts=1, cluster_tol=bad)
+
+
+def test_a_repeated_dls_call_still_refuses_what_the_first_call_would(rng):
+    """After a first solve, "dls" arguments seen before are checked in the compiled call;
+    everything it does not accept as it is must still get the full validation's answer."""
+    robot = redik.load("panda")
+    T = robot.fk(robot.random_q(rng))
+    q0 = robot.random_q(rng)
+    reference = solve_pose(robot, T, q0, seed=0)
+    assert reference.success
+    # The same values in other layouts and types give the same answer.
+    for T_like, q_like in (
+        (np.asfortranarray(T), q0),
+        (T.tolist(), q0.tolist()),
+        (T, np.repeat(q0, 2)[::2]),
+        (T.astype(np.float32).astype(float), q0.astype(np.float64)),
+    ):
+        again = solve_pose(robot, T_like, q_like, seed=0)
+        np.testing.assert_allclose(again.q, reference.q, atol=1e-5)
+    read_only = T.copy()
+    read_only.setflags(write=False)
+    np.testing.assert_array_equal(solve_pose(robot, read_only, q0, seed=0).q, reference.q)
+    bad = T.copy()
+    bad[0, 0] = np.nan
+    with pytest.raises(InvalidPose, match="finite"):
+        solve_pose(robot, bad, q0, seed=0)
+    near = T.copy()
+    near[:3, :3] *= 1.0 + 1e-4  # a near-rotation: projected with a warning, or refused
+    with pytest.warns(NearRotationWarning):
+        assert solve_pose(robot, near, q0, seed=0).success
+    with pytest.raises(InvalidPose):
+        solve_pose(robot, near, q0, seed=0, strict=True)
+    for q_bad in (np.full(robot.dof, np.nan), np.full(robot.dof, 1e11), q0[:-1]):
+        with pytest.raises(InvalidConfiguration):
+            solve_pose(robot, T, q_bad, seed=0)
+    # Arguments equal to accepted ones but of a refused type are still refused.
+    solve_pose(robot, T, q0, seed=0, pos_tol=1, restarts=3)
+    for bad_arguments in ({"pos_tol": True, "restarts": 3}, {"restarts": 3.0}, {"seed": -1}):
+        with pytest.raises(InvalidInput):
+            solve_pose(robot, T, q0, **{"seed": 0, **bad_arguments})
+    with pytest.raises(InvalidInput, match="respect_limits"):
+        solve_pose(robot, T, q0, seed=0, respect_limits=1)
+
+
+def test_each_frame_argument_finds_its_own_dls_solver(rng):
+    """A solve of another frame (with or without options) must not answer for the
+    end-effector's later ones: each frame argument is remembered with its own solver."""
+    robot = redik.load("panda")
+    T_link = robot.fk(robot.random_q(rng), frame="link5")
+    assert solve_pose(robot, T_link, frame="link5", seed=0, damping=0.2).success
+    assert solve_pose(robot, T_link, frame="link5", seed=0).success
+    T_ee = robot.fk(robot.random_q(rng))
+    for _ in range(2):  # the first call resolves the frame, the second looks it up
+        result = solve_pose(robot, T_ee, seed=0)
+        check_solution(robot, result, T_ee)

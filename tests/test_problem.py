@@ -10,7 +10,7 @@ from redik import lie
 from redik.apps.trajectory import CircularPath
 from redik.core.exceptions import InvalidConfiguration, InvalidInput
 from redik.limits import PositionLimit, VelocityLimit
-from redik.solvers.pose_qp import solve_pose_qp
+from redik.solvers.pose.qp import solve_pose_qp
 from redik.solvers.problem import Problem
 from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
 
@@ -296,7 +296,7 @@ def test_patience_ends_an_attempt_that_stops_making_progress(panda):
 
 
 def test_solve_pose_qp_restarts_from_the_nearest_candidate(panda, rng):
-    from redik.solvers.pose_qp import _nearest_start
+    from redik.solvers.pose.qp import _nearest_start
 
     task = PoseTask(panda.fk(panda.random_q(rng)))
     problem = Problem(panda, [task])  # binds the task to the robot

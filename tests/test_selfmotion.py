@@ -11,7 +11,7 @@ import pytest
 from scipy.spatial import cKDTree
 
 import redik
-from redik.solvers.pose_ik import solve_pose
+from redik.solvers.pose import solve_pose
 from redik.solvers.redundancy import (
     Manipulability,
     SelfMotion,

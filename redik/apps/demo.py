@@ -31,7 +31,7 @@ from redik.apps.selfmotion_plot import plot_joint_pairs
 from redik.core.result import IKResult
 from redik.kinematics.robot import Robot, load
 from redik.lie import pose_errors
-from redik.solvers.pose_ik import solve_pose
+from redik.solvers.pose import solve_pose
 from redik.solvers.problem import Problem
 from redik.solvers.redundancy import (
     SelfMotion,

@@ -289,7 +289,7 @@ def warm_up() -> None:
     """
     from redik.kinematics.robot import Robot
     from redik.solvers.batch import solve_batch
-    from redik.solvers.pose_ik import solve_pose
+    from redik.solvers.pose import solve_pose
     from redik.solvers.problem import Problem
     from redik.tasks import PoseTask
 

@@ -50,7 +50,7 @@ from redik.lie import (
     real_array,
     so3_exp,
 )
-from redik.solvers.pose_ik import solve_pose
+from redik.solvers.pose import solve_pose
 
 TIME_SCALINGS = ("linear", "cubic", "quintic")
 
@@ -386,7 +386,7 @@ def follow_path(
         path: The path of ``frame`` (a :class:`CartesianPath`, :class:`CircularPath`, …).
         q0: Start configuration for the first sample (ideally already on the path).
         solver: ``solver(T_target, q_start) -> IKResult``. Default: damped least squares
-            (:func:`redik.solvers.pose_ik.solve_pose`) without restarts — a restart would jump to a
+            (:func:`redik.solvers.pose.solve_pose`) without restarts — a restart would jump to a
             random seed and break continuity. A QP stack works too, e.g.
             ``lambda T, q: (task.set_target(T), problem.solve(q))[1]``.
         rate: Sampling rate in Hz.

@@ -11,7 +11,7 @@ over threads with ``numba.prange``.
 
 The chain is that of :class:`~redik.kinematics.chain.Chain`; its FK, world Jacobian and pose
 error are those of :mod:`redik.kinematics.compiled`. This module sits in the kinematics
-layer (below the solvers) so that :mod:`redik.solvers.batch` and :mod:`redik.solvers.pose_ik` share
+layer (below the solvers) so that :mod:`redik.solvers.batch` and :mod:`redik.solvers.pose` share
 it; its
 old home :mod:`redik.solvers.batch.kernel` re-exports it.
 
@@ -48,12 +48,13 @@ import numpy as np
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.compiled import (
     COMPILE,
+    apply_inverse_v,
     chain_kinematics,
     pose_error,
     valid_target,
     world_jacobian,
 )
-from redik.lie import ROTATION_TOLERANCE
+from redik.lie import MAX_COORDINATE, ROTATION_TOLERANCE
 
 CONVERGED, STALLED, MAX_ITERATIONS, INVALID, DIVERGED = range(5)
 """Status codes, shared with :data:`redik.solvers.batch.solve.BATCH_STATUSES`."""
@@ -278,7 +279,7 @@ class BatchOptions:
 
     def kernel_settings(self, bounded: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """The float and integer settings arrays of this module's kernel (the reach
-        excess ``REACH`` starts at 0: :func:`redik.solve_pose` sets it per target; a target
+        excess ``REACH`` is 0: :func:`solve_one` sets it per target in a copy; a target
         is valid within :data:`redik.lie.ROTATION_TOLERANCE`, as :func:`redik.lie.as_pose`
         checks one pose)."""
         settings = np.empty(8)
@@ -528,25 +529,51 @@ def _solve_target(chain, Rd, pd, q0, state, settings, counts, ws, out, history, 
 
 
 @numba.njit(**COMPILE)
-def solve_one(chain, T, q0, key, settings, counts, out, history, errors, e):
-    """:func:`_solve_target` for one target ``T`` (4 × 4) from ``q0`` (clipped into the limits
-    when they are respected), recording the best attempt's history into ``history[1]`` and
-    ``errors[1]`` (``history`` is 2 × (at least max_iter + 1) × n).
+def solve_one(chain, columns, reach, T, q0, key, settings, counts, out, history, errors, e):
+    """One pose target, validated and solved in one compiled call (:func:`redik.solve_pose`).
 
-    A fresh FK of the returned ``q`` fills ``e`` with the world error there; its position
-    and rotation errors, and whether ``q`` is inside the limits, are appended to the summary.
+    ``T`` (4 × 4) must be a rigid transform within ``settings[TARGET_TOL]``
+    (:func:`~redik.kinematics.compiled.valid_target`, the exact case of
+    :func:`redik.lie.as_pose`) and ``q0`` (the robot's ``q``) finite within
+    ``±MAX_COORDINATE`` (as :meth:`redik.Robot.check_q`); otherwise nothing is solved and the
+    status is :data:`INVALID`, so that the caller's full validation names the fault. The
+    chain's joints are ``q0[columns]``, clipped into the limits when they are respected.
+    ``reach = (a_x, a_y, a_z, r)``: no ``q`` puts the frame farther than ``r`` from ``a``; a
+    target beyond it gets at most two restarts (:func:`_solve_target`).
+
+    :func:`_solve_target` records the best attempt's history into ``history[1]`` and
+    ``errors[1]`` (``history`` is 2 × (at least max_iter + 1) × n). A fresh FK of the
+    returned ``q`` (``out``) fills ``e`` with the world error there. Returns ``(status,
+    iterations, restarts, history length, summary)``; the summary is that of
+    :func:`_solve_target` followed by the position and rotation errors at ``q``, whether
+    ``q`` is inside the limits, the body error ``‖log(T⁻¹ T_d)‖`` and the reach excess.
     """
     base, links, revolute, lower, upper = chain[0], chain[1], chain[2], chain[3], chain[4]
     n = revolute.shape[0]
+    no_summary = (np.inf, 0.0, False, False, np.inf, np.inf, False, np.inf, 0.0)
+    if not valid_target(T, settings[TARGET_TOL]):
+        return INVALID, 0, 0, 0, no_summary
+    for j in range(q0.shape[0]):
+        if not abs(q0[j]) <= MAX_COORDINATE:  # also refuses NaN
+            return INVALID, 0, 0, 0, no_summary
+    Rd, pd = T[:3, :3], T[:3, 3]
+    excess = 0.0
+    if math.isfinite(reach[3]):
+        dx, dy, dz = pd[0] - reach[0], pd[1] - reach[1], pd[2] - reach[2]
+        distance = math.sqrt(dx * dx + dy * dy + dz * dz)
+        if distance - reach[3] > 1e-9 * max(1.0, reach[3]):
+            excess = distance - reach[3]
+    local = settings.copy()
+    local[REACH] = excess
     ws = _workspace(n)
     state = np.empty(1, dtype=np.uint64)
     state[0] = key
-    Rd, pd = T[:3, :3], T[:3, 3]
     start = np.empty(n)
     for j in range(n):
-        start[j] = min(max(q0[j], lower[j]), upper[j]) if counts[BOUNDED] != 0 else q0[j]
+        value = q0[columns[j]]
+        start[j] = min(max(value, lower[j]), upper[j]) if counts[BOUNDED] != 0 else value
     status, total, used, length, summary = _solve_target(
-        chain, Rd, pd, start, state, settings, counts, ws, out, history, errors, True
+        chain, Rd, pd, start, state, local, counts, ws, out, history, errors, True
     )
     R, p, axes, origins = ws[0][0], ws[1][0], ws[2][0], ws[3][0]
     chain_kinematics(base, links, revolute, out, R, p, axes, origins)
@@ -554,7 +581,9 @@ def solve_one(chain, T, q0, key, settings, counts, out, history, errors, e):
     inside = True
     for j in range(n):
         inside = inside and lower[j] <= out[j] <= upper[j]
-    return status, total, used, length, (*summary, position, angle, inside)
+    vx, vy, vz = apply_inverse_v(e[3], e[4], e[5], e[0], e[1], e[2])
+    body_error = math.sqrt(vx * vx + vy * vy + vz * vz + e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
+    return status, total, used, length, (*summary, position, angle, inside, body_error, excess)
 
 
 @numba.njit(**COMPILE)

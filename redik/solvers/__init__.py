@@ -1,8 +1,8 @@
 """The solvers, peers of one another (each uses another only through its entry points):
 
-- :mod:`~redik.solvers.pose_ik`: pose IK on a robot, ``solve_pose`` / ``solve_all``
+- :mod:`~redik.solvers.pose`: pose IK on a robot, ``solve_pose`` / ``solve_all``
   (damped least squares, Newton–Raphson, gradient, QP, closed form), with
-  :mod:`~redik.solvers.pose_qp` its QP driver;
+  :mod:`~redik.solvers.pose.qp` its QP driver;
 - :mod:`~redik.solvers.iterative`: root finding on a user function (``newton``, ``gradient``,
   ``hybrid``), the textbook iterations;
 - :mod:`~redik.solvers.problem`: the differential ``Problem`` (tasks and limits stacked into

@@ -51,7 +51,7 @@ from redik.solvers.analytic import (
     solver_for,
     ur_batch,
 )
-from redik.solvers.pose_ik import solve_pose
+from redik.solvers.pose import solve_pose
 
 ROBOTS = ("puma560", "ur5e", "planar_2r")
 CLOCKS: dict[str, Callable[[], float]] = {"wall": time.perf_counter, "cpu": time.process_time}
@@ -146,11 +146,11 @@ GENERAL_ROWS = (
 def compare_general(args: argparse.Namespace, n_poses: int = 20, n_starts: int = 100) -> None:
     """The third table: the general 6R solver (:mod:`redik.solvers.analytic.general`) on
     ``n_poses`` FK targets of a fixed general arm, median ms per call, mean solutions, and a
-    multistart ``dls`` :func:`~redik.solvers.pose_ik.solve_all` (``n_starts`` random starts)
+    multistart ``dls`` :func:`~redik.solvers.pose.solve_all` (``n_starts`` random starts)
     on the same poses: its ms per call and the share of poses on which it found every one of
     the elimination's solutions (and nothing else)."""
     from redik.models.dh import DHRow
-    from redik.solvers.pose_ik import solve_all
+    from redik.solvers.pose import solve_all
 
     robot = Robot.from_dh(
         [DHRow(*row) for row in GENERAL_ROWS], limits=[(-np.pi, np.pi)] * 6, name="general_6r"

@@ -4,7 +4,7 @@ For each robot and batch size, reachable targets (poses of random configurations
 solved by :func:`redik.solvers.batch.solve_batch` on one thread (the kernel unthreaded, in this
 process), on every core by threads (``engine="local"``, the default) and on every core by a
 process pool (``engine="process"``; the pool is started before timing), and a subsample by
-the single-target :func:`redik.solvers.pose_ik.solve_pose` in a Python loop. A *strict* solve meets
+the single-target :func:`redik.solvers.pose.solve_pose` in a Python loop. A *strict* solve meets
 ``pos_tol`` = 1e-6 m and ``rot_tol`` = 1e-5 rad within the joint limits. Rates are medians
 over ``--repeats`` runs of wall-clock time; the CPU-time rate (this process's CPU time, so
 shown for the in-process runs) is less disturbed by other load on a shared machine, and the
@@ -58,7 +58,7 @@ def _median_rate(fn, repeats: int) -> tuple[float, float, float]:
 
 def _single_loop(robot, T: np.ndarray, seed: int) -> tuple[float, float] | None:
     try:
-        from redik.solvers.pose_ik import solve_pose
+        from redik.solvers.pose import solve_pose
     except ImportError:
         return None
     solve_pose(robot, T[0], seed=seed)  # load the compiled kernel before timing
@@ -108,7 +108,7 @@ def run(args: argparse.Namespace) -> int:
         if single is None:
             print(
                 f"{name:<8}{args.single:>8}{'solve_pose loop':>20}"
-                "  (redik.solvers.pose_ik not available)"
+                "  (redik.solvers.pose not available)"
             )
         else:
             rate, success = single

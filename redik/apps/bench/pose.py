@@ -40,7 +40,7 @@ import numpy as np
 from redik import lie
 from redik.apps.bench import load_average
 from redik.kinematics.robot import Robot
-from redik.solvers.pose_ik import METHODS, solve_pose
+from redik.solvers.pose import METHODS, solve_pose
 
 ROBOTS = ("panda", "iiwa14", "ur5e")
 POS_TOL = 1e-6
@@ -207,9 +207,9 @@ def _print_table(rows: list[tuple[str, str, str, float, np.ndarray]]) -> None:
 def _redik_solver(robot: Robot, method: str) -> Solver | None:
     if method == "qp":
         try:
-            from redik.solvers.pose_qp import solve_pose_qp  # noqa: F401
+            from redik.solvers.pose.qp import solve_pose_qp  # noqa: F401
         except ImportError:
-            print("note: method 'qp' skipped (redik.solvers.pose_qp is not available)")
+            print("note: method 'qp' skipped (redik.solvers.pose.qp is not available)")
             return None
 
     def solve(T_target: np.ndarray, q0: np.ndarray, index: int) -> np.ndarray:

@@ -232,7 +232,7 @@ def _summary(results, overshoot: float, total: float) -> dict:
 
 def _latency(robot, args) -> list[dict]:
     """``solve_pose(method="qp")`` wall times over random reachable targets, per seed mode."""
-    from redik.solvers.pose_ik import solve_pose
+    from redik.solvers.pose import solve_pose
 
     rng = np.random.default_rng(args.seed)
     targets = [robot.fk(q) for q in robot.random_q(rng, size=args.latency_targets)]

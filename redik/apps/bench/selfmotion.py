@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 from redik.kinematics.robot import load
-from redik.solvers.pose_ik import solve_pose
+from redik.solvers.pose import solve_pose
 from redik.solvers.redundancy import explore_self_motion
 
 ROBOTS = ("panda", "iiwa14", "dexter8r")

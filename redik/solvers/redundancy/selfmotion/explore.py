@@ -220,7 +220,7 @@ def _seed_solutions(
     outside them still leads to the arcs and patches inside. Every solution is polished by
     the corrector to the sample tolerances.
     """
-    from redik.solvers.pose_ik import solve_pose
+    from redik.solvers.pose import solve_pose
 
     robot = corrector.robot
     seeds = []

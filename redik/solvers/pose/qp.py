@@ -12,9 +12,9 @@ against a limit — ends early, and a restart takes over from the nearest in pos
 :mod:`redik.solvers.batch`'s restarts), so few iterations are spent on hopeless starts. Each
 attempt also has its own budget, ``max_iter``.
 
-It lives in the solvers layer beside :mod:`redik.solvers.problem`, which it drives (its old home
-``redik.qp.solve`` sat below ``problem`` and imported it: a cycle); :mod:`redik.qp` is the
-QP core only.
+It lives in the solvers layer, in the pose package, and drives :mod:`redik.solvers.problem`
+(its first home ``redik.qp.solve`` sat below ``problem`` and imported it: a cycle);
+:mod:`redik.qp` is the QP core only.
 """
 
 from __future__ import annotations

@@ -1,0 +1,270 @@
+"""The entry points :func:`solve_pose` and :func:`solve_all`: validation of the arguments,
+dispatch to a method's driver, restarts, and whole-model robots solved on their chains.
+
+The methods and their options are described in :mod:`redik.solvers.pose`. ``"dls"`` runs in
+:mod:`~redik.solvers.pose.dls` (a call whose scalar arguments were seen before skips the
+validation here: the compiled kernel checks the target and ``q0``), ``"newton"`` in
+:mod:`~redik.solvers.pose.newton`, ``"transpose"`` and ``"hybrid"`` in
+:mod:`~redik.solvers.pose.gradient`, ``"qp"`` in :mod:`~redik.solvers.pose.qp`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from redik.core._validate import positive
+from redik.core.result import IKResult
+from redik.kinematics.robot import Frame, Robot
+from redik.lie import as_pose, wrap_angle
+from redik.solvers.pose.attempt import Iteration, PoseProblem
+from redik.solvers.pose.cache import PoseCache
+from redik.solvers.pose.closed_form import closed_form_solutions
+from redik.solvers.pose.dls import fast_kernel_key, kernel_key
+from redik.solvers.pose.gradient import hybrid, transpose
+from redik.solvers.pose.newton import newton
+from redik.solvers.pose.options import (
+    MAX_ITER,
+    OPTIONS,
+    RESTARTS,
+    check_count,
+    check_flag,
+    check_method,
+    check_options,
+    check_seed,
+)
+from redik.solvers.pose.result import Outcome, finish
+
+ITERATIONS: dict[str, Callable[[dict], Iteration]] = {
+    "newton": newton,
+    "transpose": transpose,
+    "hybrid": hybrid,
+}
+"""The Python drivers, by method: ``driver(options)`` is the :data:`Iteration` of one attempt."""
+
+
+def solve_pose(
+    robot: Robot,
+    T_target: np.ndarray,
+    q0: np.ndarray | None = None,
+    method: str = "dls",
+    pos_tol: float = 1e-6,
+    rot_tol: float = 1e-5,
+    max_iter: int | None = None,
+    restarts: int | None = None,
+    respect_limits: bool = True,
+    seed: int | np.random.Generator | None = None,
+    frame: str | Frame | None = None,
+    strict: bool = False,
+    **method_options: object,
+) -> IKResult:
+    """Joint values that put ``frame`` at ``T_target`` (see :mod:`redik.solvers.pose`).
+
+    Args:
+        robot: The robot. A whole-model robot (:mod:`redik.kinematics.robot`) is solved on its chain
+            to ``frame`` (``robot.chain``), every other joint held at its value in ``q0``;
+            ``q`` and ``history`` are then the whole robot's.
+        T_target: Desired pose ``T_sd`` of ``frame`` in the world (4 × 4).
+        q0: First initial guess; default ``robot.home``.
+        method: One of :data:`~redik.solvers.pose.options.METHODS`.
+        pos_tol: Position tolerance (m) on ``‖p_d − p‖``.
+        rot_tol: Rotation tolerance (rad) on ``angle(Rᵀ R_d)``.
+        max_iter: Iterations per attempt; default
+            :data:`~redik.solvers.pose.options.MAX_ITER` for the method.
+        restarts: Random restarts after the first attempt; default
+            :data:`~redik.solvers.pose.options.RESTARTS`.
+        respect_limits: Keep every iterate inside the joint limits (see
+            :mod:`redik.solvers.pose`).
+        seed: Seed (or generator) of the random restarts, for reproducible results.
+        frame: Site or body to place; default the end-effector.
+        strict: Refuse a near-rotation target instead of projecting it onto SO(3) with a
+            warning (the tolerance policy of :mod:`redik.lie`).
+        **method_options: ``"dls"``: ``damping`` (initial μ), ``min_damping`` (λ_min),
+            ``max_damping``, ``patience`` and ``progress`` (an attempt ends as stalled when
+            ``‖e‖²`` fell by less than the fraction ``progress`` in ``patience`` iterations);
+            ``"newton"``: ``form`` ("body" or "space"), ``step``, ``stop`` ("pose" or the
+            textbook's "twist", see :mod:`redik.solvers.pose`);
+            ``"transpose"``: ``step`` ("armijo" or a number); ``"hybrid"``: ``switch_error``;
+            ``"qp"``: passed on to :func:`redik.solvers.pose.qp.solve_pose_qp`.
+
+    Returns:
+        An :class:`~redik.core.result.IKResult`; ``restarts`` counts the attempts after the first,
+        ``history`` is that of the returned attempt.
+
+    Raises:
+        InvalidPose: ``T_target`` is not a finite rigid transform (or not numbers at all).
+        InvalidConfiguration: ``q0`` has the wrong length or is not finite.
+        InvalidInput: unknown method or option, a non-positive tolerance or budget, or a
+            ``frame`` that no joint of the chain moves (such as ``"world"``).
+        UnknownFrame: ``frame`` names no site or body.
+    """
+    # "dls" with scalar arguments already validated for this robot and frame (the settings
+    # key records their types too, so that True never passes for 1): the target and q0 are
+    # checked by the compiled call itself. Anything else, or a refusal there, takes the full
+    # validation below, which names the fault.
+    arguments = (
+        pos_tol, rot_tol, max_iter, restarts, respect_limits,
+        type(pos_tol), type(rot_tol), type(max_iter), type(restarts), type(respect_limits),
+    )  # fmt: skip
+    if type(method) is str and method == "dls" and not method_options:
+        solver = PoseCache.known_dls(robot, frame)
+        key = fast_kernel_key(seed)
+        if solver is not None and key is not None:
+            result = solver.solve(T_target, q0, key, arguments)
+            if result is not None:
+                return result
+    T_target = as_pose(T_target, "T_target", strict=strict)
+    if not robot.is_chain:
+        return _solve_on_chain(
+            robot, T_target, q0, method=method, pos_tol=pos_tol, rot_tol=rot_tol,
+            max_iter=max_iter, restarts=restarts, respect_limits=respect_limits, seed=seed,
+            frame=frame, **method_options,
+        )  # fmt: skip
+    q_start = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
+    method = check_method(method)
+    respect_limits = check_flag(respect_limits, "respect_limits")
+    check_seed(seed)
+    pos_tol, rot_tol = (
+        positive(pos_tol, "pos_tol", unit="m"),
+        positive(rot_tol, "rot_tol", unit="rad"),
+    )
+    max_iter = check_count(MAX_ITER[method] if max_iter is None else max_iter, "max_iter", 1)
+    restarts = check_count(RESTARTS[method] if restarts is None else restarts, "restarts", 0)
+    resolved = robot.frame(frame)
+    cache = PoseCache.of(robot)
+    pose_frame = cache.frame(resolved)  # refuses a frame no joint moves
+
+    if method == "qp":
+        from redik.solvers.pose.qp import solve_pose_qp  # on use: the others need no QP stack
+
+        return solve_pose_qp(
+            robot, T_target, q_start, pos_tol=pos_tol, rot_tol=rot_tol, max_iter=max_iter,
+            respect_limits=respect_limits, frame=frame, restarts=restarts, seed=seed,
+            **method_options,
+        )  # fmt: skip
+
+    check_options(method, method_options)
+    if method == "dls":
+        # Kept under the arguments as given (with the options, which are checked anew on
+        # each call: only option-free calls take the look-up above).
+        solver = cache.dls(resolved, frame)
+        arguments += tuple(sorted(method_options.items()))
+        solver.prepare(
+            arguments, pos_tol, rot_tol, max_iter, restarts, respect_limits, method_options
+        )
+        result = solver.solve(np.array(T_target, order="C"), q_start, kernel_key(seed), arguments)
+        if result is None:  # cannot happen: every argument passed the checks above
+            raise RuntimeError("the compiled dls solve refused validated arguments")
+        return result
+    options = {**OPTIONS[method], **method_options}
+    problem = PoseProblem(robot, resolved, T_target, pos_tol, rot_tol, respect_limits)
+    q_start = problem.project(q_start)
+    iterate = ITERATIONS[method](options)
+    attempts = [iterate(problem, q_start, max_iter)]
+    reach = 0.0
+    if attempts[0].status != "converged":
+        reach = pose_frame.reach_excess(problem.p_d)
+        if reach > 0.0:
+            restarts = min(restarts, 2)  # a closest q is all there is to find
+        rng = np.random.default_rng(seed)
+        for _ in range(restarts):
+            attempts.append(iterate(problem, problem.project(robot.random_q(rng)), max_iter))
+            if attempts[-1].status == "converged":
+                break
+    return finish(problem, Outcome.of(attempts, robot.lower, robot.upper), method, reach)
+
+
+def _solve_on_chain(
+    robot: Robot, T_target: np.ndarray, q0: np.ndarray | None, frame, **options
+) -> IKResult:
+    """:func:`solve_pose` for a whole-model robot: on its chain to ``frame``, the other
+    joints held at ``q0`` (default ``home``); ``q`` and ``history`` are the robot's."""
+    q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
+    chain = PoseCache.of(robot).chain(robot.frame(frame), q_whole)
+    q_chain = chain.q_of()
+    result = solve_pose(chain, T_target, q_chain, **options)
+    result.q = robot.embed(chain, result.q, q_whole)
+    result.history = np.array([robot.embed(chain, row, q_whole) for row in result.history])
+    return result
+
+
+def solve_all(
+    robot: Robot,
+    T_target: np.ndarray,
+    n_starts: int = 100,
+    seed: int | np.random.Generator | None = None,
+    method: str = "dls",
+    pos_tol: float = 1e-6,
+    rot_tol: float = 1e-5,
+    max_iter: int | None = None,
+    respect_limits: bool = True,
+    frame: str | Frame | None = None,
+    cluster_tol: float = 1e-3,
+    strict: bool = False,
+    q0: np.ndarray | None = None,
+    **method_options: object,
+) -> list[IKResult]:
+    """The distinct solutions reached from ``n_starts`` starts: ``q0`` if given, then random.
+
+    ``method="analytic"`` returns instead every solution of the robot's closed-form solver
+    (:func:`redik.solvers.analytic.solver_for`: a bundled family, the subproblem
+    decomposition, or for a general 6R arm the Raghavan–Roth elimination), exact to rounding
+    and complete, with no starts (:mod:`.closed_form`); ``n_starts``, ``seed``, tolerances
+    and ``cluster_tol`` do not apply, and a robot with no closed form raises its
+    ``ModelError``/``InvalidInput``.
+
+    Each start is solved by :func:`solve_pose` without restarts; the successful results are
+    clustered: two solutions are the same when every joint differs by at most
+    ``cluster_tol`` (radians or metres), comparing angles modulo 2π for revolute joints
+    without limits or whose range spans more than 2π. A redundant arm has a continuum of
+    solutions: the list then samples it.
+
+    On a whole-model robot (:mod:`redik.kinematics.robot`) the solutions are those of its chain to
+    ``frame``, every other joint held at its value in ``q0`` (default ``robot.home``) — as
+    :func:`solve_pose` holds them — and each ``q`` is the whole robot's.
+
+    Returns:
+        The successful results, one per cluster (the most accurate), ordered by
+        ``‖log(T⁻¹ T_d)‖`` — empty when no start converged.
+    """
+    if not robot.is_chain:  # the chain to the frame, the other joints at q0 (else home)
+        q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
+        chain = PoseCache.of(robot).chain(robot.frame(frame), q_whole)
+        results = solve_all(
+            chain, T_target, n_starts, seed, method, pos_tol, rot_tol, max_iter,
+            respect_limits, None, cluster_tol, strict,
+            None if q0 is None else chain.q_of(), **method_options,
+        )  # fmt: skip
+        for result in results:
+            result.q = robot.embed(chain, result.q, q_whole)
+            result.history = np.array([robot.embed(chain, row, q_whole) for row in result.history])
+        return results
+    T_target = as_pose(T_target, "T_target", strict=strict)  # once, not per start
+    if method == "analytic":
+        return closed_form_solutions(robot, T_target, respect_limits, frame, method_options)
+    n_starts = check_count(n_starts, "n_starts", 1)
+    cluster_tol = positive(cluster_tol, "cluster_tol")
+    first = None if q0 is None else robot.check_q(q0, "q0")
+    rng = np.random.default_rng(seed)
+    periodic = robot.revolute & ((robot.upper - robot.lower) >= 2.0 * np.pi)
+    solutions: list[IKResult] = []
+    for start in range(n_starts):
+        q_start = first if start == 0 and first is not None else robot.random_q(rng)
+        result = solve_pose(
+            robot, T_target, q_start, method=method, pos_tol=pos_tol,
+            rot_tol=rot_tol, max_iter=max_iter, restarts=0, respect_limits=respect_limits,
+            frame=frame, **method_options,
+        )  # fmt: skip
+        if not result.success:
+            continue
+        for index, known in enumerate(solutions):
+            difference = result.q - known.q
+            difference[periodic] = np.abs(wrap_angle(difference[periodic]))
+            if np.max(np.abs(difference)) <= cluster_tol:
+                if result.error < known.error:
+                    solutions[index] = result
+                break
+        else:
+            solutions.append(result)
+    return sorted(solutions, key=lambda r: r.error)
