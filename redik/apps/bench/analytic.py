@@ -96,7 +96,8 @@ def run(args: argparse.Namespace) -> int:
     print(
         f"redik bench analytic: targets = FK of q uniform in the limits; {args.n} solved one "
         f"by one (single, dls = solve_pose from home), {max(args.batch, args.n)} batched; "
-        f"median µs per pose ({args.clock} clock) over {args.repeats} repeats"
+        f"median µs per pose ({args.clock} clock) over {args.repeats} repeats; load average "
+        + ", ".join(f"{x:.2f}" for x in os.getloadavg())
     )
     header = (
         f"{'robot':<10}{'single':>9}{'batched':>9}{'dls':>10}{'dls ok':>8}"
