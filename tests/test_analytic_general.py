@@ -72,6 +72,7 @@ def _check(robot: redik.Robot, solver, n_poses: int, seed: int) -> list[int]:
         assert len(solutions) <= general.MAX_SOLUTIONS and len(solutions) % 2 == 0
         pairwise = [_distance(a, b) for i, a in enumerate(solutions) for b in solutions[:i]]
         assert min(pairwise, default=1.0) > 1e-6  # distinct
+        assert not solutions.singular  # a random pose is regular
         counts.append(len(solutions))
     return counts
 
@@ -237,6 +238,8 @@ def test_singular_targets_where_two_solutions_merge_are_found():
         q_singular = q0 + t * direction
         T = robot.fk(q_singular)
         solutions = solver(T)
-        assert min(_distance(q, q_singular) for q in solutions) < 1e-7
+        nearest = min(solutions, key=lambda q: _distance(q, q_singular))
+        assert _distance(nearest, q_singular) < 1e-7 and nearest.singular
         assert all(np.abs(robot.fk(q) - T).max() < FK_TOL for q in solutions)
+        assert sum(bool(q.singular) for q in solutions) == 1
         found += 1

@@ -61,6 +61,7 @@ import numpy as np
 import scipy.linalg
 
 from redik.core.exceptions import InvalidInput, ModelError
+from redik.lie import se3_exp
 from redik.solvers.analytic import _checks
 from redik.solvers.analytic import _decomposed_kernels as kernels
 from redik.solvers.analytic._solution import (
@@ -96,6 +97,9 @@ CLUSTER_TOL = 1e-6
 #: Gauss–Newton steps polishing a candidate, and the FK error at which they stop early.
 NEWTON_STEPS = 8
 NEWTON_STOP = 1e-14
+
+#: A solution whose Jacobian has ``σ_min/σ_max`` below this is reported as singular.
+SINGULAR_TOL = 1e-6
 
 #: Two polished solutions closer than this per joint (rad) are the same one.
 MERGE_TOL = 1e-7
@@ -365,9 +369,34 @@ class GeneralSolver:
             return unreachable(
                 6, "no real root of the degree-16 elimination reaches the target (out of reach)"
             )
-        candidates = [Candidate(row, f"root{i + 1}") for i, row in enumerate(q)]
+        candidates = [
+            Candidate(row, f"root{i + 1}", self._singularity(row)) for i, row in enumerate(q)
+        ]
         bounded = np.isfinite(lower).any() or np.isfinite(upper).any()
         return finalize(candidates, 6, REVOLUTE, (lower, upper) if bounded else None)
+
+    def _singularity(self, q: np.ndarray) -> str:
+        """The ``singular`` text of a solution ('' if regular): where the Jacobian's condition
+        ``σ_min/σ_max`` is below :data:`SINGULAR_TOL`, two roots of the elimination meet
+        (a double root) and the arm can move without moving the tool to first order."""
+        chain = _scaled(self.chain, self.scale)  # lengths of order 1: σ of (rad, m) columns
+        joints = q[::-1] if self.reversed else q
+        J = np.empty((6, 6))
+        T = np.eye(4)
+        for i in range(6):
+            axis, point = T[:3, :3] @ chain.h[i], T[:3, :3] @ chain.a[i] + T[:3, 3]
+            J[:3, i], J[3:, i] = axis, -np.cross(axis, point)
+            T = T @ se3_exp(
+                np.concatenate([-np.cross(chain.h[i], chain.a[i]), chain.h[i]]) * joints[i]
+            )
+        sigma = np.linalg.svd(J, compute_uv=False)
+        ratio = sigma[-1] / sigma[0]
+        if ratio >= SINGULAR_TOL:
+            return ""
+        return (
+            f"at a singularity (σ_min/σ_max of the Jacobian {ratio:.1e}): two of the "
+            "elimination's roots meet here"
+        )
 
     def raw(
         self, T: np.ndarray, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
