@@ -731,6 +731,62 @@ def _polish(G, row, T, fixed):
 
 
 @numba.njit(**COMPILE)
+def _jacobian(G, row, J):
+    """Fill ``J`` (6 × 6) with the world Jacobian of the chain of ``G`` at the slot ``row``,
+    rows ``(ω, v)`` (a slide's column is ``(0, axis)``); returns ``(R, P)``, the rotation and
+    the tip point (before ``R_M``)."""
+    R = np.eye(3)
+    P = _row(G, 6)
+    for i in range(6):
+        axis = (
+            R[0, 0] * G[i, 0] + R[0, 1] * G[i, 1] + R[0, 2] * G[i, 2],
+            R[1, 0] * G[i, 0] + R[1, 1] * G[i, 1] + R[1, 2] * G[i, 2],
+            R[2, 0] * G[i, 0] + R[2, 1] * G[i, 1] + R[2, 2] * G[i, 2],
+        )
+        if _prismatic(G, i):  # J = (ω, v) = (0, axis); the slide moves what follows
+            J[0, i], J[1, i], J[2, i] = 0.0, 0.0, 0.0
+            J[3, i], J[4, i], J[5, i] = axis
+            P = add(P, scale(axis, row[i]))
+        else:
+            J[0, i], J[1, i], J[2, i] = axis
+            J[3, i], J[4, i], J[5, i] = P  # joint origin for now: J_v = ω × (p − o) below
+        step = np.empty((3, 3))
+        slide = _prismatic(G, i)
+        c, s = (1.0, 0.0) if slide else (math.cos(row[i]), math.sin(row[i]))
+        for j in range(3):
+            column = rotate_cs(_row(G, i), c, s, (1.0 * (j == 0), 1.0 * (j == 1), 1.0 * (j == 2)))
+            step[0, j], step[1, j], step[2, j] = column
+        R = R @ step
+        following = _row(G, 12) if i == 5 else _row(G, 7 + i)
+        offset = sub(following, _row(G, 6 + i))
+        P = add(
+            P,
+            (
+                dot((R[0, 0], R[0, 1], R[0, 2]), offset),
+                dot((R[1, 0], R[1, 1], R[1, 2]), offset),
+                dot((R[2, 0], R[2, 1], R[2, 2]), offset),
+            ),
+        )
+    for i in range(6):
+        if _prismatic(G, i):
+            continue
+        omega = (J[0, i], J[1, i], J[2, i])
+        linear = cross(omega, sub(P, (J[3, i], J[4, i], J[5, i])))
+        J[3, i], J[4, i], J[5, i] = linear
+    return R, P
+
+
+@numba.njit(**COMPILE)
+def condition(G, row):
+    """``σ_min/σ_max`` of the world Jacobian (:func:`_jacobian`) at the slot ``row``: 0 at a
+    singular configuration."""
+    J = np.empty((6, 6))
+    _jacobian(G, row, J)
+    sigma = np.linalg.svd(J)[1]
+    return sigma[-1] / sigma[0]
+
+
+@numba.njit(**COMPILE)
 def newton(G, row, T, fixed, steps, stop):
     r"""Gauss–Newton steps on the chain of ``G`` from the slot ``row`` (angles, cosines, sines;
     updated in place) towards ``T``; returns the final :func:`fk_error`. At most ``steps``
@@ -748,46 +804,7 @@ def newton(G, row, T, fixed, steps, stop):
     for _ in range(steps):
         if stop > 0.0 and fk_error(G, row, T) <= stop:
             break
-        R = np.eye(3)
-        P = _row(G, 6)
-        for i in range(6):
-            axis = (
-                R[0, 0] * G[i, 0] + R[0, 1] * G[i, 1] + R[0, 2] * G[i, 2],
-                R[1, 0] * G[i, 0] + R[1, 1] * G[i, 1] + R[1, 2] * G[i, 2],
-                R[2, 0] * G[i, 0] + R[2, 1] * G[i, 1] + R[2, 2] * G[i, 2],
-            )
-            if _prismatic(G, i):  # J = (ω, v) = (0, axis); the slide moves what follows
-                J[0, i], J[1, i], J[2, i] = 0.0, 0.0, 0.0
-                J[3, i], J[4, i], J[5, i] = axis
-                P = add(P, scale(axis, row[i]))
-            else:
-                J[0, i], J[1, i], J[2, i] = axis
-                J[3, i], J[4, i], J[5, i] = P  # joint origin for now: J_v = ω × (p − o) below
-            step = np.empty((3, 3))
-            slide = _prismatic(G, i)
-            c, s = (1.0, 0.0) if slide else (math.cos(row[i]), math.sin(row[i]))
-            for j in range(3):
-                column = rotate_cs(
-                    _row(G, i), c, s, (1.0 * (j == 0), 1.0 * (j == 1), 1.0 * (j == 2))
-                )
-                step[0, j], step[1, j], step[2, j] = column
-            R = R @ step
-            following = _row(G, 12) if i == 5 else _row(G, 7 + i)
-            offset = sub(following, _row(G, 6 + i))
-            P = add(
-                P,
-                (
-                    dot((R[0, 0], R[0, 1], R[0, 2]), offset),
-                    dot((R[1, 0], R[1, 1], R[1, 2]), offset),
-                    dot((R[2, 0], R[2, 1], R[2, 2]), offset),
-                ),
-            )
-        for i in range(6):
-            if _prismatic(G, i):
-                continue
-            omega = (J[0, i], J[1, i], J[2, i])
-            linear = cross(omega, sub(P, (J[3, i], J[4, i], J[5, i])))
-            J[3, i], J[4, i], J[5, i] = linear
+        R, P = _jacobian(G, row, J)
         R = R @ G[13:16]  # rows 13–15 hold R_M
         rotation = (0.0, 0.0, 0.0)
         for j in range(3):

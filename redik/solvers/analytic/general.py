@@ -55,13 +55,13 @@ chain the elimination ran on.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import scipy.linalg
 
 from redik.core.exceptions import InvalidInput, ModelError
-from redik.lie import se3_exp
 from redik.solvers.analytic import _checks
 from redik.solvers.analytic import _decomposed_kernels as kernels
 from redik.solvers.analytic._solution import (
@@ -364,39 +364,23 @@ class GeneralSolver:
         T = _checks.pose(target, "target", strict=strict)
         _checks.length(tol, "tol", allow_zero=True)
         lower, upper = self._limits(limits)
-        q = self.solve(T)
+        q, conditions = self._solve(T)
         if len(q) == 0:
             return unreachable(
                 6, "no real root of the degree-16 elimination reaches the target (out of reach)"
             )
         candidates = [
-            Candidate(row, f"root{i + 1}", self._singularity(row)) for i, row in enumerate(q)
+            Candidate(row, f"root{i + 1}", _singular_text(conditions[i])) for i, row in enumerate(q)
         ]
         bounded = np.isfinite(lower).any() or np.isfinite(upper).any()
         return finalize(candidates, 6, REVOLUTE, (lower, upper) if bounded else None)
 
-    def _singularity(self, q: np.ndarray) -> str:
-        """The ``singular`` text of a solution ('' if regular): where the Jacobian's condition
-        ``σ_min/σ_max`` is below :data:`SINGULAR_TOL`, two roots of the elimination meet
-        (a double root) and the arm can move without moving the tool to first order."""
-        chain = _scaled(self.chain, self.scale)  # lengths of order 1: σ of (rad, m) columns
-        joints = q[::-1] if self.reversed else q
-        J = np.empty((6, 6))
-        T = np.eye(4)
-        for i in range(6):
-            axis, point = T[:3, :3] @ chain.h[i], T[:3, :3] @ chain.a[i] + T[:3, 3]
-            J[:3, i], J[3:, i] = axis, -np.cross(axis, point)
-            T = T @ se3_exp(
-                np.concatenate([-np.cross(chain.h[i], chain.a[i]), chain.h[i]]) * joints[i]
-            )
-        sigma = np.linalg.svd(J, compute_uv=False)
-        ratio = sigma[-1] / sigma[0]
-        if ratio >= SINGULAR_TOL:
-            return ""
-        return (
-            f"at a singularity (σ_min/σ_max of the Jacobian {ratio:.1e}): two of the "
-            "elimination's roots meet here"
-        )
+    @cached_property
+    def _scaled_geometry(self) -> np.ndarray:
+        """The packed chain with lengths divided by :attr:`scale`: a Jacobian of columns in
+        rad and (scaled) m whose condition number means the same on any arm size."""
+        chain = _scaled(self.chain, self.scale)
+        return _pack(chain, chain.a, chain.h[5])
 
     def raw(
         self, T: np.ndarray, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
@@ -407,6 +391,10 @@ class GeneralSolver:
     def solve(self, T: np.ndarray) -> np.ndarray:
         """Every solution of the validated pose ``T`` (4 × 4), no limits: (k, 6), wrapped to
         (−π, π], in increasing θ3 of the eliminated chain, each verified by FK."""
+        return self._solve(T)[0]
+
+    def _solve(self, T: np.ndarray) -> tuple[np.ndarray, list[float]]:
+        """:meth:`solve` and each solution's Jacobian condition ``σ_min/σ_max``."""
         target = np.linalg.inv(T) if self.reversed else T
         scaled = target.copy()
         scaled[:3, 3] /= self.scale
@@ -415,6 +403,7 @@ class GeneralSolver:
         Q, constant, M, _ = self.elimination.pencil(local)
         candidates = self._candidates(local, Q, constant, M)
         found: list[np.ndarray] = []
+        conditions: list[float] = []
         for theta in candidates:
             row = np.zeros(18)
             row[:6] = theta - dh.offset
@@ -425,8 +414,9 @@ class GeneralSolver:
             q = np.arctan2(row[12:], row[6:12])
             if all(np.abs(np.angle(np.exp(1j * (q - other)))).max() > MERGE_TOL for other in found):
                 found.append(q)
+                conditions.append(kernels.condition(self._scaled_geometry, row))
         q = np.array(found).reshape(-1, 6)
-        return q[:, ::-1].copy() if self.reversed else q
+        return (q[:, ::-1].copy() if self.reversed else q), conditions
 
     def _candidates(
         self, T: np.ndarray, Q: np.ndarray, constant: np.ndarray, M: np.ndarray
@@ -480,6 +470,18 @@ class GeneralSolver:
         checked = _checks.limits(limits, 6)
         assert checked is not None
         return checked
+
+
+def _singular_text(condition: float) -> str:
+    """The ``singular`` text of a solution whose Jacobian has ``σ_min/σ_max = condition``
+    ('' above :data:`SINGULAR_TOL`): there two roots of the elimination meet (a double root)
+    and the arm can move without moving the tool, to first order."""
+    if condition >= SINGULAR_TOL:
+        return ""
+    return (
+        f"at a singularity (σ_min/σ_max of the Jacobian {condition:.1e}): two of the "
+        "elimination's roots meet here"
+    )
 
 
 def _scale(chain: Chain) -> float:
