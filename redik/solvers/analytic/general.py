@@ -294,7 +294,8 @@ class Elimination:
     def left_at(self, theta3: float, theta4: float, theta5: float) -> np.ndarray:
         """The 14 left-side quantities at θ3, θ4, θ5 (from the coefficients)."""
         b3, b4, b5 = (np.array([1.0, np.cos(t), np.sin(t)]) for t in (theta3, theta4, theta5))
-        return np.einsum("abck,a,b,c->k", self.left, b3, b4, b5)
+        partial = (b3 @ self.left.reshape(3, 126)).reshape(3, 42)
+        return b5 @ (b4 @ partial).reshape(3, 14)
 
 
 def _angles(alpha: np.ndarray, beta: np.ndarray) -> np.ndarray:
@@ -401,7 +402,7 @@ class GeneralSolver:
         dh = self.elimination.dh
         local = _inverse(dh.base) @ scaled @ _inverse(dh.tool)
         Q, constant, M, _ = self.elimination.pencil(local)
-        candidates = self._candidates(local, Q, constant, M)
+        candidates = self._candidates(local, np.linalg.pinv(Q), constant, M)
         found: list[np.ndarray] = []
         conditions: list[float] = []
         for theta in candidates:
@@ -419,14 +420,15 @@ class GeneralSolver:
         return (q[:, ::-1].copy() if self.reversed else q), conditions
 
     def _candidates(
-        self, T: np.ndarray, Q: np.ndarray, constant: np.ndarray, M: np.ndarray
+        self, T: np.ndarray, Q_pinv: np.ndarray, constant: np.ndarray, M: np.ndarray
     ) -> list[np.ndarray]:
-        """DH joint angles (θ1…θ6) of every real root of the pencil (steps 3–4)."""
+        """DH joint angles (θ1…θ6) of every real root of the pencil (steps 3–4); ``Q_pinv``
+        the pseudo-inverse of ``Q`` (the least squares of step 4, once per target)."""
         zeros = np.zeros((12, 12))
         identity = np.eye(12)
         A = np.block([[zeros, identity], [-M[0], -M[1]]])
         B = np.block([[identity, zeros], [zeros, M[2]]])
-        (alpha, beta), _ = scipy.linalg.eig(A, B, homogeneous_eigvals=True)
+        alpha, beta = scipy.linalg.eig(A, B, right=False, homogeneous_eigvals=True)
         finite = (np.abs(alpha) > 1e-300) | (np.abs(beta) > 1e-300)
         psi = _angles(alpha[finite], beta[finite])
         real = np.sort(psi[np.isfinite(psi) & (np.abs(psi.imag) <= IMAGINARY_TOL)].real)
@@ -445,7 +447,7 @@ class GeneralSolver:
                 theta4 = w4_offset + _ratio_angle(grid[1:], grid[:3])
                 theta5 = w5_offset + _ratio_angle(grid[:, 1:], grid[:, :2])
                 rhs = self.elimination.left_at(theta3, theta4, theta5) - constant
-                S = np.linalg.lstsq(Q, rhs, rcond=None)[0]
+                S = Q_pinv @ rhs
                 theta1 = np.arctan2(S[_S1], S[_C1])
                 theta2 = np.arctan2(S[_S2], S[_C2])
                 theta = np.array([theta1, theta2, theta3, theta4, theta5, 0.0])
