@@ -243,3 +243,19 @@ def test_singular_targets_where_two_solutions_merge_are_found():
         assert all(np.abs(robot.fk(q) - T).max() < FK_TOL for q in solutions)
         assert sum(bool(q.singular) for q in solutions) == 1
         found += 1
+
+
+def test_a_pose_with_fourteen_solutions_all_found():
+    """A random arm and pose (found by a seeded search) with 14 real solutions, close to the
+    bound of 16: every one is found, verified, and a 600-start multistart finds the same 14."""
+    rng = np.random.default_rng(36)
+    robot = _random_screw_robot(rng)
+    q_true = rng.uniform(-np.pi, np.pi, (40, 6))[4]
+    T = robot.fk(q_true)
+    exact = analytic.solver_for(robot)(T)
+    assert len(exact) == 14 and not exact.singular
+    assert min(_distance(q, q_true) for q in exact) < 1e-9
+    assert all(np.abs(robot.fk(q) - T).max() < FK_TOL for q in exact)
+    numeric = [r.q for r in solve_all(robot, T, n_starts=600, seed=0, pos_tol=1e-9)]
+    assert len(numeric) == 14
+    assert all(min(_distance(q, e) for e in exact) < 1e-6 for q in numeric)
