@@ -1,9 +1,9 @@
 r"""Every solution of a general 6R arm: Raghavan–Roth elimination solved as an eigenproblem.
 
 An arm with no three axes meeting or parallel (no closed form, :mod:`.decomposed`) still has
-finitely many solutions, at most 16 (Lee & Liang 1988): the real roots of a univariate
-polynomial of degree 16 in :math:`x_3 = \tan(θ_3/2)`. This module finds all of them by the
-elimination of Raghavan & Roth ("Inverse kinematics of the general 6R manipulator and
+finitely many solutions, at most 16 (Primrose 1986; Lee & Liang 1988): the real roots of a
+univariate polynomial of degree 16 in :math:`x_3 = \tan(θ_3/2)`. This module finds all of
+them by the elimination of Raghavan & Roth ("Inverse kinematics of the general 6R manipulator and
 related linkages", ASME J. Mech. Des. 115, 1993) solved as a generalised eigenproblem as
 Manocha & Canny do ("Efficient inverse kinematics for general 6R manipulators", IEEE Trans.
 Robot. Autom. 10(5), 1994):
@@ -35,10 +35,11 @@ Robot. Autom. 10(5), 1994):
    by rounding is kept) gives ``m`` from the null space of :math:`M(x_3)` — for a root of
    multiplicity k the k-dimensional null space is split by the shift ``x4`` (a k × k
    eigenproblem) — and θ4, θ5 from ratios of its entries; θ1, θ2 from ``Q S = P R`` (least
-   squares), θ6 from :math:`A_6 = (A_1 ⋯ A_5)^{-1} T`.
+   squares, by ``Q``'s pseudo-inverse), θ6 from :math:`A_6 = (A_1 ⋯ A_5)^{-1} T`.
 5. Every candidate is polished by Gauss–Newton on the screw chain's FK and kept only if that
-   FK reaches the target within :data:`~redik.solvers.analytic.decomposed.VERIFY_TOL`; duplicates
-   are merged.
+   FK reaches the target within :data:`~redik.solvers.analytic.decomposed.VERIFY_TOL`;
+   duplicates are merged. Where the Jacobian's condition is below :data:`SINGULAR_TOL` two
+   roots meet (a double root): the solution carries a ``singular`` text.
 
 The alternative, IK-Geo's 2-D search (Elias & Wen 2022, arXiv 2211.05737, §IV-C: sample two
 joint angles, reduce the rest to subproblems, find the zeros of a 2-D error function), can
@@ -46,10 +47,12 @@ miss a pair of roots closer than its grid and needs a tolerance to decide a tang
 eigenproblem has no such parameter, which is why it is used here.
 
 The elimination is degenerate for some special geometries (``Q`` rank-deficient or the
-pencil singular, e.g. many arms with a closed form); :func:`general_solver` checks both on a
-probe pose and tries the chain run backwards before refusing with
-:class:`~redik.core.exceptions.ModelError`. Labels are ``"root1"``… by increasing θ3 of the
-chain the elimination ran on.
+pencil singular, e.g. the PUMA); :func:`general_solver` checks both on a probe pose and tries
+the chain run backwards before refusing with :class:`~redik.core.exceptions.ModelError`.
+Arms with one pair of intersecting or parallel axes anywhere (no decomposition class fits
+them) are not degenerate, forwards or backwards (``tests/test_analytic_general.py``), so this
+module is also the "1-D search" class of IK-Geo, without a search. Labels are ``"root1"``…
+by increasing θ3 of the chain the elimination ran on.
 """
 
 from __future__ import annotations
