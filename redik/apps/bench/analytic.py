@@ -25,8 +25,9 @@ and families, timed on each pose before the pair) and its ratio to ik-geo, the m
 solutions each returns and the largest FK error (by ``robot.fk``) among ik-geo's answers that
 are not flagged least-squares. The load average is printed with it.
 A third table times the general 6R solver (:mod:`redik.solvers.analytic.general`, every
-solution of an arm with no closed form) against a multistart ``dls`` ``solve_all`` on the
-same poses, with the share of poses on which the multistart found the whole set.
+solution of an arm with no closed form) against a multistart ``dls`` ``solve_all`` and
+ik-geo's ``gen_six_dof`` (IK-Geo's 2-D search) on the same poses, with the share of the
+elimination's solutions each finds and the FK error of its answers.
 ``--clock cpu`` times with the process CPU clock instead of the wall clock: on a shared,
 loaded machine it leaves out the time spent waiting for a core.
 """
@@ -146,10 +147,13 @@ GENERAL_ROWS = (
 
 def compare_general(args: argparse.Namespace, n_poses: int = 20, n_starts: int = 100) -> None:
     """The third table: the general 6R solver (:mod:`redik.solvers.analytic.general`) on
-    ``n_poses`` FK targets of a fixed general arm, median ms per call, mean solutions, and a
-    multistart ``dls`` :func:`~redik.solvers.pose.solve_all` (``n_starts`` random starts)
-    on the same poses: its ms per call and the share of poses on which it found every one of
-    the elimination's solutions (and nothing else)."""
+    ``n_poses`` FK targets of a fixed general arm (:data:`GENERAL_ROWS`), beside a multistart
+    ``dls`` :func:`~redik.solvers.pose.solve_all` (``n_starts`` random starts) and, when
+    installed, ik-geo's general 6-DOF solver (``ik_geo.Robot.gen_six_dof``, IK-Geo's 2-D
+    search) on the same poses, calls interleaved per pose: median ms per call, answers per
+    pose, the share of the elimination's solutions each finds (within 1e-5 rad for dls, 1e-2
+    rad for ik-geo, whose answers are approximate) and the largest FK error (``robot.fk``)
+    among its answers."""
     from redik.models.dh import DHRow
     from redik.solvers.pose import solve_all
 
@@ -157,38 +161,73 @@ def compare_general(args: argparse.Namespace, n_poses: int = 20, n_starts: int =
         [DHRow(*row) for row in GENERAL_ROWS], limits=[(-np.pi, np.pi)] * 6, name="general_6r"
     )
     solver = solver_for(robot)
+    methods: dict[str, tuple[Callable[[np.ndarray], np.ndarray], float]] = {
+        "elimination (every root)": (lambda T: solver(T).as_array(), 1e-9),
+        f"dls solve_all ({n_starts} starts)": (
+            lambda T: np.array(
+                [r.q for r in solve_all(robot, T, n_starts=n_starts, seed=0, pos_tol=1e-9)]
+            ).reshape(-1, 6),
+            1e-5,
+        ),
+    }
+    if not args.no_ik_geo:
+        try:
+            import ik_geo
+
+            methods["ik-geo gen_six_dof (2-D search)"] = (_ik_geo_general(robot, ik_geo), 1e-2)
+        except ImportError:
+            pass
     clock = CLOCKS[args.clock]
     rng = np.random.default_rng(args.seed)
     targets = [robot.fk(q) for q in robot.random_q(rng, size=n_poses)]
-    solver(targets[0])  # compiles the polishing kernel
-    ours, theirs, counts, complete = [], [], [], 0
-    for index, T in enumerate(targets):
-        start = clock()
-        exact = solver(T).as_array()
-        middle = clock()
-        numeric = solve_all(robot, T, n_starts=n_starts, seed=index, pos_tol=1e-9)
-        end = clock()
-        ours.append(middle - start)
-        theirs.append(end - middle)
-        counts.append(len(exact))
-        found = np.array([result.q for result in numeric]).reshape(-1, 6)
-        gap = np.abs(np.angle(np.exp(1j * (found[:, None] - exact[None])))).max(axis=2)
-        complete += len(found) == len(exact) and bool((gap.min(axis=1) < 1e-5).all())
+    for call, _ in methods.values():
+        call(targets[0])  # compiles / warms up
+    times: dict[str, list[float]] = {name: [] for name in methods}
+    answers: dict[str, list[np.ndarray]] = {name: [] for name in methods}
+    for T in targets:
+        for name, (call, _) in methods.items():
+            start = clock()
+            found = call(T)
+            times[name].append(clock() - start)
+            answers[name].append(found)
     load_average = ", ".join(f"{x:.2f}" for x in os.getloadavg())
     print(
-        f"\ngeneral 6R (DH rows a, d, α all non-zero; {solver.method}) vs multistart dls "
-        f"solve_all ({n_starts} starts), {n_poses} poses, median ms per call "
-        f"({args.clock} clock); load average {load_average}"
+        f"\ngeneral 6R (DH rows a, d, α all non-zero; {solver.method}), {n_poses} poses, "
+        f"interleaved, median ms per call ({args.clock} clock); load average {load_average}"
     )
-    print(f"{'method':<28}{'ms':>9}{'solutions':>11}{'all found':>13}")
-    print(
-        f"{'elimination (every root)':<28}{1e3 * statistics.median(ours):>9.2f}"
-        f"{np.mean(counts):>11.2f}{'(reference)':>13}"
-    )
-    print(
-        f"{f'dls solve_all ({n_starts} starts)':<28}{1e3 * statistics.median(theirs):>9.2f}"
-        f"{'':>11}{complete / n_poses:>13.0%}"
-    )
+    print(f"{'method':<34}{'ms':>9}{'answers':>9}{'of every root':>15}{'max FK err':>12}")
+    exact = answers["elimination (every root)"]
+    total = sum(len(e) for e in exact)
+    for name, (_, match) in methods.items():
+        matched, worst = 0, 0.0
+        for T, reference, found in zip(targets, exact, answers[name], strict=True):
+            for q in found:
+                worst = max(worst, float(np.abs(robot.fk(q) - T).max()))
+            if len(found):
+                gap = np.abs(np.angle(np.exp(1j * (reference[:, None] - found[None])))).max(2)
+                matched += int((gap.min(axis=1) < match).sum())
+        print(
+            f"{name:<34}{1e3 * statistics.median(times[name]):>9.2f}"
+            f"{np.mean([len(f) for f in answers[name]]):>9.2f}"
+            f"{matched / total:>15.0%}{worst:>12.1e}"
+        )
+
+
+def _ik_geo_general(robot: Robot, ik_geo: Any) -> Callable[[np.ndarray], np.ndarray]:
+    """ik-geo's ``gen_six_dof`` for the arm's screw chain: ``T -> (k, 6)`` answers (its
+    least-squares ones included: it flags nearly all of them so)."""
+    from redik.solvers.analytic.decomposed import Chain, screws_of
+
+    chain = Chain.from_screws(*screws_of(robot))
+    offsets = np.vstack([chain.a[0], np.diff(chain.a, axis=0), chain.M[:3, 3] - chain.a[5]])
+    reference = ik_geo.Robot.gen_six_dof(chain.h.tolist(), offsets.tolist())
+    R_home = chain.M[:3, :3]
+
+    def call(T: np.ndarray) -> np.ndarray:
+        found = reference.get_ik((T[:3, :3] @ R_home.T).T.tolist(), T[:3, 3].tolist())
+        return np.array([q for q, _ in found], dtype=float).reshape(-1, 6)
+
+    return call
 
 
 #: Decomposition classes that ik-geo builds from axes and offsets, by redik's class name.
