@@ -15,7 +15,8 @@ from scipy.spatial.transform import Rotation
 
 import redik
 from redik.core.exceptions import InvalidInput, InvalidPose, ModelError
-from redik.models.dh import DHRow
+from redik.lie import inverse
+from redik.models.dh import DHRow, parse_convention, row_transform
 from redik.solvers import analytic
 from redik.solvers.analytic import general, wrap_angle
 from redik.solvers.analytic.decomposed import Chain, classify, screws_of
@@ -259,3 +260,12 @@ def test_a_pose_with_fourteen_solutions_all_found():
     numeric = [r.q for r in solve_all(robot, T, n_starts=600, seed=0, pos_tol=1e-9)]
     assert len(numeric) == 14
     assert all(min(_distance(q, e) for e in exact) < 1e-6 for q in numeric)
+
+
+def test_vectorised_link_and_inverse_equal_the_dh_and_lie_ones():
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        theta, d, a, alpha = rng.uniform(-3.0, 3.0, 4)
+        reference = row_transform(DHRow(a, d, alpha), theta, parse_convention("standard"))
+        np.testing.assert_allclose(general._link(theta, d, a, alpha), reference, atol=1e-15)
+        np.testing.assert_allclose(general._inverse(reference), inverse(reference), atol=1e-15)

@@ -80,6 +80,7 @@ from redik.solvers.analytic.decomposed import (
     VERIFY_TOL,
     Chain,
     _pack,
+    _perpendicular,
     screws_of,
 )
 
@@ -140,7 +141,8 @@ class DH:
 
 
 def _link(theta: np.ndarray, d: float, a: float, alpha: float) -> np.ndarray:
-    """``A(θ)`` for an array of θ: shape (..., 4, 4)."""
+    """``A(θ)`` for an array of θ: shape (..., 4, 4) — :func:`redik.models.dh.row_transform`
+    (standard convention) written out, so that a grid of angles takes one call."""
     theta = np.asarray(theta, dtype=float)
     c, s = np.cos(theta), np.sin(theta)
     ca, sa = np.cos(alpha), np.sin(alpha)
@@ -153,7 +155,7 @@ def _link(theta: np.ndarray, d: float, a: float, alpha: float) -> np.ndarray:
 
 
 def _inverse(T: np.ndarray) -> np.ndarray:
-    """Inverse of rigid transforms (..., 4, 4)."""
+    """Inverse of rigid transforms (..., 4, 4): :func:`redik.lie.inverse` on a stack."""
     inverse = np.zeros_like(T)
     R = np.swapaxes(T[..., :3, :3], -1, -2)
     inverse[..., :3, :3] = R
@@ -179,7 +181,7 @@ def dh_of_chain(chain: Chain) -> DH:
     z = [h[0]]
     # Frame 0: on axis 1 at the foot of its common normal with axis 2, x0 any perpendicular.
     origin = _closest_on_first(a[0], h[0], a[1], h[1])
-    x = [_any_perpendicular(h[0])]
+    x = [_perpendicular(h[0])]
     origins = [origin]
     d, lengths, alpha, offset = np.zeros(6), np.zeros(6), np.zeros(6), np.zeros(6)
     for i in range(1, 6):
@@ -217,12 +219,6 @@ def _closest_on_first(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.nda
         return p1.copy()
     s = (b * (u2 @ w) - (u1 @ w)) / denominator
     return p1 + s * u1
-
-
-def _any_perpendicular(axis: np.ndarray) -> np.ndarray:
-    helper = np.eye(3)[int(np.argmin(np.abs(axis)))]
-    unit = np.cross(axis, helper)
-    return unit / np.linalg.norm(unit)
 
 
 def _fourteen(p: np.ndarray, l: np.ndarray) -> np.ndarray:
