@@ -221,3 +221,28 @@ def test_fk_and_jacobian_refuse_non_real_q_naming_it(arm, q, named):
     for call in (arm.fk, arm.jacobian):
         with pytest.raises(InvalidConfiguration, match=named):
             call(q)
+
+
+def test_periodic_joints_have_one_definition_every_solver_uses():
+    from redik.kinematics.chain import Chain
+    from redik.solvers.redundancy import PostureDistance
+    from redik.solvers.redundancy.corrector import Corrector
+
+    spec = mujoco.MjSpec.from_file(str(redik.scene_path("panda")))
+    spec.joints[0].limited = mujoco.mjtLimited.mjLIMITED_FALSE  # unlimited
+    spec.joints[2].range = [-np.pi, np.pi]  # exactly one turn
+    spec.joints[4].range = [-3.0, 3.0]  # less than a turn
+    robot = redik.Robot(spec.compile())
+    expected = np.array([True, False, True, False, False, False, False])
+    np.testing.assert_array_equal(robot.periodic, expected)
+    np.testing.assert_array_equal(redik.load("ur5e").periodic, True)  # ±2π
+    # The kernel wraps the limited ones (an unlimited hinge never leaves its range).
+    np.testing.assert_array_equal(Chain.from_robot(robot).kernel_arrays()[-1], expected)
+    corrector = Corrector(robot, robot.fk(robot.home), robot.ee)
+    np.testing.assert_array_equal(corrector.periodic, expected)
+    # A turn of a periodic joint is no posture change; of any other joint it is.
+    posture = PostureDistance(robot.home)
+    for joint, periodic in enumerate(expected):
+        q = robot.home.copy()
+        q[joint] += 2.0 * np.pi
+        assert (posture.value(robot, q, None) < 1e-12) == periodic

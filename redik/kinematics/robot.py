@@ -52,7 +52,7 @@ import mujoco
 import numpy as np
 
 from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
-from redik.lie import MAX_COORDINATE, real_array, world_jacobian_to
+from redik.lie import MAX_COORDINATE, periodic_coordinates, real_array, world_jacobian_to
 from redik.models import loading, scenes
 
 JACOBIAN_REFERENCES = ("space", "body", "world")
@@ -567,6 +567,13 @@ class Robot:
     def sampling_upper(self) -> np.ndarray:
         """Upper bound used for random sampling: the limit, or π (or 1 m) where unlimited."""
         return np.where(np.isfinite(self.upper), self.upper, np.where(self.revolute, np.pi, 1.0))
+
+    @property
+    def periodic(self) -> np.ndarray:
+        """Per tangent coordinate, True for the rotations taken modulo 2π: those whose
+        range spans a full turn (:func:`redik.lie.periodic_coordinates`,
+        :mod:`redik.core.conventions`)."""
+        return periodic_coordinates(self.revolute, self.lower, self.upper)
 
     def random_q(self, rng: np.random.Generator | int | None = None, size: int | None = None):
         """Configurations drawn uniformly within the sampling bounds (one, or ``size`` × nq).

@@ -3,7 +3,9 @@
 One :class:`PoseCache` per robot, in its :attr:`redik.Robot.solver_cache` (so it lives and
 dies with the robot, and two robots never share one): per frame its
 :class:`~redik.solvers.pose.frame.PoseFrame` and, once ``"dls"`` has run, its compiled
-:class:`~redik.solvers.pose.dls.DLSSolver`; on a whole-model robot, the chain to each frame.
+:class:`~redik.solvers.pose.dls.DLSSolver`; on a whole-model robot, the chain to each frame;
+the :class:`~redik.solvers.problem.Problem` of ``"qp"`` per frame and settings
+(:func:`redik.solvers.pose.qp.solve_pose_qp`).
 """
 
 from __future__ import annotations
@@ -28,6 +30,10 @@ class PoseCache:
         """By resolved :class:`Frame`, and by each frame argument (None, a name) a solve
         has resolved before."""
         self.chains: dict[Frame, tuple[Robot, np.ndarray]] = {}
+        self.qp_problems: dict[tuple, object] = {}
+        """``"qp"``'s problems, by (frame argument, respect_limits, damping, gain)."""
+        self.qp_chains: dict[Frame, tuple | None] = {}
+        """``"qp"``'s compiled chains for restart seeds, by frame (None: whole model)."""
 
     @classmethod
     def of(cls, robot: Robot) -> PoseCache:

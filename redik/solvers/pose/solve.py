@@ -247,7 +247,6 @@ def solve_all(
     cluster_tol = positive(cluster_tol, "cluster_tol")
     first = None if q0 is None else robot.check_q(q0, "q0")
     rng = np.random.default_rng(seed)
-    periodic = robot.revolute & ((robot.upper - robot.lower) >= 2.0 * np.pi)
     solutions: list[IKResult] = []
     for start in range(n_starts):
         q_start = first if start == 0 and first is not None else robot.random_q(rng)
@@ -260,7 +259,7 @@ def solve_all(
             continue
         for index, known in enumerate(solutions):
             difference = result.q - known.q
-            difference[periodic] = np.abs(wrap_angle(difference[periodic]))
+            difference[robot.periodic] = np.abs(wrap_angle(difference[robot.periodic]))
             if np.max(np.abs(difference)) <= cluster_tol:
                 if result.error < known.error:
                     solutions[index] = result
