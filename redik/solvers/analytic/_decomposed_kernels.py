@@ -704,12 +704,11 @@ def fk_error(G, row, T):
 
 @numba.njit(**COMPILE)
 def _wrap(angle):
-    """``angle`` wrapped to (−π, π] (kernel angles are within a few turns of it)."""
-    while angle > math.pi:
-        angle -= 2.0 * math.pi
-    while angle <= -math.pi:
-        angle += 2.0 * math.pi
-    return angle
+    """``angle`` wrapped to (−π, π]: :func:`redik.lie.wrap_angle`'s algorithm (``fmod``, then
+    one exact shift by 2π), so equal to it bit for bit at any magnitude."""
+    two_pi = 2.0 * math.pi
+    r = np.fmod(angle, two_pi)
+    return r - two_pi if r > math.pi else (r + two_pi if r <= -math.pi else r)
 
 
 @numba.njit(**COMPILE)

@@ -23,6 +23,7 @@ import numpy as np
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.compiled import COMPILE
 from redik.lie import wrap_angle
+from redik.solvers.analytic._decomposed_kernels import _wrap
 
 #: Default tolerance (metres) by which a target may lie outside the workspace and still be
 #: solved, clipped onto the boundary; also the size of a sine below which a configuration is
@@ -433,17 +434,17 @@ def _kept(
 
 @numba.njit(**COMPILE)
 def _wrap_select(q, revolute, lower, upper, dedupe, duplicate_tol):
-    """:func:`finalize` on (k, n) ``q`` in place, compiled: revolute angles wrapped as
-    :func:`redik.lie.wrap_angle` does (``fmod``, then one exact shift by 2π), duplicates of an
-    earlier row dropped when ``dedupe`` (modulo 2π for revolute joints), each row moved into
-    the limits as :func:`limit_representatives` does; returns which rows are kept."""
+    """:func:`finalize` on (k, n) ``q`` in place, compiled: revolute angles wrapped (by
+    :func:`._decomposed_kernels._wrap`, the compiled twin of :func:`redik.lie.wrap_angle`),
+    duplicates of an earlier row dropped when ``dedupe`` (modulo 2π for revolute joints),
+    each row moved into the limits as :func:`limit_representatives` does; returns which
+    rows are kept."""
     two_pi = 2.0 * math.pi
     k, n = q.shape
     for row in range(k):
         for j in range(n):
             if revolute[j]:
-                r = np.fmod(q[row, j], two_pi)
-                q[row, j] = r - two_pi if r > math.pi else (r + two_pi if r <= -math.pi else r)
+                q[row, j] = _wrap(q[row, j])
     keep = np.ones(k, np.bool_)
     if dedupe:
         for row in range(k):
@@ -452,10 +453,7 @@ def _wrap_select(q, revolute, lower, upper, dedupe, duplicate_tol):
                 for j in range(n):
                     difference = q[row, j] - q[other, j]
                     if revolute[j]:
-                        r = np.fmod(difference, two_pi)
-                        difference = (
-                            r - two_pi if r > math.pi else (r + two_pi if r <= -math.pi else r)
-                        )
+                        difference = _wrap(difference)
                     if abs(difference) >= duplicate_tol:
                         same = False
                         break

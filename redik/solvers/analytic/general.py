@@ -65,6 +65,7 @@ import numpy as np
 import scipy.linalg
 
 from redik.core.exceptions import InvalidInput, ModelError
+from redik.lie import wrap_angle
 from redik.solvers.analytic import _checks
 from redik.solvers.analytic import _decomposed_kernels as kernels
 from redik.solvers.analytic._solution import (
@@ -412,7 +413,7 @@ class GeneralSolver:
             if error > VERIFY_TOL:
                 continue
             q = np.arctan2(row[12:], row[6:12])
-            if all(np.abs(np.angle(np.exp(1j * (q - other)))).max() > MERGE_TOL for other in found):
+            if all(np.abs(wrap_angle(q - other)).max() > MERGE_TOL for other in found):
                 found.append(q)
                 conditions.append(kernels.condition(self._scaled_geometry, row))
         q = np.array(found).reshape(-1, 6)
