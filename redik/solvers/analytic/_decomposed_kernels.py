@@ -704,11 +704,21 @@ def fk_error(G, row, T):
 
 @numba.njit(**COMPILE)
 def _wrap(angle):
-    """``angle`` wrapped to (−π, π]: :func:`redik.lie.wrap_angle`'s algorithm (``fmod``, then
-    one exact shift by 2π), so equal to it bit for bit at any magnitude."""
+    """``angle`` wrapped to (−π, π], equal bit for bit to :func:`redik.lie.wrap_angle` at any
+    magnitude: within a few turns (every kernel angle) by exact shifts of 2π, which is what
+    ``fmod`` then one shift give there, and beyond by that algorithm itself (a call to
+    ``fmod`` per angle cost a tenth of a solve)."""
+    if -math.pi < angle <= math.pi:
+        return angle
     two_pi = 2.0 * math.pi
-    r = np.fmod(angle, two_pi)
-    return r - two_pi if r > math.pi else (r + two_pi if r <= -math.pi else r)
+    if abs(angle) > 8.0 * math.pi:
+        r = np.fmod(angle, two_pi)
+        return r - two_pi if r > math.pi else (r + two_pi if r <= -math.pi else r)
+    while angle > math.pi:
+        angle -= two_pi
+    while angle <= -math.pi:
+        angle += two_pi
+    return angle
 
 
 @numba.njit(**COMPILE)
@@ -852,11 +862,12 @@ def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
 
 
 @numba.njit(**COMPILE)
-def _select(q, status, lower, upper, duplicate_tol, slots, revolute):
+def _select(q, status, lower, upper, duplicate_tol, slots, G, reverse):
     """Compact the slots of :func:`solve_slots` in place: each non-empty slot moved by the
     smallest multiple of 2π per angle into the limits (dropped if there is none), duplicates
     (within ``duplicate_tol`` per joint, modulo 2π) dropped; ``slots[row]`` is the slot of
-    each kept row. Returns the number kept."""
+    each kept row (``G`` and ``reverse`` say which robot joints slide). Returns the number
+    kept."""
     out = q  # compacted in place: row ``count`` ≤ ``slot`` is written after ``slot`` is read
     count = 0
     two_pi = 2.0 * math.pi
@@ -869,7 +880,7 @@ def _select(q, status, lower, upper, duplicate_tol, slots, revolute):
             if lower[j] <= value <= upper[j]:  # the usual case: no turn to find
                 out[count, j] = value
                 continue
-            if not revolute[j]:  # a slide out of its range: no turn brings it in
+            if _prismatic(G, 5 - j if reverse else j):  # a slide out of range: no turn helps
                 inside = False
                 break
             turns = min(
@@ -889,7 +900,8 @@ def _select(q, status, lower, upper, duplicate_tol, slots, revolute):
             same = True
             for j in range(6):
                 difference = out[other, j] - out[count, j]
-                if abs(_wrap(difference) if revolute[j] else difference) >= duplicate_tol:
+                slide = _prismatic(G, 5 - j if reverse else j)
+                if abs(difference if slide else _wrap(difference)) >= duplicate_tol:
                     same = False
                     break
             if same:
@@ -916,10 +928,7 @@ def _solve_planned(T, plan, slots):
         empty = np.empty(0, np.int64)
         return np.empty((0, 6)), -1, empty, empty, empty
     q, status, free, stage = solve_slots(kind, reverse, T, G, -1, 0.0, tol, verify_tol)
-    revolute = np.empty(6, np.bool_)
-    for j in range(6):
-        revolute[j] = not _prismatic(G, 5 - j if reverse else j)
-    count = _select(q, status, lower, upper, duplicate_tol, slots, revolute)
+    count = _select(q, status, lower, upper, duplicate_tol, slots, G, reverse)
     return q, count, status, free, stage
 
 
