@@ -269,3 +269,14 @@ def test_vectorised_link_and_inverse_equal_the_dh_and_lie_ones():
         reference = row_transform(DHRow(a, d, alpha), theta, parse_convention("standard"))
         np.testing.assert_allclose(general._link(theta, d, a, alpha), reference, atol=1e-15)
         np.testing.assert_allclose(general._inverse(reference), inverse(reference), atol=1e-15)
+
+
+def test_arms_special_at_both_ends_are_refused_with_the_reason():
+    """Axes 1, 2 meeting and axes 5, 6 meeting (no decomposition class fits): the split at
+    θ3 is degenerate forwards and backwards, so solver_for refuses instead of answering."""
+    rows = _random_dh_rows(np.random.default_rng(12))
+    rows[0] = DHRow(0.0, rows[0].d, rows[0].alpha)
+    rows[4] = DHRow(0.0, rows[4].d, rows[4].alpha)
+    robot = redik.Robot.from_dh(rows, limits=FULL_TURN, name="special_ends")
+    with pytest.raises(ModelError, match="degenerate"):
+        analytic.solver_for(robot)

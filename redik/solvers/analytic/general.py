@@ -48,7 +48,9 @@ eigenproblem has no such parameter, which is why it is used here.
 
 The elimination is degenerate for some special geometries (``Q`` rank-deficient or the
 pencil singular, e.g. the PUMA); :func:`general_solver` checks both on a probe pose and tries
-the chain run backwards before refusing with :class:`~redik.core.exceptions.ModelError`.
+the chain run backwards before refusing with :class:`~redik.core.exceptions.ModelError`;
+a split is used only if it also finds the generating configuration of :data:`PROBES` seeded
+targets (a regular pencil is not always enough: see :func:`_misses`).
 Arms with one pair of intersecting or parallel axes anywhere (no decomposition class fits
 them) are not degenerate, forwards or backwards (``tests/test_analytic_general.py``), so this
 module is also the "1-D search" class of IK-Geo, without a search. Labels are ``"root1"``…
@@ -65,7 +67,7 @@ import numpy as np
 import scipy.linalg
 
 from redik.core.exceptions import InvalidInput, ModelError
-from redik.lie import wrap_angle
+from redik.lie import se3_exp, wrap_angle
 from redik.solvers.analytic import _checks
 from redik.solvers.analytic import _decomposed_kernels as kernels
 from redik.solvers.analytic._solution import (
@@ -112,6 +114,10 @@ MERGE_TOL = 1e-7
 #: Smallest singular-value ratio of ``Q`` and of the pencil at a probe point for the
 #: elimination to count as non-degenerate (step 3).
 RANK_TOL = 1e-9
+
+#: Targets (FK of seeded random q) whose generating configuration the solver must find on an
+#: arm before it is used there (:func:`general_solver`).
+PROBES = 4
 
 #: Half-angle offsets of θ3, θ4, θ5: ``x = tan((θ − offset)/2)`` (any fixed values that no
 #: special geometry singles out).
@@ -519,6 +525,23 @@ def _degeneracy(elimination: Elimination, chain: Chain) -> str:
     return ""
 
 
+def _misses(solver: GeneralSolver, S: np.ndarray, M: np.ndarray) -> str:
+    """Why the solver cannot be trusted on this arm ('' if it can): it must find the
+    configuration that generated each of :data:`PROBES` seeded targets. A regular pencil is
+    not enough on every geometry (three consecutive parallel axes can keep it regular yet
+    lose roots), and this costs a few ms once per arm."""
+    rng = np.random.default_rng(1)
+    for _ in range(PROBES):
+        q = rng.uniform(-np.pi, np.pi, 6)
+        T = M
+        for i in reversed(range(6)):
+            T = se3_exp(np.concatenate([S[3:, i], S[:3, i]]) * q[i]) @ T
+        found = solver.solve(T)
+        if not len(found) or np.abs(wrap_angle(found - q)).max(axis=1).min() > 1e-6:
+            return "it misses the configuration that generated a probe target"
+    return ""
+
+
 def general_solver(
     S: np.ndarray,
     M: np.ndarray,
@@ -530,7 +553,8 @@ def general_solver(
 
     Raises:
         ModelError: A joint is prismatic, or the elimination is degenerate for this geometry
-            both forwards and backwards (module docstring).
+            both forwards and backwards, or misses a probe target's configuration (module
+            docstring).
     """
     S = _checks.finite_array(S, "S", (6, 6))
     M = _checks.pose(M, "M")
@@ -550,7 +574,10 @@ def general_solver(
             lower = np.full(6, -np.inf) if lower is None else np.asarray(lower, float).copy()
             upper = np.full(6, np.inf) if upper is None else np.asarray(upper, float).copy()
             geometry = _pack(candidate, candidate.a, candidate.h[5])
-            return GeneralSolver(candidate, reverse, scale, elimination, geometry, lower, upper)
+            solver = GeneralSolver(candidate, reverse, scale, elimination, geometry, lower, upper)
+            reason = _misses(solver, S, M)
+            if not reason:
+                return solver
         reasons.append(reason)
     raise ModelError(
         "the Raghavan–Roth elimination is degenerate for this 6R arm "
