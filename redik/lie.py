@@ -1,11 +1,20 @@
 r"""Rotations, rigid transforms and the pose-error metrics built on them.
 
 Conventions (twist order ``(v, ω)``, scalar-first quaternions, ``T_ab``) are those of
-:mod:`redik.core.conventions`. Quaternion conversions use MuJoCo's ``mju_*`` functions; the
-exponential and logarithm maps are written here because they sit in every solver's inner
-loop, where ``mink.lie.SE3`` (a dataclass per call) is slower: its ``log`` takes 3× the time
-of :func:`se3_log`, 4× with ``SE3.from_matrix`` (15 and 21 µs against 5.5 µs, 2026-11-24,
-load 0.8). The tests check both maps against ``mink.lie`` as an independent implementation.
+:mod:`redik.core.conventions`. The one home of redik's group math: every other module calls
+these functions, and the compiled kernels call the compiled ones here
+(:func:`apply_inverse_v`, :func:`se3_left_jacobian_inverse_entries`) or twins tested equal
+to them (README, Architecture).
+
+Reuse before writing: quaternion conversions, the SO(3) log, SLERP and quaternion distances
+are MuJoCo's ``mju_*`` functions. The SE(3) maps and the inverse Jacobians are written here
+because they sit in every solver's inner loop, where ``mink.lie`` (a dataclass per call) is
+slower — ``SE3.from_matrix(T).log()`` takes 5.6× the time of :func:`se3_log` (44.9 against
+8.0 µs, 2026-11-24, same run, load 3.1) — and, for the inverse Jacobians, inaccurate at
+small angles (:func:`se3_left_jacobian_inverse`); scipy's ``Rotation`` gives the same
+matrices and Euler angles as :func:`closest_rotation` and :func:`euler_angles` more slowly
+(their docstrings). The tests check the maps against ``mink.lie`` as an independent
+implementation.
 
 Formulas follow Lynch & Park, *Modern Robotics* (2017), §3.2.3 (SO(3) exp/log), §3.3.3
 (SE(3) exp/log) and §3.3.2 (adjoint), rewritten for the ``(v, ω)`` order:
@@ -51,6 +60,7 @@ from collections.abc import Callable
 from typing import Any
 
 import mujoco
+import numba
 import numpy as np
 
 from redik.core.exceptions import (
@@ -80,6 +90,7 @@ boundary: MuJoCo's ``mjMAXVAL``, beyond which it calls a state diverged. Squares
 larger values overflow in the pose-error and QP arithmetic long before they mean anything."""
 
 _SMALL_ANGLE = 1e-6
+_SERIES_ANGLE = 1e-3  # below it the inverse Jacobians' coefficients by their series
 
 
 # --------------------------------------------------------------------------------------
@@ -128,6 +139,9 @@ def closest_rotation(R: np.ndarray) -> np.ndarray:
     \mathrm{diag}(1, 1, \det(U V^\top))\,V^\top` (the orthogonal Procrustes problem;
     Higham, *Matrix nearness problems*, 1989, §3; Umeyama, IEEE TPAMI 13(4), 1991, for the
     determinant sign). For ``det R > 0`` it is the orthogonal polar factor ``R (RᵀR)^{-1/2}``.
+    ``scipy.spatial.transform.Rotation.from_matrix(R).as_matrix()`` gives the same matrices
+    (to 1.1e-15) but takes 3.8× the time for one (73 against 19 µs) and 1.2× for a stack of
+    200 (same run, load 3.6).
     """
     R = _matrix_stack(R, "R")
     if not np.isfinite(R).all():
@@ -280,18 +294,24 @@ def real_array(value: object, name: str, error: type[InvalidInput] = InvalidInpu
     return array.astype(float, copy=False)
 
 
-def as_vector(x: np.ndarray, size: int, name: str) -> np.ndarray:
-    """Return ``x`` as a finite float vector of length ``size``, or raise :class:`InvalidInput`."""
-    x = real_array(x, name, InvalidInput)
+def as_vector(
+    x: np.ndarray, size: int, name: str, error: type[InvalidInput] = InvalidInput
+) -> np.ndarray:
+    """Return ``x`` as a finite float vector of length ``size``, or raise ``error`` (an
+    :class:`InvalidInput` subclass) naming it."""
+    x = real_array(x, name, error)
     if x.shape != (size,):
-        raise InvalidInput(f"{name} must have shape ({size},), got {x.shape}")
+        raise error(f"{name} must have shape ({size},), got {x.shape}")
     if not np.all(np.isfinite(x)):
-        raise InvalidInput(f"{name} holds NaN or inf: {x.tolist()}")
+        raise error(f"{name} must be finite, holds NaN or inf: {x.tolist()}")
     return x
 
 
-def as_quaternion(quat: np.ndarray, name: str = "quat", tol: float = 1e-6) -> np.ndarray:
-    """Return a finite unit quaternion ``(w, x, y, z)`` or raise :class:`InvalidInput`."""
+def as_quaternion(
+    quat: np.ndarray, name: str = "quat", tol: float = ROTATION_TOLERANCE
+) -> np.ndarray:
+    """Return a finite unit quaternion ``(w, x, y, z)`` (``|‖quat‖ − 1| ≤ tol``, by default
+    the rotation policy's :data:`ROTATION_TOLERANCE`) or raise :class:`InvalidInput`."""
     quat = as_vector(quat, 4, name)
     norm = float(np.linalg.norm(quat))
     if abs(norm - 1.0) > tol:
@@ -367,7 +387,9 @@ def make_pose(R: np.ndarray, p: np.ndarray) -> np.ndarray:
 
 
 def inverse(T: np.ndarray) -> np.ndarray:
-    """``T⁻¹ = [[Rᵀ, −Rᵀ p], [0, 1]]`` without a general matrix inverse."""
+    """``T⁻¹ = [[Rᵀ, −Rᵀ p], [0, 1]]`` without a general matrix inverse. (MuJoCo's
+    ``mju_negPose`` takes ``(p, quat)``: going there and back through ``mju_mat2Quat`` and
+    ``mju_quat2Mat`` takes 1.3–1.7× the time, 9.3–10.0 against 5.9–7.0 µs, same run.)"""
     Ti = np.eye(4)
     Rt = T[:3, :3].T
     Ti[:3, :3] = Rt
@@ -428,21 +450,22 @@ def so3_exp(omega: np.ndarray) -> np.ndarray:
 def so3_log(R: np.ndarray) -> np.ndarray:
     """``ω = θ u`` with ``exp([ω]) = R`` and ``θ ∈ [0, π]``.
 
-    Goes through the quaternion (``mju_mat2Quat``, Shepperd's robust branch selection), so it
-    stays accurate at θ → 0 (no arccos of the trace) and at θ → π (no division by sin θ).
+    MuJoCo's: the quaternion (``mju_mat2Quat``, Shepperd's robust branch selection) and its
+    rotation vector ``2 atan2(‖x‖, w) x/‖x‖`` (``mju_quat2Vel``, the angle brought into
+    ``[−π, π]``), so it stays accurate at θ → 0 (no arccos of the trace) and at θ → π (no
+    division by sin θ). Below ``θ = 2e-15`` ``mju_normalize3`` replaces the axis by ``x``;
+    there the first-order ``ω = 2 x`` is exact to rounding and is used instead. Measured
+    against the same formula written in Python (2026-11-24, load 1.5, 200 random rotations,
+    same run): 1.77 against 2.55 µs per call, 0.70×, with the same accuracy (at most 1e-15
+    relative from θ = 1e-300 to π); ``mink.SO3.from_matrix(R).log()`` takes 5.7 µs.
     """
     quat = np.empty(4)
     mujoco.mju_mat2Quat(quat, np.ascontiguousarray(R, dtype=float).reshape(9))
-    w, x, y, z = quat
-    if w < 0.0:
-        w, x, y, z = -w, -x, -y, -z
-    s = math.sqrt(x * x + y * y + z * z)
-    if s < 1e-12:
-        # θ = 2 atan2(s, w) ≈ 2 s / w: the vector part carries the axis to first order.
-        scale = 2.0 / w
-    else:
-        scale = 2.0 * math.atan2(s, w) / s
-    return np.array([x * scale, y * scale, z * scale])
+    omega = np.empty(3)
+    mujoco.mju_quat2Vel(omega, quat, 1.0)
+    if omega[1] == 0.0 == omega[2] and abs(quat[1]) < 1e-15:  # the axis MuJoCo substitutes
+        np.multiply(quat[1:], 2.0 if quat[0] >= 0.0 else -2.0, out=omega)
+    return omega
 
 
 def rotation_log(Rd: np.ndarray, R: np.ndarray, out: np.ndarray) -> np.ndarray:
@@ -508,26 +531,136 @@ def se3_log(T: np.ndarray) -> np.ndarray:
     return xi
 
 
+# --------------------------------------------------------------------------------------
+# Inverse left Jacobians (V(ω)⁻¹ is the SO(3) one)
+
+
+@numba.njit(cache=True)
+def _inverse_jacobian_coefficients(theta2: float) -> tuple[float, float]:
+    r"""``(k, b)`` of :func:`so3_left_jacobian_inverse` and :func:`se3_left_jacobian_inverse`
+    at ``θ² = theta2``: ``k = −A/θ² = (1 − (θ/2)\cot(θ/2))/θ²`` and ``b = −(A + Bθ²)/θ⁴``, or
+    below ``θ = 1e-3`` their series ``1/12 + θ²/720`` and ``−1/720`` (exact there to the
+    rounding of ``k``, while the closed forms lose digits to cancellation)."""
+    if theta2 < _SERIES_ANGLE * _SERIES_ANGLE:
+        return 1.0 / 12.0 + theta2 / 720.0, -1.0 / 720.0
+    theta = math.sqrt(theta2)
+    half = 0.5 * theta
+    cot = math.cos(half) / math.sin(half)
+    A = half * cot - 1.0
+    B = 1.0 / (8.0 * math.sin(half) ** 2) - cot / (4.0 * theta)
+    return -A / theta2, -(A + B * theta2) / (theta2 * theta2)
+
+
+@numba.njit(cache=True)
 def apply_inverse_v(
     wx: float, wy: float, wz: float, dx: float, dy: float, dz: float
 ) -> tuple[float, float, float]:
-    r"""``V(ω)⁻¹ d = d − ½ ω × d + c ω × (ω × d)``, the linear part of an SE(3) log.
+    r"""``V(ω)⁻¹ d = d − ½ ω × d + k ω × (ω × d)``, the linear part of an SE(3) log.
 
-    ``V⁻¹ = I − ½[ω] + c [ω]²`` with ``c = (1 − (θ/2) cot(θ/2)) / θ²``, ``θ = ‖ω‖``
-    (Modern Robotics §3.3.3.2), and the series ``c = 1/12 + θ²/720`` below ``θ = 1e-6``.
-    Scalar code, so that numba compiles the same source for the compiled pose residual
-    (:data:`redik.kinematics.compiled.apply_inverse_v`, tested equal): the one home of
-    this formula.
+    ``V(ω)`` is the left Jacobian of SO(3), so ``V⁻¹ = J_l⁻¹(ω) = I − ½[ω] + k [ω]²``
+    (:func:`so3_left_jacobian_inverse`; Modern Robotics §3.3.3.2). Compiled (numba), from
+    floats, so that Python (:func:`se3_log`, 0.22 µs per call against 0.57 µs as Python
+    code, same run, load 1.6) and the compiled pose residual
+    (:func:`redik.tasks.pose_task.pose_residual`) call the same code.
     """
-    theta2 = wx * wx + wy * wy + wz * wz
-    if theta2 < _SMALL_ANGLE * _SMALL_ANGLE:
-        c = 1.0 / 12.0 + theta2 / 720.0
-    else:
-        half = 0.5 * math.sqrt(theta2)
-        c = (1.0 - half * math.cos(half) / math.sin(half)) / theta2
+    k = _inverse_jacobian_coefficients(wx * wx + wy * wy + wz * wz)[0]
     ax, ay, az = wy * dz - wz * dy, wz * dx - wx * dz, wx * dy - wy * dx  # ω × d
     bx, by, bz = wy * az - wz * ay, wz * ax - wx * az, wx * ay - wy * ax  # ω × (ω × d)
-    return dx - 0.5 * ax + c * bx, dy - 0.5 * ay + c * by, dz - 0.5 * az + c * bz
+    return dx - 0.5 * ax + k * bx, dy - 0.5 * ay + k * by, dz - 0.5 * az + k * bz
+
+
+def so3_left_jacobian_inverse(omega: np.ndarray) -> np.ndarray:
+    r"""``J_l⁻¹(ω) = I − ½[ω] + k [ω]²`` (3 × 3) on SO(3), ``k = (1 − (θ/2)\cot(θ/2))/θ²``
+    (Barfoot, *State Estimation for Robotics*, 2017, eq. 7.80): how ``log`` of a rotation
+    moves under a left perturbation, and ``V(ω)⁻¹`` of :func:`apply_inverse_v`. Written with
+    ``[ω]² = ωωᵀ − θ²I``. Why not ``mink.SO3.ljacinv``: it divides by ``1 − cos θ``, which
+    loses the digits at small angles (8e-4 off at θ = 1e-7, inf at 1e-9), and takes 3.5× the
+    time (13.1 against 3.8 µs per call, same run, load 3.1)."""
+    wx, wy, wz = omega.tolist()
+    theta2 = wx * wx + wy * wy + wz * wz
+    k = _inverse_jacobian_coefficients(theta2)[0]
+    s = 1.0 - k * theta2
+    return np.array(
+        (
+            (s + k * wx * wx, 0.5 * wz + k * wx * wy, -0.5 * wy + k * wx * wz),
+            (-0.5 * wz + k * wy * wx, s + k * wy * wy, 0.5 * wx + k * wy * wz),
+            (0.5 * wy + k * wz * wx, -0.5 * wx + k * wz * wy, s + k * wz * wz),
+        )
+    )
+
+
+def se3_left_jacobian_inverse(xi: np.ndarray) -> np.ndarray:
+    r"""``J_l⁻¹(ξ)`` (6 × 6) on SE(3) for a twist ``ξ = (v, ω)``, in closed form.
+
+    ``J_l⁻¹(ξ) = Σ_k (B_k / k!) ad_ξ^k`` (Bernoulli numbers; Barfoot 2017, §7.1.5), with, in
+    ``(v, ω)`` order, :math:`\mathrm{ad}_ξ = \begin{pmatrix} [ω] & [v] \\ 0 & [ω]
+    \end{pmatrix}`. Because :math:`\mathrm{ad}_ξ` satisfies :math:`x (x^2 + θ^2)^2 = 0`, the
+    series collapses to :math:`I - \tfrac12 \mathrm{ad}_ξ + a\, \mathrm{ad}_ξ^2 + b\,
+    \mathrm{ad}_ξ^4` with
+
+    .. math::
+
+        b = -\frac{A + Bθ^2}{θ^4}, \quad a = B + 2 b θ^2, \quad
+        A = \frac{θ}{2}\cot\frac{θ}{2} - 1, \quad
+        B = \frac{1}{8\sin^2(θ/2)} - \frac{\cot(θ/2)}{4θ}
+
+    (matching :math:`\frac{x}{2}\coth\frac{x}{2} - 1` and its derivative at the double
+    eigenvalues :math:`x = \pm iθ`). Expanding the powers with :math:`[ω]^2 = ωω^\top - θ^2 I`
+    and :math:`[ω][v] = vω^\top - (ω·v) I` gives, with :math:`k = a - bθ^2`,
+
+    .. math::
+
+        J_l^{-1}(ξ) = \begin{pmatrix} J_ω & U \\ 0 & J_ω \end{pmatrix}, \qquad
+        \begin{aligned}
+        J_ω &= (1 - k θ^2) I - \tfrac12 [ω] + k\, ωω^\top
+              \quad (:func:`so3_left_jacobian_inverse`), \\
+        U &= -\tfrac12 [v] + k (vω^\top + ωv^\top) - 2b (ω·v)\, ωω^\top
+             + 2(bθ^2 - k)(ω·v)\, I .
+        \end{aligned}
+
+    Tested against the defining series at every angle. Why not ``mink.SE3.ljacinv``: equal
+    to 1e-14 for θ ≥ 0.1, but it returns the identity below θ = 1.5e-8 and is still 0.25
+    off at θ = 1e-6 (``v`` of norm 0.6: the ``−½[v]`` block of a nearly pure translation,
+    where every converging pose error lives), and it takes 17× the time (64 against 3.7 µs
+    per call, 200 random twists, same run, load 3.1).
+    """
+    return np.array(se3_left_jacobian_inverse_entries(*xi.tolist())).reshape(6, 6)
+
+
+@numba.njit(cache=True)
+def se3_left_jacobian_inverse_entries(
+    vx: float, vy: float, vz: float, wx: float, wy: float, wz: float
+) -> tuple[float, ...]:
+    """The 36 entries (row-major) of :func:`se3_left_jacobian_inverse`, from floats:
+    compiled, so that the pose task's compiled residual calls the same code."""
+    theta2 = wx * wx + wy * wy + wz * wz
+    k, b = _inverse_jacobian_coefficients(theta2)
+    s = 1.0 - k * theta2
+    wv = wx * vx + wy * vy + wz * vz
+    m = -2.0 * b * wv
+    d = 2.0 * (b * theta2 - k) * wv
+    j00, j01, j02 = s + k * wx * wx, 0.5 * wz + k * wx * wy, -0.5 * wy + k * wx * wz
+    j10, j11, j12 = -0.5 * wz + k * wy * wx, s + k * wy * wy, 0.5 * wx + k * wy * wz
+    j20, j21, j22 = 0.5 * wy + k * wz * wx, -0.5 * wx + k * wz * wy, s + k * wz * wz
+    u00 = 2.0 * k * vx * wx + m * wx * wx + d
+    u11 = 2.0 * k * vy * wy + m * wy * wy + d
+    u22 = 2.0 * k * vz * wz + m * wz * wz + d
+    u01 = 0.5 * vz + k * (vx * wy + wx * vy) + m * wx * wy
+    u10 = -0.5 * vz + k * (vy * wx + wy * vx) + m * wy * wx
+    u02 = -0.5 * vy + k * (vx * wz + wx * vz) + m * wx * wz
+    u20 = 0.5 * vy + k * (vz * wx + wz * vx) + m * wz * wx
+    u12 = 0.5 * vx + k * (vy * wz + wy * vz) + m * wy * wz
+    u21 = -0.5 * vx + k * (vz * wy + wz * vy) + m * wz * wy
+    # fmt: off
+    return (
+        j00, j01, j02, u00, u01, u02,
+        j10, j11, j12, u10, u11, u12,
+        j20, j21, j22, u20, u21, u22,
+        0.0, 0.0, 0.0, j00, j01, j02,
+        0.0, 0.0, 0.0, j10, j11, j12,
+        0.0, 0.0, 0.0, j20, j21, j22,
+    )
+    # fmt: on
 
 
 # --------------------------------------------------------------------------------------
@@ -559,16 +692,16 @@ def rotation_angle_trace(R_a: np.ndarray, R_b: np.ndarray) -> float:
 
 
 def quaternion_geodesic_distance(q_a: np.ndarray, q_b: np.ndarray) -> float:
-    """Rotation angle between two unit quaternions, ``2 atan2(‖vec(q_a⁻¹ q_b)‖, |w|)``.
+    """Rotation angle between two unit quaternions, ``‖log(q_b⁻¹ q_a)‖`` (``mju_subQuat``).
 
-    Sign-invariant (``q`` and ``−q`` are the same rotation); equals :func:`rotation_angle`
-    of the corresponding matrices, in ``[0, π]``.
+    Sign-invariant (``q`` and ``−q`` are the same rotation: ``mju_quat2Vel`` brings the angle
+    into ``[−π, π]``); equals :func:`rotation_angle` of the corresponding matrices, in
+    ``[0, π]``. One MuJoCo call: 0.58× the time of ``mju_negQuat``, ``mju_mulQuat`` and an
+    ``atan2`` in Python (3.8 against 6.6 µs, same run, load 3.6), the same angle to 9e-16.
     """
-    qa_inv = np.empty(4)
-    mujoco.mju_negQuat(qa_inv, np.asarray(q_a, dtype=float))
-    rel = np.empty(4)
-    mujoco.mju_mulQuat(rel, qa_inv, np.asarray(q_b, dtype=float))
-    return 2.0 * math.atan2(float(np.linalg.norm(rel[1:])), abs(float(rel[0])))
+    rotation = np.empty(3)
+    mujoco.mju_subQuat(rotation, np.asarray(q_b, dtype=float), np.asarray(q_a, dtype=float))
+    return float(np.linalg.norm(rotation))
 
 
 def quaternion_chordal_distance(q_a: np.ndarray, q_b: np.ndarray) -> float:
@@ -593,7 +726,9 @@ def exp_coordinate_difference(T_a: np.ndarray, T_b: np.ndarray) -> np.ndarray:
 def euler_angles(R: np.ndarray, convention: str = "xyz") -> np.ndarray:
     """Euler angles of ``R``: intrinsic ``"xyz"`` (roll-pitch-yaw, ``R = Rx Ry Rz``) or
     ``"zyx"`` (``R = Rz Ry Rx``), or ``"zyz"``. Singular (gimbal lock) where the middle
-    angle is ±π/2 (``xyz``/``zyx``) or 0/π (``zyz``)."""
+    angle is ±π/2 (``xyz``/``zyx``) or 0/π (``zyz``). Equal to scipy's
+    ``Rotation.from_matrix(R).as_euler("XYZ")`` (``"ZYZ"``) to 1.3e-15, in 1/40 of its time
+    (1.3 against 52 µs, same run, load 3.6)."""
     convention = convention.lower()
     if convention == "xyz":
         beta = math.asin(max(-1.0, min(1.0, R[0, 2])))
@@ -651,6 +786,20 @@ def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
     return float(wrapped) if wrapped.ndim == 0 else wrapped
 
 
+def periodic_coordinates(revolute: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """Which coordinates are periodic: rotations whose range spans a full turn,
+    ``upper − lower ≥ 2π`` (an unlimited hinge included).
+
+    Each angle of such a joint has an in-range representative, so redik takes it modulo 2π:
+    solutions and samples that differ by whole turns are one, their differences are wrapped
+    by :func:`wrap_angle`, and a step that leaves the range is wrapped back into it rather
+    than stopped at the limit (:mod:`redik.core.conventions`, Joint vector). The one
+    definition, behind ``Robot.periodic`` and the compiled kernel's mask
+    (:meth:`redik.kinematics.chain.Chain.kernel_arrays`).
+    """
+    return np.asarray(revolute, dtype=bool) & (np.subtract(upper, lower) >= 2.0 * np.pi)
+
+
 def pose_errors(T: np.ndarray, T_target: np.ndarray) -> tuple[float, float]:
     """``(‖p_d − p‖, angle(Rᵀ R_d))``: the position (m) and rotation (rad) errors."""
     return position_distance(T, T_target), rotation_angle(T[:3, :3], T_target[:3, :3])
@@ -663,26 +812,17 @@ def pose_errors(T: np.ndarray, T_target: np.ndarray) -> tuple[float, float]:
 def slerp(q_a: np.ndarray, q_b: np.ndarray, t: float) -> np.ndarray:
     """Spherical linear interpolation between unit quaternions along the shorter arc.
 
-    ``slerp(q_a, q_b, t) = q_a (q_a⁻¹ q_b)^t``: constant angular speed, ``t = 0`` gives
-    ``q_a`` and ``t = 1`` gives ``±q_b`` (the same rotation). Shoemake (1985).
+    ``slerp(q_a, q_b, t) = q_a exp(t log(q_a⁻¹ q_b))``: constant angular speed, ``t = 0``
+    gives ``q_a`` and ``t = 1`` gives ``±q_b`` (the same rotation). Shoemake (1985). Two
+    MuJoCo calls: ``mju_subQuat`` (the log, its angle brought into ``[−π, π]``: the shorter
+    arc) and ``mju_quatIntegrate``; 0.2× the time of the same steps through
+    ``mju_negQuat``, ``mju_mulQuat``, ``mju_quat2Vel`` and ``mju_axisAngle2Quat`` (2.5
+    against 12.7 µs, same run, load 3.6), the same quaternions to 5e-16.
     """
-    q_a = np.asarray(q_a, dtype=float)
-    q_b = np.asarray(q_b, dtype=float)
-    if float(q_a @ q_b) < 0.0:
-        q_b = -q_b
-    qa_inv = np.empty(4)
-    mujoco.mju_negQuat(qa_inv, q_a)
-    rel = np.empty(4)
-    mujoco.mju_mulQuat(rel, qa_inv, q_b)
+    out = np.array(q_a, dtype=float)
     velocity = np.empty(3)
-    mujoco.mju_quat2Vel(velocity, rel, 1.0)  # rel = exp(velocity): the relative rotation vector
-    step = np.empty(4)
-    angle = float(np.linalg.norm(velocity))
-    if angle < 1e-15:
-        return q_a.copy()
-    mujoco.mju_axisAngle2Quat(step, velocity / angle, t * angle)
-    out = np.empty(4)
-    mujoco.mju_mulQuat(out, q_a, step)
+    mujoco.mju_subQuat(velocity, np.asarray(q_b, dtype=float), out)
+    mujoco.mju_quatIntegrate(out, velocity, t)
     return out
 
 

@@ -62,6 +62,7 @@ def test_kernel_pose_error_matches_the_batched_rotation_log(rng):
     Rd, R = random_rotations(50, seed=3), random_rotations(50, seed=4)
     axis = np.array([0.0, 0.6, 0.8])
     Rd[0] = R[0] @ redik.lie.so3_exp(axis * (np.pi - 1e-9))  # near θ = π
+    Rd[1] = redik.lie.so3_exp(axis * 1e-9) @ R[1]  # near θ = 0
     expected = np.empty((3, 50))
     angles = rotation_log(Rd.transpose(1, 2, 0).copy(), R.transpose(1, 2, 0).copy(), expected)
     pd, p = rng.standard_normal((50, 3)), rng.standard_normal((50, 3))
@@ -74,6 +75,8 @@ def test_kernel_pose_error_matches_the_batched_rotation_log(rng):
         np.testing.assert_allclose(
             redik.lie.so3_exp(e[3:]), redik.lie.so3_exp(expected[:, i]), atol=1e-9
         )
+        if i > 0:  # one vector away from θ = π (there ±axis are both logs)
+            np.testing.assert_allclose(e[3:], expected[:, i], rtol=1e-12, atol=1e-15)
 
 
 @pytest.mark.parametrize("n", [3, 6, 7])

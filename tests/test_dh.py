@@ -147,3 +147,10 @@ def test_bad_arguments_are_rejected():
     with pytest.raises(InvalidInput, match=r"DHRow\.joint"):
         dh.DHRow(1.0, 0.0, 0.0, joint="spherical")
     assert dh.parse_convention("MDH") == "modified"
+
+
+def test_complex_or_string_joint_values_are_refused_not_truncated():
+    rows = [(1.0, 0.0, 0.0), (1.0, 0.0, 0.0)]
+    for q in ([0.5 + 1j, 0.0], ["0.5", "0"]):
+        with pytest.raises(InvalidConfiguration, match="q must hold real numbers"):
+            dh.forward(rows, q)

@@ -25,7 +25,9 @@ def random_pose(rng: np.random.Generator) -> np.ndarray:
     return lie.make_pose(random_rotation(rng), rng.uniform(-2, 2, 3))
 
 
-@pytest.mark.parametrize("angle", [0.0, 1e-12, 1e-7, 1e-3, 0.5, 2.0, math.pi - 1e-6, math.pi])
+@pytest.mark.parametrize(
+    "angle", [0.0, 1e-300, 1e-16, 1e-12, 1e-7, 1e-3, 0.5, 2.0, math.pi - 1e-6, math.pi]
+)
 def test_so3_log_inverts_exp_at_every_angle(rng, angle):
     for _ in range(20):
         axis = rng.normal(size=3)
@@ -33,7 +35,9 @@ def test_so3_log_inverts_exp_at_every_angle(rng, angle):
         R = lie.so3_exp(omega)
         np.testing.assert_allclose(R.T @ R, np.eye(3), atol=1e-14)
         back = lie.so3_log(R)
-        if angle < math.pi - 1e-3:
+        if angle <= 1e-3:  # relative: below 2e-15 rad MuJoCo's quat2Vel loses the axis
+            assert np.abs(back - omega).max() <= 1e-14 * angle
+        elif angle < math.pi - 1e-3:
             np.testing.assert_allclose(back, omega, atol=1e-12)
         else:  # ±axis both valid at π: compare the rotations
             np.testing.assert_allclose(lie.so3_exp(back), R, atol=1e-9)
@@ -366,6 +370,28 @@ def test_analytic_wraps_with_the_same_function():
     assert analytic.wrap_angle is lie.wrap_angle
 
 
+def test_the_compiled_twins_in_the_closed_form_kernels_equal_lie(rng):
+    # The decomposition kernels (numba, one scalar at a time) wrap and rotate with their own
+    # compiled twins of wrap_angle and so3_exp: equal to the references, bit for bit for the
+    # wrap over the few turns a kernel angle spans.
+    from redik.solvers.analytic._decomposed_kernels import _wrap
+    from redik.solvers.analytic.subproblems import rotate
+
+    turns = np.pi * np.arange(-9, 10, 2)
+    angles = np.concatenate(
+        [rng.uniform(-9 * np.pi, 9 * np.pi, 2000), turns, np.nextafter(turns, np.inf)]
+    )
+    angles = np.concatenate([angles, np.nextafter(turns, -np.inf)])
+    np.testing.assert_array_equal([_wrap(a) for a in angles], lie.wrap_angle(angles))
+    large = np.concatenate([rng.uniform(-1e6, 1e6, 200), [1e300, -1e300, 7.5 * np.pi]])
+    np.testing.assert_array_equal([_wrap(a) for a in large], lie.wrap_angle(large))
+    for _ in range(50):
+        k, p = rng.standard_normal(3), rng.standard_normal(3)
+        k /= np.linalg.norm(k)
+        theta = rng.uniform(-4, 4)
+        np.testing.assert_allclose(rotate(k, theta, p), lie.so3_exp(theta * k) @ p, atol=1e-14)
+
+
 def test_the_policy_helpers_refuse_non_numeric_input():
     # Found by the fuzzing of lie's public helpers: np.linalg.svd / np.fmod raised raw
     # TypeErrors and ValueErrors on strings, None and ragged lists.
@@ -383,10 +409,8 @@ def test_the_policy_helpers_refuse_non_numeric_input():
         lie.check_rotations(np.eye(3))
 
 
-def test_apply_inverse_v_inverts_v_and_its_compiled_twin_agrees(rng):
-    from redik.kinematics.compiled import apply_inverse_v
-
-    for angle in (0.0, 1e-9, 1e-7, 2e-6, 1e-3, 0.5, 2.0, np.pi - 1e-6):
+def test_apply_inverse_v_inverts_v_and_is_the_so3_inverse_left_jacobian(rng):
+    for angle in (0.0, 1e-9, 1e-7, 2e-6, 0.999e-3, 1.001e-3, 0.5, 2.0, np.pi - 1e-6):
         axis = rng.standard_normal(3)
         omega, p = angle * axis / np.linalg.norm(axis), rng.standard_normal(3)
         W = lie.skew(omega)
@@ -400,7 +424,36 @@ def test_apply_inverse_v_inverts_v_and_its_compiled_twin_agrees(rng):
         V = np.eye(3) + a * W + b * W @ W
         v = lie.apply_inverse_v(*omega, *p)
         np.testing.assert_allclose(V @ v, p, rtol=0, atol=1e-12 * max(1.0, 1.0 / (np.pi - angle)))
-        np.testing.assert_allclose(apply_inverse_v(*omega, *p), v, rtol=1e-14, atol=1e-15)
+        # One formula: V(ω)⁻¹ is J_l⁻¹(ω) on SO(3), the block of the SE(3) one.
+        np.testing.assert_allclose(lie.so3_left_jacobian_inverse(omega) @ p, v, atol=1e-14)
+
+
+def series_left_jacobian_inverse(xi: np.ndarray) -> np.ndarray:
+    """(Σ ad^k/(k+1)!)⁻¹: the definition, summed to convergence."""
+    ad = np.zeros((6, 6))
+    ad[:3, :3] = ad[3:, 3:] = lie.skew(xi[3:])
+    ad[:3, 3:] = lie.skew(xi[:3])
+    J, power = np.zeros((6, 6)), np.eye(6)
+    for k in range(40):
+        J += power / math.factorial(k + 1)
+        power = power @ ad
+    return np.linalg.inv(J)
+
+
+@pytest.mark.parametrize("angle", [0.0, 1e-9, 1e-4, 0.999e-3, 1.001e-3, 0.1, 1.0, 2.5, 3.1])
+def test_left_jacobian_inverse_closed_form_matches_its_series_and_mink(angle, rng):
+    xi = rng.normal(size=6)
+    xi[3:] *= angle / np.linalg.norm(xi[3:])
+    reference = series_left_jacobian_inverse(xi)
+    np.testing.assert_allclose(lie.se3_left_jacobian_inverse(xi), reference, atol=1e-12)
+    so3 = lie.so3_left_jacobian_inverse(xi[3:])
+    np.testing.assert_allclose(so3, reference[3:, 3:], atol=1e-12)
+    if angle >= 0.1:  # below, mink's closed form divides by 1 − cos θ (5e-9 off at 1e-4,
+        # 8e-4 at 1e-7, inf at 1e-9), and returns the identity on SE(3) for θ < 1.5e-8
+        np.testing.assert_allclose(so3, mink.SO3.ljacinv(xi[3:]), atol=1e-12)
+        np.testing.assert_allclose(
+            lie.se3_left_jacobian_inverse(xi), mink.SE3.ljacinv(xi), atol=1e-11
+        )
 
 
 @pytest.mark.parametrize("batch", [(), (5,), (2, 3)])

@@ -35,6 +35,34 @@ def test_position_box_never_shrinks_past_a_quarter_range(arm):
     assert np.all(lower <= upper)
 
 
+def test_a_periodic_position_limit_leaves_full_turn_joints_unboxed_and_wraps_them(rng):
+    ur5e = redik.load("ur5e")  # ±2π everywhere, the elbow ±π (a full turn too)
+    panda = redik.load("panda")
+    assert not PositionLimit(periodic=True).bind(panda).turning.any()  # ranges below a turn
+    limit = PositionLimit(periodic=True).bind(ur5e, tolerance=1e-9)
+    assert limit.turning.all()
+    lower, upper = np.empty(6), np.empty(6)
+    limit.set_bounds(ur5e.home, None, lower, upper)
+    assert np.all(lower == -np.inf) and np.all(upper == np.inf)
+    q = ur5e.random_q(rng) + 2 * np.pi * np.array([2, -1, 1, 0, -3, 0])
+    wrapped = limit.wrap(q)
+    assert ur5e.within_limits(wrapped)
+    np.testing.assert_allclose(ur5e.fk(wrapped), ur5e.fk(q), atol=1e-9)
+    inside = ur5e.random_q(rng)
+    assert limit.wrap(inside) is inside  # nothing outside: untouched, bit for bit
+    assert not PositionLimit().bind(ur5e).turning.any()
+    with pytest.raises(InvalidInput, match="periodic"):
+        PositionLimit(periodic="yes")
+    # Problem.solve turns every iterate back into range.
+    T = ur5e.fk(np.array([-0.3, -1.2, 1.4, -1.8, -1.5, 0.4]))
+    start = np.array([ur5e.lower[0] + 0.05, -1.2, 1.4, -1.8, -1.5, 0.4])
+    boxed = Problem(ur5e, [PoseTask(T)]).solve(start)
+    periodic = Problem(ur5e, [PoseTask(T)], [PositionLimit(periodic=True)]).solve(start)
+    assert not boxed.success  # stuck against the shoulder's lower bound
+    assert periodic.success and periodic.iterations < 10
+    assert all(ur5e.within_limits(q) for q in periodic.history)
+
+
 def test_velocity_limit_forms_and_errors(arm):
     lower, upper = np.full(7, -np.inf), np.full(7, np.inf)
     VelocityLimit(2.0).bind(arm).bounds_into(arm.home, 0.1, lower, upper)

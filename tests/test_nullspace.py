@@ -180,3 +180,32 @@ def test_qp_priority_level_equals_the_nullspace_formula(panda, rng):
     dq_formula = nullspace_velocity(J, -pose.gain * e, -posture.gain * e_posture)
     # Equal up to the QP back-end's tolerance (~1e-6 here).
     assert np.allclose(dq_qp, dq_formula, atol=2e-5 * max(1.0, np.linalg.norm(dq_formula)))
+
+
+def test_gradient_projection_ik_still_found_at_its_old_home_with_a_warning():
+    from redik.solvers.redundancy import gradient_projection, nullspace
+
+    with pytest.warns(DeprecationWarning, match="gradient_projection"):
+        assert nullspace.gradient_projection_ik is gradient_projection.gradient_projection_ik
+    with pytest.raises(AttributeError):
+        nullspace.no_such_name  # noqa: B018
+
+
+def test_nullspace_basis_of_a_stack_is_each_basis(rng):
+    J = rng.standard_normal((5, 6, 8))
+    bases = nullspace_basis(J, 2)
+    assert bases.shape == (5, 8, 2)
+    for Ji, Ni in zip(J, bases, strict=True):
+        np.testing.assert_allclose(np.abs(Ni), np.abs(nullspace_basis(Ji, 2)), atol=1e-12)
+        np.testing.assert_allclose(Ji @ Ni, 0.0, atol=1e-12)
+
+
+def test_damped_pseudo_inverse_is_the_damped_least_squares_step(panda, rng):
+    # One formula, Jᵀ(JJᵀ + λ²I)⁻¹: as a matrix here, as a step in kinematics.dls.
+    from redik.kinematics.dls import damped_step
+
+    J = panda.jacobian(panda.random_q(rng))
+    e = rng.standard_normal(6)
+    for damping in (1e-3, 0.1, 1.0):
+        step = damped_step(J[:, :, None], e[:, None], np.array([damping**2]))[:, 0]
+        np.testing.assert_allclose(pseudo_inverse(J, damping) @ e, step, rtol=1e-10, atol=1e-12)

@@ -261,6 +261,54 @@ def test_solve_finishes_the_lower_level_at_the_constrained_optimum(panda, rng):
         assert cost(result.q) == pytest.approx(cost(reference.x), abs=1e-9)
 
 
+def test_the_lower_level_converges_fast_once_level_0_holds(panda):
+    """panda_reach's first 20 targets (tasks/panda_reach.py): with joint-limit avoidance
+    below the pose, level 1's own Hessian ignores the curvature of the pose manifold, and
+    the lower level converged linearly (ratio up to 0.89 per iteration: target 18 used all
+    100 iterations and ended not stationary at 8e-8). With the curvature term each target
+    ends stationary well within the budget."""
+    T_home = panda.fk(panda.home)
+    rng = np.random.default_rng(0)
+    targets = [
+        lie.make_pose(
+            T_home[:3, :3] @ lie.so3_exp(rng.uniform(-0.5, 0.5, 3)),
+            T_home[:3, 3] + rng.uniform(-0.2, 0.2, 3),
+        )
+        for _ in range(20)
+    ]
+    iterations = []
+    for T in targets:
+        result = Problem(panda, [PoseTask(T), JointLimitAvoidanceTask(priority=1)]).solve(
+            panda.home
+        )
+        assert result.success and result.stationary
+        iterations.append(result.iterations)
+    assert max(iterations) <= 15 and np.mean(iterations) < 8
+
+
+def test_level0_null_space_is_computed_once_per_iteration(panda, rng, monkeypatch):
+    import redik.qp.hierarchy
+    import redik.solvers.problem
+
+    calls = []
+    original = redik.qp.hierarchy.row_null_space
+
+    def counted(A, rank_tol):
+        calls.append(1)
+        return original(A, rank_tol)
+
+    monkeypatch.setattr(redik.solvers.problem, "row_null_space", counted)
+    monkeypatch.setattr(redik.qp.hierarchy, "row_null_space", counted)
+    q0, T = nearby_targets(panda, rng, 1)[0]
+    problem = Problem(panda, [PoseTask(T), PostureTask(q0, gain=0.5, priority=1)])
+    early = problem.solve(q0, stationarity_tol=None)
+    calls.clear()
+    result = problem.solve(q0)
+    assert result.stationary and result.iterations > early.iterations  # it finished level 1
+    # One per step, and one for the stationarity test of the q it stops at.
+    assert len(calls) == result.iterations + 1
+
+
 def test_stationarity_is_reported_as_unmet_when_the_budget_runs_out(panda, rng):
     q0, T = nearby_targets(panda, rng, 1)[0]
     problem = Problem(panda, [PoseTask(T), PostureTask(panda.home, gain=0.05, priority=1)])
@@ -295,6 +343,26 @@ def test_patience_ends_an_attempt_that_stops_making_progress(panda):
             problem.solve(panda.home, patience=3, progress=progress)
 
 
+def test_plateau_ends_an_attempt_at_the_first_flat_step(panda):
+    far = np.eye(4)
+    far[:3, 3] = (3.0, 0.0, 0.0)  # out of reach: the error plateaus
+    problem = Problem(panda, [PoseTask(far)])
+    flat = problem.solve(panda.home, max_iter=200, plateau=0.01)
+    patient = problem.solve(panda.home, max_iter=200, patience=5)
+    assert flat.status == "stalled" and flat.iterations < patient.iterations
+    squared = flat.error_history**2
+    assert squared[-1] > 0.99 * squared[-2]  # it stopped at a step that gained < 1 %...
+    assert all(
+        squared[k] <= 0.99 * squared[k - 1] for k in range(1, len(squared) - 1)
+    )  # ...the first
+    for plateau in (0.0, 1.0, float("nan"), "0.1"):
+        with pytest.raises(InvalidInput, match="plateau"):
+            problem.solve(panda.home, plateau=plateau)
+    # A converging solve is not stopped by it.
+    q0, T = panda.home, panda.fk(np.clip(panda.home + 0.2, panda.lower, panda.upper))
+    assert Problem(panda, [PoseTask(T)]).solve(q0, plateau=0.01).success
+
+
 def test_solve_pose_qp_restarts_from_the_nearest_candidate(panda, rng):
     from redik.solvers.pose.qp import _nearest_start
 
@@ -308,9 +376,77 @@ def test_solve_pose_qp_restarts_from_the_nearest_candidate(panda, rng):
         for q in candidates
     ]
     np.testing.assert_array_equal(start, candidates[int(np.argmin(distances))])
+    # The compiled chain's pick is the same.
+    from redik.solvers.pose.qp import _chain_of
+
+    chain = _chain_of(panda, task.frame)
+    assert chain is not None and _chain_of(panda, task.frame) is chain  # kept
+    for seed in range(10):
+        np.testing.assert_array_equal(
+            _nearest_start(panda, task, np.random.default_rng(seed), 16, chain),
+            _nearest_start(panda, task, np.random.default_rng(seed), 16),
+        )
     assert problem.levels == [0]
     with pytest.raises(InvalidInput, match="candidates"):
         solve_pose_qp(panda, task.target, panda.home, candidates=0)
+
+
+def test_solve_pose_qp_turns_full_turn_joints_instead_of_stopping_at_their_bounds():
+    # UR5e joints span ±2π. From the shoulder near its lower bound, the short way to a target
+    # at q₀ = −0.3 (≡ −2π − 0.3) runs into that bound. Periodic, the joint passes it and is
+    # turned back into range: no restart. With extra tasks the box stays; the attempt stalls
+    # at the bound, and the restart starts from the same configuration turned by 2π. A
+    # random restart would land on another of the arm's up to eight solutions.
+    ur5e = redik.load("ur5e")
+    q_star = np.array([-0.3, -1.2, 1.4, -1.8, -1.5, 0.4])
+    start = q_star.copy()
+    start[0] = ur5e.lower[0] + 0.05
+    result = solve_pose_qp(ur5e, ur5e.fk(q_star), start, restarts=1, seed=3)
+    assert result.success and result.restarts == 0 and ur5e.within_limits(result.q)
+    assert np.all(result.history >= ur5e.lower) and np.all(result.history <= ur5e.upper)
+    np.testing.assert_allclose(result.q, q_star, atol=1e-5)
+    extra = [PostureTask(priority=1)]  # no freedom left on a 6-joint arm: the pose alone
+    result = solve_pose_qp(ur5e, ur5e.fk(q_star), start, restarts=1, seed=3, tasks=extra)
+    assert result.success and result.restarts == 1
+    np.testing.assert_allclose(result.q, q_star, atol=1e-5)
+
+
+def test_solve_pose_qp_reuses_its_problem_and_stays_reproducible(rng):
+    from redik.solvers.pose.cache import PoseCache
+
+    robot = redik.load("panda")  # a fresh robot: an empty solver cache
+    targets = [robot.fk(q) for q in robot.random_q(rng, size=6)]
+    starts = robot.random_q(rng, size=6)
+    first = [solve_pose_qp(robot, T, q0, restarts=5, seed=i) for i, (T, q0) in
+             enumerate(zip(targets, starts, strict=True))]  # fmt: skip
+    assert len(PoseCache.of(robot).qp_problems) == 1
+    # In reverse order: each call sets its own target and owes nothing to the calls before.
+    for i in reversed(range(6)):
+        again = solve_pose_qp(robot, targets[i], starts[i], restarts=5, seed=i)
+        assert again.success == first[i].success and again.iterations == first[i].iterations
+        np.testing.assert_array_equal(again.q, first[i].q)
+        assert lie.pose_errors(robot.fk(again.q), targets[i])[0] <= 1e-6 or not again.success
+    # Extra tasks or another back-end: a problem of their own, not cached.
+    solve_pose_qp(robot, targets[0], starts[0], backend="proxsuite")
+    solve_pose_qp(robot, targets[0], starts[0], tasks=[PostureTask(priority=1)])
+    assert len(PoseCache.of(robot).qp_problems) == 1
+
+
+def test_unwound_turns_only_revolute_joints_with_room_for_a_turn(panda):
+    from redik.solvers.pose.qp import _unwound
+
+    ur5e = redik.load("ur5e")
+    q = np.zeros(6)
+    q[0], q[1], q[4] = ur5e.lower[0], ur5e.upper[1] - 0.5, ur5e.upper[4]
+    turned = _unwound(ur5e, q)
+    # Joints 0 and 4 sit against a bound of ±2π; joint 1 is inside its range.
+    np.testing.assert_allclose(turned - q, [2 * np.pi, 0, 0, 0, -2 * np.pi, 0])
+    np.testing.assert_allclose(ur5e.fk(turned), ur5e.fk(q), atol=1e-12)
+    assert _unwound(ur5e, np.zeros(6)) is None
+    q[:] = 0.0
+    q[2] = ur5e.upper[2]  # the elbow spans exactly one turn: π is −π, room on the other side
+    assert _unwound(ur5e, q)[2] == pytest.approx(ur5e.upper[2] - 2 * np.pi)
+    assert _unwound(panda, panda.lower.copy()) is None  # panda's ranges are below a turn
 
 
 def test_the_stationarity_test_accounts_for_active_limits(panda):

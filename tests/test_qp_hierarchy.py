@@ -107,6 +107,86 @@ def test_solve_lexicographic_on_a_synthetic_hierarchy():
     np.testing.assert_allclose(x, [2.0, -1.0, -0.5], atol=1e-6)
 
 
+def test_a_second_order_term_changes_level_1_model_only_when_it_stays_convex():
+    # Level 0 fixes x0 + x1 = 1 (null space: (1, −1)/√2); level 1 wants x = (3, 0, 0).
+    A0 = np.array([[1.0, 1.0, 0.0]])
+    eps = 1e-9
+    objectives = [
+        (A0.T @ A0 + eps * np.eye(3), -A0.T @ np.array([1.0])),
+        (np.diag([1.0, 1.0, 1.0]) + eps * np.eye(3), -np.array([3.0, 0.0, 0.0])),
+    ]
+    plain = solve_lexicographic(objectives, [make_backend("daqp") for _ in objectives], damping=eps)
+
+    def run(m, **bounds):
+        backends = [make_backend("daqp") for _ in objectives]
+        seen = []
+
+        def curvature1(N):
+            seen.append(N.shape)
+            return m * np.eye(N.shape[1])
+
+        x = solve_lexicographic(objectives, backends, damping=eps, curvature1=curvature1, **bounds)
+        assert seen and seen[0][0] == 3
+        return x
+
+    # The reduced model: h = 1 (+ m) along u = (1, −1, 0)/√2 and 1 along e₂; the level-1
+    # gradient at level 0's x = (½, ½, 0) along u is −3/√2: the step along u is 3/(√2 (1 + m)).
+    u = np.array([1.0, -1.0, 0.0]) / np.sqrt(2.0)
+    for m in (1.0, -0.5):
+        np.testing.assert_allclose(run(m), [0.5, 0.5, 0.0] + 3.0 / np.sqrt(2.0) / (1 + m) * u,
+                                   atol=1e-7)  # fmt: skip
+    # Not convex enough (1 − 0.995 < the margin): level 1's own Hessian, the plain step.
+    np.testing.assert_allclose(run(-0.995), plain, atol=1e-9)
+    # Through the one-variable path (a box and a third level-0 row leave one direction).
+    objectives[0] = (objectives[0][0] + np.diag([0.0, 0.0, 1.0]), objectives[0][1])
+    lb, ub = np.full(3, -10.0), np.full(3, 10.0)
+    plain = solve_lexicographic(
+        objectives, [make_backend("daqp") for _ in objectives], lb, ub, damping=eps
+    )
+    np.testing.assert_allclose(plain, [2.0, -1.0, 0.0], atol=1e-6)
+    np.testing.assert_allclose(run(1.0, lb=lb, ub=ub), [1.25, -0.25, 0.0], atol=1e-6)
+    np.testing.assert_allclose(run(-0.995, lb=lb, ub=ub), plain, atol=1e-9)
+
+
+def test_a_least_squares_level_skips_a_tolerance_based_back_end_when_no_bound_binds(rng):
+    from redik.qp.hierarchy import least_squares_minimiser
+
+    A, b = rng.normal(size=(6, 7)), rng.normal(size=6)
+    eps = 1e-9
+    H, c = A.T @ A + eps * np.eye(7), -A.T @ b
+    # The reference from the augmented least squares [A; √ε I] x ≈ [b; 0] (H's own solve
+    # loses ~1e-7 to its condition number σ²/ε).
+    exact = np.linalg.lstsq(np.vstack([A, np.sqrt(eps) * np.eye(7)]), np.r_[b, np.zeros(7)])[0]
+    wide = np.full(7, 1e3)
+    np.testing.assert_allclose(least_squares_minimiser(A, b, eps, -wide, wide, None, None, None),
+                               exact, atol=1e-9)  # fmt: skip
+    tight = np.abs(exact).max() / 2
+    assert least_squares_minimiser(A, b, eps, -wide / wide * tight, wide / wide * tight,
+                                   None, None, None) is None  # fmt: skip
+    row = np.eye(7)[:1]
+    assert least_squares_minimiser(A, b, eps, None, None, row, exact[:1] + 0.1, [np.inf]) is None
+    assert (
+        least_squares_minimiser(
+            rng.normal(size=(7, 7)), rng.normal(size=7), eps, None, None, None, None, None
+        )
+        is None
+    )  # fmt: skip  (not wide)
+    # A two-level step on proxsuite is then exact where no bound binds (ProxQP alone stops
+    # up to ~1e-7 away along the near-null directions of H = AᵀA + εI), and a binding
+    # bound still goes to the back-end.
+    H1, c1 = np.eye(7) + eps * np.eye(7), -np.arange(7.0)
+    objectives = [(H, c), (H1, c1)]
+    for bound, atol in ((wide, 1e-10), (np.full(7, tight), 1e-5)):
+        x, reference = (
+            solve_lexicographic(
+                objectives, [make_backend(name) for _ in objectives], -bound, bound,
+                damping=eps, rows0=A, rhs0=b,
+            )
+            for name in ("proxsuite", "quadprog")
+        )  # fmt: skip
+        np.testing.assert_allclose(x, reference, atol=atol)
+
+
 def test_free_directions_drop_the_linear_term_direction():
     H = np.diag([1.0, 0.0, 0.0])
     N = free_directions(H, np.zeros(3), 1e-10)

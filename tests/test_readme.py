@@ -39,3 +39,26 @@ def test_readme_public_api_is_redik_all():
     )
     for name in listed:
         assert hasattr(redik, name), name
+
+
+def test_the_one_home_table_names_functions_and_tests_that_exist():
+    import importlib
+
+    text = README.read_text()
+    table = text[text.index("| formula | home |") : text.index("Reused rather than written")]
+    rows = [line for line in table.splitlines()[2:] if line.startswith("|")]
+    assert len(rows) >= 15
+    tests = Path(__file__).resolve().parent
+    for row in rows:
+        _, _, home, twin, pinned, _ = row.split("|")
+        for name in re.findall(r"`([a-z_][\w.]*\.\w+)`", home + twin):
+            module_path, attribute = name.rsplit(".", 1)
+            try:
+                module = importlib.import_module(f"redik.{module_path}")
+            except ModuleNotFoundError:  # a class attribute: redik.<module>.<Class>.<method>
+                module_path, owner = module_path.rsplit(".", 1)
+                module = getattr(importlib.import_module(f"redik.{module_path}"), owner)
+            assert hasattr(module, attribute), f"README names redik.{name}, which does not exist"
+        for file, test in re.findall(r"`(test_\w+\.py)::(test_\w+)`", pinned):
+            source = (tests / file).read_text()
+            assert f"def {test}(" in source, f"README names {file}::{test}, which does not exist"

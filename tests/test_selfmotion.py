@@ -19,8 +19,8 @@ from redik.solvers.redundancy import (
     gradient_projection_ik,
 )
 from redik.solvers.redundancy.corrector import (
-    POSITION_TOLERANCE,
-    ROTATION_TOLERANCE,
+    SAMPLE_POSITION_TOLERANCE,
+    SAMPLE_ROTATION_TOLERANCE,
     BatchCorrector,
     Corrector,
 )
@@ -39,11 +39,11 @@ def without_limits(scene: str) -> redik.Robot:
 
 def assert_every_sample_keeps_the_pose(robot: redik.Robot, motion: SelfMotion) -> None:
     assert len(motion) > 0
-    assert motion.position_error.max() <= POSITION_TOLERANCE
-    assert motion.rotation_error.max() <= ROTATION_TOLERANCE
+    assert motion.position_error.max() <= SAMPLE_POSITION_TOLERANCE
+    assert motion.rotation_error.max() <= SAMPLE_ROTATION_TOLERANCE
     for q in motion.samples[:: max(1, len(motion) // 50)]:  # recomputed independently
         position, rotation = redik.lie.pose_errors(robot.fk(q), motion.T_target)
-        assert position <= POSITION_TOLERANCE and rotation <= ROTATION_TOLERANCE
+        assert position <= SAMPLE_POSITION_TOLERANCE and rotation <= SAMPLE_ROTATION_TOLERANCE
         assert robot.within_limits(q)
 
 
@@ -189,7 +189,10 @@ def test_batch_corrector_projects_onto_the_pose_and_spans_the_tangent_plane(dext
     assert converged.all()
     for x in corrected:  # MuJoCo's kinematics, not the batch chain's
         position, rotation = corrector.pose_errors(x)
-        assert position <= 0.01 * POSITION_TOLERANCE and rotation <= 0.01 * ROTATION_TOLERANCE
+        assert (
+            position <= 0.01 * SAMPLE_POSITION_TOLERANCE
+            and rotation <= 0.01 * SAMPLE_ROTATION_TOLERANCE
+        )
     # The same projection as one point at a time, to within the corrector's tolerance.
     one_by_one = np.array([corrector.correct(x)[0] for x in predictions[:5]])
     assert np.allclose(corrected[:5], one_by_one, atol=1e-3)
@@ -213,7 +216,7 @@ def test_limit_points_lie_on_a_limit_and_keep_the_pose():
     points, placed = BatchCorrector(corrector).limit_points(inside[None], outside[None])
     assert placed.all()
     position, rotation = corrector.pose_errors(points[0])
-    assert position <= POSITION_TOLERANCE and rotation <= ROTATION_TOLERANCE
+    assert position <= SAMPLE_POSITION_TOLERANCE and rotation <= SAMPLE_ROTATION_TOLERANCE
     assert points[0][2] == robot.upper[2] and robot.within_limits(points[0])
     assert np.linalg.norm(points[0] - inside) < np.linalg.norm(outside - inside)
 
@@ -295,7 +298,7 @@ def test_explore_cli_writes_samples_summary_and_pictures(tmp_path, monkeypatch):
     args = ["explore", "panda", "--pose", "0.4", "0.1", "0.5", "0", "1", "0", "0", "--starts", "16"]
     assert main([*args, "--out", str(out), "--frames", "3", "--size", "96", "72", "--no-mp4"]) == 0
     summary = json.loads((out / "summary.json").read_text())
-    assert summary["samples"] > 0 and summary["max_position_error"] <= POSITION_TOLERANCE
+    assert summary["samples"] > 0 and summary["max_position_error"] <= SAMPLE_POSITION_TOLERANCE
     assert np.allclose(np.array(summary["T_target"])[:3, 3], [0.4, 0.1, 0.5])
     assert np.load(out / "samples.npz")["samples"].shape == (summary["samples"], 7)
     for name in ("manifold_component", "manifold_manipulability", "selfmotion"):
@@ -377,3 +380,17 @@ def test_explore_cli_reports_an_unreachable_pose(tmp_path, capsys):
     assert "unreachable" in out and "none of 2 IK starts" in out
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["status"] == "unreachable" and summary["max_position_error"] is None
+
+
+def test_the_corrector_takes_the_ikinbody_newton_steps_of_solve_pose(panda, rng):
+    # One IKinBody step q ← q + J_b⁺ log(T⁻¹ T_d): the pose solver's Newton and the
+    # self-motion corrector iterate alike (one through pinv, one through JJᵀ).
+    T = panda.fk(panda.random_q(rng))
+    q = panda.random_q(rng)
+    newton = redik.solve_pose(
+        panda, T, q, method="newton", respect_limits=False, restarts=0, max_iter=3
+    )
+    corrector = Corrector(panda, T, panda.ee)
+    for iterate in newton.history[1:]:
+        q, _ = corrector.correct(q, max_iterations=1)
+        np.testing.assert_allclose(q, iterate, atol=1e-12)

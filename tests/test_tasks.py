@@ -21,7 +21,6 @@ from redik.tasks import (
     PositionTask,
     PostureTask,
 )
-from redik.tasks.frame_task import se3_left_jacobian_inverse, so3_left_jacobian_inverse
 
 H = 1e-6  # central differences: truncation O(h²) ≈ 1e-12, rounding ≈ 1e-10
 
@@ -93,27 +92,6 @@ def test_pose_task_matches_mink_frame_task(rng):
         np.testing.assert_allclose(e, frame.compute_error(configuration), atol=1e-12)
         J_mink = frame.compute_jacobian(configuration)[:, robot.dof_indices]
         np.testing.assert_allclose(J, J_mink, atol=1e-10)
-
-
-def series_left_jacobian_inverse(xi: np.ndarray) -> np.ndarray:
-    """(Σ ad^k/(k+1)!)⁻¹: the definition, summed to convergence."""
-    ad = np.zeros((6, 6))
-    ad[:3, :3] = ad[3:, 3:] = lie.skew(xi[3:])
-    ad[:3, 3:] = lie.skew(xi[:3])
-    J, power = np.zeros((6, 6)), np.eye(6)
-    for k in range(40):
-        J += power / math.factorial(k + 1)
-        power = power @ ad
-    return np.linalg.inv(J)
-
-
-@pytest.mark.parametrize("angle", [0.0, 1e-9, 1e-4, 0.999e-3, 1.001e-3, 0.1, 1.0, 2.5, 3.1])
-def test_left_jacobian_inverse_closed_form_matches_its_series(angle, rng):
-    xi = rng.normal(size=6)
-    xi[3:] *= angle / np.linalg.norm(xi[3:])
-    reference = series_left_jacobian_inverse(xi)
-    np.testing.assert_allclose(se3_left_jacobian_inverse(xi), reference, atol=1e-12)
-    np.testing.assert_allclose(so3_left_jacobian_inverse(xi[3:]), reference[3:, 3:], atol=1e-12)
 
 
 def test_joint_limit_potential_gradient_and_hessian(arm, rng):

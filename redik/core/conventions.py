@@ -52,4 +52,12 @@ Joint vector
     ``Δq``, Jacobian columns, limits and weights live in the tangent space (``robot.dof``,
     MuJoCo's velocity coordinates); ``robot.integrate`` and ``robot.difference`` map between
     them (:mod:`redik.kinematics.robot`).
+
+    A hinge whose range spans a full turn (``upper − lower ≥ 2π``, an unlimited one
+    included) is **periodic** (``robot.periodic``, :func:`redik.lie.periodic_coordinates`):
+    its angle is taken modulo 2π. Solutions and self-motion samples that differ by whole
+    turns of such joints are one, distances wrap their differences to (−π, π], and a solver
+    step that carries one out of its range wraps it back in by 2π instead of stopping at the
+    limit. Any other hinge is compared as it is: ``q`` and ``q + 2π`` are the same pose but
+    not the same configuration when only one of them is within the limits.
 """

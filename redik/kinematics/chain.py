@@ -29,7 +29,7 @@ import numpy as np
 
 from redik.core.exceptions import InvalidInput, ModelError
 from redik.kinematics.robot import Frame, Robot
-from redik.lie import make_pose, matrix_from_quat
+from redik.lie import make_pose, matrix_from_quat, periodic_coordinates
 
 _CHAIN_TYPES = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
 
@@ -81,13 +81,9 @@ class Chain:
 
     def kernel_arrays(self) -> tuple[np.ndarray, ...]:
         """The arrays :mod:`redik.kinematics.dls` takes, in its order; the last marks limited
-        hinges whose range spans a full turn (the kernel wraps them by 2π)."""
-        periodic = (
-            self.revolute
-            & np.isfinite(self.lower)
-            & np.isfinite(self.upper)
-            & (self.upper - self.lower >= 2.0 * np.pi)
-        )
+        hinges whose range spans a full turn (:func:`redik.lie.periodic_coordinates`; the
+        kernel wraps them by 2π, an unlimited one never leaves its range)."""
+        periodic = periodic_coordinates(self.revolute, self.lower, self.upper)
         return (
             self.base, self.links, self.revolute, self.lower, self.upper,
             self.sampling_lower, self.sampling_upper, periodic,

@@ -1,9 +1,9 @@
 r"""Compiled kinematics of a :class:`~redik.kinematics.chain.Chain`: FK, world Jacobian, pose error.
 
 The scalar building blocks of every compiled pose solver (:mod:`redik.kinematics.dls`, which
-:func:`redik.solvers.batch.solve_batch` and :func:`redik.solve_pose` with ``method="dls"`` run) and
-of
-:class:`redik.tasks.pose_task.PoseTask`'s residual, compiled by numba (``cache=True``).
+:func:`redik.solvers.batch.solve_batch` and :func:`redik.solve_pose` with ``method="dls"``
+run) and of :class:`redik.tasks.pose_task.PoseTask`'s residual, compiled by numba
+(``cache=True``).
 
 The chain is ``T(q) = F_0 M_1(q_1) F_1 ⋯ M_n(q_n) F_n``; FK walks it joint by joint and the
 world Jacobian (``"world"`` in :mod:`redik.core.conventions`) follows from each joint's world axis
@@ -17,9 +17,10 @@ into MuJoCo or numpy from Python costs more than the arithmetic. Measured on pan
 machine, load 1.5, 2026-11): FK + world Jacobian + pose error here 0.37 µs per call inside a
 compiled loop, :meth:`redik.Robot.kinematics` (MuJoCo's FK and Jacobian) 3.9 µs per call
 from Python — 10× — and the compiled kernel cannot call MuJoCo at all.
-Each function has a reference it is tested equal to: the FK and Jacobian
-MuJoCo's (``tests/test_batch_kernel.py``, to 1e-12), :func:`pose_error` the numpy
-:func:`redik.lie.rotation_log` and :func:`redik.lie.so3_log` at every angle.
+Each function has a reference it is tested equal to: the FK and Jacobian MuJoCo's
+(``tests/test_batch_kernel.py``, to 1e-12), :func:`pose_error` the numpy
+:func:`redik.lie.rotation_log` at every angle (``test_kernel_pose_error_matches_the_batched_
+rotation_log``), which ``tests/test_batch_solve.py`` pins to :func:`redik.lie.so3_log`.
 """
 
 from __future__ import annotations
@@ -28,17 +29,14 @@ import math
 
 import numba
 
-from redik import lie
 from redik.lie import MAX_COORDINATE
+from redik.lie import apply_inverse_v as apply_inverse_v  # compiled in lie, its one home
 
 COMPILE = {"cache": True, "error_model": "numpy", "fastmath": {"contract"}}
 """numba options of every compiled kernel of redik: compiled once per machine; a division
 by zero gives inf or NaN as in numpy (every such result is caught as a non-finite step), not
 a Python exception, so divisions carry no checks; fused multiply-adds are allowed (no
 reassociation: results stay reproducible)."""
-
-apply_inverse_v = numba.njit(**COMPILE)(lie.apply_inverse_v)
-"""The compiled twin of :func:`redik.lie.apply_inverse_v` (the same source, compiled)."""
 
 
 @numba.njit(**COMPILE)

@@ -120,9 +120,12 @@ class BallJointLimit(InequalityLimit):
 
     def admits(self) -> bool:
         """Every angle within its bound at the current state, or no farther out than at the
-        last linearisation."""
+        last linearisation (an angle out by no more than the tolerance, an earlier step's
+        slack, is held to its bound again: else the slack compounds step after step)."""
         qpos = self.robot.data.qpos
-        return all(
-            self._angle(qpos, i) <= self._floor[i] + _ANGLE_TOLERANCE
-            for i in range(len(self._columns))
-        )
+        for i in range(len(self._columns)):
+            bound = self.max_angle[i]
+            floor = self._floor[i] if self._floor[i] > bound + _ANGLE_TOLERANCE else bound
+            if self._angle(qpos, i) > floor + _ANGLE_TOLERANCE:
+                return False
+        return True

@@ -224,14 +224,22 @@ class CollisionAvoidanceLimit(InequalityLimit):
 
     def admits(self) -> bool:
         """No pair closer than ``minimum_distance`` at the current state, unless it was
-        already closer at the last linearisation and has not come closer still."""
+        already closer at the last linearisation and has not come closer still.
+
+        A pair that was inside by no more than the tolerance (the slack an earlier step was
+        allowed) is held to ``minimum_distance`` again, not to its own distance: else the
+        slack compounds, a micrometre per iteration, while a lower level slides the arm
+        along the constraint.
+        """
         robot = self.robot
         model, data = robot.model, robot.data
         tolerance = 1e-6  # 1 µm: what a distance query resolves on meshes
-        for i in self._candidates(data, self.minimum_distance):
+        minimum = self.minimum_distance
+        for i in self._candidates(data, minimum):
             a, b, _, _ = self._pair_list[i]
-            d = mujoco.mj_geomDistance(model, data, a, b, self.minimum_distance, self._fromto)
-            if d < self._floor[i] - tolerance:
+            d = mujoco.mj_geomDistance(model, data, a, b, minimum, self._fromto)
+            floor = self._floor[i] if self._floor[i] < minimum - tolerance else minimum
+            if d < floor - tolerance:
                 return False
         return True
 

@@ -12,6 +12,15 @@ bounds satisfied only to :math:`τ`), never by more than a quarter of a joint's 
 configuration it returns never leaves them — mink's ``ConfigurationLimit`` does neither,
 and its steps overshoot by up to the solver tolerance (≈5e-5 rad with proxqp, 5e-3 rad
 with osqp). A joint outside its limits is pulled back inside by the box.
+
+**Full turns, for IK.** With ``periodic=True`` a revolute joint whose range spans a full
+turn or more (the UR arms' ±2π) gets no box: every angle has a representative in its range,
+so :meth:`Problem.solve <redik.Problem.solve>` turns it back into the range by a multiple
+of 2π after each step (:meth:`wrap`) — the same pose, and no stop against a bound that the
+pose does not need (as ``solve_pose``'s ``"dls"`` wraps such joints). This is for finding a
+configuration, not for motion: a real joint of ±2π range cannot jump a turn (cables), and a
+joint-space task (posture) measures the turned angle differently; :meth:`Problem.step
+<redik.Problem.step>` leaves the wrapping of ``q ⊕ Δq`` to the caller.
 """
 
 from __future__ import annotations
@@ -28,22 +37,57 @@ class PositionLimit(BoxLimit):
 
     Args:
         margin: Distance (rad or m) to keep from each limit, ≥ 0.
+        periodic: Leave revolute joints whose range spans a full turn unboxed; they are
+            turned back into range by :meth:`wrap` (module docstring).
+
+    Attributes:
+        turning: Per tangent coordinate, True for the joints :meth:`wrap` turns (none
+            unless ``periodic``).
     """
 
-    def __init__(self, margin: float = 0.0):
+    def __init__(self, margin: float = 0.0, *, periodic: bool = False):
         margin = float(margin)
         if not np.isfinite(margin) or margin < 0.0:
             raise InvalidInput(f"margin must be finite and >= 0, got {margin}")
+        if not isinstance(periodic, bool | np.bool_):
+            raise InvalidInput(f"periodic must be True or False, got {periodic!r}")
         self.margin = margin
+        self.periodic = bool(periodic)
         self.lower = np.empty(0)
         self.upper = np.empty(0)
+        self.turning = np.zeros(0, dtype=bool)
+        self._range_lower = self._range_upper = np.empty(0)
 
     def bind(self, robot: Robot, tolerance: float = 0.0) -> PositionLimit:
         span = robot.upper - robot.lower
         shrink = np.minimum(self.margin + tolerance, np.where(np.isfinite(span), span / 4, 0.0))
         self.lower = robot.lower + shrink
         self.upper = robot.upper - shrink
+        self.turning = np.zeros(robot.dof, dtype=bool)
+        if self.periodic:
+            # A range of a turn less the shrink still holds a representative of every angle.
+            self.turning = robot.revolute & (self.upper - self.lower >= 2.0 * np.pi)
+            self.lower[self.turning] = -np.inf
+            self.upper[self.turning] = np.inf
+        self._range_lower = robot.lower[self.turning] + shrink[self.turning]
+        self._range_upper = robot.upper[self.turning] - shrink[self.turning]
         return super().bind(robot, tolerance)
+
+    def wrap(self, q: np.ndarray) -> np.ndarray:
+        """``q`` with each turning joint moved by the multiple of 2π that brings it into its
+        (shrunk) range; ``q`` itself when none is outside."""
+        if not self.turning.any():
+            return q
+        robot = self.robot
+        values = robot.scalar_values(q)
+        turned = values[self.turning]
+        outside = (turned < self._range_lower) | (turned > self._range_upper)
+        if not outside.any():
+            return q
+        lower = self._range_lower[outside]
+        turned[outside] = lower + np.mod(turned[outside] - lower, 2.0 * np.pi)
+        values[self.turning] = turned
+        return robot.with_scalar_values(q, values)
 
     def bounds_into(
         self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray

@@ -33,7 +33,7 @@ from typing import Any, Literal
 import numpy as np
 
 from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError
-from redik.lie import as_pose
+from redik.lie import as_pose, as_vector
 
 Convention = Literal["standard", "modified"]
 JointType = Literal["revolute", "prismatic"]
@@ -223,15 +223,6 @@ def tool_transform(tool: Any, convention: Convention) -> np.ndarray:
     return row_transform(row, 0.0, convention)
 
 
-def _as_q(q: Any, n: int) -> np.ndarray:
-    q = np.asarray(q, dtype=float)
-    if q.shape != (n,):
-        raise InvalidConfiguration(f"q must have shape ({n},) for this table, got {q.shape}")
-    if not np.all(np.isfinite(q)):
-        raise InvalidConfiguration(f"q must be finite, got {q}")
-    return q
-
-
 def forward_all(
     rows: Iterable[RowLike],
     q: Any,
@@ -252,7 +243,7 @@ def forward_all(
     """
     table = parse_rows(rows)
     conv = parse_convention(convention)
-    q = _as_q(q, len(table))
+    q = as_vector(q, len(table), "q", InvalidConfiguration)
     frames = [np.eye(4)]
     for row, q_i in zip(table, q, strict=True):
         frames.append(frames[-1] @ row_transform(row, float(q_i), conv))

@@ -153,6 +153,15 @@ class LevelAssembly:
             self._joint_gradient(state, c, fresh=True)
         self._add_other_tasks(state, configuration, columns)
 
+    def weighted_rows_into(self, state: KinematicState, A: np.ndarray, b: np.ndarray) -> None:
+        """The stacked weighted residual rows at ``state`` into ``A``, ``b`` (of the shapes
+        of :attr:`A`, :attr:`b`) rather than the level's own buffers."""
+        start = 0
+        for task, rows, _ in self._blocks:
+            stop = start + rows.shape[0]
+            task.weighted_residual_into(state, A[start:stop], b[start:stop])
+            start = stop
+
     def _joint_gradient(self, state: KinematicState, c: np.ndarray, fresh: bool) -> None:
         """Joint-space tasks: ``c += Σ α w²d² ⊙ (q ⊖ r)`` (``c =`` when ``fresh``)."""
         if not self.joint_tasks:

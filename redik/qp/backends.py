@@ -93,6 +93,9 @@ proxqp 5e-8, osqp 1.4e-7 (violations all below 1e-9). A solver not listed is dec
 1e-6."""
 
 
+ACTIVE_SET = {"daqp", "quadprog"}
+"""qpsolvers back-ends that are active-set solvers (see :attr:`Backend.active_set`)."""
+
 NATIVE_BOUNDS = {"daqp", "highs", "piqp", "proxqp"}
 """qpsolvers back-ends given the bounds as such (their solvers take a box natively)."""
 
@@ -113,10 +116,16 @@ class Backend(abc.ABC):
         name: The name it was made from.
         tolerance: Declared bound on both the constraint violation of ``x`` and its
             ∞-norm distance to the exact minimiser (module docstring: how it is measured).
+        active_set: True for an active-set solver (daqp, quadprog): exact up to round-off,
+            and on an IK-sized QP about as fast as checking whether the unconstrained
+            minimiser is feasible — which :mod:`redik.qp.hierarchy` does first for the
+            other back-ends (interior point, ADMM, proximal), slower and only within their
+            tolerance.
     """
 
     name: str = ""
     tolerance: float = 1e-9
+    active_set: bool = False
 
     @abc.abstractmethod
     def solve(self, qp: QP) -> np.ndarray:
@@ -146,6 +155,7 @@ class DaqpBackend(Backend):
 
     name = "daqp"
     tolerance = 1e-9
+    active_set = True
 
     def __init__(self, **settings):
         import daqp
@@ -303,6 +313,7 @@ class QpsolversBackend(Backend):
         self.solver = solver
         self.name = solver
         self.tolerance = QPSOLVERS_TOLERANCE.get(solver, 1e-6)
+        self.active_set = solver in ACTIVE_SET
         self.settings = {**QPSOLVERS_SETTINGS.get(solver, {}), **settings}
 
     def solve(self, qp: QP) -> np.ndarray:
@@ -383,6 +394,7 @@ class FallbackChain(Backend):
         self.backends = list(backends)
         self.name = " -> ".join(backend.name for backend in self.backends)
         self.tolerance = max(backend.tolerance for backend in self.backends)
+        self.active_set = all(backend.active_set for backend in self.backends)
         self.last_used: str | None = None
 
     def solve(self, qp: QP) -> np.ndarray:

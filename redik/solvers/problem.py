@@ -11,6 +11,8 @@ lexicographically (:mod:`redik.qp.hierarchy`) with the chosen back-end
 :math:`q + Δq` is then clipped into the joint limits, so every configuration ``step`` leads
 to and ``solve`` returns lies within them (:mod:`redik.limits.position_limit`). The default
 limits also hold every limited ball joint in its cone (:mod:`redik.limits.ball_joint_limit`).
+A ``PositionLimit(periodic=True)`` leaves joints whose range spans a full turn unboxed and
+``solve`` turns each iterate back into their range by multiples of 2π (same pose).
 
 **Whole models.** On a robot with ball or free joints (a floating base), ``q`` has
 ``robot.nq`` entries and ``Δq`` ``robot.dof`` (the tangent space): ``solve`` steps by
@@ -41,7 +43,7 @@ from redik.limits import BallJointLimit, BoxLimit, InequalityLimit, Limit, MinkL
 from redik.limits.ball_joint_limit import limited_ball_joints
 from redik.qp.assembly import Assembly
 from redik.qp.backends import Backend, make_backend
-from redik.qp.hierarchy import free_directions, row_null_space, solve_lexicographic
+from redik.qp.hierarchy import kernel_directions, row_null_space, solve_lexicographic
 from redik.tasks.frame_task import FrameTargetTask
 from redik.tasks.joint_space_task import JointSpaceTask
 from redik.tasks.kinematics import KinematicState
@@ -53,6 +55,9 @@ _MIN_STEP_FRACTION = 1.0 / 64.0
 _MU_MIN, _MU_MAX = 1e-9, 1e6
 """Bounds of the adaptive Levenberg–Marquardt scale of ``solve``."""
 
+
+_CURVATURE_STEP = 1e-6
+"""Forward-difference step (rad or m) of :meth:`Problem._level1_curvature`."""
 
 _ACTIVE_TOL = 1e-9
 """A limit whose bound on ``Δq`` is within this of 0 is active (stationarity test)."""
@@ -176,7 +181,12 @@ class Problem:
             )
         self.backends = [make_backend(backend, **options) for _ in self.levels]
         level0 = self._assembly.levels[0]
-        self._rows0 = level0.A if level0.least_squares and len(self.levels) > 1 else None
+        # Level 0's rows when it is a least-squares level: its null space comes from their
+        # QR, its unconstrained step from their Gram matrix (redik.qp.hierarchy).
+        self._rows0 = level0.A if level0.least_squares else None
+        self._rhs0 = level0.b
+        self._curvature_rows = np.empty_like(level0.A)
+        self._curvature_residual = np.empty_like(level0.b)
         tolerance = max(b.tolerance for b in self.backends)
 
         if limits is None:
@@ -193,6 +203,12 @@ class Problem:
         self._boxes = [limit for limit in self.limits if isinstance(limit, BoxLimit)]
         self._rows = [limit for limit in self.limits if isinstance(limit, InequalityLimit)]
         self._clip = any(isinstance(limit, PositionLimit) for limit in self.limits)
+        # Position limits that turn full-turn joints back into range (periodic=True).
+        self._wraps = [
+            limit
+            for limit in self.limits
+            if isinstance(limit, PositionLimit) and limit.turning.any()
+        ]
         self._bounded = bool(self._boxes)
 
         self.stats: dict[str, int] = {}
@@ -286,11 +302,19 @@ class Problem:
         lm_damping: float = 0.0,
         error_damping: float = 0.0,
         objectives: list | None = None,
+        kernel0: np.ndarray | None = None,
+        second_order: bool = False,
     ):
-        """The step at the current state (``q``); ``objectives``, when given, are this
-        state's (:meth:`_stationarity` just built them) and are not rebuilt."""
+        """The step at the current state (``q``); ``objectives`` and ``kernel0`` (level 0's
+        null space), when given, are this state's (:meth:`_stationarity` just built them)
+        and are not rebuilt. ``second_order`` adds level 1's curvature term
+        (:meth:`_level1_curvature`) where level 0 is a least-squares level."""
         if objectives is None:
             objectives = self._assembly.objectives(self._state, self._configuration)
+        curvature1 = None
+        if second_order and self._rows0 is not None and len(objectives) > 1:
+            c1 = objectives[1][1].copy()  # level 1's gradient at q, before anything moves
+            curvature1 = lambda N: self._level1_curvature(q, c1, N)  # noqa: E731
         if error_damping > 0.0:
             b0 = self._assembly.levels[0].b  # level 0's weighted residual rows, just built
             lm_damping += error_damping * float(b0 @ b0)
@@ -340,6 +364,9 @@ class Problem:
             rank_tol=self.rank_tol,
             stats=self.stats,
             rows0=self._rows0,
+            rhs0=self._rhs0,
+            kernel0=kernel0,
+            curvature1=curvature1,
         )
         if self._clip:
             # Into the (shrunk) box the solver was given: inside the limits, whatever its
@@ -347,6 +374,39 @@ class Problem:
             np.maximum(dq, lb, out=dq)
             np.minimum(dq, ub, out=dq)
         return dq
+
+    def _level1_curvature(self, q: np.ndarray, c1: np.ndarray, N: np.ndarray) -> np.ndarray:
+        r"""``NᵀMN`` with :math:`M = \sum_i λ_i ∇^2 r_i`: the curvature of level 0's rows
+        :math:`r(q)` (Jacobian :math:`A`, the stacked weighted residual rows) weighted by
+        level 1's least-squares multipliers :math:`λ = \arg\min ‖c_1 + A^\top λ‖`.
+
+        Level 1 moves along the null space of :math:`A`, which turns with :math:`q`: the
+        optimal set of level 0 is a curved manifold, and a step along its tangent leaves it
+        at second order, which level 0 corrects at the next iteration — moving level 1 off
+        its optimum. Level 1's own Hessian ignores this, and the lower level then converges
+        only linearly. :math:`N^\top(H_1 + M)N` is the reduced Hessian of the Lagrangian
+        :math:`f_1 + λ^\top r`, whose Newton step converges quadratically (sequential
+        quadratic programming, Nocedal & Wright §18.1; the null-space form, §18.4).
+        :math:`MN` is the derivative of :math:`A^\top λ` along each column of :math:`N`, by a
+        forward difference of the rows at :math:`q ⊕ hN_j` (one forward kinematics each;
+        :math:`h` = :data:`_CURVATURE_STEP`); the state is back at ``q`` on return.
+        """
+        level0 = self._assembly.levels[0]
+        A = level0.A
+        try:
+            multipliers = -np.linalg.solve(A @ A.T, A @ c1)
+        except np.linalg.LinAlgError:
+            multipliers = -np.linalg.lstsq(A.T, c1)[0]
+        rows, residual = self._curvature_rows, self._curvature_residual
+        gradient = A.T @ multipliers
+        MN = np.empty_like(N)
+        for j in range(N.shape[1]):
+            self._state.update(self.robot.integrate(q, _CURVATURE_STEP * N[:, j]))
+            level0.weighted_rows_into(self._state, rows, residual)
+            MN[:, j] = (rows.T @ multipliers - gradient) / _CURVATURE_STEP
+        self._state.update(q)
+        curvature = N.T @ MN
+        return 0.5 * (curvature + curvature.T)
 
     # ----------------------------------------------------------------------------------
     # Iterative solve
@@ -365,6 +425,7 @@ class Problem:
         stationarity_tol: float | None = 1e-8,
         patience: int | None = None,
         progress: float = 0.5,
+        plateau: float | None = None,
     ) -> QPResult:
         r"""Iterate ``q ← q + αΔq`` from ``q0`` until the priority-0 tasks converge and the
         lower levels are stationary.
@@ -410,6 +471,15 @@ class Problem:
         first, the result keeps ``success`` (level 0 is met) with ``stationary=False``.
         ``stationarity_tol=None`` stops at level-0 convergence.
 
+        **Level 1 takes Newton steps on the manifold.** Where level 0 is a least-squares
+        level (residual tasks only), level 1's reduced Hessian gets the curvature of level
+        0's optimal set, :math:`N^\top(\sum_i λ_i ∇^2 r_i)N` (:meth:`_level1_curvature`:
+        one forward kinematics per free direction), whenever the sum stays convex: the
+        step is then sequential quadratic programming's, and the lower level converges
+        quadratically instead of linearly (``tasks/panda_reach.py``, joint-limit avoidance
+        below the pose: 17.1 → 6.0 iterations per target on average, the slowest from the
+        100-iteration cap, not stationary, to 10). Levels below 1 keep their own Hessians.
+
         Args:
             q0: Initial chain configuration.
             pos_tol, rot_tol: Tolerances.
@@ -426,6 +496,12 @@ class Problem:
                 last ``patience`` iterations is ``"stalled"`` (slow progress near a
                 singularity or a limit rarely ends well; a restart is cheaper). None (the
                 default) waits for the budget.
+            plateau: Early stop for restarts, after one iteration: before level 0
+                converges, a step that lowered ``‖e‖²`` by less than this fraction ends the
+                attempt as ``"stalled"`` — the iterate has reached a plateau, typically a
+                constrained stationary point of the error against a limit, which
+                ``patience`` would only recognise ``patience`` iterations later. None (the
+                default): no such stop.
 
         Returns:
             :class:`QPResult` with ``method="qp"``, the history and the lower levels'
@@ -445,8 +521,11 @@ class Problem:
         if not (_is_real(progress) and 0.0 < progress < 1.0):
             raise InvalidInput(f"progress must be in (0, 1), got {progress!r}")
         required = 1.0 - progress  # ‖e‖² must fall to this fraction in `patience` iterations
+        if plateau is not None and not (_is_real(plateau) and 0.0 < plateau < 1.0):
+            raise InvalidInput(f"plateau must be in (0, 1) or None, got {plateau!r}")
+        flat = 1.0 - (plateau or 0.0)  # ‖e‖² must fall below this fraction in one iteration
         if self._clip:
-            q = self.robot.clip(q)
+            q = self.robot.clip(self._wrapped(q))
         finish_lower = stationarity_tol is not None and len(self.levels) > 1 and self._targets
         history = [q.copy()]
         self._update(q)
@@ -460,13 +539,14 @@ class Problem:
         while True:
             # The state is at q here. Once level 0 converged, the objectives that measure
             # the lower levels' stationarity are also those of the next step: built once.
-            objectives = None
+            objectives = kernel0 = None
             if converged and self._targets:
                 if not finish_lower:
                     status = "converged"
                     break
                 objectives = self._assembly.objectives(self._state, self._configuration)
-                stationarity = self._stationarity(q, dt, objectives)
+                kernel0 = self._kernel0(objectives)
+                stationarity = self._stationarity(q, dt, objectives, kernel0)
                 stationarity_at_q = True
                 if max(stationarity) <= stationarity_tol:
                     status = "converged"
@@ -475,7 +555,14 @@ class Problem:
                 status = "converged" if converged and self._targets else "max_iterations"
                 break
             dq = self._step(
-                q, dt, max_step, mu * error * error if self._targets else 0.0, 0.0, objectives
+                q,
+                dt,
+                max_step,
+                mu * error * error if self._targets else 0.0,
+                0.0,
+                objectives,
+                kernel0,
+                second_order=True,
             )
             # Backtracking on the level-0 error: far from the target a full Gauss–Newton
             # step overshoots (into the limits, or into a two-point cycle). Scaling the
@@ -486,7 +573,7 @@ class Problem:
             # them at its end (redik.limits.limit.InequalityLimit.admits).
             alpha = 1.0
             while True:
-                trial = self.robot.integrate(q, alpha * dq)
+                trial = self._wrapped(self.robot.integrate(q, alpha * dq))
                 self._update(trial)
                 result = self._level0_errors(pos_tol, rot_tol)
                 admitted = all(limit.admits() for limit in self._rows)
@@ -518,6 +605,9 @@ class Problem:
             ):
                 status = "stalled"
                 break
+            if plateau is not None and not converged and error * error > flat * errors[-2] ** 2:
+                status = "stalled"
+                break
             if alpha * math.sqrt(float(dq @ dq)) < q_tol:
                 # Without level-0 targets, a vanishing step converges.
                 status = "converged" if converged or not self._targets else "stalled"
@@ -547,6 +637,12 @@ class Problem:
             stationary=bool(stationary),
         )
 
+    def _wrapped(self, q: np.ndarray) -> np.ndarray:
+        """``q`` with the full-turn joints of periodic position limits turned into range."""
+        for limit in self._wraps:
+            q = limit.wrap(q)
+        return q
+
     def stationarity(self, q: np.ndarray, dt: float | None = None) -> list[float]:
         r"""Per lower level, the norm of its projected gradient at ``q``.
 
@@ -568,9 +664,20 @@ class Problem:
         _check_dt(dt)
         return self._stationarity(q, dt)
 
-    def _stationarity(self, q: np.ndarray, dt: float | None, objectives=None) -> list[float]:
-        """:meth:`stationarity`; with ``objectives`` (built at ``q``, the current state)
-        nothing is recomputed."""
+    def _kernel0(self, objectives) -> np.ndarray:
+        """Orthonormal basis of level 0's null space at the state ``objectives`` were built
+        at: from a QR of its rows when it is a least-squares level, else from its Hessian
+        (:mod:`redik.qp.hierarchy`)."""
+        N = None if self._rows0 is None else row_null_space(self._rows0, self.rank_tol)
+        if N is None:
+            N = kernel_directions(objectives[0][0], self.rank_tol, self.damping)
+        return N
+
+    def _stationarity(
+        self, q: np.ndarray, dt: float | None, objectives=None, kernel0=None
+    ) -> list[float]:
+        """:meth:`stationarity`; with ``objectives`` (built at ``q``, the current state) and
+        ``kernel0`` (:meth:`_kernel0` of them) nothing is recomputed."""
         if objectives is None:
             self._update(q)
             objectives = self._assembly.objectives(self._state, self._configuration)
@@ -592,9 +699,7 @@ class Problem:
                 G, h = block
                 active.append(G[h <= _ACTIVE_TOL])
         A = np.vstack(active) if active else None
-        N = None if self._rows0 is None else row_null_space(self._rows0, self.rank_tol)
-        if N is None:
-            N = free_directions(objectives[0][0], np.zeros(n), self.rank_tol, self.damping)
+        N = self._kernel0(objectives) if kernel0 is None else kernel0
         values = []
         last = len(objectives) - 1
         for level, (H_k, c_k) in enumerate(objectives[1:], start=1):
@@ -612,7 +717,7 @@ class Problem:
                 values.append(float(np.linalg.norm(g + rows.T @ multipliers)))
             if level < last:
                 HN = N.T @ H_k @ N
-                N = N @ free_directions(HN, np.zeros(N.shape[1]), self.rank_tol, self.damping)
+                N = N @ kernel_directions(HN, self.rank_tol, self.damping)
         return values
 
     def _level0_errors(self, pos_tol: float, rot_tol: float):

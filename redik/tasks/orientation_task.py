@@ -6,7 +6,8 @@ r"""Regulate the orientation of a frame: :math:`e = \log(R^\top R_d)`, in body a
     J(q) = -J_l^{-1}(e)\, R^\top J_ω(q)
 
 with :math:`J_ω` the angular block of the world Jacobian and :math:`J_l^{-1}` the SO(3)
-inverse left Jacobian (:mod:`redik.tasks.frame_task`). These are the angular rows of
+inverse left Jacobian (:func:`redik.lie.so3_left_jacobian_inverse`; why it appears:
+:mod:`redik.tasks.frame_task`). These are the angular rows of
 :class:`~redik.tasks.pose_task.PoseTask`. The position is left free.
 """
 
@@ -16,7 +17,7 @@ import numpy as np
 
 from redik import lie
 from redik.core.exceptions import InvalidRotation
-from redik.tasks.frame_task import FrameTargetTask, so3_left_jacobian_inverse
+from redik.tasks.frame_task import FrameTargetTask
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import weight_or_cost
 
@@ -72,7 +73,7 @@ class OrientationTask(FrameTargetTask):
         R, _ = state.pose(self.frame)
         Rt = R.T
         e[:] = lie.so3_log(Rt @ self.target)
-        Jinv = so3_left_jacobian_inverse(e)
+        Jinv = lie.so3_left_jacobian_inverse(e)
         Jinv *= -1.0
         np.matmul(Jinv @ Rt, state.jacobian(self.frame)[3:], out=J)
 

@@ -8,16 +8,18 @@ r"""Regulate the full pose of a frame: :math:`e = \log(T^{-1} T_d)`, a body twis
 
 with :math:`J_w` the world Jacobian and :math:`J_b` the body Jacobian
 (:mod:`redik.core.conventions`), and :math:`J_l^{-1}` the SE(3) inverse left Jacobian
-(:mod:`redik.tasks.frame_task`). These are the error and Jacobian of ``mink.FrameTask``,
-so the two give the same step.
+(:func:`redik.lie.se3_left_jacobian_inverse`; why it appears: :mod:`redik.tasks.frame_task`).
+These are the error and Jacobian of ``mink.FrameTask``, so the two give the same step.
 
 The error is :math:`\log` of :math:`T^{-1} T_d = (R^\top R_d,\; R^\top (p_d - p))`: the
 rotation part :math:`ω = R^\top \log(R_d R^\top)` from the world-frame error of the compiled
-solver kernel (:func:`redik.kinematics.compiled.pose_error`, robust at every angle), the translation
-part :math:`v = V(ω)^{-1} R^\top (p_d - p)` as in :func:`redik.lie.se3_log`. Error, body
-Jacobian and the 6 × 6 inverse Jacobian (closed form, :mod:`redik.tasks.frame_task`) are
-fused in one compiled function, :func:`pose_residual`: this residual is the bulk of a QP step,
-and as Python scalar code it cost about half of one.
+solver kernel (:func:`redik.kinematics.compiled.pose_error`, robust at every angle), the
+translation part :math:`v = V(ω)^{-1} R^\top (p_d - p)` by :func:`redik.lie.apply_inverse_v`,
+as in :func:`redik.lie.se3_log`. Error, body Jacobian and the 6 × 6 inverse Jacobian
+(:func:`redik.lie.se3_left_jacobian_inverse_entries`) are fused in one compiled function,
+:func:`pose_residual`: this residual is the bulk of a QP step, and as Python scalar code it
+cost about half of one. ``tests/test_tasks.py`` pins it to ``mink.FrameTask``'s error and
+Jacobian and to finite differences.
 """
 
 from __future__ import annotations
@@ -27,8 +29,9 @@ import numpy as np
 
 from redik import lie
 from redik.core.exceptions import InvalidInput, TargetNotSet
-from redik.kinematics.compiled import apply_inverse_v, pose_error
-from redik.tasks.frame_task import FrameTargetTask, se3_left_jacobian_inverse_entries
+from redik.kinematics.compiled import pose_error
+from redik.lie import apply_inverse_v, se3_left_jacobian_inverse_entries
+from redik.tasks.frame_task import FrameTargetTask
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import as_weight, weight_or_cost
 

@@ -12,6 +12,14 @@ against a limit — ends early, and a restart takes over from the nearest in pos
 :mod:`redik.solvers.batch`'s restarts), so few iterations are spent on hopeless starts. Each
 attempt also has its own budget, ``max_iter``.
 
+**A turn is free.** A revolute joint whose range spans a full turn or more (the UR arms'
+±2π) is periodic for this solver: it is not boxed, and each iterate is turned back into its
+range (:class:`~redik.limits.PositionLimit` with ``periodic=True``; ``"dls"`` wraps such
+joints the same way, :mod:`redik.kinematics.dls`): a bound the pose does not need never
+stops it. With extra ``tasks`` (a posture measures a turned joint differently) the box
+stays, and an attempt that stalls with such a joint against a bound restarts from the same
+configuration turned by 2π — the same pose, unblocked — before any random restart.
+
 It lives in the solvers layer, in the pose package, and drives :mod:`redik.solvers.problem`
 (its first home ``redik.qp.solve`` sat below ``problem`` and imported it: a cycle);
 :mod:`redik.qp` is the QP core only.
@@ -19,12 +27,18 @@ It lives in the solvers layer, in the pose package, and drives :mod:`redik.solve
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from redik.core._validate import integer
 from redik.core.exceptions import InvalidInput
 from redik.core.result import IKResult
+from redik.kinematics.chain import Chain
+from redik.kinematics.compiled import COMPILE, chain_kinematics
 from redik.kinematics.robot import Robot
+from redik.limits import BallJointLimit, PositionLimit
+from redik.limits.ball_joint_limit import limited_ball_joints
+from redik.solvers.pose.cache import PoseCache
 from redik.solvers.problem import Problem
 from redik.tasks.pose_task import PoseTask
 
@@ -39,6 +53,7 @@ _OPTIONS = (
     "stationarity_tol",
     "patience",
     "progress",
+    "plateau",
     "candidates",
     "lm_damping",
 )
@@ -73,7 +88,9 @@ def solve_pose_qp(
     gradient, :meth:`redik.Problem.solve`; default 1e-8), ``patience`` and ``progress``
     (an attempt whose ``‖e‖²`` fell by less than the fraction ``progress`` in ``patience``
     iterations ends as stalled; defaults 5 and 0.5; ``patience=None`` waits for
-    ``max_iter``), ``candidates`` (each restart starts from the nearest in pose of this
+    ``max_iter``), ``plateau`` (an attempt whose ``‖e‖²`` fell by less than this fraction in
+    one iteration ends as stalled: a plateau against a limit; default 0.01, None to wait),
+    ``candidates`` (each restart starts from the nearest in pose of this
     many random configurations; default 16), ``backend_options``. The defaults are those
     that gave the shortest tail over 200 random targets per robot (panda, iiwa14, ur5e)
     from home and from random seeds (``redik bench qp``).
@@ -85,20 +102,20 @@ def solve_pose_qp(
     if unknown:
         raise InvalidInput(f"unknown options {unknown} for method='qp'; known: {list(_OPTIONS)}")
     candidates = integer(options.get("candidates", 16), "candidates", 1)
-    task = PoseTask(T_target, frame=frame, gain=options.get("gain", 1.0), priority=0)
-    problem = Problem(
-        robot,
-        [task, *options.get("tasks", ())],
-        limits=None if respect_limits else [],
-        backend=options.get("backend", "daqp"),
-        damping=options.get("damping", 1e-9),
-        backend_options=options.get("backend_options"),
-    )
+    problem = _problem(robot, T_target, frame, respect_limits, options)
+    task = problem.tasks[0]
+    chain = _chain_of(robot, task.frame) if restarts else None
     rng = np.random.default_rng(seed)
     best: IKResult | None = None
     iterations = 0
+    unwound = None  # the last attempt's q with its blocked full-turn joints turned back
     for attempt in range(restarts + 1):
-        start = q0 if attempt == 0 else _nearest_start(robot, task, rng, candidates)
+        if attempt == 0:
+            start = q0
+        elif unwound is not None:
+            start = unwound
+        else:
+            start = _nearest_start(robot, task, rng, candidates, chain)
         result = problem.solve(
             start,
             pos_tol=pos_tol,
@@ -109,6 +126,7 @@ def solve_pose_qp(
             stationarity_tol=options.get("stationarity_tol", 1e-8),
             patience=options.get("patience", 5),
             progress=options.get("progress", 0.5),
+            plateau=options.get("plateau", 0.01),
             lm_damping=options.get("lm_damping", 0.01),
         )
         iterations += result.iterations
@@ -117,22 +135,146 @@ def solve_pose_qp(
             best.restarts = attempt
         if result.success:
             break
+        unwound = _unwound(robot, result.q) if result.status == "stalled" else None
     best.iterations = iterations
     return best
 
 
-def _nearest_start(robot: Robot, task, rng: np.random.Generator, candidates: int) -> np.ndarray:
-    """The nearest in pose to ``task``'s target of ``candidates`` random configurations."""
+_AT_BOUND = 1e-6
+"""A joint within this of a bound (rad) is against it (the box is shrunk by ≤ 1e-6)."""
+
+
+def _unwound(robot: Robot, q: np.ndarray) -> np.ndarray | None:
+    """``q`` with each revolute joint that sits against a bound turned by 2π away from it,
+    where that stays in range (the same pose); None when no joint is so blocked."""
+    values = robot.scalar_values(q)
+    turn = 2.0 * np.pi
+    up = robot.revolute & (values <= robot.lower + _AT_BOUND) & (values + turn <= robot.upper)
+    down = robot.revolute & (values >= robot.upper - _AT_BOUND) & (values - turn >= robot.lower)
+    if not (up.any() or down.any()):
+        return None
+    values = values + turn * up - turn * down
+    return robot.with_scalar_values(q, values)
+
+
+def _problem(robot: Robot, T_target, frame, respect_limits: bool, options: dict) -> Problem:
+    """The pose problem, with ``T_target`` set.
+
+    On the default back-end, daqp, without extra ``tasks`` or ``backend_options`` (objects
+    of the caller's), it is kept in the robot's
+    :class:`~redik.solvers.pose.cache.PoseCache` per frame and settings, as ``"dls"`` keeps
+    its compiled chain: building the task, the problem and the back-end's
+    workspace cost about a third of a typical solve. daqp's answer does not depend on the
+    QPs it solved before (checked bitwise in ``tests/test_problem.py``); a warm-started
+    back-end's (proxsuite) would, and would make a call depend on the calls before it, so
+    those are built per call.
+    """
+
+    def build() -> Problem:
+        return Problem(
+            robot,
+            [
+                PoseTask(T_target, frame=frame, gain=options.get("gain", 1.0), priority=0),
+                *options.get("tasks", ()),
+            ],
+            limits=_limits(robot, periodic="tasks" not in options) if respect_limits else [],
+            backend=options.get("backend", "daqp"),
+            damping=options.get("damping", 1e-9),
+            backend_options=options.get("backend_options"),
+        )
+
+    backend = options.get("backend", "daqp")
+    if "tasks" in options or "backend_options" in options or backend != "daqp":
+        return build()
+    problems = PoseCache.of(robot).qp_problems
+    key = (
+        frame,
+        bool(respect_limits),
+        options.get("damping", 1e-9),
+        options.get("gain", 1.0),
+    )
+    try:
+        problem = problems.get(key)
+    except TypeError:  # an unhashable setting (an array): built afresh
+        return build()
+    if problem is None:
+        problem = problems[key] = build()
+    else:
+        problem.tasks[0].set_target(T_target)
+    return problem  # type: ignore[return-value]
+
+
+def _limits(robot: Robot, periodic: bool) -> list:
+    """The robot's own ranges (:class:`redik.Problem`'s default limits), full-turn joints
+    periodic when ``periodic`` (module docstring)."""
+    limits = [PositionLimit(periodic=periodic)]
+    if limited_ball_joints(robot):
+        limits.append(BallJointLimit())
+    return limits
+
+
+def _nearest_start(
+    robot: Robot, task, rng: np.random.Generator, candidates: int, chain: tuple | None = None
+) -> np.ndarray:
+    """The nearest in pose to ``task``'s target of ``candidates`` random configurations.
+
+    The distance ``‖p − p_d‖² + w²‖R − R_d‖²_F / 2`` (``‖R − R_d‖²_F = 4(1 − cos θ) ≈ 2θ²``:
+    ``(w θ)²`` near 0). With ``chain`` (:func:`_chain_of`), the candidates' poses come from
+    the compiled chain (:func:`redik.kinematics.compiled.chain_kinematics`) in one call —
+    16 candidates cost ~150 µs through MuJoCo's forward kinematics, a few iterations of the
+    solve, paid at every restart.
+    """
     qs = robot.random_q(rng, size=candidates)
     if candidates == 1:
         return qs[0]
+    target = task.target
+    weight = 0.5 * _ROTATION_SCALE**2
+    if chain is not None:
+        base, links, revolute, columns = chain
+        chain_q = np.ascontiguousarray(qs[:, columns])
+        return qs[_nearest_index(base, links, revolute, chain_q, target, weight)]
     poses = np.empty((candidates, 4, 4))
     for q, T in zip(qs, poses, strict=True):
         robot.update(q)  # forward kinematics only: robot.fk would also check and allocate
         robot.pose_into(task.frame, T)
-    # ‖p − p_d‖² + w²‖R − R_d‖²_F / 2, and ‖R − R_d‖²_F = 4(1 − cos θ) ≈ 2θ²: (w θ)² near 0.
-    target = task.target
-    distance = np.sum((poses[:, :3, 3] - target[:3, 3]) ** 2, axis=1) + (
-        0.5 * _ROTATION_SCALE**2
-    ) * np.sum((poses[:, :3, :3] - target[:3, :3]) ** 2, axis=(1, 2))
+    distance = np.sum((poses[:, :3, 3] - target[:3, 3]) ** 2, axis=1) + weight * np.sum(
+        (poses[:, :3, :3] - target[:3, :3]) ** 2, axis=(1, 2)
+    )
     return qs[int(np.argmin(distance))]
+
+
+@numba.njit(**COMPILE)
+def _nearest_index(base, links, revolute, qs, target, weight):
+    """Index of the row of ``qs`` whose chain pose is nearest ``target`` (as above)."""
+    n = revolute.shape[0]
+    R, p = np.empty((3, 3)), np.empty(3)
+    axes, origins = np.empty((n, 3)), np.empty((n, 3))
+    best, index = np.inf, 0
+    for k in range(qs.shape[0]):
+        chain_kinematics(base, links, revolute, qs[k], R, p, axes, origins)
+        distance = 0.0
+        for a in range(3):
+            distance += (p[a] - target[a, 3]) ** 2
+            for b in range(3):
+                distance += weight * (R[a, b] - target[a, b]) ** 2
+        if distance < best:
+            best, index = distance, k
+    return index
+
+
+def _chain_of(robot: Robot, frame) -> tuple | None:
+    """``(base, links, revolute, columns)`` of the compiled chain to ``frame``, kept in the
+    robot's :class:`~redik.solvers.pose.cache.PoseCache`; None on a whole-model robot
+    (its restarts use MuJoCo's forward kinematics)."""
+    chains = PoseCache.of(robot).qp_chains
+    frame = robot.frame(frame)
+    if frame not in chains:
+        chain = None
+        if robot.is_chain:
+            compiled = Chain.from_robot(robot, frame)
+            chain = (compiled.base, compiled.links, compiled.revolute, compiled.columns)
+            # Load the compiled function now (~5 ms from numba's disk cache), with the
+            # problem, rather than in the middle of the first solve that restarts.
+            _nearest_index(*chain[:3], compiled.home[None, :], np.eye(4), 1.0)
+        chains[frame] = chain
+    return chains[frame]

@@ -1,7 +1,9 @@
 """Redundancy resolution: null-space projection and the self-motion manifold of a pose.
 
-* :mod:`.nullspace` — ``q̇ = J⁺ẋ + (I − J⁺J) q̇₀``; :func:`gradient_projection_ik` climbs a
-  criterion while holding a pose.
+* :mod:`.nullspace` — ``q̇ = J⁺ẋ + (I − J⁺J) q̇₀``, the pseudo-inverse, projector and basis.
+* :mod:`.corrector` — Newton projection of configurations onto a pose (IKinBody).
+* :mod:`.gradient_projection` — :func:`gradient_projection_ik` climbs a criterion while
+  holding a pose.
 * :mod:`.criteria` — joint-limit margin, manipulability, distance to a nominal posture as
   scoring objects; their math (re-exported here) is :mod:`redik.criteria`.
 * :mod:`.selfmotion` — :func:`explore_self_motion` samples every configuration reaching a
@@ -29,8 +31,8 @@ from redik.solvers.redundancy.criteria import (
     default_criteria,
     evaluate_criteria,
 )
+from redik.solvers.redundancy.gradient_projection import gradient_projection_ik
 from redik.solvers.redundancy.nullspace import (
-    gradient_projection_ik,
     nullspace_basis,
     nullspace_projector,
     nullspace_velocity,

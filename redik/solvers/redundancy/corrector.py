@@ -30,17 +30,25 @@ import numpy as np
 from redik.kinematics.batched import chain_poses, world_jacobian
 from redik.kinematics.chain import Chain
 from redik.kinematics.dls import damped_step
-from redik.lie import inverse, pose_errors, rotation_log, se3_log, world_jacobian_to, wrap_angle
-from redik.solvers.redundancy.criteria import periodic_joints
+from redik.lie import (
+    exp_coordinate_difference,
+    pose_errors,
+    rotation_log,
+    world_jacobian_to,
+    wrap_angle,
+)
+from redik.solvers.redundancy.nullspace import nullspace_basis
 
 if TYPE_CHECKING:
     from redik.kinematics.robot import Frame, Robot
 
-POSITION_TOLERANCE = 1e-9
+SAMPLE_POSITION_TOLERANCE = 1e-9
 """Largest ``‖p_d − p‖`` (m) of a sample after correction."""
 
-ROTATION_TOLERANCE = 1e-8
-"""Largest ``angle(Rᵀ R_d)`` (rad) of a sample after correction."""
+SAMPLE_ROTATION_TOLERANCE = 1e-8
+"""Largest ``angle(Rᵀ R_d)`` (rad) of a sample after correction (and the default of
+:func:`redik.solvers.redundancy.gradient_projection_ik`): an accuracy asked of a solver, not
+the validation tolerance of an input rotation (:data:`redik.lie.ROTATION_TOLERANCE`)."""
 
 _CONVERGED = 0.01  # iterate until the errors are this fraction of the tolerances
 _DAMPING = 1e-12  # keeps the batched 6 × 6 solves regular at singular points
@@ -59,28 +67,30 @@ class Corrector:
         robot: Robot,
         T_target: np.ndarray,
         frame: Frame,
-        position_tolerance: float = POSITION_TOLERANCE,
-        rotation_tolerance: float = ROTATION_TOLERANCE,
+        position_tolerance: float = SAMPLE_POSITION_TOLERANCE,
+        rotation_tolerance: float = SAMPLE_ROTATION_TOLERANCE,
     ):
         self.robot = robot
         self.frame = frame
         self.T_target = T_target
         self.position_tolerance = position_tolerance
         self.rotation_tolerance = rotation_tolerance
-        self.periodic = periodic_joints(robot)
+        self.periodic = robot.periodic
         self.lower = np.asarray(robot.lower)
         self.upper = np.asarray(robot.upper)
         self._T = np.eye(4)
-        self._J = np.empty((6, robot.dof))
-        self._J_body = np.empty((6, robot.dof))
+        self.J = np.empty((6, robot.dof))
+        self.J_body = np.empty((6, robot.dof))
         self.iterations = 0
 
-    def _error(self, q: np.ndarray) -> tuple[np.ndarray, float, float]:
-        """Body error twist, position error and rotation angle at ``q``; fills ``_J_body``."""
-        self.robot.kinematics(q, self.frame, self._T, self._J)
+    def body_error(self, q: np.ndarray) -> tuple[np.ndarray, float, float]:
+        """Body error twist ``ξ_b = log(T(q)⁻¹ T_d)``, position error and rotation angle at
+        ``q`` (Modern Robotics' IKinBody step); leaves the world and body Jacobians at ``q``
+        in :attr:`J` and :attr:`J_body`."""
+        self.robot.kinematics(q, self.frame, self._T, self.J)
         R = self._T[:3, :3]
-        world_jacobian_to("body", self._J, R, self._T[:3, 3], out=self._J_body)
-        xi = se3_log(inverse(self._T) @ self.T_target)
+        world_jacobian_to("body", self.J, R, self._T[:3, 3], out=self.J_body)
+        xi = exp_coordinate_difference(self._T, self.T_target)
         position_error = math.dist(self._T[:3, 3], self.T_target[:3, 3])
         return xi, position_error, float(np.linalg.norm(xi[3:]))
 
@@ -104,14 +114,14 @@ class Corrector:
         """
         q = np.array(q, dtype=float)
         for _ in range(max_iterations):
-            xi, position_error, rotation_error = self._error(q)
+            xi, position_error, rotation_error = self.body_error(q)
             if (
                 position_error <= 0.01 * self.position_tolerance
                 and rotation_error <= 0.01 * self.rotation_tolerance
             ):
                 return q, True  # the buffers hold the kinematics at the returned q
             self.iterations += 1
-            J = self._J_body if free is None else self._J_body[:, free]
+            J = self.J_body if free is None else self.J_body[:, free]
             step = _min_norm_solve(J, xi)
             norm = float(np.linalg.norm(step))
             if not math.isfinite(norm):
@@ -122,7 +132,7 @@ class Corrector:
                 q += step
             else:
                 q[free] += step
-        _, position_error, rotation_error = self._error(q)
+        _, position_error, rotation_error = self.body_error(q)
         converged = (
             position_error <= self.position_tolerance and rotation_error <= self.rotation_tolerance
         )
@@ -135,9 +145,8 @@ class Corrector:
         just returned).
         """
         if q is not None:
-            self._error(q)
-        _, _, Vt = np.linalg.svd(self._J_body, full_matrices=True)
-        return Vt[self.robot.dof - dimension :].T
+            self.body_error(q)
+        return nullspace_basis(self.J_body, dimension)
 
     def within_limits(self, q: np.ndarray) -> bool:
         return bool(np.all(q >= self.lower) and np.all(q <= self.upper))
@@ -167,13 +176,14 @@ class Corrector:
 
     def shift_into_limits(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Every row of ``q`` (… × n) with its hinges shifted by multiples of 2π towards their
-        ranges (unlimited hinges wrapped to (−π, π]), and whether it then lies within them.
+        ranges, and whether it then lies within them.
 
         A hinge that cannot be brought into its range takes the angle nearest to it, on
         whichever side (what :meth:`limit_violation` measures): the start of a limit point.
-        A hinge whose range spans 2π or more has several in-range representatives: a row
-        already in range keeps its own, one beyond a limit takes the one nearest that limit.
-        The manifold is sampled at that one representative only.
+        A periodic hinge (range of 2π or more, :attr:`redik.Robot.periodic`) has several
+        in-range representatives; it takes the one in (−π, π] when its range holds it, else
+        the in-range one beyond the nearer limit. The manifold is sampled at that one
+        representative only.
         """
         revolute = self.robot.revolute
         with np.errstate(invalid="ignore"):  # ±inf limits
@@ -299,8 +309,7 @@ class BatchCorrector:
             )
         _, p, axes, origins = chain_poses(self.chain, np.ascontiguousarray(q.T))
         J = world_jacobian(self.chain, p, axes, origins)
-        _, _, Vt = np.linalg.svd(J.transpose(2, 0, 1), full_matrices=True)
-        return Vt[:, self.dof - dimension :].transpose(0, 2, 1)
+        return nullspace_basis(J.transpose(2, 0, 1), dimension)
 
     def limit_points(
         self, q_inside: np.ndarray, q_outside: np.ndarray, max_rounds: int = 3

@@ -37,11 +37,6 @@ if TYPE_CHECKING:
     from redik.kinematics.robot import Frame, Robot
 
 
-def periodic_joints(robot: Robot) -> np.ndarray:
-    """Mask of the hinges without limits: their angles are compared modulo 2π."""
-    return robot.revolute & ~np.isfinite(robot.lower) & ~np.isfinite(robot.upper)
-
-
 class Criterion(abc.ABC):
     """A scalar score of a configuration, with a direction that improves it.
 
@@ -108,20 +103,20 @@ class Manipulability(Criterion):
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class PostureDistance(Criterion):
-    """``‖q − q_nominal‖`` (unlimited hinges modulo 2π), to minimise; ascent ``−(q − q_nom)``."""
+    """``‖q − q_nominal‖`` (periodic hinges modulo 2π), to minimise; ascent ``−(q − q_nom)``."""
 
     nominal: np.ndarray
     name: str = "posture_distance"
     maximize: bool = False
 
     def value(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> float:
-        return float(posture_distance(q, self.nominal, periodic_joints(robot)))
+        return float(posture_distance(q, self.nominal, robot.periodic))
 
     def values(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
-        return np.asarray(posture_distance(q, self.nominal, periodic_joints(robot)))
+        return np.asarray(posture_distance(q, self.nominal, robot.periodic))
 
     def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
-        return posture_gradient(q, self.nominal, periodic_joints(robot))
+        return posture_gradient(q, self.nominal, robot.periodic)
 
 
 def default_criteria(robot: Robot, nominal: np.ndarray | None = None) -> tuple[Criterion, ...]:

@@ -37,12 +37,12 @@ into patches. :func:`explore_self_motion` samples that set:
 5. **Components.** A seed farther than one step from every node traced or covered so far
    (on the torus) starts new components; one closer is already covered.
 
-Distances are Euclidean in joint space (rad and m), angles of unlimited hinges compared
-modulo 2π. A limited hinge whose range spans 2π or more (a UR5e's ±2π) has several
-in-range angles for one point of the torus; the manifold is sampled at one of them
-(:meth:`Corrector.shift_into_limits
-<redik.solvers.redundancy.corrector.Corrector.shift_into_limits>`),
-not at every turn. Frames and twists follow :mod:`redik.core.conventions`.
+Distances are Euclidean in joint space (rad and m), angles of periodic hinges (a range of
+2π or more: unlimited ones, a UR5e's ±2π; :mod:`redik.core.conventions`) compared modulo
+2π. Such a hinge has several in-range angles for one point of the torus; the manifold is
+sampled at one of them (:meth:`Corrector.shift_into_limits
+<redik.solvers.redundancy.corrector.Corrector.shift_into_limits>`), not at every turn.
+Frames and twists follow :mod:`redik.core.conventions`.
 
 The package: :mod:`.result` (:class:`SelfMotion`), :mod:`.explore` (seeds, components,
 :func:`explore_self_motion`), :mod:`.tracing` (curves), :mod:`.covering` (surfaces),

@@ -50,7 +50,8 @@ class SelfMotion:
         ends: Per component, why tracing stopped at each end: ``"closed"``,
             ``"joint_limit"``, ``"max_samples"`` or ``"stalled"`` (empty for 0-D and 2-D).
         seeds: The IK solutions the exploration started from.
-        periodic: Mask of the joints whose angles are compared modulo 2π.
+        periodic: Mask of the joints whose angles are compared modulo 2π (the robot's
+            :attr:`~redik.Robot.periodic`).
         elapsed: Wall time of the exploration (s).
         starts: Random starts used for seeding.
         status: A :class:`redik.Status`: ``CONVERGED`` (the components found were sampled to
