@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
-from redik.core.result import IKResult
+from redik.core.result import IKResult, Status
 from redik.kinematics.robot import Frame, Robot
 from redik.lie import inverse, pose_errors, se3_log
 
@@ -56,7 +56,7 @@ def closed_form_solutions(
             IKResult(
                 q=q,
                 success=True,
-                status="converged",
+                status=Status.CONVERGED,
                 iterations=0,
                 error=float(np.linalg.norm(se3_log(inverse(T) @ T_target))),
                 position_error=position_error,
