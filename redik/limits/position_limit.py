@@ -39,13 +39,15 @@ class PositionLimit(BoxLimit):
         margin: Distance (rad or m) to keep from each limit, ≥ 0.
         periodic: Leave revolute joints whose range spans a full turn unboxed; they are
             turned back into range by :meth:`wrap` (module docstring).
+        priority: None (default): hard at every level; ``k``: ranked just above the tasks
+            of priority ``k`` (:mod:`redik.limits.limit`).
 
     Attributes:
         turning: Per tangent coordinate, True for the joints :meth:`wrap` turns (none
             unless ``periodic``).
     """
 
-    def __init__(self, margin: float = 0.0, *, periodic: bool = False):
+    def __init__(self, margin: float = 0.0, *, periodic: bool = False, priority: int | None = None):
         margin = float(margin)
         if not np.isfinite(margin) or margin < 0.0:
             raise InvalidInput(f"margin must be finite and >= 0, got {margin}")
@@ -53,6 +55,7 @@ class PositionLimit(BoxLimit):
             raise InvalidInput(f"periodic must be True or False, got {periodic!r}")
         self.margin = margin
         self.periodic = bool(periodic)
+        self._set_priority(priority)
         self.lower = np.empty(0)
         self.upper = np.empty(0)
         self.turning = np.zeros(0, dtype=bool)
