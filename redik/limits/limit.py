@@ -33,22 +33,27 @@ and every level from :math:`k` down is solved subject to :math:`G Δq \le h + w^
 
 - tasks of priority :math:`< k` ignore the limit (they may violate it: a target inside an
   obstacle is reached when the collision limit ranks below the hand);
-- the limit is then met as far as those tasks allow — exactly (:math:`w^* = 0`) whenever
-  their optimal set meets it, else with the least violation, in the least-squares sense
-  over its rows (of its own units: metres for a distance, radians for a joint);
+- the limit is then met as far as those tasks allow, with the least violation in the
+  least-squares sense over its rows (of its own units: metres for a distance, radians for
+  a joint) — no violation when their optimal set meets it;
 - tasks of priority :math:`\ge k` cannot buy their objective with a violation: to them the
   limit is hard (relaxed by :math:`w^*` only).
 
-Why not "a hard constraint of the levels :math:`\ge k` only": the higher levels' optimal
-set need not meet :math:`Gx \le h` at all, and the QP of level :math:`k` would then be
+Why not "a hard constraint of the levels :math:`\ge k` only": the higher levels' optimal set
+need not meet :math:`Gx \le h` at all, and the QP of level :math:`k` would then be
 infeasible; the slack level is the least-violation version of that intent, equal to it
-whenever it is feasible. Why not a weighted penalty within level :math:`k`: it trades
-millimetres of clearance against task error at a ratio set by units and weights, and
-gives no guarantee that the limit holds when it can. ``priority=0`` is a hard limit that
-degrades to least violation instead of :class:`~redik.core.exceptions.InfeasibleProblem`.
-The regularisation :math:`ε` of the step (``Problem(damping=)``) biases :math:`w^*` by a
-relative :math:`ε/σ^2` (:math:`σ` the gain of the rows along the free directions):
-negligible. Iterative solves (:meth:`redik.Problem.solve`) shorten a step by
+whenever it is feasible (to the damping below). Why not a weighted penalty within level
+:math:`k`: it trades millimetres of clearance against task error at a ratio set by units and
+weights, and gives no guarantee that the limit holds when it can. ``priority=0`` is a hard
+limit that degrades to least violation instead of
+:class:`~redik.core.exceptions.InfeasibleProblem`.
+The slack level is damped (:data:`redik.qp.hierarchy.SLACK_DAMPING` ``ρ``, as
+Levenberg–Marquardt damps a least-squares step): one step removes the fraction
+:math:`σ^2/(σ^2 + ρ)` of a violation the free directions can remove with gain :math:`σ`
+(96 % at 0.5 m/rad, and a small :math:`σ` no longer calls for a huge step), and the
+iteration (``solve``, or a control loop) converges to the least violation itself.
+
+Iterative solves (:meth:`redik.Problem.solve`) shorten a step by
 :meth:`InequalityLimit.admits` only for the limits no task outranks (hard, or ranked at or
 above the first level): a limit ranked below a task must let that task's steps through. A
 prioritised position box does not clip :math:`q + Δq`: the levels above it may move the
