@@ -249,6 +249,7 @@ def test_a_collision_limit_at_a_priority_yields_to_the_levels_above_only(planar_
     # forearm with it, unavoidably) and the rest of the arm keeps clear of the post.
     ranked = _solve_with_collision_priority(robot, 1)
     assert ranked.success and ranked.position_error < 1e-6
+    assert ranked.stationary  # the posture is optimal subject to the ranked rows it meets
     assert hand.minimum_distance_at(ranked.q)[0] < -0.1
     assert arm.minimum_distance_at(ranked.q)[0] >= 0.01 - 1e-3
     # priority=2, below the posture that takes the last freedom: the unconstrained answer.

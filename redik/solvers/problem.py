@@ -129,6 +129,9 @@ class Problem:
         limits: redik or mink limits; None is the robot's own ranges, ``[PositionLimit()]``
             plus a :class:`~redik.limits.BallJointLimit` when it moves limited ball joints
             (whose cones no box holds); ``[]`` is none; a single limit is the list of it.
+            A limit is hard at every level unless given ``priority=k``: it then ranks just
+            above the tasks of priority ``k`` — those above may break it, those from ``k``
+            down may not (:mod:`redik.limits.limit`).
         backend: A back-end name, a list of names (a fallback chain) or a
             :class:`~redik.qp.backends.Backend` (see :func:`~redik.qp.backends.make_backend`);
             an instance serves one priority level only, since back-ends keep per-QP state
@@ -319,8 +322,13 @@ class Problem:
         :math:`O(‖δA‖/σ)` per tick, so a posture regulator at priority 1 that saturates the
         velocity box (gain 1) still reverses there, and the arm may leave the fold on the
         other branch of the elbow and stall at a joint limit (there: 90 mm at the end).
-        Keep such a regulator's gain low (0.02 on that circle: no reversal) or put it at
-        level 0 with a small weight.
+        Keep such a regulator's gain low (0.02 on that circle: no reversal), put it at
+        level 0 with a small weight, or bound the acceleration: with
+        :class:`~redik.limits.AccelerationLimit` (20 rad/s²) on that circle, a posture of gain
+        1 at priority 1 makes 1 two-tick reversal instead of 214, |q̈| ≤ 20 rad/s² instead of
+        400, and the miss is the 39 mm gap again, not 90 mm
+        (``examples/acceleration_limit_posture_chatter.py``). :meth:`step` reports each step
+        it returns to the limits (:meth:`~redik.limits.limit.Limit.advance`).
 
         Raises:
             InfeasibleProblem: the limits admit no step (e.g. a joint outside its range
