@@ -272,6 +272,25 @@ def test_a_ranked_limit_in_online_steps_and_its_bad_input(planar_obstacles):
     tasks = [PositionTask(robot.fk(far)[:3, 3], frame="tip"), PostureTask(far, priority=1)]
     dq = Problem(robot, tasks, [VelocityLimit(0.1, priority=1)]).step(robot.home, dt=1.0)
     assert np.abs(dq).max() > 0.1 + 1e-3  # level 0 needs more than the box
+    # A link deep in the bin: the hard damper asks more than the velocity box allows in one
+    # tick (InfeasibleProblem); ranked at 0, the step is the least violation: out, at full speed.
+    from redik.limits import CollisionAvoidanceLimit
+
+    inside = np.array([0.03, 0.214, 1.706])
+    bin_ = CollisionAvoidanceLimit([(["link3"], ["bin"])]).bind(robot)
+    for priority in (None, 0):
+        collisions = CollisionAvoidanceLimit(
+            [(["link3"], ["bin"])], detection_distance=0.1, priority=priority
+        )
+        problem = Problem(robot, tasks, [VelocityLimit(2.0), collisions])
+        if priority is None:
+            with pytest.raises(InfeasibleProblem):
+                problem.step(inside, dt=0.01)
+            continue
+        dq = problem.step(inside, dt=0.01)
+        assert np.abs(dq).max() == pytest.approx(0.02, abs=1e-9)
+        depth = bin_.minimum_distance_at(inside)[0]
+        assert bin_.minimum_distance_at(inside + dq)[0] > depth + 1e-3
     for bad in (-1, 1.5, "1", True):
         with pytest.raises(InvalidInput, match="priority"):
             VelocityLimit(1.0, priority=bad)
