@@ -109,6 +109,7 @@ def solve_pose_qp(
         raise InvalidInput(f"candidates must be an integer >= 1, got {candidates!r}")
     problem = _problem(robot, T_target, frame, respect_limits, options)
     task = problem.tasks[0]
+    chain = _chain_of(robot, task.frame) if restarts else None
     rng = np.random.default_rng(seed)
     best: IKResult | None = None
     iterations = 0
@@ -119,7 +120,7 @@ def solve_pose_qp(
         elif unwound is not None:
             start = unwound
         else:
-            start = _nearest_start(robot, task, rng, candidates, _chain_of(robot, task.frame))
+            start = _nearest_start(robot, task, rng, candidates, chain)
         result = problem.solve(
             start,
             pos_tol=pos_tol,
@@ -277,5 +278,8 @@ def _chain_of(robot: Robot, frame) -> tuple | None:
         if robot.is_chain:
             compiled = Chain.from_robot(robot, frame)
             chain = (compiled.base, compiled.links, compiled.revolute, compiled.columns)
+            # Load the compiled function now (~5 ms from numba's disk cache), with the
+            # problem, rather than in the middle of the first solve that restarts.
+            _nearest_index(*chain[:3], compiled.home[None, :], np.eye(4), 1.0)
         chains[frame] = chain
     return chains[frame]
