@@ -180,8 +180,7 @@ def _solve_on_chain(
     """:func:`solve_pose` for a whole-model robot: on its chain to ``frame``, the other
     joints held at ``q0`` (default ``home``); ``q`` and ``history`` are the robot's."""
     q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
-    chain = PoseCache.of(robot).chain(robot.frame(frame), q_whole)
-    q_chain = chain.q_of()
+    chain, q_chain = PoseCache.of(robot).chain(robot.frame(frame), q_whole)
     result = solve_pose(chain, T_target, q_chain, **options)
     result.q = robot.embed(chain, result.q, q_whole)
     result.history = np.array([robot.embed(chain, row, q_whole) for row in result.history])
@@ -222,11 +221,11 @@ def solve_all(
     """
     if not robot.is_chain:  # the chain to the frame, the other joints at q0 (else home)
         q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
-        chain = PoseCache.of(robot).chain(robot.frame(frame), q_whole)
+        chain, q_chain = PoseCache.of(robot).chain(robot.frame(frame), q_whole)
         results = solve_all(
             chain, T_target, n_starts, seed, method, pos_tol, rot_tol, max_iter,
             respect_limits, None, cluster_tol, strict,
-            None if q0 is None else chain.q_of(), **method_options,
+            None if q0 is None else q_chain, **method_options,
         )  # fmt: skip
         for result in results:
             result.q = robot.embed(chain, result.q, q_whole)
