@@ -38,7 +38,7 @@ from redik.kinematics.dls import damped_step as damped_step  # re-exported: its 
 from redik.kinematics.robot import Robot
 from redik.lie import MAX_COORDINATE, ROTATION_TOLERANCE, check_rotations, real_array
 from redik.lie import rotation_log as rotation_log  # re-exported: its old home
-from redik.solvers.batch.engines import Engine, as_engine
+from redik.solvers.batch.engines import ENGINES, Engine, as_engine
 
 BATCH_STATUSES = ("converged", "stalled", "max_iterations", "invalid", "diverged")
 """Status names by code (those of :mod:`redik.kinematics.dls`). All but ``"invalid"`` are
@@ -280,7 +280,7 @@ def solve_batch(
     if not isinstance(method, str) or method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
     if not isinstance(engine, str | Engine):
-        raise InvalidInput(f"engine must be an Engine or an engine name, got {engine!r}")
+        raise InvalidInput(f"engine must be an Engine or one of {ENGINES}, got {engine!r}")
     for name, count in (("chunk_size", chunk_size), ("workers", workers)):
         if count is not None and not (_is_integer(count) and count >= 1):
             raise InvalidInput(f"{name} must be a positive integer or None, got {count!r}")
