@@ -57,6 +57,9 @@ _OPTIONS = (
     "lm_damping",
 )
 
+_PROBLEMS_KEPT = 16
+"""Problems (one per frame and setting) a robot keeps for ``"qp"``; all are dropped past it."""
+
 _ROTATION_SCALE = 0.5
 """Metres per radian in the pose distance that picks restart seeds."""
 
@@ -203,6 +206,8 @@ def _problem(robot: Robot, T_target, frame, respect_limits: bool, options: dict)
     except TypeError:  # an unhashable setting (an array): built afresh
         return build()
     if problem is None:
+        if len(problems) >= _PROBLEMS_KEPT:  # a gain swept call by call must not leak
+            problems.clear()
         problem = problems[key] = build()
     else:
         problem.tasks[0].set_target(T_target)
