@@ -376,6 +376,21 @@ def test_a_repeated_dls_call_still_refuses_what_the_first_call_would(rng):
         solve_pose(robot, T, q0, seed=0, respect_limits=1)
 
 
+def test_a_dls_option_of_a_refused_type_is_refused_after_an_equal_accepted_one():
+    """``damping=1`` accepted, then ``damping=True`` (equal, same hash) found the kept
+    settings and passed; on a fresh robot it is refused: the answer depended on history."""
+    robot = redik.load("panda")
+    T = robot.fk(robot.home)
+    for accepted, refused in (
+        ({"damping": 1}, {"damping": True}),
+        ({"patience": 5}, {"patience": 5.0}),
+        ({"patience": 1}, {"patience": True}),
+    ):
+        assert solve_pose(robot, T, seed=0, **accepted).success
+        with pytest.raises(InvalidInput, match=next(iter(refused))):
+            solve_pose(robot, T, seed=0, **refused)
+
+
 def test_each_frame_argument_finds_its_own_dls_solver(rng):
     """A solve of another frame (with or without options) must not answer for the
     end-effector's later ones: each frame argument is remembered with its own solver."""

@@ -83,7 +83,8 @@ class PoseCache:
     @staticmethod
     def known_dls(robot: Robot, frame: object) -> DLSSolver | None:
         """The ``"dls"`` solver of the frame argument ``frame`` (None, a name or a
-        :class:`Frame`) if a solve has made it, else None — a look-up, nothing validated."""
+        :class:`Frame`) if a solve has made it and the cache is current, else None — a
+        look-up, the arguments unvalidated."""
         cache = robot.solver_cache.get(_KEY)
         if cache is None or not cache.is_current():  # type: ignore[attr-defined]
             return None  # the full path starts a new cache
