@@ -432,6 +432,14 @@ def test_solve_pose_qp_reuses_its_problem_and_stays_reproducible(rng):
     assert len(PoseCache.of(robot).qp_problems) == 1
 
 
+def test_solve_pose_qp_refuses_tasks_that_are_not_a_list(panda):
+    """``tasks=PostureTask()`` (one task, not a list) raised a raw TypeError."""
+    T = panda.fk(panda.home)
+    for tasks in (3, PostureTask(priority=1), "posture"):
+        with pytest.raises(InvalidInput, match="tasks must be a list"):
+            solve_pose_qp(panda, T, panda.home, tasks=tasks)
+
+
 def test_solve_pose_qp_keeps_a_bounded_number_of_problems(rng):
     """One problem per (frame, limits, damping, gain) is kept; a gain changed call by call
     (gain scheduling) kept one per value, each with its back-end's workspace: a leak."""

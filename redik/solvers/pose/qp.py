@@ -27,6 +27,8 @@ It lives in the solvers layer, in the pose package, and drives :mod:`redik.solve
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import numba
 import numpy as np
 
@@ -110,6 +112,11 @@ def solve_pose_qp(
         or candidates < 1
     ):
         raise InvalidInput(f"candidates must be an integer >= 1, got {candidates!r}")
+    tasks = options.get("tasks", ())
+    if isinstance(tasks, str) or not isinstance(tasks, Iterable):
+        raise InvalidInput(
+            f"tasks must be a list of tasks (e.g. [PostureTask(priority=1)]), got {tasks!r}"
+        )
     problem = _problem(robot, T_target, frame, respect_limits, options)
     task = problem.tasks[0]
     chain = _chain_of(robot, task.frame) if restarts else None
