@@ -302,6 +302,24 @@ def test_bad_input_is_refused_with_redik_errors():
         solver.raw(np.eye(4), limits="none")
 
 
+def test_raw_checks_a_pose_by_the_same_rule_as_redik_lie():
+    """The compiled check is redik.kinematics.compiled.valid_target, as_pose's "use as it is":
+    a translation beyond MAX_COORDINATE is refused on the raw path too (it used to be solved
+    and silently give no solution), and a bottom row within the tolerance is accepted."""
+    robot = redik.load("ur5e")
+    solver = analytic.solver_for(robot, "decomposed")
+    far = np.eye(4)
+    far[0, 3] = 2e10
+    with pytest.raises(InvalidPose, match="translation"):
+        solver.raw(far)
+    with pytest.raises(InvalidPose, match="translation"):
+        solver(far)
+    T = robot.fk(robot.random_q(np.random.default_rng(4)))
+    nudged = T.copy()
+    nudged[3, :3] = 1e-8
+    assert _same_set(solver.raw(nudged, limits=None), solver.raw(T, limits=None), 1e-12)
+
+
 def test_a_near_rotation_is_projected_with_a_warning_on_both_paths():
     robot = redik.load("ur5e")
     solver = analytic.solver_for(robot, "decomposed")
@@ -317,8 +335,9 @@ def test_a_near_rotation_is_projected_with_a_warning_on_both_paths():
 
 
 def test_arms_without_a_decomposition_are_refused():
-    with pytest.raises(ModelError, match="prismatic"):
-        analytic.solver_for(redik.load("stanford_arm"), "decomposed")
+    S, M = decomposed.screws_of(redik.load("stanford_arm"))
+    with pytest.raises(ModelError, match="prismatic"):  # the slide first: no class fits
+        decomposed.decomposed_solver(S[:, [2, 0, 1, 3, 4, 5]], M)
     with pytest.raises(InvalidInput, match="no closed-form solver for 'panda'"):
         analytic.solver_for(redik.load("panda"))
     rng = np.random.default_rng(9)
@@ -326,8 +345,10 @@ def test_arms_without_a_decomposition_are_refused():
         DHRow(rng.uniform(0.1, 0.4), rng.uniform(-0.2, 0.2), rng.uniform(0.3, 1.2))
         for _ in range(6)
     )
+    robot = _dh_robot(rows, "general_6r")
     with pytest.raises(ModelError, match="no closed-form decomposition"):
-        analytic.solver_for(_dh_robot(rows, "general_6r"))
+        analytic.solver_for(robot, "decomposed")
+    assert analytic.solver_for(robot).family == "general_6r"  # the elimination instead
 
 
 def test_ur5e_parameters_reach_eight_solutions():
@@ -434,3 +455,30 @@ def test_raw_takes_any_array_like_target_without_compiling_a_new_kernel():
         assert _same_set(solver.raw(variant, limits=None), expected, 1e-12)
     # One compiled signature: other arrays are converted by the caller, not compiled for.
     assert len(decomposed.kernels.solve_raw.signatures) == 1
+
+
+def test_stanford_arm_by_decomposition_equals_the_stanford_solver():
+    """RRPRRR: the slide's line meets a sphere about the shoulder point (d3 ±), then SP2 and
+    the wrist. Within the scene's limits (d3 ≥ 0.3) the set equals the Stanford family's;
+    without limits the d3 < 0 branches come too, each reaching the target by MuJoCo's FK."""
+    robot = redik.load("stanford_arm")
+    family = analytic.solver_for(robot)
+    solver = analytic.solver_for(robot, "decomposed")
+    assert (family.family, solver.kind) == ("stanford", "spherical_two_intersecting_prismatic")
+    rng = np.random.default_rng(17)
+    counts = []
+    for q in robot.random_q(rng, size=200):
+        T = robot.fk(q)
+        ours, theirs = solver(T), family(T)
+        assert _same_set(ours.as_array(), theirs.as_array(), 1e-9)
+        np.testing.assert_array_equal(solver.raw(T), ours.as_array())
+        every = solver(T, limits=None)
+        assert len(every) >= len(ours)
+        assert any(q_ < 0.0 for q_ in every.as_array()[:, 2])
+        for solution in every:
+            assert np.abs(robot.fk(solution) - T).max() < FK_TOL
+        assert (
+            min(_distance(np.delete(s, 2), np.delete(q, 2)) + abs(s[2] - q[2]) for s in ours) < 1e-9
+        )
+        counts.append(len(ours))
+    assert max(counts) == 4

@@ -7,8 +7,9 @@ import pickle
 import numpy as np
 import pytest
 
+import redik
 from redik.core.exceptions import InvalidInput
-from redik.solvers.analytic import JointSolution, planar_2r, wrap_angle
+from redik.solvers.analytic import JointSolution, planar_2r, solver_for, wrap_angle
 from redik.solvers.analytic._solution import limit_representatives
 
 
@@ -77,3 +78,23 @@ def test_limits_keep_the_in_range_representative_and_explain_an_empty_result():
         "none of the 2 solutions lies within the joint limits "
         "(joints out of range in some solution: [0, 1])"
     )
+
+
+def test_results_are_built_lazily_immutable_and_picklable():
+    """IKSolutions keeps the (k, n) array and labels and makes its JointSolution rows once,
+    on first use; the public attributes are read-only; pickling keeps rows and labels."""
+    robot = redik.load("ur5e")
+    T = robot.fk(np.array([0.3, -1.2, 1.4, -1.6, -1.5, 0.4]))
+    result = solver_for(robot, "decomposed")(T, limits=None)
+    assert len(result) == len(result.labels) == 8
+    np.testing.assert_array_equal(result.as_array(), np.array([s.q for s in result]))
+    assert result.solutions is result.solutions  # made once
+    assert [s.label for s in result] == list(result.labels)
+    assert result.by_label(result.labels[3]) is result[3]
+    assert result.nearest(result[5].q) is result[5]
+    with pytest.raises(AttributeError):
+        result.reachable = False  # type: ignore[misc]
+    copy = pickle.loads(pickle.dumps(result))
+    assert copy.labels == result.labels and np.array_equal(copy.as_array(), result.as_array())
+    assert copy.reachable and "8 solution(s)" in repr(copy)
+    assert result.as_array() is not result.as_array()  # a copy each time

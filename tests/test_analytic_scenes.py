@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -9,6 +11,7 @@ import redik
 from redik.core.exceptions import InvalidInput, ModelError
 from redik.models.scene_library import get_scene
 from redik.solvers.analytic import params_from_model, solver_for, wrap_angle
+from redik.solvers.analytic._solution import DEFAULT_TOL
 
 SCENES = ["planar_2r", "planar_3r", "rrp_polar", "hexapod_leg", "puma560", "ur5e", "stanford_arm"]
 POSITION_ONLY = {"planar_2r", "rrp_polar", "hexapod_leg"}
@@ -81,3 +84,29 @@ def test_solver_for_refuses_a_model_that_does_not_match_its_family():
         solver_for(redik.Robot.from_xml_string(tampered))
     with pytest.raises(InvalidInput, match="no closed-form solver for 'panda'"):
         solver_for(redik.load("panda"))
+
+
+@pytest.mark.parametrize("name", ["puma560", "ur5e", "stanford_arm"])
+def test_puma_ur_stanford_take_the_compiled_path_with_the_family_labels(name):
+    """AnalyticSolver solves PUMA, UR and Stanford targets with the compiled decomposition and names
+    each solution by the family's slot: the same labels and joint vectors as the family's
+    own kernel, with and without limits; a singular target goes to the family's kernel
+    (its texts and families)."""
+    robot = redik.load(name)
+    fast = solver_for(robot)
+    assert fast.compiled is not None
+    family_kernel = dataclasses.replace(fast, compiled=None)
+    rng = np.random.default_rng(21)
+    for q in robot.random_q(rng, size=300):
+        T = robot.fk(q)
+        for limits in ("robot", None):
+            assert fast._compiled_solutions(T, limits, DEFAULT_TOL) is not None
+            a, b = fast(T, limits=limits), family_kernel(T, limits=limits)
+            assert a.labels == b.labels
+            np.testing.assert_allclose(a.as_array(), b.as_array(), atol=1e-9)
+    q = robot.random_q(rng)
+    q[4] = 0.0  # wrist singular
+    T = robot.fk(q)
+    assert fast._compiled_solutions(T, None, DEFAULT_TOL) is None
+    a, b = fast(T, limits=None), family_kernel(T, limits=None)
+    assert a.labels == b.labels and a.singular and len(a.families) == len(b.families) >= 1

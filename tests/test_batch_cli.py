@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+import io
+import sys
+
 import numpy as np
+import pytest
 
 import redik
+import redik.models.registry
 from redik.apps.cli import main
 
 
@@ -72,3 +77,45 @@ def test_bad_targets_file_is_an_error(tmp_path, capsys):
         )
         == 2
     )
+
+
+def test_a_third_party_urdf_is_solved_with_the_load_flags(tmp_path, capsys):
+    try:
+        redik.models.registry.example_robot_data_dir()
+    except redik.ModelError:
+        pytest.skip("example-robot-data is not installed")
+    out = tmp_path / "ur5.npz"
+    command = [
+        "batch", "example-robot-data:ur5", "--ee", "tool0", "--no-meshes", "--floating-base",
+        "--random", "30", "--out", str(out), "--engine", "local", "--quiet",
+    ]  # fmt: skip
+    assert main(command) == 0
+    assert capsys.readouterr().out.startswith("ur5_robot:")
+    robot = redik.load("example-robot-data:ur5", ee="tool0", meshes=False, floating_base=True)
+    with np.load(out) as data:
+        assert data["q"].shape == (30, 6) and data["success"].mean() >= 0.9
+        for q, T, success in zip(data["q"], data["T"], data["success"], strict=True):
+            if success:
+                pos, rot = redik.lie.pose_errors(robot.fk(q), T)
+                assert pos <= 1e-6 and rot <= 1e-5
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_the_progress_bar_is_drawn_on_a_terminal_only(tmp_path, monkeypatch):
+    command = ["batch", "panda", "--random", "20", "--out", str(tmp_path / "a.npz")]
+    terminal = _Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    assert main([*command, "--chunk-size", "10"]) == 0
+    assert "batch IK" in terminal.getvalue() and "20/20" in terminal.getvalue()
+    quiet = _Terminal()
+    monkeypatch.setattr(sys, "stderr", quiet)
+    assert main([*command, "--quiet"]) == 0
+    assert quiet.getvalue() == ""
+    piped = io.StringIO()  # not a terminal: a log stays clean
+    monkeypatch.setattr(sys, "stderr", piped)
+    assert main(command) == 0
+    assert piped.getvalue() == ""

@@ -1,15 +1,20 @@
-"""The command line: discovery, `redik info`, and errors reported without tracebacks."""
+"""The command line: discovery, `redik info`, third-party models and their load flags, and
+errors reported without tracebacks."""
 
 from __future__ import annotations
 
+import json
+import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import redik
 from redik.apps.cli import main
+from redik.models import registry
 
 
 def test_info_lists_scenes(capsys):
@@ -94,3 +99,63 @@ def test_explore_is_quiet_with_quiet_or_without_a_terminal(tmp_path, monkeypatch
     monkeypatch.setenv("MUJOCO_GL", "egl")
     assert main([*EXPLORE, *EXPLORE_OUTPUT, "--out", str(tmp_path / "b")]) == 0
     assert capsys.readouterr().err == ""  # pytest's captured stderr is not a tty
+
+
+def _example_robot_data() -> Path:
+    """example-robot-data's package folder (``…/share/example-robot-data``), or skip."""
+    try:
+        return registry.example_robot_data_dir().resolve().parent
+    except redik.ModelError:
+        pytest.skip("example-robot-data is not installed")
+
+
+def _printed_position(out: str) -> np.ndarray:
+    line = next(line for line in out.splitlines() if line.startswith("position [m]:"))
+    return np.array(line.split("[")[-1].rstrip("]").split(), dtype=float)
+
+
+def test_info_loads_a_third_party_urdf_kinematics_only_with_a_floating_base(capsys):
+    _example_robot_data()
+    ur5 = ["info", "example-robot-data:ur5", "--ee", "tool0", "--no-meshes"]
+    assert main(ur5) == 0
+    out = capsys.readouterr().out
+    robot = redik.load("example-robot-data:ur5", ee="tool0", meshes=False)
+    assert robot.model.nmesh == 0
+    for joint in robot.joint_names:
+        assert joint in out
+    assert "held joints" not in out
+    np.testing.assert_allclose(_printed_position(out), robot.fk(robot.home)[:3, 3], atol=1e-6)
+    assert main([*ur5, "--floating-base"]) == 0
+    floating = capsys.readouterr().out
+    assert "held joints (not moved): floating_base (free)" in floating
+    np.testing.assert_allclose(_printed_position(floating), _printed_position(out), atol=1e-12)
+
+
+def test_package_path_finds_the_meshes_of_a_copied_urdf(tmp_path, capsys):
+    package = _example_robot_data()
+    copy = tmp_path / "ur5_robot.urdf"  # away from its package: package:// meshes go unfound
+    shutil.copy(registry.example_robot_data("ur5"), copy)
+    info = ["info", str(copy), "--ee", "tool0"]
+    assert main(info) == 2
+    err = capsys.readouterr().err
+    assert "package://example-robot-data/robots/ur_description/meshes" in err and "not found" in err
+    assert main([*info, "--no-meshes"]) == 0
+    capsys.readouterr()
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    for folder in (package, package.parent):  # the package itself, or a folder holding it
+        assert main([*info, "--package-path", str(empty), "--package-path", str(folder)]) == 0
+        assert "ur5_robot: 6 joints" in capsys.readouterr().out
+
+
+def test_explore_loads_a_third_party_model_with_the_load_flags(tmp_path, capsys):
+    _example_robot_data()
+    command = [
+        "explore", "example-robot-data:panda", "--ee", "panda_hand", "--no-meshes",
+        "--floating-base", "--fixed", "panda_finger_joint*", "--starts", "8", "--frames", "0",
+        "--out", str(tmp_path),
+    ]  # fmt: skip
+    assert main(command) == 0
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["dimension"] == 1 and summary["max_position_error"] < 1e-6
+    assert "wrote" in capsys.readouterr().out

@@ -713,7 +713,7 @@ def test_solve_batch_refuses_junk_options(panda):
         ({"q0": ""}, "q0 must hold real numbers"),
         ({"chunk_size": 1.5}, "chunk_size must be a positive integer"),
         ({"chunk_size": ""}, "chunk_size"),
-        ({"engine": np.array([])}, "engine must be one of"),
+        ({"engine": np.array([])}, "engine must be an Engine or one of"),
         ({"seed": ""}, "seed must be"),
         ({"seed": -1}, "seed must be"),
         ({"workers": "x"}, "workers must be"),

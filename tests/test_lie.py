@@ -383,6 +383,8 @@ def test_the_compiled_twins_in_the_closed_form_kernels_equal_lie(rng):
     )
     angles = np.concatenate([angles, np.nextafter(turns, -np.inf)])
     np.testing.assert_array_equal([_wrap(a) for a in angles], lie.wrap_angle(angles))
+    large = np.concatenate([rng.uniform(-1e6, 1e6, 200), [1e300, -1e300, 7.5 * np.pi]])
+    np.testing.assert_array_equal([_wrap(a) for a in large], lie.wrap_angle(large))
     for _ in range(50):
         k, p = rng.standard_normal(3), rng.standard_normal(3)
         k /= np.linalg.norm(k)

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import time
+from concurrent.futures import ThreadPoolExecutor
+
 import mujoco
 import numpy as np
 import pytest
@@ -9,6 +12,7 @@ import pytest
 import redik
 from redik import lie
 from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
+from redik.kinematics import dls
 
 from .conftest import ARM_XML
 
@@ -246,3 +250,60 @@ def test_periodic_joints_have_one_definition_every_solver_uses():
         q = robot.home.copy()
         q[joint] += 2.0 * np.pi
         assert (posture.value(robot, q, None) < 1e-12) == periodic
+
+
+@pytest.fixture
+def switch_after_each_kernel(monkeypatch):
+    """Hand the GIL to another thread right after every compiled dls solve returns (the
+    moment a shared output buffer would be overwritten before it is copied), so a race
+    between threads shows up on every run rather than once in a while. Yields the number of
+    kernel calls so far (a list of one), to check that the patch point is the one used."""
+    calls = [0]
+    solve_one = dls.solve_one
+
+    def solve_then_switch(*args):
+        result = solve_one(*args)
+        calls[0] += 1
+        time.sleep(1e-4)
+        return result
+
+    monkeypatch.setattr(dls, "solve_one", solve_then_switch)
+    yield calls
+
+
+@pytest.mark.parametrize("whole", [False, True], ids=["chain", "whole-model"])
+def test_one_robot_solves_from_several_threads_as_in_series(whole, switch_after_each_kernel):
+    robot = redik.load("panda")
+    if whole:  # a whole-model robot solves on a chain it keeps in its solver cache
+        robot = redik.Robot(robot.model, joints="all")
+    targets = [robot.fk(q) for q in robot.random_q(3, size=48)]
+
+    def solve(i: int) -> redik.IKResult:
+        return redik.solve_pose(robot, targets[i], seed=i, frame="ee")
+
+    with ThreadPoolExecutor(4) as pool:
+        threaded = list(pool.map(solve, range(len(targets))))
+    assert switch_after_each_kernel[0] >= len(targets)
+    serial = [solve(i) for i in range(len(targets))]
+    assert len(robot.solver_cache) == 1
+    for a, b in zip(threaded, serial, strict=True):
+        assert a.status == b.status and a.iterations == b.iterations
+        np.testing.assert_array_equal(a.q, b.q)
+        np.testing.assert_array_equal(a.history, b.history)
+        np.testing.assert_array_equal(a.error_history, b.error_history)
+
+
+def test_solver_cache_builds_an_entry_once_for_racing_threads():
+    cache = redik.Robot.from_xml_string(ARM_XML).solver_cache
+    builds = []
+
+    def build() -> object:
+        time.sleep(0.01)  # every thread arrives while the first one builds
+        builds.append(object())
+        return builds[-1]
+
+    with ThreadPoolExecutor(8) as pool:
+        entries = list(pool.map(lambda _: cache.get_or_build("key", build), range(8)))
+    assert len(builds) == 1 and all(entry is builds[0] for entry in entries)
+    assert cache.get_or_build("key", build, valid=lambda entry: False) is builds[1]
+    assert list(cache) == ["key"] and len(cache) == 1

@@ -35,7 +35,6 @@ import dataclasses
 import json
 import math
 import statistics
-import sys
 import tempfile
 import time
 from collections.abc import Mapping
@@ -43,8 +42,8 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
-from tqdm import tqdm
 
+from redik.apps.progress import progress_bar
 from redik.apps.taskspec import Context, SpecOutcome, discover, format_table, format_value, run_spec
 from redik.core.exceptions import InvalidInput
 
@@ -328,10 +327,9 @@ def run_regression(
     paths = discover(tasks_dir)
     mode = "fast" if fast else "full"
     # Steps: the warm-up, a reference timing before and after, and every spec.
-    progress = tqdm(
-        total=len(paths) + 3, desc="regress", unit="step", file=sys.stderr,
-        disable=not show_progress,
-    )  # fmt: skip
+    progress = progress_bar(
+        total=len(paths) + 3, desc="regress", unit="step", enabled=show_progress
+    )
     with progress, tempfile.TemporaryDirectory(prefix="redik-regress-") as scratch:
         progress.set_postfix_str("warm-up: loading (or compiling) the numba kernels")
         warm_up()

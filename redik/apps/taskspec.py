@@ -33,7 +33,6 @@ import importlib.util
 import math
 import operator
 import re
-import sys
 import time
 import traceback
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
@@ -149,9 +148,9 @@ class Context:
         if not self.show_progress:
             yield from iterable
             return
-        from tqdm import tqdm  # only the interactive runner needs it
+        from redik.apps.progress import progress_bar  # only the interactive runner needs tqdm
 
-        yield from tqdm(iterable, total=total, desc=desc, leave=False, file=sys.stderr)
+        yield from progress_bar(iterable, total=total, desc=desc, leave=False)
 
 
 @dataclasses.dataclass(frozen=True)

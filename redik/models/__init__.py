@@ -7,7 +7,7 @@
 - :mod:`~redik.models.scenes`: the bundled scenes and :func:`scene_path`, which turns any of
   these names into a file;
 - :mod:`~redik.models.dh`: Denavit–Hartenberg tables (both conventions);
-- :mod:`~redik.models.builder`: MJCF from DH tables and screw axes;
+- :mod:`~redik.models.builder`: MJCF from DH tables and screw axes (one module per step);
 - :mod:`~redik.models.scene_library`: the tables the bundled scenes are generated from.
 
 :func:`redik.load` (a :class:`~redik.kinematics.robot.Robot` from any of these) lives one

@@ -19,9 +19,15 @@ A second table compares, for the 6R scenes, the compiled subproblem-decompositio
 limits) with the ``ik-geo`` package (Elias & Wen's Rust IK-Geo, ``ik_geo.Robot`` of the same
 geometry class built from the same screw axes) when it is installed: the same ``--n`` poses,
 the two calls interleaved pose by pose (alternating which goes first, as the first call on
-a pose pays for loading it into cache), median µs per call, their ratio, the mean number of
+a pose pays for loading it into cache), median µs per call, their ratio, the labelled call
+(:meth:`~redik.solvers.analytic.DecomposedSolver.__call__`, an ``IKSolutions`` with labels
+and families, timed on each pose before the pair) and its ratio to ik-geo, the mean number of
 solutions each returns and the largest FK error (by ``robot.fk``) among ik-geo's answers that
 are not flagged least-squares. The load average is printed with it.
+A third table times the general 6R solver (:mod:`redik.solvers.analytic.general`, every
+solution of an arm with no closed form) against a multistart ``dls`` ``solve_all`` and
+ik-geo's ``gen_six_dof`` (IK-Geo's 2-D search) on the same poses, with the share of the
+elimination's solutions each finds and the FK error of its answers.
 ``--clock cpu`` times with the process CPU clock instead of the wall clock: on a shared,
 loaded machine it leaves out the time spent waiting for a core.
 """
@@ -82,13 +88,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--no-ik-geo", action="store_true", help="skip the comparison with the ik-geo package"
     )
+    parser.add_argument(
+        "--no-general", action="store_true", help="skip the general 6R table (no closed form)"
+    )
 
 
 def run(args: argparse.Namespace) -> int:
     print(
         f"redik bench analytic: targets = FK of q uniform in the limits; {args.n} solved one "
         f"by one (single, dls = solve_pose from home), {max(args.batch, args.n)} batched; "
-        f"median µs per pose ({args.clock} clock) over {args.repeats} repeats"
+        f"median µs per pose ({args.clock} clock) over {args.repeats} repeats; load average "
+        + ", ".join(f"{x:.2f}" for x in os.getloadavg())
     )
     header = (
         f"{'robot':<10}{'single':>9}{'batched':>9}{'dls':>10}{'dls ok':>8}"
@@ -118,7 +128,106 @@ def run(args: argparse.Namespace) -> int:
         )
     if not args.no_ik_geo:
         compare_ik_geo(args)
+    if not args.no_general:
+        compare_general(args)
     return 0
+
+
+#: The general 6R arm of the third table (every a, d, α non-zero: no decomposition fits);
+#: the arm of ``examples/analytic_general_6r.py``.
+GENERAL_ROWS = (
+    (0.30, 0.40, 1.10),
+    (0.45, 0.15, -0.70),
+    (0.25, 0.20, 0.90),
+    (0.20, 0.35, -1.20),
+    (0.15, 0.10, 0.60),
+    (0.10, 0.12, 0.80),
+)
+
+
+def compare_general(args: argparse.Namespace, n_poses: int = 20, n_starts: int = 100) -> None:
+    """The third table: the general 6R solver (:mod:`redik.solvers.analytic.general`) on
+    ``n_poses`` FK targets of a fixed general arm (:data:`GENERAL_ROWS`), beside a multistart
+    ``dls`` :func:`~redik.solvers.pose.solve_all` (``n_starts`` random starts) and, when
+    installed, ik-geo's general 6-DOF solver (``ik_geo.Robot.gen_six_dof``, IK-Geo's 2-D
+    search) on the same poses, calls interleaved per pose: median ms per call, answers per
+    pose, the share of the elimination's solutions each finds (within 1e-5 rad for dls, 1e-2
+    rad for ik-geo, whose answers are approximate) and the largest FK error (``robot.fk``)
+    among its answers."""
+    from redik.models.dh import DHRow
+    from redik.solvers.pose import solve_all
+
+    robot = Robot.from_dh(
+        [DHRow(*row) for row in GENERAL_ROWS], limits=[(-np.pi, np.pi)] * 6, name="general_6r"
+    )
+    solver = solver_for(robot)
+    methods: dict[str, tuple[Callable[[np.ndarray], np.ndarray], float]] = {
+        "elimination (every root)": (lambda T: solver(T).as_array(), 1e-9),
+        f"dls solve_all ({n_starts} starts)": (
+            lambda T: np.array(
+                [r.q for r in solve_all(robot, T, n_starts=n_starts, seed=0, pos_tol=1e-9)]
+            ).reshape(-1, 6),
+            1e-5,
+        ),
+    }
+    if not args.no_ik_geo:
+        try:
+            import ik_geo
+
+            methods["ik-geo gen_six_dof (2-D search)"] = (_ik_geo_general(robot, ik_geo), 1e-2)
+        except ImportError:
+            pass
+    clock = CLOCKS[args.clock]
+    rng = np.random.default_rng(args.seed)
+    targets = [robot.fk(q) for q in robot.random_q(rng, size=n_poses)]
+    for call, _ in methods.values():
+        call(targets[0])  # compiles / warms up
+    times: dict[str, list[float]] = {name: [] for name in methods}
+    answers: dict[str, list[np.ndarray]] = {name: [] for name in methods}
+    for T in targets:
+        for name, (call, _) in methods.items():
+            start = clock()
+            found = call(T)
+            times[name].append(clock() - start)
+            answers[name].append(found)
+    load_average = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+    print(
+        f"\ngeneral 6R (DH rows a, d, α all non-zero; {solver.method}), {n_poses} poses, "
+        f"interleaved, median ms per call ({args.clock} clock); load average {load_average}"
+    )
+    print(f"{'method':<34}{'ms':>9}{'answers':>9}{'of every root':>15}{'max FK err':>12}")
+    exact = answers["elimination (every root)"]
+    total = sum(len(e) for e in exact)
+    for name, (_, match) in methods.items():
+        matched, worst = 0, 0.0
+        for T, reference, found in zip(targets, exact, answers[name], strict=True):
+            for q in found:
+                worst = max(worst, float(np.abs(robot.fk(q) - T).max()))
+            if len(found):
+                gap = np.abs(np.angle(np.exp(1j * (reference[:, None] - found[None])))).max(2)
+                matched += int((gap.min(axis=1) < match).sum())
+        print(
+            f"{name:<34}{1e3 * statistics.median(times[name]):>9.2f}"
+            f"{np.mean([len(f) for f in answers[name]]):>9.2f}"
+            f"{matched / total:>15.0%}{worst:>12.1e}"
+        )
+
+
+def _ik_geo_general(robot: Robot, ik_geo: Any) -> Callable[[np.ndarray], np.ndarray]:
+    """ik-geo's ``gen_six_dof`` for the arm's screw chain: ``T -> (k, 6)`` answers (its
+    least-squares ones included: it flags nearly all of them so)."""
+    from redik.solvers.analytic.decomposed import Chain, screws_of
+
+    chain = Chain.from_screws(*screws_of(robot))
+    offsets = np.vstack([chain.a[0], np.diff(chain.a, axis=0), chain.M[:3, 3] - chain.a[5]])
+    reference = ik_geo.Robot.gen_six_dof(chain.h.tolist(), offsets.tolist())
+    R_home = chain.M[:3, :3]
+
+    def call(T: np.ndarray) -> np.ndarray:
+        found = reference.get_ik((T[:3, :3] @ R_home.T).T.tolist(), T[:3, 3].tolist())
+        return np.array([q for q, _ in found], dtype=float).reshape(-1, 6)
+
+    return call
 
 
 #: Decomposition classes that ik-geo builds from axes and offsets, by redik's class name.
@@ -145,6 +254,7 @@ def compare_ik_geo(args: argparse.Namespace) -> None:
     )
     print(
         f"{'robot':<10}{'class':>33}{'redik':>8}{'ik-geo':>8}{'ik-geo/redik':>14}"
+        f"{'labelled':>10}{'labelled/ik-geo':>17}"
         f"{'solutions':>11}{'ik-geo sols':>12}{'ik-geo FK err':>15}"
     )
     for name in args.robots:
@@ -157,7 +267,8 @@ def compare_ik_geo(args: argparse.Namespace) -> None:
             continue
         print(
             f"{name:<10}{row['kind']:>33}{row['redik_us']:>8.2f}{row['ik_geo_us']:>8.2f}"
-            f"{row['ik_geo_us'] / row['redik_us']:>13.2f}×{row['solutions']:>11.2f}"
+            f"{row['ik_geo_us'] / row['redik_us']:>13.2f}×{row['labelled_us']:>10.2f}"
+            f"{row['labelled_us'] / row['ik_geo_us']:>16.2f}×{row['solutions']:>11.2f}"
             f"{row['ik_geo_solutions']:>12.2f}{row['ik_geo_error']:>15.1e}"
         )
 
@@ -186,9 +297,12 @@ def measure_ik_geo(
     # ik-geo's chain ends with the identity rotation at q = 0: its target is R R_Mᵀ, passed
     # as a list of columns (its forward_kinematics returns the transpose of redik's).
     inputs = [((T[:3, :3] @ R_home.T).T.tolist(), T[:3, 3].tolist()) for T in targets]
-    ours, theirs = [], []
+    ours, theirs, labelled = [], [], []
     for _ in range(repeats):
         for index, (T, (R, p)) in enumerate(zip(targets, inputs, strict=True)):
+            start = clock()
+            solver(T, limits=None)
+            labelled.append(clock() - start)
             # Whichever runs first on a pose pays for bringing it into cache: alternate.
             if index % 2:
                 start = clock()
@@ -217,6 +331,7 @@ def measure_ik_geo(
         "kind": solver.kind,
         "redik_us": 1e6 * statistics.median(ours),
         "ik_geo_us": 1e6 * statistics.median(theirs),
+        "labelled_us": 1e6 * statistics.median(labelled),
         "solutions": float(np.mean(counts)),
         "ik_geo_solutions": float(np.mean(reference_counts)),
         "ik_geo_error": worst,

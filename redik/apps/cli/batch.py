@@ -11,14 +11,14 @@ from __future__ import annotations
 
 import argparse
 import inspect
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
+from redik.apps.cli._model import add_model_arguments, load_robot
+from redik.apps.progress import progress_bar, wanted
 from redik.core.exceptions import InvalidInput
-from redik.kinematics.robot import load
 from redik.solvers.batch import BATCH_STATUSES, ENGINES, Chain, forward_kinematics, solve_batch
 
 
@@ -29,7 +29,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument("scene", help="bundled scene name or MJCF/URDF path")
+    add_model_arguments(parser)
     parser.add_argument("--ee", default=None, help="end-effector site or body (default: 'ee')")
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument("--targets", type=Path, help=".npz with T (B×4×4) and optional q0")
@@ -53,7 +53,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    robot = load(args.scene, ee=args.ee)
+    robot = load_robot(args)
     chain = Chain.from_robot(robot)
     extra: dict[str, np.ndarray] = {}
     q0 = None
@@ -68,13 +68,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         T, q0 = _read_targets(args.targets)
 
-    bar = None
-    if not args.quiet:
-        from tqdm import tqdm
-
-        bar = tqdm(total=len(T), desc="batch IK", unit="pose", file=sys.stderr)
+    bar = progress_bar(total=len(T), desc="batch IK", unit="pose", enabled=wanted(args.quiet))
     start = time.perf_counter()
-    try:
+    with bar:
         result = solve_batch(
             chain,
             T,
@@ -87,11 +83,8 @@ def run(args: argparse.Namespace) -> int:
             workers=args.workers,
             address=args.address,
             chunk_size=args.chunk_size,
-            progress=None if bar is None else bar.update,
+            progress=bar.update,
         )
-    finally:
-        if bar is not None:
-            bar.close()
     elapsed = time.perf_counter() - start
 
     args.out.parent.mkdir(parents=True, exist_ok=True)

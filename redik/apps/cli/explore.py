@@ -16,18 +16,16 @@ from pathlib import Path
 
 import numpy as np
 
-from redik.apps.cli import _progress
-from redik.kinematics.robot import Robot, load
+from redik.apps.cli._model import add_model_arguments, load_robot
+from redik.apps.progress import progress_bar, wanted
 from redik.lie import as_quaternion, make_pose, matrix_from_quat
-from redik.models.loading import load_model
-from redik.models.scenes import scene_path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
         "explore", help="sample the self-motion manifold of a pose: NPZ, JSON and pictures"
     )
-    parser.add_argument("scene", help="bundled scene name or MJCF/URDF path")
+    add_model_arguments(parser)
     pose = parser.add_mutually_exclusive_group()
     pose.add_argument(
         "--pose", nargs=7, type=float, metavar=("X", "Y", "Z", "QW", "QX", "QY", "QZ"),
@@ -54,11 +52,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from redik.solvers.redundancy import explore_self_motion
 
-    if args.fixed:  # before the chain is built: a ball joint on it must be held
-        model = load_model(scene_path(args.scene))
-        robot = Robot(model, args.ee, name=Path(args.scene).stem, fixed=args.fixed)
-    else:
-        robot = load(args.scene, ee=args.ee)
+    robot = load_robot(args, fixed=args.fixed)  # a ball joint on the chain must be held
     initial = None
     if args.pose is not None:
         quat = as_quaternion(np.array(args.pose[3:]), "--pose quaternion")
@@ -67,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
         q_ref = robot.home if args.q_ref is None else robot.check_q(np.array(args.q_ref), "--q-ref")
         T = robot.fk(q_ref)
         initial = q_ref
-    progress = _progress.bar(None, "exploring", "step", _progress.wanted(args.quiet), leave=False)
+    progress = progress_bar(desc="exploring", unit="step", enabled=wanted(args.quiet), leave=False)
     with progress:
         motion = explore_self_motion(
             robot, T, spacing=args.spacing, seed=args.seed, n_starts=args.starts, initial=initial

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from redik.apps.cli import _progress
+from redik.apps.progress import wanted
 from redik.apps.regress import run_regression
 
 
@@ -34,7 +34,7 @@ def run(args: argparse.Namespace) -> int:
         update=args.update,
         seed=args.seed,
         out=args.out,
-        show_progress=_progress.wanted(args.quiet),
+        show_progress=wanted(args.quiet),
     )
     print(report.table())
     for path in report.updated:

@@ -21,7 +21,11 @@ against iterative DLS.
 :func:`solver_for` binds a solver to a bundled scene's :class:`redik.Robot`, and to any other
 6R arm whose screw axes fit a subproblem decomposition (:mod:`.decomposed`: spherical wrist or
 shoulder, three parallel axes; IK-Geo's classes), compiled with numba
-(:meth:`DecomposedSolver.raw` returns a plain array in a few microseconds). :mod:`.srs` gives
+(:meth:`DecomposedSolver.raw` returns a plain array in a few microseconds; it also takes the
+Stanford arm's prismatic joint, and the PUMA, UR and Stanford families solve with it and keep
+their labels), and to any other 6R arm by the
+Raghavan–Roth elimination solved as an eigenproblem (:mod:`.general`: every solution, up to
+16, of an arm with no closed form; :class:`GeneralSolver`). :mod:`.srs` gives
 the exact self-motion loops of a 7R arm with a spherical shoulder and wrist by the arm angle.
 """
 
@@ -34,6 +38,7 @@ from redik.solvers.analytic._solution import (
 )
 from redik.solvers.analytic.decomposed import DecomposedSolver, decomposed_solver
 from redik.solvers.analytic.families import AnalyticSolver, params_from_model, solver_for
+from redik.solvers.analytic.general import GeneralSolver, general_solver
 from redik.solvers.analytic.hexapod import hexapod_leg
 from redik.solvers.analytic.planar import (
     Planar3RFamily,
@@ -53,11 +58,13 @@ __all__ = [
     "AnalyticSolver",
     "BatchSolutions",
     "DecomposedSolver",
+    "GeneralSolver",
     "IKSolutions",
     "JointSolution",
     "Planar3RFamily",
     "SolutionFamily",
     "decomposed_solver",
+    "general_solver",
     "hexapod_leg",
     "params_from_model",
     "planar_2r",

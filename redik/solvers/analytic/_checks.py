@@ -13,6 +13,7 @@ import numpy as np
 
 from redik import lie
 from redik.core.exceptions import InvalidInput, InvalidPose
+from redik.kinematics.compiled import valid_target
 
 
 def finite_array(value: object, name: str, shape: tuple[int | None, ...]) -> np.ndarray:
@@ -74,7 +75,20 @@ def rotation(value: object, name: str = "R", *, strict: bool = False) -> np.ndar
 
 
 def pose(value: object, name: str = "T", *, strict: bool = False) -> np.ndarray:
-    """A 4×4 rigid transform ``[[R, p], [0, 0, 0, 1]]``, under :mod:`redik.lie`'s policy."""
+    """A 4×4 rigid transform ``[[R, p], [0, 0, 0, 1]]``, under :mod:`redik.lie`'s policy.
+
+    A C-contiguous float64 array that :func:`redik.kinematics.compiled.valid_target` accepts
+    as it is (as_pose's own rule for "use as it is", strict or not) is returned at once:
+    0.4 µs instead of as_pose's 3 µs, a tenth of a closed-form call; anything else goes
+    through :func:`redik.lie.as_pose` (errors, projection of a near-rotation)."""
+    if (
+        value.__class__ is np.ndarray
+        and value.dtype == np.float64
+        and value.shape == (4, 4)
+        and value.flags.c_contiguous
+        and valid_target(value, lie.ROTATION_TOLERANCE)
+    ):
+        return value
     return lie.as_pose(value, name, strict=strict)
 
 

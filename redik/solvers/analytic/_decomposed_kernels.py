@@ -10,10 +10,12 @@ The arm is ``T(q) = e^{[S_1]q_1} ⋯ e^{[S_6]q_6} M`` (Modern Robotics §4.1), w
 
 With :math:`Z = R R_M^\top = R_1 ⋯ R_6` known from the target, each kernel peels the chain
 with the subproblems of :mod:`.subproblems`; the derivations are in the docstring of each.
-The geometry is packed in one (17, 3) array ``G``: rows 0–5 the axes, 6–11 the points (where
+The geometry is packed in one (19, 3) array ``G``: rows 0–5 the axes (a slide's direction for a
+prismatic joint), 6–11 the points (where
 axes meet, the same point), 12 ``p_M``, 13–15 the rows of ``R_M``, 16 a unit vector
 perpendicular to the axis of the last SP1 (``h_6`` for a spherical wrist, the parallel axis of
-the three-parallel class).
+the three-parallel class), 17–18 one flag per joint, non-zero for a prismatic joint (which
+translates by its value along ``h_i``; only the Stanford-type class has one).
 
 A kernel fills slots: ``q`` (S, 18), the six unwrapped angles then their cosines and sines
 (which the subproblems produce with each root, so that the FK check needs no trigonometric
@@ -32,10 +34,12 @@ import math
 import numba
 import numpy as np
 
+from redik.kinematics.compiled import COMPILE, valid_target
 from redik.lie import ROTATION_TOLERANCE
 from redik.solvers.analytic.subproblems import (
     BOUNDARY,
     FREE,
+    OK,
     OUT,
     add,
     cross,
@@ -60,15 +64,19 @@ EMPTY, REGULAR, SINGULAR = 0, 1, 2
 KIND, REVERSE, TOL, VERIFY, DUPLICATE = range(5)
 
 #: Entries of the packed geometry at the start of a ``plan`` (17 rows of 3).
-GEOMETRY_SIZE = 51
+GEOMETRY_SIZE = 57
 
 #: Kernel identifiers (``kind`` of :func:`solve_raw`).
-SPHERICAL_TWO_INTERSECTING, SPHERICAL_TWO_PARALLEL, SPHERICAL, THREE_PARALLEL_TWO_INTERSECTING = (
-    range(4)
-)
+(
+    SPHERICAL_TWO_INTERSECTING,
+    SPHERICAL_TWO_PARALLEL,
+    SPHERICAL,
+    THREE_PARALLEL_TWO_INTERSECTING,
+    SPHERICAL_TWO_INTERSECTING_PRISMATIC,
+) = range(5)
 
 #: Slots per kernel: 8 for the closed forms, 16 for the searched one (up to 8 arm roots).
-SLOTS = (8, 8, 16, 8)
+SLOTS = (8, 8, 16, 8, 8)
 
 #: FK errors (m / rotation entries) a closed-form slot may have and still be polished by
 #: Gauss–Newton (:func:`_polish`), and the steps taken.
@@ -86,22 +94,28 @@ GOLDEN_STEPS = 80
 TOUCH_TOL = 1e-9
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _row(G, i):
     return (G[i, 0], G[i, 1], G[i, 2])
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
+def _prismatic(G, i):
+    """Whether chain joint ``i`` slides (rows 17–18 of ``G`` hold the six flags)."""
+    return G[17 + i // 3, i % 3] != 0.0
+
+
+@numba.njit(**COMPILE)
 def _neg(a):
     return (-a[0], -a[1], -a[2])
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _fixed(fix_joint, fix_value, joint):
     return fix_value if fix_joint == joint else 0.0
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _target(T, G):
     """``(Z rows, p)`` with ``Z = R R_Mᵀ``."""
     m0, m1, m2 = _row(G, 13), _row(G, 14), _row(G, 15)
@@ -118,19 +132,19 @@ def _target(T, G):
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _mul(z0, z1, z2, v):
     """``Z v`` for the rows of Z."""
     return (dot(z0, v), dot(z1, v), dot(z2, v))
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _mul_t(z0, z1, z2, v):
     """``Zᵀ v``."""
     return add(add(scale(z0, v[0]), scale(z1, v[1])), scale(z2, v[2]))
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _wrist(G, z, y, t, cs, fix_joint, fix_value, tol, slot, q, status, free, stage, pos):
     r"""Fill slots ``slot`` (noflip) and ``slot + 1`` (flip) of a spherical wrist after the arm
     angles ``t = (θ1, θ2, θ3)`` with cosines and sines ``cs = (c1, s1, c2, s2, c3, s3)``
@@ -179,7 +193,7 @@ def _wrist(G, z, y, t, cs, fix_joint, fix_value, tol, slot, q, status, free, sta
             status[index] = pos
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _store(q, slot, angles, cosines, sines):
     """Write a slot: its six angles, then their cosines, then their sines (a row of 18)."""
     for j in range(6):
@@ -188,13 +202,13 @@ def _store(q, slot, angles, cosines, sines):
         q[slot, 12 + j] = sines[j]
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _empty(slot, count, stage_code, status, stage, free):
     for index in range(slot, slot + count):
         status[index], stage[index], free[index] = EMPTY, stage_code, -1
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _status_of(*codes):
     for code in codes:
         if code != 0:
@@ -202,7 +216,7 @@ def _status_of(*codes):
     return REGULAR
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def spherical_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free, stage):
     r"""Spherical wrist (axes 4, 5, 6 meet at ``w``) and axes 1, 2 meeting at ``o``.
 
@@ -264,7 +278,7 @@ def spherical_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free,
                 _empty(slot, 2, 0, status, stage, free)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _shoulder_sp4(G, pw, fix_joint, fix_value, tol, parallel):
     """θ1 (two roots) from ``h·rot(−h1, θ1)(p_w − a1) = h·(w − a1)``, h the axis parallel to the
     next ones (axis 2): everything after joint 1 keeps its offset along h."""
@@ -275,7 +289,7 @@ def _shoulder_sp4(G, pw, fix_joint, fix_value, tol, parallel):
     return t1a, t1b, result
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def spherical_two_parallel(T, G, fix_joint, fix_value, tol, q, status, free, stage):
     r"""Spherical wrist (axes 4, 5, 6 meet at ``w``) and axes 2 ∥ 3.
 
@@ -333,7 +347,7 @@ def spherical_two_parallel(T, G, fix_joint, fix_value, tol, q, status, free, sta
                 _empty(slot, 2, 0, status, stage, free)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _search_residual(G, pw, t1, tol):
     """The two residuals ``h2·v − h2·u±`` of the 1-D search at θ1 (SP3 clipped, so both are
     continuous in θ1), with the two θ3 and whether SP3 was within reach."""
@@ -347,14 +361,14 @@ def _search_residual(G, pw, t1, tol):
     return ra, rb, t3a, t3b, elbow
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _branch_residual(G, pw, t1, tol, branch):
     """``f+`` (branch 0) or ``f−`` (branch 1) of :func:`_search_residual` at θ1."""
     ra, rb, _, _, _ = _search_residual(G, pw, t1, tol)
     return ra if branch == 0 else rb
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _touch(G, pw, low, high, tol, branch):
     r"""``(θ1, f(θ1))`` at the minimum of ``|f|`` on [low, high] by golden-section search.
 
@@ -380,7 +394,7 @@ def _touch(G, pw, low, high, tol, branch):
     return root, _branch_residual(G, pw, root, tol, branch)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
     r"""Spherical wrist (axes 4, 5, 6 meet at ``w``), general axes 1–3: a 1-D search on θ1.
 
@@ -465,7 +479,7 @@ def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
         )
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free, stage):
     r"""Axes 2 ∥ 3 ∥ 4 (direction h) and axes 5, 6 meeting at ``w`` (the UR class).
 
@@ -558,7 +572,82 @@ def three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, 
                     _empty(slot, 1, 0, status, stage, free)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
+def spherical_two_intersecting_prismatic(T, G, fix_joint, fix_value, tol, q, status, free, stage):
+    r"""Axes 1, 2 meeting at ``o``, joint 3 sliding along ``h3``, spherical wrist (axes 4, 5,
+    6 meeting at ``w`` when joint 3 is at 0): the Stanford arm's class.
+
+    The slide carries the wrist: :math:`p_w - o = R_1 R_2 u(d_3)`,
+    :math:`u = (w - o) + d_3 h_3`, so ‖u‖ = ‖p_w − o‖ is the intersection of the slide's line
+    with a sphere about ``o`` (the prismatic counterpart of SP3):
+    :math:`d_3 = -b·h_3 ± \sqrt{‖p_w - o‖^2 - ‖b_⊥‖^2}`, ``b = w − o`` and ``b⊥`` its part
+    across ``h3`` (two roots, "d±"; none when the sphere misses the line, one when it
+    touches it, within ``tol``); then SP2 gives θ1, θ2 (shoulder ±) and the wrist as in
+    :func:`spherical_two_intersecting`. Slot = 4·shoulder + 2·slide + wrist.
+    """
+    z0, z1, z2, p = _target(T, G)
+    h1, h2, h3 = _row(G, 0), _row(G, 1), _row(G, 2)
+    o, w, pM = _row(G, 6), _row(G, 9), _row(G, 12)
+    pw = sub(p, _mul(z0, z1, z2, sub(pM, w)))
+    z = _mul(z0, z1, z2, _row(G, 5))
+    y = _mul(z0, z1, z2, _row(G, 16))
+    b = sub(w, o)
+    along = dot(b, h3)
+    across = norm(sub(b, scale(h3, along)))  # distance of the slide's line from o
+    radius = norm(sub(pw, o))
+    reach = OK
+    if radius < across - tol:
+        reach = OUT
+    elif abs(radius - across) <= tol:
+        reach = BOUNDARY
+    half = 0.0 if reach != OK else math.sqrt((radius - across) * (radius + across))
+    for e in range(2):
+        if reach == OUT:
+            _empty(2 * e, 2, 2, status, stage, free)
+            _empty(4 + 2 * e, 2, 2, status, stage, free)
+            continue
+        d3 = -along + half if e == 0 else -along - half
+        u = add(b, scale(h3, d3))
+        t1a, t2a, t1b, t2b, shoulder, which, trig = sp2_cs(
+            _neg(h1),
+            sub(pw, o),
+            h2,
+            u,
+            _fixed(fix_joint, fix_value, 0),
+            _fixed(fix_joint, fix_value, 1),
+            tol,
+        )
+        for s in range(2):
+            slot = 4 * s + 2 * e
+            if shoulder == OUT:
+                _empty(slot, 2, 1, status, stage, free)
+                continue
+            free[slot] = -1 if which == 0 else which - 1
+            t1, t2 = (t1a, t2a) if s == 0 else (t1b, t2b)
+            c1, s1, c2, s2 = trig[4 * s], trig[4 * s + 1], trig[4 * s + 2], trig[4 * s + 3]
+            pos = _status_of(reach, shoulder)
+            # The slide's "cosine and sine" are those of no rotation: _wrist's R3 is I.
+            _wrist(
+                G,
+                z,
+                y,
+                (t1, t2, d3),
+                (c1, s1, c2, s2, 1.0, 0.0),
+                fix_joint,
+                fix_value,
+                tol,
+                slot,
+                q,
+                status,
+                free,
+                stage,
+                pos,
+            )
+            if shoulder == FREE and s == 1:
+                _empty(slot, 2, 0, status, stage, free)
+
+
+@numba.njit(**COMPILE)
 def solve_kind(kind, T, G, fix_joint, fix_value, tol):
     """Run kernel ``kind`` on the 4×4 target ``T``: ``(q, status, free, stage)``, ``q`` of
     shape (S, 18) (module docstring)."""
@@ -573,16 +662,21 @@ def solve_kind(kind, T, G, fix_joint, fix_value, tol):
         spherical_two_parallel(T, G, fix_joint, fix_value, tol, q, status, free, stage)
     elif kind == SPHERICAL:
         spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage)
-    else:
+    elif kind == THREE_PARALLEL_TWO_INTERSECTING:
         three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free, stage)
+    else:
+        spherical_two_intersecting_prismatic(
+            T, G, fix_joint, fix_value, tol, q, status, free, stage
+        )
     return q, status, free, stage
 
 
-@numba.njit(cache=True)
-def fk_error(G, cosines, sines, T):
+@numba.njit(**COMPILE)
+def fk_error(G, row, T):
     r"""``max(‖p(q) − p‖, max |R(q) − R| over the first two columns)`` for the chain of ``G``
-    at the joint angles whose cosines and sines are given (the third column of a rotation
-    follows from the first two).
+    at the slot ``row`` (joint values, then the cosines and sines of the angles; the third
+    column of a rotation follows from the first two). A prismatic joint (:func:`_prismatic`)
+    translates by its value along its direction instead of rotating.
 
     Evaluated from the tip inwards, :math:`p = a_1 + R_1(a_2 - a_1 + R_2(⋯ + R_6(p_M - a_6)))`
     and :math:`R\,\hat x = R_1(⋯ R_6 (R_M \hat x))`, three vectors rotated per joint.
@@ -592,10 +686,13 @@ def fk_error(G, cosines, sines, T):
     y = (G[13, 1], G[14, 1], G[15, 1])
     for i in range(5, -1, -1):
         k = _row(G, i)
-        c, s = cosines[i], sines[i]
-        p = rotate_cs(k, c, s, p)
-        x = rotate_cs(k, c, s, x)
-        y = rotate_cs(k, c, s, y)
+        if _prismatic(G, i):
+            p = add(p, scale(k, row[i]))
+        else:
+            c, s = row[6 + i], row[12 + i]
+            p = rotate_cs(k, c, s, p)
+            x = rotate_cs(k, c, s, x)
+            y = rotate_cs(k, c, s, y)
         if i > 0:
             p = add(p, sub(_row(G, 6 + i), _row(G, 5 + i)))
     p = add(p, _row(G, 6))
@@ -605,17 +702,26 @@ def fk_error(G, cosines, sines, T):
     return error
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _wrap(angle):
-    """``angle`` wrapped to (−π, π] (kernel angles are within a few turns of it)."""
+    """``angle`` wrapped to (−π, π], equal bit for bit to :func:`redik.lie.wrap_angle` at any
+    magnitude: within a few turns (every kernel angle) by exact shifts of 2π, which is what
+    ``fmod`` then one shift give there, and beyond by that algorithm itself (a call to
+    ``fmod`` per angle cost a tenth of a solve)."""
+    if -math.pi < angle <= math.pi:
+        return angle
+    two_pi = 2.0 * math.pi
+    if abs(angle) > 8.0 * math.pi:
+        r = np.fmod(angle, two_pi)
+        return r - two_pi if r > math.pi else (r + two_pi if r <= -math.pi else r)
     while angle > math.pi:
-        angle -= 2.0 * math.pi
+        angle -= two_pi
     while angle <= -math.pi:
-        angle += 2.0 * math.pi
+        angle += two_pi
     return angle
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _inverse(T):
     """``T⁻¹`` of a rigid transform."""
     inverse = np.zeros((4, 4))
@@ -627,10 +733,73 @@ def _inverse(T):
     return inverse
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _polish(G, row, T, fixed):
+    """:func:`newton` with :data:`POLISH_STEPS` steps: a closed-form slot near a singularity."""
+    return newton(G, row, T, fixed, POLISH_STEPS, 0.0)
+
+
+@numba.njit(**COMPILE)
+def _jacobian(G, row, J):
+    """Fill ``J`` (6 × 6) with the world Jacobian of the chain of ``G`` at the slot ``row``,
+    rows ``(ω, v)`` (a slide's column is ``(0, axis)``); returns ``(R, P)``, the rotation and
+    the tip point (before ``R_M``)."""
+    R = np.eye(3)
+    P = _row(G, 6)
+    for i in range(6):
+        axis = (
+            R[0, 0] * G[i, 0] + R[0, 1] * G[i, 1] + R[0, 2] * G[i, 2],
+            R[1, 0] * G[i, 0] + R[1, 1] * G[i, 1] + R[1, 2] * G[i, 2],
+            R[2, 0] * G[i, 0] + R[2, 1] * G[i, 1] + R[2, 2] * G[i, 2],
+        )
+        if _prismatic(G, i):  # J = (ω, v) = (0, axis); the slide moves what follows
+            J[0, i], J[1, i], J[2, i] = 0.0, 0.0, 0.0
+            J[3, i], J[4, i], J[5, i] = axis
+            P = add(P, scale(axis, row[i]))
+        else:
+            J[0, i], J[1, i], J[2, i] = axis
+            J[3, i], J[4, i], J[5, i] = P  # joint origin for now: J_v = ω × (p − o) below
+        step = np.empty((3, 3))
+        slide = _prismatic(G, i)
+        c, s = (1.0, 0.0) if slide else (math.cos(row[i]), math.sin(row[i]))
+        for j in range(3):
+            column = rotate_cs(_row(G, i), c, s, (1.0 * (j == 0), 1.0 * (j == 1), 1.0 * (j == 2)))
+            step[0, j], step[1, j], step[2, j] = column
+        R = R @ step
+        following = _row(G, 12) if i == 5 else _row(G, 7 + i)
+        offset = sub(following, _row(G, 6 + i))
+        P = add(
+            P,
+            (
+                dot((R[0, 0], R[0, 1], R[0, 2]), offset),
+                dot((R[1, 0], R[1, 1], R[1, 2]), offset),
+                dot((R[2, 0], R[2, 1], R[2, 2]), offset),
+            ),
+        )
+    for i in range(6):
+        if _prismatic(G, i):
+            continue
+        omega = (J[0, i], J[1, i], J[2, i])
+        linear = cross(omega, sub(P, (J[3, i], J[4, i], J[5, i])))
+        J[3, i], J[4, i], J[5, i] = linear
+    return R, P
+
+
+@numba.njit(**COMPILE)
+def condition(G, row):
+    """``σ_min/σ_max`` of the world Jacobian (:func:`_jacobian`) at the slot ``row``: 0 at a
+    singular configuration."""
+    J = np.empty((6, 6))
+    _jacobian(G, row, J)
+    sigma = np.linalg.svd(J)[1]
+    return sigma[-1] / sigma[0]
+
+
+@numba.njit(**COMPILE)
+def newton(G, row, T, fixed, steps, stop):
     r"""Gauss–Newton steps on the chain of ``G`` from the slot ``row`` (angles, cosines, sines;
-    updated in place) towards ``T``; returns the final :func:`fk_error`.
+    updated in place) towards ``T``; returns the final :func:`fk_error`. At most ``steps``
+    steps, fewer once the error is at most ``stop`` (checked only when ``stop > 0``).
 
     Next to a singularity a subproblem can be ill-conditioned (SP4 with ``C ≈ ±r`` gives θ
     to only √ε): the closed form is then within :data:`POLISH_RANGE` and these steps,
@@ -641,39 +810,10 @@ def _polish(G, row, T, fixed):
     """
     J = np.empty((6, 6))
     e = np.empty(6)
-    for _ in range(POLISH_STEPS):
-        R = np.eye(3)
-        P = _row(G, 6)
-        for i in range(6):
-            axis = (
-                R[0, 0] * G[i, 0] + R[0, 1] * G[i, 1] + R[0, 2] * G[i, 2],
-                R[1, 0] * G[i, 0] + R[1, 1] * G[i, 1] + R[1, 2] * G[i, 2],
-                R[2, 0] * G[i, 0] + R[2, 1] * G[i, 1] + R[2, 2] * G[i, 2],
-            )
-            J[0, i], J[1, i], J[2, i] = axis
-            J[3, i], J[4, i], J[5, i] = P  # joint origin for now: J_v = ω × (p − o) below
-            step = np.empty((3, 3))
-            c, s = math.cos(row[i]), math.sin(row[i])
-            for j in range(3):
-                column = rotate_cs(
-                    _row(G, i), c, s, (1.0 * (j == 0), 1.0 * (j == 1), 1.0 * (j == 2))
-                )
-                step[0, j], step[1, j], step[2, j] = column
-            R = R @ step
-            following = _row(G, 12) if i == 5 else _row(G, 7 + i)
-            offset = sub(following, _row(G, 6 + i))
-            P = add(
-                P,
-                (
-                    dot((R[0, 0], R[0, 1], R[0, 2]), offset),
-                    dot((R[1, 0], R[1, 1], R[1, 2]), offset),
-                    dot((R[2, 0], R[2, 1], R[2, 2]), offset),
-                ),
-            )
-        for i in range(6):
-            omega = (J[0, i], J[1, i], J[2, i])
-            linear = cross(omega, sub(P, (J[3, i], J[4, i], J[5, i])))
-            J[3, i], J[4, i], J[5, i] = linear
+    for _ in range(steps):
+        if stop > 0.0 and fk_error(G, row, T) <= stop:
+            break
+        R, P = _jacobian(G, row, J)
         R = R @ G[13:16]  # rows 13–15 hold R_M
         rotation = (0.0, 0.0, 0.0)
         for j in range(3):
@@ -687,11 +827,12 @@ def _polish(G, row, T, fixed):
         step_q = np.linalg.lstsq(J, e, 1e-10)[0]
         for i in range(6):
             row[i] += step_q[i]
-            row[6 + i], row[12 + i] = math.cos(row[i]), math.sin(row[i])
-    return fk_error(G, row[6:12], row[12:], T)
+            if not _prismatic(G, i):
+                row[6 + i], row[12 + i] = math.cos(row[i]), math.sin(row[i])
+    return fk_error(G, row, T)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
     """:func:`solve_kind` on the robot's joint order (``reverse``: the chain of ``G`` is the
     robot's run backwards, solved for ``T⁻¹``), each non-empty slot checked by FK (of the
@@ -704,7 +845,7 @@ def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
     for slot in range(q.shape[0]):
         if status[slot] == EMPTY:
             continue
-        error = fk_error(G, q[slot, 6:12], q[slot, 12:], target)
+        error = fk_error(G, q[slot], target)
         if verify_tol < error <= POLISH_RANGE:
             error = _polish(G, q[slot], target, free[slot])
         if error > verify_tol:
@@ -712,56 +853,21 @@ def solve_slots(kind, reverse, T, G, fix_joint, fix_value, tol, verify_tol):
     angles = np.empty((q.shape[0], 6))
     for slot in range(q.shape[0]):
         for j in range(6):
-            angles[slot, j] = _wrap(q[slot, 5 - j if reverse else j])
+            joint = 5 - j if reverse else j
+            value = q[slot, joint]
+            angles[slot, j] = value if _prismatic(G, joint) else _wrap(value)
         if reverse and free[slot] >= 0:
             free[slot] = 5 - free[slot]
     return angles, status, free, stage
 
 
-@numba.njit(cache=True)
-def _is_pose(T):
-    """Whether ``T`` is finite with bottom row (0, 0, 0, 1) and an orthonormal, det +1
-    rotation block as it is (to :data:`redik.lie.ROTATION_TOLERANCE`)."""
-    for i in range(4):
-        for j in range(4):
-            if not math.isfinite(T[i, j]):
-                return False
-    if T[3, 0] != 0.0 or T[3, 1] != 0.0 or T[3, 2] != 0.0 or T[3, 3] != 1.0:
-        return False
-    for j in range(3):
-        for k in range(j, 3):
-            product = T[0, j] * T[0, k] + T[1, j] * T[1, k] + T[2, j] * T[2, k]
-            if abs(product - (1.0 if j == k else 0.0)) > ROTATION_TOLERANCE:
-                return False
-    c0 = (T[0, 0], T[1, 0], T[2, 0])
-    c1 = (T[0, 1], T[1, 1], T[2, 1])
-    return dot(cross(c0, c1), (T[0, 2], T[1, 2], T[2, 2])) > 0.0
-
-
-@numba.njit(numba.float64[:, :](numba.float64[:, ::1], numba.float64[::1]), cache=True)
-def solve_raw(T, plan):
-    """The fast path: every verified solution within the limits (each angle moved by the
-    smallest multiple of 2π that brings it into range), duplicates (within the duplicate
-    tolerance per joint, modulo 2π) dropped, as a (k, 6) array in slot order — or a (0, 0)
-    array when ``T`` is not a 4 × 4 finite rigid transform to be used as it is (nothing is
-    solved: the caller raises, or projects a near-rotation as :mod:`redik.lie` does and calls
-    again). Compiled for one signature only (C-contiguous float64 ``T``): any other array or
-    object raises ``TypeError`` at the call instead of compiling a new specialisation, and the
-    caller converts it after its checks.
-
-    ``plan`` packs everything but the target into one array (one argument keeps the call
-    cheap): the (17, 3) geometry ``G`` row by row, the lower and upper limits, then the
-    settings (:data:`KIND`, :data:`REVERSE`, :data:`TOL`, :data:`VERIFY`, :data:`DUPLICATE`).
-    """
-    G = plan[:GEOMETRY_SIZE].reshape(17, 3)
-    lower = plan[GEOMETRY_SIZE : GEOMETRY_SIZE + 6]
-    upper = plan[GEOMETRY_SIZE + 6 : GEOMETRY_SIZE + 12]
-    settings = plan[GEOMETRY_SIZE + 12 :]
-    kind, reverse = int(settings[KIND]), settings[REVERSE] != 0.0
-    tol, verify_tol, duplicate_tol = settings[TOL], settings[VERIFY], settings[DUPLICATE]
-    if T.shape[0] != 4 or T.shape[1] != 4 or not _is_pose(T):
-        return np.empty((0, 0))
-    q, status, _, _ = solve_slots(kind, reverse, T, G, -1, 0.0, tol, verify_tol)
+@numba.njit(**COMPILE)
+def _select(q, status, lower, upper, duplicate_tol, slots, G, reverse):
+    """Compact the slots of :func:`solve_slots` in place: each non-empty slot moved by the
+    smallest multiple of 2π per angle into the limits (dropped if there is none), duplicates
+    (within ``duplicate_tol`` per joint, modulo 2π) dropped; ``slots[row]`` is the slot of
+    each kept row (``G`` and ``reverse`` say which robot joints slide). Returns the number
+    kept."""
     out = q  # compacted in place: row ``count`` ≤ ``slot`` is written after ``slot`` is read
     count = 0
     two_pi = 2.0 * math.pi
@@ -774,6 +880,9 @@ def solve_raw(T, plan):
             if lower[j] <= value <= upper[j]:  # the usual case: no turn to find
                 out[count, j] = value
                 continue
+            if _prismatic(G, 5 - j if reverse else j):  # a slide out of range: no turn helps
+                inside = False
+                break
             turns = min(
                 max(np.ceil((lower[j] - value) / two_pi), 0.0),
                 np.floor((upper[j] - value) / two_pi),
@@ -790,12 +899,77 @@ def solve_raw(T, plan):
         for other in range(count):
             same = True
             for j in range(6):
-                if abs(_wrap(out[other, j] - out[count, j])) >= duplicate_tol:
+                difference = out[other, j] - out[count, j]
+                slide = _prismatic(G, 5 - j if reverse else j)
+                if abs(difference if slide else _wrap(difference)) >= duplicate_tol:
                     same = False
                     break
             if same:
                 repeated = True
                 break
         if not repeated:
+            slots[count] = slot
             count += 1
-    return out[:count]
+    return count
+
+
+@numba.njit(**COMPILE)
+def _solve_planned(T, plan, slots):
+    """:func:`solve_slots` then :func:`_select` with everything read from ``plan``:
+    ``(q, count, status, free, stage)``, or ``count = −1`` (nothing solved) when ``T`` is not
+    a rigid transform to be used as it is."""
+    G = plan[:GEOMETRY_SIZE].reshape(19, 3)
+    lower = plan[GEOMETRY_SIZE : GEOMETRY_SIZE + 6]
+    upper = plan[GEOMETRY_SIZE + 6 : GEOMETRY_SIZE + 12]
+    settings = plan[GEOMETRY_SIZE + 12 :]
+    kind, reverse = int(settings[KIND]), settings[REVERSE] != 0.0
+    tol, verify_tol, duplicate_tol = settings[TOL], settings[VERIFY], settings[DUPLICATE]
+    if T.shape[0] != 4 or T.shape[1] != 4 or not valid_target(T, ROTATION_TOLERANCE):
+        empty = np.empty(0, np.int64)
+        return np.empty((0, 6)), -1, empty, empty, empty
+    q, status, free, stage = solve_slots(kind, reverse, T, G, -1, 0.0, tol, verify_tol)
+    count = _select(q, status, lower, upper, duplicate_tol, slots, G, reverse)
+    return q, count, status, free, stage
+
+
+@numba.njit(numba.float64[:, :](numba.float64[:, ::1], numba.float64[::1]), **COMPILE)
+def solve_raw(T, plan):
+    """The fast path: every verified solution within the limits (each angle moved by the
+    smallest multiple of 2π that brings it into range), duplicates (within the duplicate
+    tolerance per joint, modulo 2π) dropped, as a (k, 6) array in slot order — or a (0, 0)
+    array when ``T`` is not a 4 × 4 finite rigid transform to be used as it is — the one rule
+    of :func:`redik.kinematics.compiled.valid_target` at :data:`redik.lie.ROTATION_TOLERANCE`,
+    which is :func:`redik.lie.as_pose`'s "use as it is" (nothing is solved: the caller raises,
+    or projects a near-rotation as :mod:`redik.lie` does and calls again). Compiled for one
+    signature only (C-contiguous float64 ``T``): any other array or object raises
+    ``TypeError`` at the call instead of compiling a new specialisation, and the caller
+    converts it after its checks.
+
+    ``plan`` packs everything but the target into one array (one argument keeps the call
+    cheap): the (19, 3) geometry ``G`` row by row, the lower and upper limits, then the
+    settings (:data:`KIND`, :data:`REVERSE`, :data:`TOL`, :data:`VERIFY`, :data:`DUPLICATE`).
+    """
+    slots = np.empty(SLOTS[int(plan[GEOMETRY_SIZE + 12 + KIND])], np.int64)
+    q, count, _, _, _ = _solve_planned(T, plan, slots)
+    if count < 0:
+        return np.empty((0, 0))
+    return q[:count]
+
+
+@numba.njit(
+    numba.types.Tuple((numba.float64[:, :], numba.int64[:], numba.int64[:, ::1]))(
+        numba.float64[:, ::1], numba.float64[::1]
+    ),
+    **COMPILE,
+)
+def solve_labelled(T, plan):
+    """:func:`solve_raw` with what labels need: ``(q, slots, flags)``, ``q`` (k, 6) the kept
+    solutions, ``slots`` (k,) the slot of each and ``flags`` (3, S) the ``status``, ``free``
+    and ``stage`` of every slot (:func:`solve_slots`); ``flags`` has no column when ``T`` is
+    not to be used as it is (compiled for one signature, like :func:`solve_raw`; three
+    arrays, as each returned array costs the caller a box)."""
+    slots = np.empty(SLOTS[int(plan[GEOMETRY_SIZE + 12 + KIND])], np.int64)
+    q, count, status, free, stage = _solve_planned(T, plan, slots)
+    flags = np.empty((3, status.shape[0]), np.int64)
+    flags[0], flags[1], flags[2] = status, free, stage
+    return q[: max(count, 0)], slots[: max(count, 0)], flags

@@ -12,14 +12,18 @@ Angles are wrapped to (−π, π] (:func:`redik.lie.wrap_angle`); prismatic join
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import NamedTuple, overload
 
+import numba
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
+from redik.kinematics.compiled import COMPILE
 from redik.lie import wrap_angle
+from redik.solvers.analytic._decomposed_kernels import _wrap
 
 #: Default tolerance (metres) by which a target may lie outside the workspace and still be
 #: solved, clipped onto the boundary; also the size of a sine below which a configuration is
@@ -117,7 +121,6 @@ class SolutionFamily:
         return self.generator(*(float(v) for v in t))
 
 
-@dataclass(frozen=True)
 class IKSolutions(Sequence[JointSolution]):
     """Every closed-form solution of one target, as a sequence of :class:`JointSolution`.
 
@@ -128,13 +131,108 @@ class IKSolutions(Sequence[JointSolution]):
         reason: Why there is no solution, when there is none; else empty.
         preferred: Label of the branch conventionally used by the hardware (e.g. a hexapod's
             ``"knee-up"``), or empty.
+
+    A solver hands over the (k, n) array with the labels (:meth:`from_arrays`); the
+    :class:`JointSolution` objects are made on first use of :attr:`solutions` (indexing,
+    iteration), so that ``len``, :attr:`labels` and :meth:`as_array` cost no Python per
+    solution — making them was most of a single closed-form call. The public attributes are
+    read-only.
     """
 
-    solutions: tuple[JointSolution, ...]
-    n_joints: int
-    reachable: bool
-    reason: str = ""
-    preferred: str = ""
+    __slots__ = (
+        "_families",
+        "_labels",
+        "_n_joints",
+        "_preferred",
+        "_q",
+        "_reachable",
+        "_reason",
+        "_singular",
+        "_solutions",
+    )
+
+    def __init__(
+        self,
+        solutions: Sequence[JointSolution],
+        n_joints: int,
+        reachable: bool,
+        reason: str = "",
+        preferred: str = "",
+    ) -> None:
+        """From :class:`JointSolution` objects (:meth:`from_arrays` is the fast way)."""
+        self._q = np.array([np.asarray(s) for s in solutions], dtype=float).reshape(-1, n_joints)
+        self._labels = tuple(s.label for s in solutions)
+        self._singular = tuple(s.singular for s in solutions)
+        self._families = tuple(s.family for s in solutions)
+        self._n_joints, self._reachable = n_joints, reachable
+        self._reason, self._preferred = reason, preferred
+        self._solutions = tuple(solutions)
+
+    @classmethod
+    def from_arrays(
+        cls,
+        q: np.ndarray,
+        labels: Sequence[str],
+        *,
+        singular: Sequence[str] | None = None,
+        families: Sequence[SolutionFamily | None] | None = None,
+        reachable: bool = True,
+        reason: str = "",
+        preferred: str = "",
+    ) -> IKSolutions:
+        """The result holding ``q`` (k, n; kept, not copied) with a label per row, and where
+        given a singularity text and family per row."""
+        result = cls.__new__(cls)
+        result._q, result._labels = q, tuple(labels)
+        k = len(result._labels)
+        result._singular = ("",) * k if singular is None else tuple(singular)
+        result._families = (None,) * k if families is None else tuple(families)
+        result._n_joints, result._reachable = q.shape[1], reachable
+        result._reason, result._preferred = reason, preferred
+        result._solutions = None
+        return result
+
+    @property
+    def n_joints(self) -> int:
+        return self._n_joints
+
+    @property
+    def reachable(self) -> bool:
+        return self._reachable
+
+    @property
+    def reason(self) -> str:
+        return self._reason
+
+    @property
+    def preferred(self) -> str:
+        return self._preferred
+
+    def __reduce__(self) -> tuple:
+        # A family holds a closure and is not pickled (as for JointSolution).
+        return _rebuild, (
+            self._q,
+            self._labels,
+            self._singular,
+            self.reachable,
+            self.reason,
+            self.preferred,
+        )
+
+    @property
+    def solutions(self) -> tuple[JointSolution, ...]:
+        """The solutions as :class:`JointSolution` rows (made once, on first use)."""
+        if self._solutions is None:
+            block = self._q.view(JointSolution)
+            made = []
+            for index in range(len(self._labels)):
+                solution = block[index]
+                solution.label = self._labels[index]
+                solution.singular = self._singular[index]
+                solution.family = self._families[index]
+                made.append(solution)
+            self._solutions = tuple(made)
+        return self._solutions
 
     @overload
     def __getitem__(self, index: int) -> JointSolution: ...
@@ -144,48 +242,69 @@ class IKSolutions(Sequence[JointSolution]):
         return self.solutions[index]
 
     def __len__(self) -> int:
-        return len(self.solutions)
+        return len(self._labels)
 
     def __iter__(self) -> Iterator[JointSolution]:
         return iter(self.solutions)
 
+    def __repr__(self) -> str:
+        extra = "" if self.reachable else f", reachable=False, reason={self.reason!r}"
+        if self.reachable and self.reason:
+            extra = f", reason={self.reason!r}"
+        return f"IKSolutions({len(self)} solution(s), labels={list(self._labels)}{extra})"
+
     @property
     def labels(self) -> tuple[str, ...]:
-        return tuple(solution.label for solution in self.solutions)
+        return self._labels
 
     @property
     def singular(self) -> bool:
         """Whether any returned solution is at a singularity."""
-        return any(solution.singular for solution in self.solutions)
+        return any(self._singular)
 
     @property
     def families(self) -> tuple[SolutionFamily, ...]:
         """The continua of solutions, one per singular representative that has one."""
-        return tuple(s.family for s in self.solutions if s.family is not None)
+        return tuple(family for family in self._families if family is not None)
 
     def as_array(self) -> np.ndarray:
-        """The solutions stacked as a (k, n) array (k = 0 when there is none)."""
-        return np.array([s.q for s in self.solutions], dtype=float).reshape(-1, self.n_joints)
+        """The solutions stacked as a (k, n) array (k = 0 when there is none); a copy."""
+        return self._q.copy()
 
     def by_label(self, label: str) -> JointSolution:
         """The solution with this label; raises :class:`InvalidInput` naming the labels."""
-        for solution in self.solutions:
-            if solution.label == label:
-                return solution
-        raise InvalidInput(f"no solution labelled {label!r}; the labels are {list(self.labels)}")
+        if label not in self._labels:
+            raise InvalidInput(
+                f"no solution labelled {label!r}; the labels are {list(self._labels)}"
+            )
+        return self.solutions[self._labels.index(label)]
 
     def nearest(self, q_ref: np.ndarray, revolute: np.ndarray | None = None) -> JointSolution:
         """The solution closest to ``q_ref`` (angles compared modulo 2π, all joints if
         ``revolute`` is None): the branch to follow along a trajectory."""
-        if not self.solutions:
+        if not len(self):
             raise InvalidInput(f"there is no solution to choose from: {self.reason}")
         q_ref = np.asarray(q_ref, dtype=float)
         if q_ref.shape != (self.n_joints,):
             raise InvalidInput(f"q_ref must have shape ({self.n_joints},), got {q_ref.shape}")
         mask = np.ones(self.n_joints, bool) if revolute is None else np.asarray(revolute, bool)
-        difference = self.as_array() - q_ref
+        difference = self._q - q_ref
         difference[:, mask] = wrap_angle(difference[:, mask])
         return self.solutions[int(np.argmin(np.linalg.norm(difference, axis=1)))]
+
+
+def _rebuild(
+    q: np.ndarray,
+    labels: tuple[str, ...],
+    singular: tuple[str, ...],
+    reachable: bool,
+    reason: str,
+    preferred: str,
+) -> IKSolutions:
+    """Unpickle an :class:`IKSolutions` (without its families)."""
+    return IKSolutions.from_arrays(
+        q, labels, singular=singular, reachable=reachable, reason=reason, preferred=preferred
+    )
 
 
 @dataclass(frozen=True)
@@ -262,6 +381,14 @@ def finalize(
     a candidate is singular are the candidates compared for duplicates.
     """
     q = np.array([c.q for c in candidates], dtype=float).reshape(-1, n_joints)
+    singular = [c.singular for c in candidates]
+    if limits is not None and len(q):
+        # The usual case in one compiled call: numpy on arrays this small costs ~1 µs per
+        # operation, most of a closed-form call.
+        work = q.copy()  # q stays as it is for the explanation of an empty result below
+        keep = _wrap_select(work, revolute, limits[0], limits[1], any(singular), DUPLICATE_TOL)
+        if keep.any():
+            return _kept(work, np.flatnonzero(keep), candidates, singular, "", preferred)
     q = np.where(revolute, wrap_angle(q), q)
     distinct = np.ones(len(q), bool)
     if any(c.singular for c in candidates):
@@ -273,25 +400,83 @@ def finalize(
     if limits is not None:
         q, inside = limit_representatives(q, limits[0], limits[1], revolute)
         keep = distinct & inside.all(axis=1)
-    # Rows of one view: half the cost of building each solution from its values.
-    block = q.view(JointSolution)
-    kept = []
-    for index, candidate in enumerate(candidates):
-        if keep[index]:
-            solution = block[index]
-            solution.label, solution.singular = candidate.label, candidate.singular
-            solution.family = candidate.family
-            kept.append(solution)
+    kept = np.flatnonzero(keep)
     reason = ""
-    if limits is not None and not kept:
+    if limits is not None and not len(kept):
         reason = (
             f"none of the {int(distinct.sum())} solutions lies within the joint limits "
             f"(joints out of range in some solution: "
             f"{np.flatnonzero(~inside[distinct].all(axis=0)).tolist()})"
         )
-    return IKSolutions(tuple(kept), n_joints, True, reason, preferred)
+    return _kept(q, kept, candidates, singular, reason, preferred)
+
+
+def _kept(
+    q: np.ndarray,
+    kept: np.ndarray,
+    candidates: Sequence[Candidate | JointSolution],
+    singular: list[str],
+    reason: str,
+    preferred: str,
+) -> IKSolutions:
+    """The result of :func:`finalize`: rows ``kept`` of ``q`` with their candidates' fields."""
+    rows = kept.tolist()
+    texts = [singular[index] for index in rows]
+    return IKSolutions.from_arrays(
+        q[kept],
+        [candidates[index].label for index in rows],
+        singular=texts,
+        families=[candidates[index].family for index in rows] if any(texts) else None,
+        reason=reason,
+        preferred=preferred,
+    )
+
+
+@numba.njit(**COMPILE)
+def _wrap_select(q, revolute, lower, upper, dedupe, duplicate_tol):
+    """:func:`finalize` on (k, n) ``q`` in place, compiled: revolute angles wrapped (by
+    :func:`._decomposed_kernels._wrap`, the compiled twin of :func:`redik.lie.wrap_angle`),
+    duplicates of an earlier row dropped when ``dedupe`` (modulo 2π for revolute joints),
+    each row moved into the limits as :func:`limit_representatives` does; returns which
+    rows are kept."""
+    two_pi = 2.0 * math.pi
+    k, n = q.shape
+    for row in range(k):
+        for j in range(n):
+            if revolute[j]:
+                q[row, j] = _wrap(q[row, j])
+    keep = np.ones(k, np.bool_)
+    if dedupe:
+        for row in range(k):
+            for other in range(row):  # every earlier row, as the numpy path compares
+                same = True
+                for j in range(n):
+                    difference = q[row, j] - q[other, j]
+                    if revolute[j]:
+                        difference = _wrap(difference)
+                    if abs(difference) >= duplicate_tol:
+                        same = False
+                        break
+                if same:
+                    keep[row] = False
+                    break
+    for row in range(k):
+        for j in range(n):
+            value = q[row, j]
+            turns = 0.0
+            if revolute[j]:
+                turns = min(
+                    max(np.ceil((lower[j] - value) / two_pi), 0.0),
+                    np.floor((upper[j] - value) / two_pi),
+                )
+            shifted = value + two_pi * turns
+            clipped = min(max(shifted, lower[j]), upper[j])
+            q[row, j] = clipped
+            if abs(clipped - shifted) > duplicate_tol:
+                keep[row] = False
+    return keep
 
 
 def unreachable(n_joints: int, reason: str) -> IKSolutions:
     """The empty result for a target outside the workspace."""
-    return IKSolutions((), n_joints, False, reason)
+    return IKSolutions.from_arrays(np.empty((0, n_joints)), (), reachable=False, reason=reason)

@@ -94,7 +94,13 @@ class AngleConvention:
                     self.from_joints(solution.q), solution.label, solution.singular, family
                 )
             )
-        return dataclasses.replace(solutions, solutions=tuple(mapped))
+        return IKSolutions(
+            tuple(mapped),
+            solutions.n_joints,
+            solutions.reachable,
+            solutions.reason,
+            solutions.preferred,
+        )
 
     def _mapped_generator(self, family: SolutionFamily) -> Callable[..., np.ndarray]:
         """``at(*t)`` with the free joints' values ``t`` in this convention too."""

@@ -20,10 +20,14 @@ are):
     touches zero — a double root, where two arm solutions merge at a singularity — refined
     by golden section), then SP3, SP1 and the wrist.
 
-Arms outside these classes are refused with :class:`~redik.core.exceptions.ModelError`: a general
-6R (no three axes meeting or parallel) needs a 2-D search or an elimination to a degree-16
-polynomial (Raghavan & Roth 1993), neither of which is implemented; prismatic joints are not
-decomposed (the Stanford arm, RRPRRR, keeps :func:`redik.solvers.analytic.stanford`). Each class is
+``spherical_two_intersecting_prismatic``
+    axes 1, 2 meeting, joint 3 prismatic, spherical wrist (the Stanford arm, RRPRRR): the
+    slide's line meets a sphere about the shoulder point (the prismatic counterpart of SP3:
+    d3 ±), SP2 (shoulder ±), the wrist. Up to 8 solutions (4 with d3 ≥ 0).
+
+Arms outside these classes are refused with :class:`~redik.core.exceptions.ModelError`; a
+general 6R (no three axes meeting or parallel) has :mod:`redik.solvers.analytic.general`
+(an elimination to a degree-16 polynomial, Raghavan & Roth 1993). Each revolute class is
 also recognised with the chain run backwards (a spherical *shoulder*, axes
 1–3 meeting, solved as the reversed arm's wrist for ``T⁻¹``). The wrist may be any three
 axes through one point with consecutive axes not parallel: ZYZ, ZYX, ZXZ and skew ones.
@@ -45,7 +49,7 @@ subproblem leaves a joint arbitrary (a singularity).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
@@ -74,6 +78,7 @@ KINDS = (
     "spherical_two_parallel",
     "spherical",
     "three_parallel_two_intersecting",
+    "spherical_two_intersecting_prismatic",
 )
 
 #: How close (m; rad for directions) axes must be to intersecting or parallel to count as such.
@@ -88,6 +93,10 @@ MATCH_TOL = 1e-9
 
 REVOLUTE = np.ones(6, bool)
 
+_BRANCH_LABELS = tuple(f"s{s}e{e}w{w}" for s in "+-" for e in "+-" for w in "+-")
+_SEARCH_LABELS = tuple(f"arm{i + 1}-w{w}" for i in range(8) for w in "+-")
+_SLIDE_LABELS = tuple(f"s{s}d{d}w{w}" for s in "+-" for d in "+-" for w in "+-")
+
 
 @dataclass(frozen=True)
 class Chain:
@@ -97,14 +106,18 @@ class Chain:
     h: np.ndarray
     a: np.ndarray
     M: np.ndarray
+    prismatic: np.ndarray = field(default_factory=lambda: np.zeros(6, bool))
 
     @classmethod
     def from_screws(cls, S: np.ndarray, M: np.ndarray) -> Chain:
         """From space screws ``S`` (6 × 6, columns (ω, v), Modern Robotics order): the axis is
-        ω and its point nearest the origin is ω × v (v = −ω × a)."""
+        ω and its point nearest the origin is ω × v (v = −ω × a); a prismatic joint
+        (ω = 0) slides along v, and its point is the origin (any point would do)."""
         S = np.asarray(S, dtype=float)
-        h = S[:3].T.copy()
-        return cls(h, np.cross(h, S[3:].T), np.asarray(M, dtype=float))
+        prismatic = np.linalg.norm(S[:3], axis=0) < 0.5
+        h = np.where(prismatic[:, None], S[3:].T, S[:3].T)
+        a = np.where(prismatic[:, None], 0.0, np.cross(h, S[3:].T))
+        return cls(h, a, np.asarray(M, dtype=float), prismatic)
 
     def reversed(self) -> Chain:
         r"""The chain run backwards: :math:`T^{-1} = M^{-1} e^{-[S_6]q_6} ⋯ e^{-[S_1]q_1}
@@ -113,7 +126,12 @@ class Chain:
         R, p = self.M[:3, :3], self.M[:3, 3]
         M_inverse = np.eye(4)
         M_inverse[:3, :3], M_inverse[:3, 3] = R.T, -R.T @ p
-        return Chain(-(self.h @ R)[::-1].copy(), ((self.a - p) @ R)[::-1].copy(), M_inverse)
+        return Chain(
+            -(self.h @ R)[::-1].copy(),
+            ((self.a - p) @ R)[::-1].copy(),
+            M_inverse,
+            self.prismatic[::-1].copy(),
+        )
 
 
 def _parallel(chain: Chain, i: int, j: int) -> bool:
@@ -156,15 +174,18 @@ def _perpendicular(axis: np.ndarray) -> np.ndarray:
 
 
 def _pack(chain: Chain, points: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """The (17, 3) geometry array of :mod:`._decomposed_kernels`."""
+    """The (19, 3) geometry array of :mod:`._decomposed_kernels`."""
+    flags = chain.prismatic.astype(float).reshape(2, 3)
     return np.vstack(
-        [chain.h, points, chain.M[:3, 3], chain.M[:3, :3], _perpendicular(reference)]
+        [chain.h, points, chain.M[:3, 3], chain.M[:3, :3], _perpendicular(reference), flags]
     ).copy()
 
 
 def _classify_chain(chain: Chain) -> tuple[int, np.ndarray] | None:
     """The kernel and packed geometry for a chain run forwards, or None."""
     points = chain.a.copy()
+    if chain.prismatic.any():
+        return _classify_prismatic(chain)
     wrist_ok = not (_parallel(chain, 3, 4) or _parallel(chain, 4, 5))
     centre = _common_point(chain, 3, 4, 5) if wrist_ok else None
     if centre is not None and not _on_axis(chain, 2, centre):
@@ -185,6 +206,21 @@ def _classify_chain(chain: Chain) -> tuple[int, np.ndarray] | None:
             points[4:6] = wrist
             return kernels.THREE_PARALLEL_TWO_INTERSECTING, _pack(chain, points, chain.h[1])
     return None
+
+
+def _classify_prismatic(chain: Chain) -> tuple[int, np.ndarray] | None:
+    """The Stanford-type class (axes 1, 2 meeting, joint 3 sliding, spherical wrist), or None."""
+    if not np.array_equal(chain.prismatic, [False, False, True, False, False, False]):
+        return None
+    if _parallel(chain, 3, 4) or _parallel(chain, 4, 5) or _parallel(chain, 0, 1):
+        return None
+    centre = _common_point(chain, 3, 4, 5)
+    shoulder = _meeting_point(chain, 0, 1)
+    if centre is None or shoulder is None:
+        return None
+    points = chain.a.copy()
+    points[0:2], points[2], points[3:6] = shoulder, shoulder, centre
+    return kernels.SPHERICAL_TWO_INTERSECTING_PRISMATIC, _pack(chain, points, chain.h[5])
 
 
 def classify(S: np.ndarray, M: np.ndarray) -> tuple[str, bool, np.ndarray] | None:
@@ -211,6 +247,11 @@ _FREE_REASONS = {
         3: "wrist singular: the first and last wrist axes are aligned",
     },
     "spherical": {3: "wrist singular: the first and last wrist axes are aligned"},
+    "spherical_two_intersecting_prismatic": {
+        0: "the wrist centre lies on the first axis",
+        1: "the wrist centre lies on the second axis",
+        3: "wrist singular: the first and last wrist axes are aligned",
+    },
     "three_parallel_two_intersecting": {
         0: "the wrist point lies on the first axis",
         1: "the point after the three parallel axes lies on the second axis",
@@ -250,8 +291,8 @@ class DecomposedSolver:
     def labels(self) -> tuple[str, ...]:
         """Slot labels (module docstring)."""
         if self.kind == "spherical":
-            return tuple(f"arm{i + 1}-w{w}" for i in range(8) for w in "+-")
-        return tuple(f"s{s}e{e}w{w}" for s in "+-" for e in "+-" for w in "+-")
+            return _SEARCH_LABELS
+        return _SLIDE_LABELS if self.kind.endswith("prismatic") else _BRANCH_LABELS
 
     def raw(
         self, T: np.ndarray, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
@@ -262,13 +303,7 @@ class DecomposedSolver:
         ``strict`` refuses a near-rotation instead of projecting it (:mod:`redik.lie`)."""
         if strict:
             T = np.ascontiguousarray(_checks.pose(T, "target", strict=True))
-        # The common calls take two identity tests to their plan; anything else is checked.
-        if limits is None and tol is DEFAULT_TOL:
-            plan = self._unbounded_plan
-        elif limits.__class__ is str and limits == "robot" and tol is DEFAULT_TOL:
-            plan = self._robot_plan
-        else:
-            plan = self._plan(self._limits(limits), _checks.length(tol, "tol", allow_zero=True))
+        plan = self._plan_for(limits, tol)
         try:
             q = kernels.solve_raw(T, plan)
         except (TypeError, ValueError):  # not a C-contiguous float64 array: a list (numba
@@ -285,23 +320,70 @@ class DecomposedSolver:
         self, target: Any, *, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
     ) -> IKSolutions:
         """Every solution of a world-frame target pose, labelled, with families at
-        singularities (see :meth:`raw` for the arguments)."""
-        T = _checks.pose(target, "target", strict=strict)
-        lower, upper = self._limits(limits)
-        kind = KINDS.index(self.kind)
-        q, status, free, stage = kernels.solve_slots(
-            kind, self.reversed, T, self.geometry, -1, 0.0, tol, VERIFY_TOL
-        )
+        singularities (see :meth:`raw` for the arguments).
+
+        The same compiled call as :meth:`raw` (:func:`._decomposed_kernels.solve_labelled`
+        also returns each solution's slot); the labels are picked by slot and the Python per
+        solution is left to singular slots (their text and family) and to
+        :class:`~redik.solvers.analytic.IKSolutions`' lazy rows."""
+        T = target
+        if strict:
+            T = np.ascontiguousarray(_checks.pose(T, "target", strict=True))
+        plan = self._plan_for(limits, tol)
+        try:
+            q, slots, flags = kernels.solve_labelled(T, plan)
+        except (TypeError, ValueError):  # not a C-contiguous float64 array (as in raw):
+            flags = _NO_FLAGS  # checked and converted below
+        if not flags.shape[1]:
+            T = np.ascontiguousarray(_checks.pose(T, "target", strict=strict))
+            q, slots, flags = kernels.solve_labelled(T, plan)
+        if not len(slots):
+            return self._nothing(T, plan, flags[0], flags[2])
         labels = self.labels
-        candidates = []
-        for slot in np.flatnonzero(status != kernels.EMPTY):
-            text, family = self._singular(T, int(status[slot]), int(free[slot]), slot)
-            candidates.append(Candidate(q[slot], labels[slot], text, family))
-        if not candidates:
+        kept = slots.tolist()  # Python ints: cheaper to index with than numpy scalars
+        names = [labels[slot] for slot in kept]
+        codes = flags[0].tolist()
+        if kernels.SINGULAR not in codes:
+            return IKSolutions.from_arrays(q, names)
+        texts, families = [], []
+        for slot in kept:
+            text, family = self._singular(T, codes[slot], int(flags[1, slot]), slot)
+            texts.append(text)
+            families.append(family)
+        return IKSolutions.from_arrays(q, names, singular=texts, families=families)
+
+    def _nothing(
+        self, T: np.ndarray, plan: np.ndarray, status: np.ndarray, stage: np.ndarray
+    ) -> IKSolutions:
+        """The empty result: unreachable (the stage that failed), or every solution outside
+        the limits of ``plan`` (:func:`~._solution.finalize` names the joints)."""
+        if not (status != kernels.EMPTY).any():
             worst = int(stage.max())
             return unreachable(6, f"no branch reaches the target: {_STAGES.get(worst, '')}")
-        bounded = np.isfinite(lower).any() or np.isfinite(upper).any()
-        return finalize(candidates, 6, REVOLUTE, (lower, upper) if bounded else None)
+        q, status, _, _ = kernels.solve_slots(
+            KINDS.index(self.kind), self.reversed, T, self.geometry, -1, 0.0,
+            plan[-5 + kernels.TOL], VERIFY_TOL,
+        )  # fmt: skip
+        labels = self.labels
+        candidates = [
+            Candidate(q[slot], labels[slot]) for slot in np.flatnonzero(status != kernels.EMPTY)
+        ]
+        start = kernels.GEOMETRY_SIZE
+        return finalize(
+            candidates,
+            6,
+            ~self.geometry[17:19].ravel().astype(bool)[:: -1 if self.reversed else 1],
+            (plan[start : start + 6], plan[start + 6 : start + 12]),
+        )
+
+    def _plan_for(self, limits: Any, tol: Any) -> np.ndarray:
+        """The plan of these limits and tolerance: the common calls take two identity tests
+        to a plan made once; anything else is checked."""
+        if limits is None and tol is DEFAULT_TOL:
+            return self._unbounded_plan
+        if limits.__class__ is str and limits == "robot" and tol is DEFAULT_TOL:
+            return self._robot_plan
+        return self._plan(self._limits(limits), _checks.length(tol, "tol", allow_zero=True))
 
     def _plan(self, limits: tuple[np.ndarray, np.ndarray], tol: float) -> np.ndarray:
         """The ``plan`` array of :func:`._decomposed_kernels.solve_raw`."""
@@ -356,6 +438,7 @@ class DecomposedSolver:
 
 _UNBOUNDED = (np.full(6, -np.inf), np.full(6, np.inf))
 _NOTHING = np.empty((0, 0))
+_NO_FLAGS = np.empty((3, 0), np.int64)
 
 
 def decomposed_solver(
@@ -364,21 +447,24 @@ def decomposed_solver(
     lower: np.ndarray | None = None,
     upper: np.ndarray | None = None,
 ) -> DecomposedSolver:
-    """The solver of the 6R chain with space screws ``S`` (6 × 6, (ω, v) columns) and home
-    pose ``M``, with default limits ``lower``/``upper`` (none by default).
+    """The solver of the 6-joint chain with space screws ``S`` (6 × 6, (ω, v) columns; a
+    prismatic joint has ω = 0) and home pose ``M``, with default limits ``lower``/``upper``
+    (none by default).
 
     Raises:
-        ModelError: A joint is prismatic, or the geometry fits no class (module docstring).
+        ModelError: The geometry fits no class (module docstring; the one class with a
+            prismatic joint is the Stanford arm's).
     """
     S = _checks.finite_array(S, "S", (6, 6))
     M = _checks.pose(M, "M")
     prismatic = np.flatnonzero(np.linalg.norm(S[:3], axis=0) < 0.5)
-    if prismatic.size:
-        raise ModelError(
-            f"joint(s) {(prismatic + 1).tolist()} are prismatic; the decomposition solver takes "
-            "6R arms (the Stanford arm has its own solver: family 'stanford')"
-        )
     found = classify(S, M)
+    if found is None and prismatic.size:
+        raise ModelError(
+            f"joint(s) {(prismatic + 1).tolist()} are prismatic and no decomposition fits: "
+            "the one class with a prismatic joint is the Stanford arm's (axes 1 and 2 "
+            "meeting, joint 3 sliding, a spherical wrist)"
+        )
     if found is None:
         raise ModelError(
             "no closed-form decomposition fits this 6R arm: it needs a spherical wrist or "
@@ -422,11 +508,5 @@ def solver_from_robot(robot: Robot) -> DecomposedSolver:
     """:func:`decomposed_solver` for a 6-joint :class:`redik.Robot` and its joint limits."""
     if robot.dof != 6:
         raise ModelError(f"{robot.name!r} has {robot.dof} joints; the decomposition takes 6")
-    if not robot.revolute.all():
-        prismatic = (np.flatnonzero(~robot.revolute) + 1).tolist()
-        raise ModelError(
-            f"{robot.name!r}: joint(s) {prismatic} are prismatic; the decomposition solver "
-            "takes 6R arms (the Stanford arm has its own solver: family 'stanford')"
-        )
     S, M = screws_of(robot)
     return decomposed_solver(S, M, robot.lower, robot.upper)

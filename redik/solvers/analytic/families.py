@@ -21,10 +21,21 @@ from redik import lie
 from redik.core.exceptions import InvalidInput, ModelError
 from redik.models.dh import DHRow, forward
 from redik.solvers.analytic import _checks
+from redik.solvers.analytic import _decomposed_kernels as kernels
+from redik.solvers.analytic._arm import ARM_LABELS, SHOULDER_WRIST_LABELS
+from redik.solvers.analytic._branches import puma_slots_of, stanford_slots_of, ur_slots_of
 from redik.solvers.analytic._solution import DEFAULT_TOL, IKSolutions, unreachable
-from redik.solvers.analytic.decomposed import DecomposedSolver, solver_from_robot
+from redik.solvers.analytic.decomposed import (
+    DecomposedSolver,
+    classify,
+    decomposed_solver,
+    screws_of,
+    solver_from_robot,
+)
+from redik.solvers.analytic.general import GeneralSolver, general_solver
+from redik.solvers.analytic.general import solver_from_robot as general_from_robot
 from redik.solvers.analytic.hexapod import hexapod_leg
-from redik.solvers.analytic.planar import planar_2r, planar_3r
+from redik.solvers.analytic.planar import planar_2r_solutions, planar_3r
 from redik.solvers.analytic.polar import rrp_polar
 from redik.solvers.analytic.puma import dh_rows as puma_rows
 from redik.solvers.analytic.puma import puma_parameters, puma_solutions
@@ -74,7 +85,7 @@ def _solve_planar_2r(T: np.ndarray, p: Mapping[str, float], limits: Limits, tol:
     reason = _planar(T, tol, orientation=False)
     if reason:
         return unreachable(2, reason)
-    return planar_2r(T[0, 3], T[1, 3], p["l1"], p["l2"], limits=limits, tol=tol)
+    return planar_2r_solutions(float(T[0, 3]), float(T[1, 3]), p["l1"], p["l2"], limits, tol)
 
 
 def _solve_planar_3r(T: np.ndarray, p: Mapping[str, float], limits: Limits, tol: float):
@@ -168,7 +179,8 @@ def family_of(name: str) -> Family:
     if key not in FAMILIES:
         raise InvalidInput(
             f"no closed-form solver for {name!r}; families: {sorted(FAMILIES)} "
-            f"(scene names {sorted(ALIASES)} also work)"
+            f"(scene names {sorted(ALIASES)} also work), or 'decomposed' / 'general_6r' "
+            "for a 6R arm given by its screw axes"
         )
     return FAMILIES[key]
 
@@ -205,6 +217,12 @@ class AnalyticSolver:
         params: Its parameters, as read from the model.
         base: ``T_wb``, the pose of the arm's DH base frame in the world.
         lower, upper: The robot's joint limits, applied by default.
+        compiled: For the PUMA, UR and Stanford families, the subproblem decomposition of the same
+            robot (:mod:`.decomposed`): a call solves with it and names each solution by the
+            family's slot (:mod:`._branches`), in a few µs instead of the family's Python
+            kernel; a target with a singular solution, or with none, goes to the family's
+            kernel (its singularity texts, families and reasons). The two give the same
+            labelled set (tested on random poses).
     """
 
     family: str
@@ -212,6 +230,7 @@ class AnalyticSolver:
     base: np.ndarray
     lower: np.ndarray
     upper: np.ndarray
+    compiled: DecomposedSolver | None = None
 
     def __call__(
         self,
@@ -230,12 +249,18 @@ class AnalyticSolver:
             tol: As in the family's solver.
             strict: Refuse a near-rotation instead of projecting it (:mod:`redik.lie`'s policy).
         """
-        array = lie.real_array(target, "target")
+        # A 4 × 4 array (the usual call) goes straight to the pose check.
+        square = target.__class__ is np.ndarray and target.shape == (4, 4)
+        array = target if square else lie.real_array(target, "target")
         if array.shape == (3,) and self.family in ("planar_2r", "rrp_polar", "hexapod_leg"):
             T = np.eye(4)
             T[:3, 3] = _checks.finite_array(array, "target", (3,))
         else:
             T = _checks.pose(target, "target", strict=strict)
+            if self.compiled is not None:
+                solutions = self._compiled_solutions(T, limits, tol)
+                if solutions is not None:
+                    return solutions
         if isinstance(limits, str):
             if limits != "robot":
                 raise InvalidInput(
@@ -247,33 +272,71 @@ class AnalyticSolver:
         family = FAMILIES[self.family]
         return family.solve(self._base_inverse @ T, self.params, chosen, tol)
 
+    def _compiled_solutions(self, T: np.ndarray, limits: Any, tol: Any) -> IKSolutions | None:
+        """The labelled solutions by :attr:`compiled` (None: leave the target to the
+        family's kernel)."""
+        solver = self.compiled
+        assert solver is not None
+        T = np.ascontiguousarray(T)
+        q, slots, flags = kernels.solve_labelled(T, solver._plan_for(limits, tol))
+        if not len(slots) or kernels.SINGULAR in flags[0].tolist():
+            return None
+        local = self._base_inverse @ T
+        p = self.params
+        labels = ARM_LABELS
+        if self.family == "puma":
+            branch = puma_slots_of(q, local, p["a2"], p["a3"], p["d3"], p["d4"], 0.0)
+        elif self.family == "ur":
+            branch = ur_slots_of(q, local, p["a2"], p["a3"], p["d4"], p["d6"])
+        else:
+            branch, labels = stanford_slots_of(q, local, p["d2"], p["d6"]), SHOULDER_WRIST_LABELS
+        order = np.argsort(branch)
+        named = branch[order].tolist()
+        if named and named[0] < 0:  # Stanford rows with d3 < 0, which its solver excludes
+            start = named.count(-1)
+            order, named = order[start:], named[start:]
+            if not named:
+                return None
+        if len(set(named)) != len(named):  # two solutions on one branch: not regular after all
+            return None
+        return IKSolutions.from_arrays(q[order], [labels[slot] for slot in named])
+
     @cached_property
     def _base_inverse(self) -> np.ndarray:
         """``T_bw``, computed once: a solve per call would cost as much as the closed form."""
         return np.linalg.inv(self.base)
 
 
-def solver_for(robot: Robot, family: str | None = None) -> AnalyticSolver | DecomposedSolver:
-    """The closed-form solver of a robot.
+def solver_for(
+    robot: Robot, family: str | None = None
+) -> AnalyticSolver | DecomposedSolver | GeneralSolver:
+    """The closed-form (all-solutions) solver of a robot.
 
     Args:
         robot: A :class:`redik.Robot`, e.g. ``redik.load("puma560")`` or one built with
             :meth:`redik.Robot.from_screws`.
         family: The arm family; default: inferred from the model name (``robot.name``), and
             for any other 6R arm the subproblem decomposition of its screw axes
-            (:mod:`redik.solvers.analytic.decomposed`); ``"decomposed"`` forces that one.
+            (:mod:`redik.solvers.analytic.decomposed`) when its geometry has one, else the
+            general 6R elimination (:mod:`redik.solvers.analytic.general`).
+            ``"decomposed"`` or ``"general_6r"`` forces one of those; the solver's
+            ``family`` (and ``kind``) say which was chosen.
 
     A family's solver is checked against its DH table (``robot.fk`` at two configurations,
-    up to a constant base transform), the decomposition against the product of exponentials
-    of the screw axes, so that a solver never silently answers for a different arm.
+    up to a constant base transform), the decomposition and the elimination against the
+    product of exponentials of the screw axes, so that a solver never silently answers for a
+    different arm.
 
     Raises:
         InvalidInput: No family of that name.
         ModelError: A parameter is missing, the model does not match the table, or no
-            family fits (for a 6R arm: its geometry fits no decomposition class).
+            family fits (for a 6R arm: its geometry fits no decomposition class and the
+            general elimination is degenerate for it).
     """
     if family is not None and not isinstance(family, str):
         family_of(family)  # raises, naming the families
+    if family == "general_6r":
+        return general_from_robot(robot)
     if family == "decomposed" or (
         family is None and ALIASES.get(robot.name, robot.name) not in FAMILIES
     ):
@@ -281,8 +344,13 @@ def solver_for(robot: Robot, family: str | None = None) -> AnalyticSolver | Deco
             raise InvalidInput(
                 f"no closed-form solver for {robot.name!r} ({robot.dof} joints): the families "
                 f"are {sorted(FAMILIES)} (scene names {sorted(ALIASES)} also work), and "
-                "the subproblem decomposition takes 6R arms"
+                "the subproblem decomposition and general 6R elimination take 6R arms"
             )
+        if family is None and robot.revolute.all():
+            S, M = screws_of(robot)
+            if classify(S, M) is None:
+                return general_solver(S, M, robot.lower, robot.upper)
+            return decomposed_solver(S, M, robot.lower, robot.upper)
         return solver_from_robot(robot)
     spec = family_of(family if family is not None else robot.name)
     if robot.dof != spec.dof:
@@ -300,4 +368,18 @@ def solver_for(robot: Robot, family: str | None = None) -> AnalyticSolver | Deco
             f"{robot.name!r} does not move like the {spec.name} DH table with parameters "
             f"{params}: poses differ by {mismatch:.3g} (tolerance {MATCH_TOL:g})"
         )
-    return AnalyticSolver(spec.name, params, base, robot.lower.copy(), robot.upper.copy())
+    compiled = None
+    if spec.name in _COMPILED_CLASS:
+        S, M = screws_of(robot)
+        found = classify(S, M)
+        if found is not None and found[:2] == (_COMPILED_CLASS[spec.name], False):
+            compiled = decomposed_solver(S, M, robot.lower, robot.upper)
+    return AnalyticSolver(spec.name, params, base, robot.lower.copy(), robot.upper.copy(), compiled)
+
+
+#: The decomposition class that solves a family's arms (forwards), for AnalyticSolver.compiled.
+_COMPILED_CLASS = {
+    "puma": "spherical_two_intersecting",
+    "ur": "three_parallel_two_intersecting",
+    "stanford": "spherical_two_intersecting_prismatic",
+}

@@ -146,8 +146,23 @@ def planar_2r(
         ``reason``, outside the annulus ``|l1 − l2| ≤ r ≤ l1 + l2``.
     """
     x, y = _checks.scalar(x, "x"), _checks.scalar(y, "y")
+    return planar_2r_solutions(x, y, l1, l2, _checks.limits(limits, 2), tol)
+
+
+def planar_2r_solutions(
+    x: float,
+    y: float,
+    l1: float,
+    l2: float,
+    limits: tuple[np.ndarray, np.ndarray] | None,
+    tol: float = DEFAULT_TOL,
+) -> IKSolutions:
+    """:func:`planar_2r` on a checked target and limits (the lengths are checked here):
+    for a caller that validates at its own boundary
+    (:class:`redik.solvers.analytic.AnalyticSolver`; the limits check alone cost a fifth of
+    a call)."""
     l1, l2 = _checks.length(l1, "l1"), _checks.length(l2, "l2")
-    checked_limits = _checks.limits(limits, 2)
+    checked_limits = limits
     solution = two_link(x, y, l1, l2, tol, SCALAR)
     if not solution.reachable:
         return unreachable(2, two_link_reason(float(solution.radius), l1, l2))

@@ -31,6 +31,7 @@ import numba
 import numpy as np
 
 from redik.core.exceptions import InvalidInput, ModelError
+from redik.kinematics.compiled import COMPILE
 from redik.lie import wrap_angle
 from redik.solvers.analytic import _checks
 from redik.solvers.analytic._decomposed_kernels import _row
@@ -123,7 +124,7 @@ class SRSArm:
         return wrap_angle(q), valid
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _frame(a, b):
     """Rows of the orthonormal frame (â, b̂⊥, â × b̂⊥) of two non-parallel vectors."""
     x = scale(a, 1.0 / norm(a))
@@ -132,14 +133,14 @@ def _frame(a, b):
     return x, y, cross(x, y)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _map(f, g, v):
     """``Gᵀ F v`` for frames given by rows: the rotation taking frame f to frame g."""
     c = (dot(f[0], v), dot(f[1], v), dot(f[2], v))
     return add(add(scale(g[0], c[0]), scale(g[1], c[1])), scale(g[2], c[2]))
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _fk_error(points, G, q, T):
     """Pose error of the 7R chain at ``q`` (position, and the first two rotation columns)."""
     p = sub(_row(G, 10), points[6])
@@ -158,7 +159,7 @@ def _fk_error(points, G, q, T):
     return error
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _srs_slots(T, G, point_rows, psi):
     points = [(point_rows[i, 0], point_rows[i, 1], point_rows[i, 2]) for i in range(7)]
     h = [_row(G, i) for i in range(7)]

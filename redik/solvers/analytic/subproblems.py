@@ -34,46 +34,48 @@ import math
 
 import numba
 
+from redik.kinematics.compiled import COMPILE
+
 OK, BOUNDARY, OUT, FREE = 0, 1, 2, 3
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def cross(a, b):
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def add(a, b):
     return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def sub(a, b):
     return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def scale(a, s):
     return (a[0] * s, a[1] * s, a[2] * s)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def norm(a):
     return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def perp(k, p):
     """The part of ``p`` perpendicular to the unit axis ``k``."""
     return sub(p, scale(k, dot(k, p)))
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def rotate_cs(k, c, s, p):
     """``rot(k, θ) p`` for ``c = cos θ``, ``s = sin θ`` (Rodrigues' formula)."""
     kp = dot(k, p) * (1.0 - c)
@@ -84,13 +86,13 @@ def rotate_cs(k, c, s, p):
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def rotate(k, theta, p):
     """``rot(k, θ) p``."""
     return rotate_cs(k, math.cos(theta), math.sin(theta), p)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def sp1_cs(k, p1, p2):
     """SP1: θ with ``rot(k, θ) p1 = p2`` (least squares in the plane ⊥ k), its cosine and
     sine (read off the projections, no trigonometric call) and ``‖a‖``, the length of p1's
@@ -104,14 +106,14 @@ def sp1_cs(k, p1, p2):
     return math.atan2(y, x), x / r, y / r, norm(a)
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def sp1(k, p1, p2):
     """SP1 without the cosine and sine: ``(θ, ‖a‖)`` (see :func:`sp1_cs`)."""
     theta, _, _, length = sp1_cs(k, p1, p2)
     return theta, length
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def _roots_cs(cos_phi, sin_phi, cosine):
     """Cosines and sines of ``φ ± arccos(cosine)`` from those of φ (angle-sum formulas)."""
     c = min(max(cosine, -1.0), 1.0)
@@ -124,7 +126,7 @@ def _roots_cs(cos_phi, sin_phi, cosine):
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def sp3_cs(k, p1, p2, d, tol):
     """SP3: ``(θ+, θ−, status, cos θ+, sin θ+, cos θ−, sin θ−)`` with
     ``‖rot(k, θ) p1 − p2‖ = d``.
@@ -155,14 +157,14 @@ def sp3_cs(k, p1, p2, d, tol):
     return phi + spread, phi - spread, status, cp, sp, cm, sm
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def sp3(k, p1, p2, d, tol):
     """SP3 without cosines and sines: ``(θ+, θ−, status)`` (see :func:`sp3_cs`)."""
     plus, minus, status, _, _, _, _ = sp3_cs(k, p1, p2, d, tol)
     return plus, minus, status
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def sp4_cs(h, k, p, d, tol):
     """SP4: ``(θ+, θ−, status, cos θ+, sin θ+, cos θ−, sin θ−)`` with ``h · rot(k, θ) p = d``;
     ``C`` within ``tol`` outside ``[−r, r]`` is clipped (status BOUNDARY)."""
@@ -184,14 +186,14 @@ def sp4_cs(h, k, p, d, tol):
     return phi + spread, phi - spread, status, cp, sp, cm, sm
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def sp4(h, k, p, d, tol):
     """SP4 without cosines and sines: ``(θ+, θ−, status)`` (see :func:`sp4_cs`)."""
     plus, minus, status, _, _, _, _ = sp4_cs(h, k, p, d, tol)
     return plus, minus, status
 
 
-@numba.njit(cache=True)
+@numba.njit(**COMPILE)
 def sp2_cs(k1, p1, k2, p2, fixed1, fixed2, tol):
     """SP2: ``(θ1+, θ2+, θ1−, θ2−, status, free, trig)`` with
     ``rot(k1, θ1) p1 = rot(k2, θ2) p2`` (k1 ∦ k2, ‖p1‖ = ‖p2‖), ``trig`` the cosines and

@@ -5,12 +5,13 @@
 - :mod:`redik.kinematics.dls` is the compiled (numba) damped least-squares solve of one
   target, shared with :func:`redik.solve_pose` (:mod:`~redik.solvers.batch.kernel` re-exports it);
 - :mod:`~redik.solvers.batch.solve` runs it on a batch (:func:`solve_batch`);
-- :mod:`~redik.solvers.batch.engines` spreads chunks over this process, a process pool or Ray.
+- :mod:`~redik.solvers.batch.engines` spreads chunks over this process, a process pool or Ray
+  (an :class:`Engine` owns its workers: create it once, reuse it, close it).
 """
 
 from redik.kinematics.batched import forward_kinematics, jacobian
 from redik.kinematics.chain import Chain
-from redik.solvers.batch.engines import ENGINES
+from redik.solvers.batch.engines import ENGINES, Engine, close_shared_engines
 from redik.solvers.batch.solve import BATCH_STATUSES, BatchResult, solve_batch
 
 __all__ = [
@@ -18,6 +19,8 @@ __all__ = [
     "ENGINES",
     "BatchResult",
     "Chain",
+    "Engine",
+    "close_shared_engines",
     "forward_kinematics",
     "jacobian",
     "solve_batch",

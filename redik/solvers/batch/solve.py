@@ -38,7 +38,7 @@ from redik.kinematics.dls import damped_step as damped_step  # re-exported: its 
 from redik.kinematics.robot import Robot
 from redik.lie import MAX_COORDINATE, ROTATION_TOLERANCE, check_rotations, real_array
 from redik.lie import rotation_log as rotation_log  # re-exported: its old home
-from redik.solvers.batch.engines import ENGINES, default_workers, map_chunks
+from redik.solvers.batch.engines import ENGINES, Engine, as_engine
 
 BATCH_STATUSES = ("converged", "stalled", "max_iterations", "invalid", "diverged")
 """Status names by code (those of :mod:`redik.kinematics.dls`). All but ``"invalid"`` are
@@ -233,7 +233,7 @@ def solve_batch(
     rot_tol: float = 1e-5,
     restarts: int = 100,
     seed: int | np.random.SeedSequence | None = None,
-    engine: str = "local",
+    engine: str | Engine = "local",
     workers: int | None = None,
     address: str | None = None,
     chunk_size: int | None = None,
@@ -254,11 +254,14 @@ def solve_batch(
         restarts: Random re-seeds allowed per target after its first attempt.
         seed: Seed of the re-seeds; the same seed gives the same result on every engine,
             worker count and chunk size.
-        engine: ``"local"`` (this process, the targets spread over threads on every core:
-            the default), ``"process"`` (a pool of single-threaded processes) or ``"ray"``;
-            see :mod:`redik.solvers.batch.engines`.
-        workers: Threads, processes or Ray CPUs; default every core.
-        address: Ray cluster address (``engine="ray"``); default a local Ray instance.
+        engine: An :class:`~redik.solvers.batch.engines.Engine` (which owns its workers:
+            create it once, reuse it, close it), or the name of a shared one: ``"local"``
+            (this process, the targets spread over threads on every core: the default),
+            ``"process"`` (a pool of single-threaded processes, started on first use and
+            kept until exit) or ``"ray"``; see :mod:`redik.solvers.batch.engines`.
+        workers: Threads, processes or Ray CPUs of a named engine; default every core.
+        address: Ray cluster address of a named engine (``"ray"``); default a local Ray
+            instance.
         chunk_size: Targets per chunk, the unit of work (and of memory) of every engine;
             default a quarter of the batch within :data:`CHUNK_SIZE_RANGE`. Results do not
             depend on it.
@@ -272,15 +275,16 @@ def solve_batch(
 
     Raises:
         InvalidInput: ``T_targets`` is not ``B × 4 × 4``, a bad ``q0``, method, engine or
-            tolerance.
+            tolerance, a closed engine, or ``workers``/``address`` beside an ``Engine``.
     """
     if not isinstance(method, str) or method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
-    if not isinstance(engine, str) or engine not in ENGINES:
-        raise InvalidInput(f"engine must be one of {ENGINES}, got {engine!r}")
+    if not isinstance(engine, str | Engine):
+        raise InvalidInput(f"engine must be an Engine or one of {ENGINES}, got {engine!r}")
     for name, count in (("chunk_size", chunk_size), ("workers", workers)):
         if count is not None and not (_is_integer(count) and count >= 1):
             raise InvalidInput(f"{name} must be a positive integer or None, got {count!r}")
+    runner = as_engine(engine, workers, address)
     if not (seed is None or isinstance(seed, np.random.SeedSequence) or _is_integer(seed)) or (
         _is_integer(seed) and seed < 0
     ):
@@ -303,19 +307,16 @@ def solve_batch(
         (T[start : start + chunk_size], seeds[start : start + chunk_size], start)
         for start in starts
     )
-    parallel = engine == "local"
+    parallel = runner.kind == "local"
     threads = numba.get_num_threads()
     if parallel:
-        numba.set_num_threads(min(workers or default_workers(), numba.config.NUMBA_NUM_THREADS))
+        numba.set_num_threads(min(runner.workers, numba.config.NUMBA_NUM_THREADS))
     try:
         with numba.parallel_chunksize(1):  # hand out blocks of targets as threads free up
-            parts = map_chunks(
+            parts = runner.map(
                 _solve_chunk_task,
                 (chain, options, key, parallel),
                 chunks,
-                engine=engine,
-                workers=workers,
-                address=address,
                 on_result=None if progress is None else lambda part: progress(len(part)),
             )
     finally:

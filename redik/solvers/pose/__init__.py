@@ -12,7 +12,9 @@ One idea per module:
 - :mod:`~redik.solvers.pose.result`: the result, its status and the unreachable diagnosis;
 - :mod:`~redik.solvers.pose.frame`, :mod:`~redik.solvers.pose.cache`: what solves of one
   frame share (moving joints, reach, the compiled solver), kept by the robot;
-- :mod:`~redik.solvers.pose.qp`: the ``"qp"`` driver on :class:`redik.Problem`.
+- :mod:`~redik.solvers.pose.qp`: the ``"qp"`` driver on :class:`redik.Problem`;
+- :mod:`~redik.solvers.pose.closed_form`: ``solve_all(method="analytic")``, every solution
+  of the robot's closed-form solver (:mod:`redik.solvers.analytic`) as results.
 
 :func:`solve_pose` validates its inputs once (a ``"dls"`` call whose scalar arguments it
 has seen before leaves the target and ``q0`` to the compiled kernel, which checks them), then

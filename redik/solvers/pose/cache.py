@@ -5,7 +5,9 @@ dies with the robot, and two robots never share one): per frame its
 :class:`~redik.solvers.pose.frame.PoseFrame` and, once ``"dls"`` has run, its compiled
 :class:`~redik.solvers.pose.dls.DLSSolver`; on a whole-model robot, the chain to each frame;
 the :class:`~redik.solvers.problem.Problem` of ``"qp"`` per frame and settings
-(:func:`redik.solvers.pose.qp.solve_pose_qp`).
+(:func:`redik.solvers.pose.qp.solve_pose_qp`). Threads solving on one robot share the cache:
+each entry is built once, under the cache's lock, and read without one (what ``"dls"``
+needs; ``"qp"`` writes the robot's ``MjData`` and its problems are not shared safely).
 
 What it keeps is derived from the model (the compiled chain folds in ``body_pos``,
 ``site_pos``, the joint axes and anchors; the reach bound), from the values
@@ -18,6 +20,8 @@ old geometry.
 """
 
 from __future__ import annotations
+
+import threading
 
 import numpy as np
 
@@ -47,6 +51,7 @@ class PoseCache:
         """``"qp"``'s problems, by (frame argument, respect_limits, damping, gain)."""
         self.qp_chains: dict[Frame, tuple | None] = {}
         """``"qp"``'s compiled chains for restart seeds, by frame (None: whole model)."""
+        self._lock = threading.RLock()  # around every build-and-insert
         # Views of what the kept state is built from (module docstring): the model's
         # geometry and, in contiguous runs, the held entries of robot.data.qpos.
         model, qpos = robot.model, robot.data.qpos
@@ -75,10 +80,7 @@ class PoseCache:
     @classmethod
     def of(cls, robot: Robot) -> PoseCache:
         """The robot's cache, made on first use."""
-        cache = robot.solver_cache.get(_KEY)
-        if cache is None or not cache.is_current():  # type: ignore[attr-defined]
-            cache = robot.solver_cache[_KEY] = cls(robot)
-        return cache  # type: ignore[return-value]
+        return robot.solver_cache.get_or_build(_KEY, lambda: cls(robot), PoseCache.is_current)
 
     @staticmethod
     def known_dls(robot: Robot, frame: object) -> DLSSolver | None:
@@ -101,13 +103,17 @@ class PoseCache:
         """
         pose_frame = self.frames.get(frame)
         if pose_frame is None:
-            pose_frame = self.frames[frame] = PoseFrame(self.robot, frame)
-            if frame.kind != "body":  # its offset on its body is part of the geometry too
-                model, rows = self.robot.model, slice(frame.id, frame.id + 1)
-                self._sources += tuple(
-                    getattr(model, f"{frame.kind}_{name}")[rows] for name in ("pos", "quat")
-                )
-                self._stamp = b"".join(self._sources)
+            with self._lock:
+                pose_frame = self.frames.get(frame)
+                if pose_frame is None:
+                    pose_frame = PoseFrame(self.robot, frame)
+                    if frame.kind != "body":  # its offset on its body is geometry too
+                        model, rows = self.robot.model, slice(frame.id, frame.id + 1)
+                        self._sources += tuple(
+                            getattr(model, f"{frame.kind}_{name}")[rows] for name in ("pos", "quat")
+                        )
+                        self._stamp = b"".join(self._sources)
+                    self.frames[frame] = pose_frame
         return pose_frame
 
     def dls(self, frame: Frame, argument: object) -> DLSSolver:
@@ -115,24 +121,35 @@ class PoseCache:
         finds it by the frame argument ``argument`` from now on (when None or a name)."""
         solver = self.dls_solvers.get(frame)
         if solver is None:
-            solver = self.dls_solvers[frame] = DLSSolver(self.frame(frame))
+            with self._lock:
+                solver = self.dls_solvers.get(frame)
+                if solver is None:
+                    solver = self.dls_solvers[frame] = DLSSolver(self.frame(frame))
         if argument is None or isinstance(argument, str):
             self.dls_solvers[argument] = solver
         return solver
 
-    def chain(self, frame: Frame, q_whole: np.ndarray) -> Robot:
-        """``robot.chain(frame, q_whole)`` of a whole-model robot, kept while the joints it
-        holds keep their values: its compiled solver bakes them in, and rebuilding both per
-        call made a ``dls`` solve 17× slower than on the chain itself (2.2 ms vs 0.13 ms,
-        left arm of ``tests/test_whole_model.py``'s torso; 0.40 ms kept)."""
+    def chain(self, frame: Frame, q_whole: np.ndarray) -> tuple[Robot, np.ndarray]:
+        """``robot.chain(frame, q_whole)`` of a whole-model robot and its ``q`` there, the
+        chain kept while the joints it holds keep their values: its compiled solver bakes
+        them in, and rebuilding both per call made a ``dls`` solve 17× slower than on the
+        chain itself (2.2 ms vs 0.13 ms, left arm of ``tests/test_whole_model.py``'s torso;
+        0.40 ms kept). The chain's ``q`` comes from ``q_whole``, not from ``chain.data``,
+        which the threads sharing the chain all write."""
         robot = self.robot
         qpos = robot.full_qpos(q_whole)
         cached = self.chains.get(frame)
-        if cached is not None:
-            chain, held = cached
-            if np.array_equal(np.delete(qpos, chain.qpos_indices), held):
-                chain.data.qpos[:] = qpos
-                return chain
-        chain = robot.chain(frame, q_whole)
-        self.chains[frame] = (chain, np.delete(qpos, chain.qpos_indices))
-        return chain
+        if not _holds(cached, qpos):
+            with self._lock:
+                cached = self.chains.get(frame)
+                if not _holds(cached, qpos):
+                    chain = robot.chain(frame, q_whole)
+                    cached = self.chains[frame] = (chain, np.delete(qpos, chain.qpos_indices))
+        chain = cached[0]
+        chain.data.qpos[:] = qpos
+        return chain, qpos[chain.qpos_indices]
+
+
+def _holds(cached: tuple[Robot, np.ndarray] | None, qpos: np.ndarray) -> bool:
+    """A cached ``(chain, held values)`` holds its other joints at their values in ``qpos``."""
+    return cached is not None and np.array_equal(np.delete(qpos, cached[0].qpos_indices), cached[1])

@@ -31,6 +31,7 @@ warm and 1.8 µs cold of a 23–31 µs call, not worth depending on numba's inte
 from __future__ import annotations
 
 import secrets
+import threading
 
 import numpy as np
 
@@ -56,15 +57,16 @@ class DLSSolver:
     """The compiled chain of one frame (compiled on first use), the kernel's settings arrays
     per combination of arguments (validated once by :class:`BatchOptions`) and the kernel's
     output buffers, reused by every solve: one lives in the robot's
-    :class:`~redik.solvers.pose.cache.PoseCache` per frame. Not thread-safe, as the robot
-    itself (:attr:`redik.Robot.solver_cache`)."""
+    :class:`~redik.solvers.pose.cache.PoseCache` per frame. Threads sharing the robot share
+    the solver; each has its own output buffers, so their solves do not overwrite each
+    other's results."""
 
     def __init__(self, frame: PoseFrame) -> None:
         self.frame = frame
         self.robot = frame.robot
         self.kernel_arrays = Chain.from_robot(self.robot, frame.frame).kernel_arrays()
         self.reach = np.array([*frame.origin, frame.reach])
-        self.buffers: tuple[np.ndarray, ...] = ()
+        self._thread = threading.local()  # .buffers: this thread's kernel outputs
         self.settings: dict[tuple, tuple] = {}
 
     def prepare(
@@ -77,9 +79,9 @@ class DLSSolver:
         respect_limits: bool,
         options: dict,
     ) -> None:
-        """Keep the kernel's settings for these validated values under the caller's
-        ``arguments`` (the values as given, and their types), and size the buffers for
-        ``max_iter``.
+        """Keep the kernel's settings for these validated values, and the history length
+        ``max_iter`` needs, under the caller's ``arguments`` (the values as given, and their
+        types).
 
         Raises:
             InvalidInput: an option value :class:`BatchOptions` refuses.
@@ -93,15 +95,20 @@ class DLSSolver:
             pos_tol=pos_tol, rot_tol=rot_tol, max_iterations=max_iter, restarts=restarts,
             **{**DLS_OPTIONS, **options},
         ).kernel_settings(respect_limits)  # fmt: skip
-        if not self.buffers or self.buffers[1].shape[1] < max_iter + 1:
-            n = self.frame.columns.size
-            self.buffers = (
-                np.empty((2, max_iter + 1, n)), np.empty((2, max_iter + 1)), np.empty(n),
-                np.empty(6),
-            )  # fmt: skip
         if len(self.settings) >= _SETTINGS_KEPT:
             self.settings.clear()
-        self.settings[arguments] = (floats, counts, pos_tol, rot_tol, respect_limits)
+        self.settings[arguments] = (floats, counts, pos_tol, rot_tol, respect_limits, max_iter + 1)
+
+    def buffers(self, length: int) -> tuple[np.ndarray, ...]:
+        """This thread's kernel output buffers ``(history, errors, q, e)``, the history at
+        least ``length`` steps long (made on the thread's first solve, grown when short)."""
+        buffers = getattr(self._thread, "buffers", None)
+        if buffers is None or buffers[1].shape[1] < length:
+            n = self.frame.columns.size
+            buffers = self._thread.buffers = (
+                np.empty((2, length, n)), np.empty((2, length)), np.empty(n), np.empty(6),
+            )  # fmt: skip
+        return buffers
 
     def solve(
         self, T_target: object, q0: object, key: np.uint64, arguments: tuple
@@ -122,7 +129,7 @@ class DLSSolver:
             return None
         if settings is None:
             return None
-        floats, counts, pos_tol, rot_tol, respect_limits = settings
+        floats, counts, pos_tol, rot_tol, respect_limits, length = settings
         robot = self.robot
         if q0 is None:
             q0 = robot.home.copy()  # home is read-only
@@ -130,7 +137,7 @@ class DLSSolver:
             return None
         if not exact_array(T_target, (4, 4)):
             return None
-        history, errors, q_chain, e = self.buffers
+        history, errors, q_chain, e = self.buffers(length)
         columns = self.frame.columns
         status, iterations, used, length, summary = kernel.solve_one(
             self.kernel_arrays, columns, self.reach, T_target, q0, key, floats, counts,

@@ -20,6 +20,7 @@ from redik.kinematics.robot import Frame, Robot
 from redik.lie import as_pose, wrap_angle
 from redik.solvers.pose.attempt import Iteration, PoseProblem
 from redik.solvers.pose.cache import PoseCache
+from redik.solvers.pose.closed_form import closed_form_solutions
 from redik.solvers.pose.dls import fast_kernel_key, kernel_key
 from redik.solvers.pose.gradient import hybrid, transpose
 from redik.solvers.pose.newton import newton
@@ -182,8 +183,7 @@ def _solve_on_chain(
     """:func:`solve_pose` for a whole-model robot: on its chain to ``frame``, the other
     joints held at ``q0`` (default ``home``); ``q`` and ``history`` are the robot's."""
     q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
-    chain = PoseCache.of(robot).chain(robot.frame(frame), q_whole)
-    q_chain = chain.q_of()
+    chain, q_chain = PoseCache.of(robot).chain(robot.frame(frame), q_whole)
     result = solve_pose(chain, T_target, q_chain, **options)
     result.q = robot.embed(chain, result.q, q_whole)
     result.history = np.array([robot.embed(chain, row, q_whole) for row in result.history])
@@ -208,6 +208,13 @@ def solve_all(
 ) -> list[IKResult]:
     """The distinct solutions reached from ``n_starts`` starts: ``q0`` if given, then random.
 
+    ``method="analytic"`` returns instead every solution of the robot's closed-form solver
+    (:func:`redik.solvers.analytic.solver_for`: a bundled family, the subproblem
+    decomposition, or for a general 6R arm the Raghavan–Roth elimination), exact to rounding
+    and complete, with no starts (:mod:`.closed_form`); ``n_starts``, ``seed``, tolerances
+    and ``cluster_tol`` do not apply, and a robot with no closed form raises its
+    ``ModelError``/``InvalidInput``.
+
     Each start is solved by :func:`solve_pose` without restarts; the successful results are
     clustered: two solutions are the same when every joint differs by at most
     ``cluster_tol`` (radians or metres), comparing angles modulo 2π for revolute joints
@@ -224,17 +231,19 @@ def solve_all(
     """
     if not robot.is_chain:  # the chain to the frame, the other joints at q0 (else home)
         q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
-        chain = PoseCache.of(robot).chain(robot.frame(frame), q_whole)
+        chain, q_chain = PoseCache.of(robot).chain(robot.frame(frame), q_whole)
         results = solve_all(
             chain, T_target, n_starts, seed, method, pos_tol, rot_tol, max_iter,
             respect_limits, None, cluster_tol, strict,
-            None if q0 is None else chain.q_of(), **method_options,
+            None if q0 is None else q_chain, **method_options,
         )  # fmt: skip
         for result in results:
             result.q = robot.embed(chain, result.q, q_whole)
             result.history = np.array([robot.embed(chain, row, q_whole) for row in result.history])
         return results
     T_target = as_pose(T_target, "T_target", strict=strict)  # once, not per start
+    if method == "analytic":
+        return closed_form_solutions(robot, T_target, respect_limits, frame, method_options)
     n_starts = check_count(n_starts, "n_starts", 1)
     cluster_tol = positive(cluster_tol, "cluster_tol")
     first = None if q0 is None else robot.check_q(q0, "q0")

@@ -42,9 +42,6 @@ checks and writes into caller-owned buffers.
 
 from __future__ import annotations
 
-import dataclasses
-import fnmatch
-import os
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -52,31 +49,29 @@ import mujoco
 import numpy as np
 
 from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
+from redik.kinematics.robot.coordinates import JointCoordinates
+from redik.kinematics.robot.frames import (
+    FRAME_JACOBIANS,
+    Frame,
+    frame_body,
+    frame_names,
+    frame_pose_views,
+    resolve_frame,
+)
+from redik.kinematics.robot.selection import (
+    BALL,
+    chain_joints,
+    joint_name,
+    literal,
+    match_joints,
+    selected_joints,
+)
+from redik.kinematics.robot.solver_cache import SolverCache
 from redik.lie import MAX_COORDINATE, periodic_coordinates, real_array, world_jacobian_to
-from redik.models import loading, scenes
+from redik.models import loading
 
 JACOBIAN_REFERENCES = ("space", "body", "world")
-FRAME_KINDS = ("site", "body", "geom")
-
-_FREE, _BALL, _SLIDE, _HINGE = (
-    int(mujoco.mjtJoint.mjJNT_FREE),
-    int(mujoco.mjtJoint.mjJNT_BALL),
-    int(mujoco.mjtJoint.mjJNT_SLIDE),
-    int(mujoco.mjtJoint.mjJNT_HINGE),
-)
-_CHAIN_JOINT_TYPES = (_HINGE, _SLIDE)
-_JOINT_NQ = {_FREE: 7, _BALL: 4, _SLIDE: 1, _HINGE: 1}
-_JOINT_NV = {_FREE: 6, _BALL: 3, _SLIDE: 1, _HINGE: 1}
-_JOINT_TYPE_NAMES = {_FREE: "free", _BALL: "ball", _SLIDE: "slide", _HINGE: "hinge"}
-
-
-@dataclasses.dataclass(frozen=True)
-class Frame:
-    """A resolved frame: a site, a body or a geom of the model, by id."""
-
-    name: str
-    kind: str  # "site", "body" or "geom"
-    id: int
+"""The references a Jacobian can be expressed in (:mod:`redik.core.conventions`)."""
 
 
 class Robot:
@@ -117,8 +112,14 @@ class Robot:
         home: The ``home`` keyframe's values (else ``qpos0``), clipped into the limits.
         solver_cache: What solvers compile once per robot and frame (e.g. the chain of
             :func:`redik.solve_pose`'s ``"dls"`` kernel), kept here so it lives and dies
-            with the robot. Like :attr:`data`, it makes a robot unsafe to share between
-            threads.
+            with the robot; a :class:`~redik.kinematics.robot.solver_cache.SolverCache`,
+            safe to share between threads.
+
+    Threads: :attr:`data` is the scratch space of every forward kinematics, so one robot
+    serves one thread at a time, except for what never touches :attr:`data` after the
+    robot is built: :func:`redik.solve_pose` with ``method="dls"`` (the default) and
+    ``respect_limits=True``, and :func:`redik.solvers.batch.solve_batch`. Other solvers need
+    one :class:`Robot` per thread (build each from the same ``model``).
     """
 
     def __init__(
@@ -134,11 +135,11 @@ class Robot:
         self.data = mujoco.MjData(model)
         self.name = name or _model_name(model)
         self._frames: dict[str, Frame] = {}
-        fixed_ids = set(_match_joints(model, fixed or (), "fixed", self.name))
+        fixed_ids = set(match_joints(model, fixed or (), "fixed", self.name))
         self.is_chain = joints is None
         if self.is_chain:
             self.ee = self.frame(ee if ee is not None else "ee")
-            joint_ids = _chain_joints(model, self._body_of(self.ee), fixed_ids, self.name)
+            joint_ids = chain_joints(model, frame_body(model, self.ee), fixed_ids, self.name)
             if not joint_ids:
                 raise ModelError(
                     f"no hinge or slide joint between the root and end-effector "
@@ -148,83 +149,29 @@ class Robot:
             self.ee = None
             if ee is not None:
                 self.ee = self.frame(ee)
-            elif _has_name(model, mujoco.mjtObj.mjOBJ_SITE, "ee"):
+            elif mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, "ee") >= 0:
                 self.ee = self.frame("ee")
-            selected = (
-                range(model.njnt)
-                if isinstance(joints, str) and joints == "all"
-                else _match_joints(model, [joints] if isinstance(joints, str) else joints,
-                                   "joints", self.name)
-            )  # fmt: skip
-            named_both = sorted(_exact_names(joints) & _exact_names(fixed))
-            if named_both:
-                raise InvalidInput(
-                    f"joints {named_both} are named both in joints= (to move) and in fixed= "
-                    "(to hold); name each in one of them"
-                )
-            joint_ids = sorted(set(selected) - fixed_ids)
-            if not joint_ids:
-                raise ModelError(
-                    f"no joint left to move in model {self.name!r} (joints={joints!r}, "
-                    f"fixed={fixed!r})"
-                )
-        self._joint_ids = np.array(joint_ids, dtype=int)
-        self.joint_names = tuple(_joint_name(model, j) for j in joint_ids)
-        types = [int(model.jnt_type[j]) for j in joint_ids]
-        self.joint_types = tuple(_JOINT_TYPE_NAMES[t] for t in types)
-        self._qpos_adr = np.concatenate(
-            [
-                model.jnt_qposadr[j] + np.arange(_JOINT_NQ[t])
-                for j, t in zip(joint_ids, types, strict=True)
-            ]
-        ).astype(int)
-        self._dof_adr = np.concatenate(
-            [
-                model.jnt_dofadr[j] + np.arange(_JOINT_NV[t])
-                for j, t in zip(joint_ids, types, strict=True)
-            ]
-        ).astype(int)
+            joint_ids = selected_joints(model, joints, fixed, fixed_ids, self.name)
+        coordinates = JointCoordinates.of(model, joint_ids)
+        self._joint_ids = coordinates.joint_ids
+        self.joint_names = coordinates.joint_names
+        self.joint_types = coordinates.joint_types
+        self._qpos_adr = coordinates.qpos_adr
+        self._dof_adr = coordinates.dof_adr
         self.dof = len(self._dof_adr)
         self.nq = len(self._qpos_adr)
         self.flat = self.nq == self.dof
-        dof_names, dof_joints, revolute, lower, upper = [], [], [], [], []
-        scalar_dofs, scalar_q, quaternion_q, free_q = [], [], [], []
-        q_offset = 0
-        for j, t, joint_name in zip(joint_ids, types, self.joint_names, strict=True):
-            if t == _FREE:
-                free_q.append(q_offset)
-            if t in (_FREE, _BALL):
-                quaternion_q.append(q_offset + (3 if t == _FREE else 0))
-            if t in _CHAIN_JOINT_TYPES:
-                scalar_dofs.append(len(dof_names))
-                scalar_q.append(q_offset)
-                dof_names.append(joint_name)
-                dof_joints.append(joint_name)
-                revolute.append(t == _HINGE)
-                limited = bool(model.jnt_limited[j])
-                lower.append(model.jnt_range[j, 0] if limited else -np.inf)
-                upper.append(model.jnt_range[j, 1] if limited else np.inf)
-            else:
-                axes = ("wx", "wy", "wz") if t == _BALL else ("x", "y", "z", "wx", "wy", "wz")
-                dof_names.extend(f"{joint_name}:{axis}" for axis in axes)
-                dof_joints.extend([joint_name] * len(axes))
-                revolute.extend(axis.startswith("w") for axis in axes)
-                lower.extend([-np.inf] * len(axes))
-                upper.extend([np.inf] * len(axes))
-            q_offset += _JOINT_NQ[t]
-        self.dof_names = tuple(dof_names)
-        self.dof_joints = tuple(dof_joints)
-        self.revolute = np.array(revolute, dtype=bool)
-        self.lower = np.array(lower, dtype=float)
-        self.upper = np.array(upper, dtype=float)
+        self.dof_names = coordinates.dof_names
+        self.dof_joints = coordinates.dof_joints
+        self.revolute = coordinates.revolute
+        self.lower = coordinates.lower
+        self.upper = coordinates.upper
         # Hinge and slide entries: their tangent coordinate and their index in q.
-        self._scalar_dofs = np.array(scalar_dofs, dtype=int)
-        self._scalar_q = np.array(scalar_q, dtype=int)
+        self._scalar_dofs = coordinates.scalar_dofs
+        self._scalar_q = coordinates.scalar_q
         # Where a ball or free joint's quaternion, and a free joint's position, start in q.
-        self._quaternion_q = tuple(quaternion_q)
-        self._free_q = tuple(free_q)
-        for array in (self.lower, self.upper, self.revolute):
-            array.setflags(write=False)
+        self._quaternion_q = coordinates.quaternion_q
+        self._free_q = coordinates.free_q
 
         key = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, "home")
         if key >= 0:
@@ -248,7 +195,7 @@ class Robot:
         self._qpos_a = np.zeros(model.nq)
         self._qpos_b = np.zeros(model.nq)
         self._qvel = np.zeros(model.nv)
-        self.solver_cache: dict[object, object] = {}
+        self.solver_cache = SolverCache()
 
     # ----------------------------------------------------------------------------------
     # Construction
@@ -371,42 +318,21 @@ class Robot:
         if not isinstance(name, str):
             raise UnknownFrame(f"a frame is named by a string, got {name!r}")
         cached = self._frames.get(name)
-        if cached is not None:
-            return cached
-        prefix, _, rest = name.partition(":")
-        kinds, bare = ((prefix,), rest) if rest and prefix in FRAME_KINDS else (FRAME_KINDS, name)
-        for candidate in kinds:
-            index = mujoco.mj_name2id(self.model, _FRAME_OBJECTS[candidate], bare)
-            if index >= 0:
-                resolved = Frame(name, candidate, index)
-                break
-        else:
-            raise loading.unknown_frame(self.model, name, f"model {self.name!r}", kinds)
-        self._frames[name] = resolved
-        return resolved
+        if cached is None:
+            cached = self._frames[name] = resolve_frame(self.model, name, f"model {self.name!r}")
+        return cached
 
     def frame_names(self, kind: str = "site") -> list[str]:
         """Names of the model's sites, bodies or geoms (``kind`` = "site", "body", "geom")."""
-        if kind not in FRAME_KINDS:
-            raise InvalidInput(f"kind must be one of {FRAME_KINDS}, got {kind!r}")
-        count = {"site": self.model.nsite, "body": self.model.nbody, "geom": self.model.ngeom}
-        names = (mujoco.mj_id2name(self.model, _FRAME_OBJECTS[kind], i) for i in range(count[kind]))
-        return [n for n in names if n]
+        return frame_names(self.model, kind)
 
     def body_of(self, frame: str | Frame) -> int:
         """Id of the body ``frame`` is attached to (itself for a body)."""
-        return self._body_of(self.frame(frame))
-
-    def _body_of(self, frame: Frame) -> int:
-        if frame.kind == "site":
-            return int(self.model.site_bodyid[frame.id])
-        if frame.kind == "geom":
-            return int(self.model.geom_bodyid[frame.id])
-        return frame.id
+        return frame_body(self.model, self.frame(frame))
 
     def moves(self, frame: str | Frame) -> bool:
         """True when some joint of the robot moves ``frame``."""
-        body = self._body_of(self.frame(frame))
+        body = frame_body(self.model, self.frame(frame))
         moved = set(self._joint_ids.tolist())
         while body > 0:
             start, count = self.model.body_jntadr[body], self.model.body_jntnum[body]
@@ -433,9 +359,9 @@ class Robot:
         resolved = self.frame(frame)
         moved = set(self._joint_ids.tolist())
         fixed = [
-            _literal(_joint_name(self.model, j))
+            literal(joint_name(self.model, j))
             for j in range(self.model.njnt)
-            if j not in moved or int(self.model.jnt_type[j]) == _BALL
+            if j not in moved or int(self.model.jnt_type[j]) == BALL
         ]
         chain = Robot(self.model, resolved.name, name=name or f"{self.name}:{resolved.name}",
                       joints=None, fixed=fixed)  # fmt: skip
@@ -658,7 +584,7 @@ class Robot:
 
     def world_jacobian_into(self, frame: Frame, J: np.ndarray) -> np.ndarray:
         """Write the ``"world"`` Jacobian of ``frame`` (after :meth:`update`) into 6 × n ``J``."""
-        jac = _JACOBIANS[frame.kind]
+        jac = FRAME_JACOBIANS[frame.kind]
         if self._jacobian_is_direct and J.flags.c_contiguous:
             jac(self.model, self.data, J[:3], J[3:], frame.id)
             return J
@@ -718,82 +644,6 @@ class Robot:
         )
 
 
-_FRAME_OBJECTS = {
-    "site": mujoco.mjtObj.mjOBJ_SITE,
-    "body": mujoco.mjtObj.mjOBJ_BODY,
-    "geom": mujoco.mjtObj.mjOBJ_GEOM,
-}
-_JACOBIANS = {"site": mujoco.mj_jacSite, "body": mujoco.mj_jacBody, "geom": mujoco.mj_jacGeom}
-
-
-def frame_pose_views(data: mujoco.MjData, frame: Frame) -> tuple[np.ndarray, np.ndarray]:
-    """Views ``(R, p)`` of ``frame``'s world rotation and position inside ``data``."""
-    if frame.kind == "site":
-        return data.site_xmat[frame.id].reshape(3, 3), data.site_xpos[frame.id]
-    if frame.kind == "geom":
-        return data.geom_xmat[frame.id].reshape(3, 3), data.geom_xpos[frame.id]
-    return data.xmat[frame.id].reshape(3, 3), data.xpos[frame.id]
-
-
-def frame_jacobian(
-    model: mujoco.MjModel, data: mujoco.MjData, frame: Frame, jacp: np.ndarray, jacr: np.ndarray
-) -> None:
-    """MuJoCo's world Jacobian of ``frame`` (``mj_jacSite``/``mj_jacBody``/``mj_jacGeom``)."""
-    _JACOBIANS[frame.kind](model, data, jacp, jacr, frame.id)
-
-
-def _has_name(model: mujoco.MjModel, obj: mujoco.mjtObj, name: str) -> bool:
-    return mujoco.mj_name2id(model, obj, name) >= 0
-
-
-def _joint_name(model: mujoco.MjModel, joint: int) -> str:
-    return mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, joint) or f"joint{joint}"
-
-
-def _literal(name: str) -> str:
-    """An ``fnmatch`` pattern matching exactly ``name`` (``*``, ``?``, ``[`` escaped)."""
-    return "".join(f"[{char}]" if char in "*?[" else char for char in name)
-
-
-def _match_joints(
-    model: mujoco.MjModel, patterns: Sequence[str], argument: str, robot_name: str
-) -> list[int]:
-    """Ids of the joints whose name equals or ``fnmatch``-es one of ``patterns``.
-
-    Raises:
-        ModelError: a pattern matches no joint (a typo would otherwise move, or fix,
-            nothing).
-    """
-    if isinstance(patterns, str):
-        patterns = [patterns]
-    if not isinstance(patterns, (list, tuple, set, frozenset)):
-        raise InvalidInput(
-            f"{argument} must be 'all', a joint name or pattern, or a list of them; got "
-            f"{patterns!r}"
-        )
-    names = [_joint_name(model, j) for j in range(model.njnt)]
-    selected: list[int] = []
-    for pattern in patterns:
-        if not isinstance(pattern, str):
-            raise InvalidInput(f"{argument} holds joint names or patterns, got {pattern!r}")
-        hits = [j for j, name in enumerate(names) if fnmatch.fnmatchcase(name, pattern)]
-        if not hits:
-            raise ModelError(
-                f"{argument}: no joint of model {robot_name!r} matches {pattern!r}; joints: {names}"
-            )
-        selected.extend(hits)
-    return sorted(set(selected))
-
-
-def _exact_names(patterns: str | Sequence[str] | None) -> set[str]:
-    """The entries of a joints= or fixed= argument that are names, not patterns."""
-    if patterns is None or patterns == "all":
-        return set()
-    if isinstance(patterns, str):
-        patterns = [patterns]
-    return {p for p in patterns if isinstance(p, str) and not any(c in p for c in "*?[")}
-
-
 def _model_name(model: mujoco.MjModel) -> str:
     # MuJoCo stores the model's own name first in its names buffer.
     return bytes(model.names).split(b"\0", 1)[0].decode() or "robot"
@@ -804,53 +654,3 @@ def _as_slice(indices: np.ndarray) -> slice | np.ndarray:
     if np.array_equal(indices, np.arange(indices[0], indices[0] + len(indices))):
         return slice(int(indices[0]), int(indices[0]) + len(indices))
     return indices
-
-
-def _chain_joints(model: mujoco.MjModel, body: int, fixed: set[int], robot_name: str) -> list[int]:
-    """Hinge and slide joints on the path from the world to ``body``, root first.
-
-    A free joint on the path is the floating base: it stays where ``qpos`` puts it. A ball
-    joint cannot be part of a serial chain of hinges and slides; it must be fixed
-    explicitly (or the robot built with ``joints=``), never silently frozen.
-
-    Raises:
-        ModelError: an unfixed ball joint lies on the path.
-    """
-    joints: list[int] = []
-    while body > 0:
-        start, count = model.body_jntadr[body], model.body_jntnum[body]
-        body_joints = []
-        for j in range(start, start + count):
-            if j in fixed:
-                continue
-            joint_type = int(model.jnt_type[j])
-            if joint_type == _BALL:
-                raise ModelError(
-                    f"ball joint {_joint_name(model, j)!r} lies on the chain to body "
-                    f"{mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body)!r} of model "
-                    f"{robot_name!r}: a serial chain moves hinges and slides only. Build a "
-                    f"whole-model robot (joints='all') to move it, or pass "
-                    f"fixed=[{_joint_name(model, j)!r}] to hold it"
-                )
-            if joint_type in _CHAIN_JOINT_TYPES:
-                body_joints.append(j)
-        joints[:0] = body_joints
-        body = int(model.body_parentid[body])
-    return joints
-
-
-def load(name: str | os.PathLike[str], ee: str | None = None, **options) -> Robot:
-    """Load a bundled scene by name (``redik.load("panda")``) or any MJCF/URDF file by path.
-
-    ``name`` is anything :func:`redik.models.scenes.scene_path` accepts; ``options`` go to
-    :func:`redik.models.loading.load_spec` (``meshes=False`` for kinematics only, ``visual``,
-    ``package_paths``, ``floating_base``, ``keep_fixed_links``)::
-
-        redik.load("example-robot-data:ur5", ee="tool0", meshes=False)
-
-    Raises:
-        InvalidInput: ``name`` is neither a string nor a path.
-        ModelError: no such scene or file, or MuJoCo cannot compile it.
-        UnknownFrame: ``ee`` names no site or body of the model.
-    """
-    return Robot.from_file(scenes.scene_path(name), ee=ee, **options)
