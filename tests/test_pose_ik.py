@@ -452,3 +452,25 @@ def test_a_geom_frame_is_solved(method, rng):
         assert result.success, result.message
         errors = lie.pose_errors(robot.fk(result.q, frame=frame), T_target)
         assert errors[0] <= 1e-6 and errors[1] <= 1e-5
+
+
+def test_dls_settings_evicted_by_another_thread_between_prepare_and_solve(monkeypatch):
+    """Threads share a robot's dls solver; past 64 argument combinations one thread's
+    ``prepare`` clears the kept settings, and another that had just prepared its own found
+    none: a raw RuntimeError (4 threads × 3000 solves, 200 tolerances, switch interval
+    1 µs). Here the eviction is placed in that window deterministically."""
+    from redik.solvers.pose.dls import DLSSolver
+
+    prepare = DLSSolver.prepare
+
+    def prepare_then_evicted(self, *args, **kwargs):
+        settings = prepare(self, *args, **kwargs)
+        self.settings.clear()  # what another thread's prepare does when the table is full
+        return settings
+
+    monkeypatch.setattr(DLSSolver, "prepare", prepare_then_evicted)
+    robot = redik.load("panda")
+    T_target = robot.fk(robot.random_q(np.random.default_rng(4)))
+    for pos_tol in (1e-6, 2e-6):
+        result = solve_pose(robot, T_target, seed=0, pos_tol=pos_tol)
+        check_solution(robot, result, T_target, pos_tol=pos_tol)

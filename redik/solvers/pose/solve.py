@@ -152,10 +152,12 @@ def solve_pose(
         arguments += tuple(
             sorted((name, value, type(value)) for name, value in method_options.items())
         )
-        solver.prepare(
+        settings = solver.prepare(
             arguments, pos_tol, rot_tol, max_iter, restarts, respect_limits, method_options
         )
-        result = solver.solve(np.array(T_target, order="C"), q_start, kernel_key(seed), arguments)
+        result = solver.solve(
+            np.array(T_target, order="C"), q_start, kernel_key(seed), arguments, settings
+        )
         if result is None:  # cannot happen: every argument passed the checks above
             raise RuntimeError("the compiled dls solve refused validated arguments")
         return result
