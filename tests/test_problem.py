@@ -432,6 +432,27 @@ def test_solve_pose_qp_reuses_its_problem_and_stays_reproducible(rng):
     assert len(PoseCache.of(robot).qp_problems) == 1
 
 
+def test_solve_pose_qp_refuses_tasks_that_are_not_a_list(panda):
+    """``tasks=PostureTask()`` (one task, not a list) raised a raw TypeError."""
+    T = panda.fk(panda.home)
+    for tasks in (3, PostureTask(priority=1), "posture"):
+        with pytest.raises(InvalidInput, match="tasks must be a list"):
+            solve_pose_qp(panda, T, panda.home, tasks=tasks)
+
+
+def test_solve_pose_qp_keeps_a_bounded_number_of_problems(rng):
+    """One problem per (frame, limits, damping, gain) is kept; a gain changed call by call
+    (gain scheduling) kept one per value, each with its back-end's workspace: a leak."""
+    from redik.solvers.pose.cache import PoseCache
+    from redik.solvers.pose.qp import _PROBLEMS_KEPT
+
+    robot = redik.load("panda")
+    T = robot.fk(robot.random_q(rng))
+    for gain in np.linspace(0.5, 1.0, 3 * _PROBLEMS_KEPT):
+        assert solve_pose_qp(robot, T, robot.home, gain=float(gain), max_iter=2).iterations
+    assert 1 <= len(PoseCache.of(robot).qp_problems) <= _PROBLEMS_KEPT
+
+
 def test_unwound_turns_only_revolute_joints_with_room_for_a_turn(panda):
     from redik.solvers.pose.qp import _unwound
 
