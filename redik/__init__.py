@@ -45,7 +45,13 @@ from redik.core.exceptions import (
 )
 from redik.core.result import IKResult, Status
 from redik.kinematics.robot import Robot, load
-from redik.limits import BallJointLimit, CollisionAvoidanceLimit, PositionLimit, VelocityLimit
+from redik.limits import (
+    AccelerationLimit,
+    BallJointLimit,
+    CollisionAvoidanceLimit,
+    PositionLimit,
+    VelocityLimit,
+)
 from redik.models.scenes import list_scenes
 from redik.solvers.batch import BatchResult, solve_batch
 from redik.solvers.iterative import solve_equations
@@ -80,6 +86,7 @@ del _module
 __version__ = "0.1.0"
 
 __all__ = [
+    "AccelerationLimit",
     "BackendError",
     "BallJointLimit",
     "BatchResult",

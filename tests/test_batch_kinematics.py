@@ -72,6 +72,10 @@ def _robots() -> dict[str, redik.Robot]:
     robots["test_arm_fingertip"] = redik.Robot.from_xml_string(ARM_XML, ee="fingertip")
     robots["test_arm_body_ee"] = redik.Robot.from_xml_string(ARM_XML, ee="l7")
     robots["ref_arm"] = redik.Robot(mujoco.MjModel.from_xml_string(REF_ARM_XML), fixed=["ball"])
+    # A hinge and a slide on the chain held at their home values (q − qpos0 ≠ 0), skew axes.
+    robots["ref_arm_held"] = redik.Robot(
+        mujoco.MjModel.from_xml_string(REF_ARM_XML), fixed=["ball", "h1", "s1"]
+    )
     robots["free_base"] = redik.Robot.from_xml_string(FREE_BASE_XML)
     return robots
 

@@ -376,6 +376,21 @@ def test_a_repeated_dls_call_still_refuses_what_the_first_call_would(rng):
         solve_pose(robot, T, q0, seed=0, respect_limits=1)
 
 
+def test_a_dls_option_of_a_refused_type_is_refused_after_an_equal_accepted_one():
+    """``damping=1`` accepted, then ``damping=True`` (equal, same hash) found the kept
+    settings and passed; on a fresh robot it is refused: the answer depended on history."""
+    robot = redik.load("panda")
+    T = robot.fk(robot.home)
+    for accepted, refused in (
+        ({"damping": 1}, {"damping": True}),
+        ({"patience": 5}, {"patience": 5.0}),
+        ({"patience": 1}, {"patience": True}),
+    ):
+        assert solve_pose(robot, T, seed=0, **accepted).success
+        with pytest.raises(InvalidInput, match=next(iter(refused))):
+            solve_pose(robot, T, seed=0, **refused)
+
+
 def test_each_frame_argument_finds_its_own_dls_solver(rng):
     """A solve of another frame (with or without options) must not answer for the
     end-effector's later ones: each frame argument is remembered with its own solver."""
@@ -387,3 +402,75 @@ def test_each_frame_argument_finds_its_own_dls_solver(rng):
     for _ in range(2):  # the first call resolves the frame, the second looks it up
         result = solve_pose(robot, T_ee, seed=0)
         check_solution(robot, result, T_ee)
+
+
+@pytest.mark.parametrize("method", ["dls", "newton", "qp"])
+def test_the_solvers_see_a_model_edited_after_the_first_solve(method, rng):
+    """A tool change (the end-effector site moved) or a link moved between solves: MuJoCo's
+    FK sees it at once, so must every method; ``"dls"`` kept its compiled chain and
+    reported success on the old geometry (0.1 m off by MuJoCo's FK)."""
+    robot = redik.load("panda")
+    q_goal = robot.random_q(rng)
+    for _ in range(2):  # the second call is the look-up path
+        check_solution(robot, solve_pose(robot, robot.fk(q_goal), method=method, seed=0),
+                       robot.fk(q_goal))  # fmt: skip
+    for array, row in ((robot.model.site_pos, robot.ee.id), (robot.model.body_pos, 5)):
+        array[row] += [0.0, 0.05, 0.1]
+        T_target = robot.fk(q_goal)
+        for _ in range(2):
+            check_solution(robot, solve_pose(robot, T_target, method=method, seed=0), T_target)
+
+
+@pytest.mark.parametrize("method", ["dls", "newton", "qp"])
+def test_a_hinge_held_on_the_chain_keeps_its_held_value(method, rng):
+    """``fixed=["joint4"]`` holds panda's elbow at its home value (−2.36 rad, not qpos0):
+    the compiled chain of ``"dls"`` froze it at qpos0 and reported a wrong error; a new held
+    value written into ``robot.data.qpos`` must be seen too."""
+    robot = redik.Robot(redik.load("panda").model, fixed=["joint4"])
+    assert "joint4" not in robot.joint_names
+    for held in (None, -1.2):
+        if held is not None:
+            robot.data.qpos[3] = held
+        q_goal = robot.random_q(rng)
+        T_target = robot.fk(q_goal)
+        q0 = robot.clip(q_goal + rng.uniform(-0.2, 0.2, robot.dof))
+        for _ in range(2):
+            result = solve_pose(robot, T_target, q0, method=method, seed=0)
+            check_solution(robot, result, T_target)
+
+
+@pytest.mark.parametrize("method", ["dls", "newton", "qp"])
+def test_a_geom_frame_is_solved(method, rng):
+    """``frame="geom:…"`` is a frame like a site or body (:meth:`Robot.frame`); it raised a
+    raw IndexError (its id read as a body id), and the compiled chain ignored its offset."""
+    robot = redik.load("panda")
+    frame = "geom:link5"
+    assert np.any(robot.model.geom_pos[robot.frame(frame).id] != 0)
+    T_target = robot.fk(robot.random_q(rng), frame=frame)
+    for _ in range(2):
+        result = solve_pose(robot, T_target, method=method, seed=0, frame=frame)
+        assert result.success, result.message
+        errors = lie.pose_errors(robot.fk(result.q, frame=frame), T_target)
+        assert errors[0] <= 1e-6 and errors[1] <= 1e-5
+
+
+def test_dls_settings_evicted_by_another_thread_between_prepare_and_solve(monkeypatch):
+    """Threads share a robot's dls solver; past 64 argument combinations one thread's
+    ``prepare`` clears the kept settings, and another that had just prepared its own found
+    none: a raw RuntimeError (4 threads × 3000 solves, 200 tolerances, switch interval
+    1 µs). Here the eviction is placed in that window deterministically."""
+    from redik.solvers.pose.dls import DLSSolver
+
+    prepare = DLSSolver.prepare
+
+    def prepare_then_evicted(self, *args, **kwargs):
+        settings = prepare(self, *args, **kwargs)
+        self.settings.clear()  # what another thread's prepare does when the table is full
+        return settings
+
+    monkeypatch.setattr(DLSSolver, "prepare", prepare_then_evicted)
+    robot = redik.load("panda")
+    T_target = robot.fk(robot.random_q(np.random.default_rng(4)))
+    for pos_tol in (1e-6, 2e-6):
+        result = solve_pose(robot, T_target, seed=0, pos_tol=pos_tol)
+        check_solution(robot, result, T_target, pos_tol=pos_tol)

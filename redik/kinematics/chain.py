@@ -13,8 +13,10 @@ every fixed part into constant transforms gives the chain as a product
 where each *joint frame* is chosen with the joint's axis as its local ``z`` and its anchor as
 its origin, so ``M_i`` is simply ``R_z(q_i)`` (hinge) or a translation ``q_i`` along ``z``
 (slide). The rotation aligning ``z`` with the axis, the anchor offset and the ``qpos0``
-reference are all absorbed into the neighbouring ``F``. Joints that are not on the chain (and
-ball/free joints on it) are frozen at the robot's home ``qpos``, as :class:`redik.Robot` does.
+reference are all absorbed into the neighbouring ``F``. Joints the robot does not move (those
+off the chain, and on it the ball/free joints and the hinges/slides it holds, ``fixed=``) are
+frozen at the robot's home ``qpos`` (the held values of ``robot.data.qpos``), as
+:class:`redik.Robot` does.
 
 The :class:`Chain` holds only numpy arrays, so it pickles cheaply to worker processes and Ray
 tasks, which then need neither MuJoCo nor the model.
@@ -29,7 +31,7 @@ import numpy as np
 
 from redik.core.exceptions import InvalidInput, ModelError
 from redik.kinematics.robot import Frame, Robot
-from redik.lie import make_pose, matrix_from_quat, periodic_coordinates
+from redik.lie import make_pose, matrix_from_quat, periodic_coordinates, so3_exp
 
 _CHAIN_TYPES = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
 
@@ -160,6 +162,17 @@ def _fold(robot: Robot, ee: Frame) -> tuple[np.ndarray, np.ndarray, list[int]]:
                 else:
                     undo[2, 3] = -reference
                 current = undo @ align.T @ make_pose(np.eye(3), -anchor if hinge else np.zeros(3))
+            elif kind in _CHAIN_TYPES:
+                # A hinge or slide the robot holds (``fixed=``, or a joint it does not move):
+                # frozen at its held value, turned or shifted by ``q − qpos0`` as MuJoCo does.
+                value = home_qpos[adr] - model.qpos0[adr]
+                axis = model.jnt_axis[joint] / np.linalg.norm(model.jnt_axis[joint])
+                if kind == int(mujoco.mjtJoint.mjJNT_HINGE):
+                    current = current @ _about(
+                        anchor, make_pose(so3_exp(value * axis), np.zeros(3))
+                    )
+                else:
+                    current = current @ make_pose(np.eye(3), value * axis)
             elif kind == int(mujoco.mjtJoint.mjJNT_BALL):
                 rotation = make_pose(matrix_from_quat(home_qpos[adr : adr + 4]), np.zeros(3))
                 current = current @ _about(anchor, rotation)
@@ -171,6 +184,9 @@ def _fold(robot: Robot, ee: Frame) -> tuple[np.ndarray, np.ndarray, list[int]]:
     if ee.kind == "site":
         site = ee.id
         current = current @ make_pose(matrix_from_quat(model.site_quat[site]), model.site_pos[site])
+    elif ee.kind == "geom":
+        geom = ee.id
+        current = current @ make_pose(matrix_from_quat(model.geom_quat[geom]), model.geom_pos[geom])
     fixed.append(current)
     return fixed[0], np.stack(fixed[1:]) if addresses else np.empty((0, 4, 4)), addresses
 

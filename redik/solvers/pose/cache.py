@@ -8,6 +8,15 @@ the :class:`~redik.solvers.problem.Problem` of ``"qp"`` per frame and settings
 (:func:`redik.solvers.pose.qp.solve_pose_qp`). Threads solving on one robot share the cache:
 each entry is built once, under the cache's lock, and read without one (what ``"dls"``
 needs; ``"qp"`` writes the robot's ``MjData`` and its problems are not shared safely).
+
+What it keeps is derived from the model (the compiled chain folds in ``body_pos``,
+``site_pos``, the joint axes and anchors; the reach bound), from the values
+``robot.data.qpos`` holds for the joints the robot does not move, and from the robot's
+``lower``, ``upper`` and ``home``. MuJoCo reads the model afresh at each forward kinematics,
+so a user may move a tool site or a link between solves; :meth:`PoseCache.of` and
+:meth:`PoseCache.known_dls` then find the cache out of date (a byte comparison of those
+arrays, ~0.5 µs) and start a new one, instead of solving — and reporting success — on the
+old geometry.
 """
 
 from __future__ import annotations
@@ -22,6 +31,10 @@ from redik.solvers.pose.frame import PoseFrame
 
 _KEY = "pose"
 """The cache's key in :attr:`redik.Robot.solver_cache`."""
+
+_GEOMETRY = ("body_pos", "body_quat", "jnt_pos", "jnt_axis", "qpos0")
+"""The model arrays the cached chains and reach bounds are built from (with the rows of
+``site_pos``/``site_quat`` or ``geom_pos``/``geom_quat`` of each frame solved for)."""
 
 
 class PoseCache:
@@ -39,19 +52,44 @@ class PoseCache:
         self.qp_chains: dict[Frame, tuple | None] = {}
         """``"qp"``'s compiled chains for restart seeds, by frame (None: whole model)."""
         self._lock = threading.RLock()  # around every build-and-insert
+        # Views of what the kept state is built from (module docstring): the model's
+        # geometry and, in contiguous runs, the held entries of robot.data.qpos.
+        model, qpos = robot.model, robot.data.qpos
+        held = np.setdiff1d(np.arange(model.nq), robot.qpos_indices)
+        runs = np.split(held, np.flatnonzero(np.diff(held) != 1) + 1) if held.size else []
+        self._sources: tuple[np.ndarray, ...] = (
+            *(getattr(model, name) for name in _GEOMETRY),
+            *(qpos[run[0] : run[-1] + 1] for run in runs),
+        )
+        self._limits = (robot.lower, robot.upper, robot.home)
+        self._stamp = b"".join(self._sources)
+
+    def is_current(self) -> bool:
+        """False once the model geometry, the held joints' values or the robot's limits
+        differ from those this cache was built on (module docstring). One ``bytes.join`` of
+        views: ~0.5 µs, against ~2 µs for a comparison per array."""
+        robot = self.robot
+        lower, upper, home = self._limits
+        return (
+            robot.lower is lower
+            and robot.upper is upper
+            and robot.home is home
+            and b"".join(self._sources) == self._stamp
+        )
 
     @classmethod
     def of(cls, robot: Robot) -> PoseCache:
         """The robot's cache, made on first use."""
-        return robot.solver_cache.get_or_build(_KEY, lambda: cls(robot))
+        return robot.solver_cache.get_or_build(_KEY, lambda: cls(robot), PoseCache.is_current)
 
     @staticmethod
     def known_dls(robot: Robot, frame: object) -> DLSSolver | None:
         """The ``"dls"`` solver of the frame argument ``frame`` (None, a name or a
-        :class:`Frame`) if a solve has made it, else None — a look-up, nothing validated."""
+        :class:`Frame`) if a solve has made it and the cache is current, else None — a
+        look-up, the arguments unvalidated."""
         cache = robot.solver_cache.get(_KEY)
-        if cache is None:
-            return None
+        if cache is None or not cache.is_current():  # type: ignore[attr-defined]
+            return None  # the full path starts a new cache
         try:
             return cache.dls_solvers.get(frame)  # type: ignore[attr-defined]
         except TypeError:  # an unhashable frame argument: the full validation refuses it
@@ -68,7 +106,14 @@ class PoseCache:
             with self._lock:
                 pose_frame = self.frames.get(frame)
                 if pose_frame is None:
-                    pose_frame = self.frames[frame] = PoseFrame(self.robot, frame)
+                    pose_frame = PoseFrame(self.robot, frame)
+                    if frame.kind != "body":  # its offset on its body is geometry too
+                        model, rows = self.robot.model, slice(frame.id, frame.id + 1)
+                        self._sources += tuple(
+                            getattr(model, f"{frame.kind}_{name}")[rows] for name in ("pos", "quat")
+                        )
+                        self._stamp = b"".join(self._sources)
+                    self.frames[frame] = pose_frame
         return pose_frame
 
     def dls(self, frame: Frame, argument: object) -> DLSSolver:

@@ -78,17 +78,18 @@ class DLSSolver:
         restarts: int,
         respect_limits: bool,
         options: dict,
-    ) -> None:
+    ) -> tuple:
         """Keep the kernel's settings for these validated values, and the history length
         ``max_iter`` needs, under the caller's ``arguments`` (the values as given, and their
-        types).
+        types), and return them: another thread may evict them before a look-up finds them.
 
         Raises:
             InvalidInput: an option value :class:`BatchOptions` refuses.
         """
         try:
-            if arguments in self.settings:
-                return
+            settings = self.settings.get(arguments)
+            if settings is not None:
+                return settings
         except TypeError:  # an unhashable option value: BatchOptions names it below
             pass
         floats, counts = BatchOptions(
@@ -97,7 +98,9 @@ class DLSSolver:
         ).kernel_settings(respect_limits)  # fmt: skip
         if len(self.settings) >= _SETTINGS_KEPT:
             self.settings.clear()
-        self.settings[arguments] = (floats, counts, pos_tol, rot_tol, respect_limits, max_iter + 1)
+        settings = (floats, counts, pos_tol, rot_tol, respect_limits, max_iter + 1)
+        self.settings[arguments] = settings
+        return settings
 
     def buffers(self, length: int) -> tuple[np.ndarray, ...]:
         """This thread's kernel output buffers ``(history, errors, q, e)``, the history at
@@ -111,10 +114,16 @@ class DLSSolver:
         return buffers
 
     def solve(
-        self, T_target: object, q0: object, key: np.uint64, arguments: tuple
+        self,
+        T_target: object,
+        q0: object,
+        key: np.uint64,
+        arguments: tuple,
+        settings: tuple | None = None,
     ) -> IKResult | None:
-        """Solve with the settings :meth:`prepare` kept under ``arguments``; the joints that
-        do not move the frame stay at ``q0`` (default ``robot.home``).
+        """Solve with the settings :meth:`prepare` kept under ``arguments`` (or returned:
+        ``settings``); the joints that do not move the frame stay at ``q0`` (default
+        ``robot.home``).
 
         Returns None — having solved nothing — when these arguments were not prepared, when
         ``T_target`` or ``q0`` is not a C-contiguous writable float array of its shape (the
@@ -123,12 +132,13 @@ class DLSSolver:
         :data:`redik.lie.ROTATION_TOLERANCE`; a non-finite or huge ``q0``). The caller's full
         validation then raises, or projects a near-rotation onto SO(3).
         """
-        try:
-            settings = self.settings.get(arguments)
-        except TypeError:  # an unhashable argument: the full validation refuses it
-            return None
         if settings is None:
-            return None
+            try:
+                settings = self.settings.get(arguments)
+            except TypeError:  # an unhashable argument: the full validation refuses it
+                return None
+            if settings is None:
+                return None
         floats, counts, pos_tol, rot_tol, respect_limits, length = settings
         robot = self.robot
         if q0 is None:

@@ -10,7 +10,7 @@ import mujoco
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
-from redik.kinematics.robot import Frame, Robot
+from redik.kinematics.robot import Frame, Robot, frame_pose_views
 
 
 class PoseFrame:
@@ -48,7 +48,7 @@ class PoseFrame:
 def moving_columns(robot: Robot, frame: Frame) -> np.ndarray:
     """Where the joints that move ``frame`` (those on its path to the world) sit in ``q``."""
     model = robot.model
-    body = int(model.site_bodyid[frame.id]) if frame.kind == "site" else frame.id
+    body = robot.body_of(frame)
     path = set()
     while body > 0:
         path.add(body)
@@ -78,7 +78,7 @@ def reach_bound(robot: Robot, frame: Frame, columns: np.ndarray) -> tuple[tuple[
     joint_of_qpos = {int(adr): joint for joint, adr in enumerate(model.jnt_qposadr)}
     joints = [joint_of_qpos[int(robot.qpos_indices[column])] for column in columns]
     anchors = data.xanchor[joints]
-    point = data.site_xpos[frame.id] if frame.kind == "site" else data.xpos[frame.id]
+    point = frame_pose_views(data, frame)[1]
     points = np.vstack((anchors, point))
     reach = float(np.sum(np.linalg.norm(np.diff(points, axis=0), axis=1)))
     travel = (robot.upper - robot.lower)[columns][~robot.revolute[columns]]

@@ -27,6 +27,8 @@ It lives in the solvers layer, in the pose package, and drives :mod:`redik.solve
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import numba
 import numpy as np
 
@@ -57,6 +59,9 @@ _OPTIONS = (
     "candidates",
     "lm_damping",
 )
+
+_PROBLEMS_KEPT = 16
+"""Problems (one per frame and setting) a robot keeps for ``"qp"``; all are dropped past it."""
 
 _ROTATION_SCALE = 0.5
 """Metres per radian in the pose distance that picks restart seeds."""
@@ -102,6 +107,11 @@ def solve_pose_qp(
     if unknown:
         raise InvalidInput(f"unknown options {unknown} for method='qp'; known: {list(_OPTIONS)}")
     candidates = integer(options.get("candidates", 16), "candidates", 1)
+    tasks = options.get("tasks", ())
+    if isinstance(tasks, str) or not isinstance(tasks, Iterable):
+        raise InvalidInput(
+            f"tasks must be a list of tasks (e.g. [PostureTask(priority=1)]), got {tasks!r}"
+        )
     problem = _problem(robot, T_target, frame, respect_limits, options)
     task = problem.tasks[0]
     chain = _chain_of(robot, task.frame) if restarts else None
@@ -198,6 +208,8 @@ def _problem(robot: Robot, T_target, frame, respect_limits: bool, options: dict)
     except TypeError:  # an unhashable setting (an array): built afresh
         return build()
     if problem is None:
+        if len(problems) >= _PROBLEMS_KEPT:  # a gain swept call by call must not leak
+            problems.clear()
         problem = problems[key] = build()
     else:
         problem.tasks[0].set_target(T_target)

@@ -145,14 +145,18 @@ def solve_pose(
 
     check_options(method, method_options)
     if method == "dls":
-        # Kept under the arguments as given (with the options, which are checked anew on
-        # each call: only option-free calls take the look-up above).
+        # Kept under the arguments as given (with the options and their types, as for the
+        # scalars above: damping=True must not pass for an accepted damping=1).
         solver = cache.dls(resolved, frame)
-        arguments += tuple(sorted(method_options.items()))
-        solver.prepare(
+        arguments += tuple(
+            sorted((name, value, type(value)) for name, value in method_options.items())
+        )
+        settings = solver.prepare(
             arguments, pos_tol, rot_tol, max_iter, restarts, respect_limits, method_options
         )
-        result = solver.solve(np.array(T_target, order="C"), q_start, kernel_key(seed), arguments)
+        result = solver.solve(
+            np.array(T_target, order="C"), q_start, kernel_key(seed), arguments, settings
+        )
         if result is None:  # cannot happen: every argument passed the checks above
             raise RuntimeError("the compiled dls solve refused validated arguments")
         return result
