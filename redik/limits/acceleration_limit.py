@@ -39,8 +39,11 @@ velocity boxes it is moved to their nearest point: those are never given up
 (:class:`redik.Problem` applies this box after the others).
 
 The limit has memory: :meth:`redik.Problem.step` reports each step it returns
-(:meth:`advance`); :meth:`reset` forgets it (a new motion, from rest by default).
-:meth:`redik.Problem.solve` (iterative IK, not motion) does not record its iterations.
+(:meth:`advance`); :meth:`reset` forgets it (a new motion, from rest by default), and
+:meth:`redik.Problem.reset` resets every limit of a problem — the loop drivers
+(:func:`redik.apps.sim.simulate`) call it at the start of each run.
+:meth:`redik.Problem.solve` (iterative IK towards a static solution, not a motion) leaves
+the limit out: it neither applies it to its iterates nor changes its state.
 """
 
 from __future__ import annotations

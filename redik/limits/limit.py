@@ -94,6 +94,16 @@ class Limit:
         """Called by :meth:`redik.Problem.step` with the step it returns; a limit with memory
         (:class:`~redik.limits.acceleration_limit.AccelerationLimit`) records it."""
 
+    def reset(self, velocity: np.ndarray | None = None) -> None:
+        """Forget what earlier steps recorded (:meth:`advance`): the next step starts a new
+        motion with joint velocity ``velocity`` (``robot.dof``,; None: at rest).
+
+        Called by :meth:`redik.Problem.reset`, which the loop drivers
+        (:func:`redik.apps.sim.simulate`) call at the start of each run. A memoryless limit
+        (every limit but :class:`~redik.limits.acceleration_limit.AccelerationLimit`) has
+        nothing to forget: this default does nothing.
+        """
+
 
 class BoxLimit(Limit, abc.ABC):
     """A limit of the form ``lower(q, dt) ≤ Δq ≤ upper(q, dt)``, joint by joint."""
