@@ -73,3 +73,16 @@ def test_the_registry_names_of_the_flat_models_module_still_resolve():
             assert getattr(redik.models, name) is getattr(registry, name)
     with pytest.raises(AttributeError):
         redik.models.no_such_name  # noqa: B018
+
+
+def test_the_corrector_tolerances_keep_their_flat_names():
+    """``from redik.redundancy.corrector import POSITION_TOLERANCE`` (the flat tree's name,
+    used by its tests) failed after the rename to ``SAMPLE_POSITION_TOLERANCE``."""
+    import pytest
+
+    from redik.solvers.redundancy import corrector
+
+    for old, new in (("POSITION_TOLERANCE", "SAMPLE_POSITION_TOLERANCE"),
+                     ("ROTATION_TOLERANCE", "SAMPLE_ROTATION_TOLERANCE")):  # fmt: skip
+        with pytest.warns(DeprecationWarning, match=new):
+            assert getattr(corrector, old) == getattr(corrector, new)
