@@ -786,6 +786,17 @@ def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
     return float(wrapped) if wrapped.ndim == 0 else wrapped
 
 
+def wrap_into_range(angle: np.ndarray | float, lower: np.ndarray | float) -> np.ndarray | float:
+    """``angle`` moved by whole turns into ``[lower, lower + 2π)``:
+    ``lower + ((angle − lower) mod 2π)``, elementwise.
+
+    The representative a periodic joint (:func:`periodic_coordinates`) takes when a step
+    carries it out of its range; the compiled DLS kernel writes the same expression inline
+    (:mod:`redik.kinematics.dls`). :func:`wrap_angle` is the symmetric case, into (−π, π].
+    """
+    return lower + np.mod(np.subtract(angle, lower), _TWO_PI)
+
+
 def periodic_coordinates(revolute: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
     """Which coordinates are periodic: rotations whose range spans a full turn,
     ``upper − lower ≥ 2π`` (an unlimited hinge included).

@@ -364,6 +364,18 @@ def test_wrap_angle_never_returns_minus_pi_and_is_odd(rng):
     assert isinstance(lie.wrap_angle(3), float) and lie.wrap_angle(3) == 3.0
 
 
+def test_wrap_into_range_turns_an_angle_into_lower_plus_a_turn(rng):
+    lower = rng.uniform(-7.0, 1.0, 500)
+    angles = rng.uniform(-30.0, 30.0, 500)
+    turned = lie.wrap_into_range(angles, lower)
+    assert np.all(turned >= lower) and np.all(turned <= lower + 2.0 * np.pi)
+    np.testing.assert_allclose(np.exp(1j * turned), np.exp(1j * angles), atol=1e-12)
+    inside = (angles >= lower) & (angles < lower + 2.0 * np.pi)
+    np.testing.assert_allclose(turned[inside], angles[inside], atol=1e-13)
+    symmetric = lie.wrap_into_range(angles, -np.pi)  # wrap_angle's (−π, π] but for the end
+    np.testing.assert_allclose(symmetric, lie.wrap_angle(angles), atol=1e-13)
+
+
 def test_analytic_wraps_with_the_same_function():
     from redik.solvers import analytic
 

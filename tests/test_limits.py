@@ -174,3 +174,169 @@ def test_a_row_refused_at_the_backend_set_up_is_infeasible_not_a_raw_error():
             problem.step(robot.home)
     with pytest.raises(InfeasibleProblem, match=r"'daqp'.*infeasible"):
         problem.solve(robot.home)
+
+
+# Limits at a priority (issue: a collision limit that the hand may override)
+
+_PLANAR_OBSTACLES = """
+<mujoco model="planar_3r_obstacles">
+  <compiler angle="radian"/>
+  <worldbody>
+    <geom name="bin" type="sphere" pos="1.6 1.2 0" size="0.2"/>
+    <geom name="post" type="sphere" pos="1.38 -0.04 0" size="0.1"/>
+    <body name="link1">
+      <joint name="joint1" axis="0 0 1" range="-3 3"/>
+      <geom name="link1" type="capsule" fromto="0.1 0 0 0.9 0 0" size="0.05"/>
+      <body name="link2" pos="1 0 0">
+        <joint name="joint2" axis="0 0 1" range="-2.8 2.8"/>
+        <geom name="link2" type="capsule" fromto="0.1 0 0 0.9 0 0" size="0.05"/>
+        <body name="link3" pos="1 0 0">
+          <joint name="joint3" axis="0 0 1" range="-2.8 2.8"/>
+          <geom name="link3" type="capsule" fromto="0.1 0 0 0.9 0 0" size="0.05"/>
+          <site name="tip" pos="1 0 0"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <keyframe><key name="home" qpos="0.3 0.6 0.6"/></keyframe>
+</mujoco>
+"""
+
+
+@pytest.fixture(scope="module")
+def planar_obstacles() -> redik.Robot:
+    import mujoco
+
+    return redik.Robot(mujoco.MjModel.from_xml_string(_PLANAR_OBSTACLES), ee="tip")
+
+
+def _solve_with_collision_priority(robot, priority):
+    """The tip asked to the centre of the bin (only reachable through it), a posture below;
+    the collision limit ("none": absent) at ``priority``."""
+    from redik.limits import CollisionAvoidanceLimit
+
+    limits = [PositionLimit()]
+    if priority != "none":
+        limits.append(
+            CollisionAvoidanceLimit(
+                [(["link1", "link2", "link3"], ["bin", "post"])],
+                minimum_distance=0.01,
+                detection_distance=0.1,
+                priority=priority,
+            )
+        )
+    tasks = [PositionTask([1.6, 1.2, 0.0], frame="tip"), PostureTask(priority=1)]
+    return Problem(robot, tasks, limits).solve(robot.home, max_iter=200)
+
+
+def test_a_collision_limit_at_a_priority_yields_to_the_levels_above_only(planar_obstacles):
+    from redik.limits import CollisionAvoidanceLimit
+
+    robot = planar_obstacles
+    arm = CollisionAvoidanceLimit([(["link1", "link2"], ["bin", "post"])]).bind(robot)
+    hand = CollisionAvoidanceLimit([(["link3"], ["bin"])]).bind(robot)
+    free = _solve_with_collision_priority(robot, "none")
+    assert free.success and arm.minimum_distance_at(free.q)[0] < -0.1  # link2 in the post
+    # Default: hard at every level, the tip stops outside the bin.
+    hard = _solve_with_collision_priority(robot, None)
+    assert not hard.success and hard.position_error > 0.15
+    assert arm.minimum_distance_at(hard.q)[0] >= 0.01 - 1e-3
+    assert hand.minimum_distance_at(hard.q)[0] >= 0.01 - 1e-3
+    # priority=0 ranks it above every task: hard again.
+    top = _solve_with_collision_priority(robot, 0)
+    assert not top.success and hand.minimum_distance_at(top.q)[0] >= 0.01 - 1e-3
+    # priority=1, below the tip and above the posture: the tip reaches into the bin (the
+    # forearm with it, unavoidably) and the rest of the arm keeps clear of the post.
+    ranked = _solve_with_collision_priority(robot, 1)
+    assert ranked.success and ranked.position_error < 1e-6
+    assert ranked.stationary  # the posture is optimal subject to the ranked rows it meets
+    assert hand.minimum_distance_at(ranked.q)[0] < -0.1
+    assert arm.minimum_distance_at(ranked.q)[0] >= 0.01 - 1e-3
+    # priority=2, below the posture that takes the last freedom: the unconstrained answer.
+    below = _solve_with_collision_priority(robot, 2)
+    assert below.success
+    np.testing.assert_allclose(below.q, free.q, atol=1e-6)
+
+
+def test_a_ranked_limit_in_online_steps_and_its_bad_input(planar_obstacles):
+    robot = planar_obstacles
+    # A ranked velocity box: the posture at level 0 breaks it, the one at level 1 may not.
+    far = robot.home + 1.0
+    tasks = [PostureTask(far, gain=1.0, priority=0), PostureTask(priority=1)]
+    dq = Problem(robot, tasks, [VelocityLimit(0.1, priority=1)]).step(robot.home, dt=1.0)
+    np.testing.assert_allclose(dq, 1.0, atol=1e-6)
+    dq = Problem(robot, tasks, [VelocityLimit(0.1)]).step(robot.home, dt=1.0)
+    np.testing.assert_allclose(dq, 0.1, atol=1e-6)
+    # Only the first task at level 0 and the limit between the levels: level 1 (a posture
+    # to home, which wants dq = 0 where level 0 leaves freedom) is boxed.
+    tasks = [PositionTask(robot.fk(far)[:3, 3], frame="tip"), PostureTask(far, priority=1)]
+    dq = Problem(robot, tasks, [VelocityLimit(0.1, priority=1)]).step(robot.home, dt=1.0)
+    assert np.abs(dq).max() > 0.1 + 1e-3  # level 0 needs more than the box
+    # A link deep in the bin: the hard damper asks more than the velocity box allows in one
+    # tick (InfeasibleProblem); ranked at 0, the step is the least violation: out, at full speed.
+    from redik.limits import CollisionAvoidanceLimit
+
+    inside = np.array([0.03, 0.214, 1.706])
+    bin_ = CollisionAvoidanceLimit([(["link3"], ["bin"])]).bind(robot)
+    for priority in (None, 0):
+        collisions = CollisionAvoidanceLimit(
+            [(["link3"], ["bin"])], detection_distance=0.1, priority=priority
+        )
+        problem = Problem(robot, tasks, [VelocityLimit(2.0), collisions])
+        if priority is None:
+            with pytest.raises(InfeasibleProblem):
+                problem.step(inside, dt=0.01)
+            continue
+        dq = problem.step(inside, dt=0.01)
+        assert np.abs(dq).max() == pytest.approx(0.02, abs=1e-9)
+        depth = bin_.minimum_distance_at(inside)[0]
+        assert bin_.minimum_distance_at(inside + dq)[0] > depth + 1e-3
+    for bad in (-1, 1.5, "1", True):
+        with pytest.raises(InvalidInput, match="priority"):
+            VelocityLimit(1.0, priority=bad)
+    with pytest.raises(InvalidInput, match="Backend instance"):
+        backend = redik.qp.make_backend("daqp")
+        Problem(robot, tasks[:1], [PositionLimit(priority=0)], backend=backend)
+
+
+def test_acceleration_limit_bounds_the_velocity_change_and_brakes_before_the_limits():
+    from redik.limits import AccelerationLimit
+
+    robot = redik.load("panda")
+    a, v_max, dt = 5.0, 2.0, 0.01
+    acceleration = AccelerationLimit(a)
+    # Every joint driven at its range's far end beyond it: it must speed up at a, cruise
+    # and brake in time; the posture asks for the impossible at each tick.
+    beyond = robot.upper + 1.0
+    problem = Problem(
+        robot,
+        [PostureTask(beyond, gain=1.0, priority=0)],
+        [PositionLimit(), VelocityLimit(v_max), acceleration],
+    )
+    q, v = robot.home.copy(), np.zeros(robot.dof)
+    for _ in range(300):
+        dq = problem.step(q, dt)
+        assert np.abs(dq / dt - v).max() <= a * dt + 1e-9
+        v = dq / dt
+        q = q + dq
+        assert robot.within_limits(q)
+    assert np.abs(v).max() < a * dt + 1e-9  # stopped at the limits, not slammed into them
+    assert np.abs(q - robot.upper).max() < 0.05  # …and close to them
+    np.testing.assert_allclose(acceleration.velocity, v)
+    acceleration.reset()
+    assert not acceleration.velocity.any()
+    with pytest.raises(InvalidInput, match="shape"):
+        acceleration.reset(np.zeros(3))
+    with pytest.raises(InvalidInput, match="step duration"):
+        problem.step(q)
+    with pytest.raises(InvalidInput, match="> 0"):
+        AccelerationLimit(0.0).bind(robot)
+    with pytest.raises(InvalidInput, match="does not move"):
+        AccelerationLimit({"elbow": 1.0}).bind(robot)
+    with pytest.raises(InvalidInput, match="not bound"):
+        AccelerationLimit(1.0).reset()
+    # A joint not in the mapping is not bounded.
+    loose = AccelerationLimit({"joint1": 1.0}).bind(robot)
+    lower, upper = np.full(robot.dof, -np.inf), np.full(robot.dof, np.inf)
+    loose.bounds_into(robot.scalar_values(robot.home), dt, lower, upper)
+    assert upper[0] == pytest.approx(0.01 * dt) and np.isinf(upper[1:]).all()

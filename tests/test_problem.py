@@ -578,3 +578,47 @@ def test_qp_result_is_exported_with_the_problem():
     result = redik.Problem(robot, redik.PoseTask(robot.fk(robot.home))).solve(robot.home)
     assert isinstance(result, redik.QPResult) and isinstance(result, redik.IKResult)
     assert "QPResult" in redik.__all__
+
+
+def track_circle_with_posture(robot, q0, extra_limits=()):
+    """As :func:`track_circle_kinematically` (``step_damping=10``) with a posture regulator
+    (gain 1, target ``q0``) at priority 1; returns (velocities, errors)."""
+    T0 = robot.fk(q0)
+    path = CircularPath(T0, T0[:3, 3] + [0.0, 0.0, 0.1], [1.0, 0.0, 0.0], duration=4.0)
+    task = PoseTask(T0)
+    limits = [PositionLimit(), VelocityLimit(2.0), *extra_limits]
+    problem = Problem(robot, [task, PostureTask(q0, priority=1)], limits, step_damping=10.0)
+    dt, q = 0.01, q0.copy()
+    velocities, errors = np.empty((400, robot.dof)), np.empty(400)
+    for k in range(400):
+        task.set_target(path.pose(dt * (k + 1)))
+        dq = problem.step(q, dt)
+        q = q + dq
+        velocities[k] = dq / dt
+        errors[k] = lie.pose_errors(robot.fk(q), path.pose(dt * (k + 1)))[0]
+    return velocities, errors
+
+
+def two_tick_cycles(velocities: np.ndarray, jump: float = 0.1) -> int:
+    """Joint velocities that reverse (by more than ``jump`` rad/s) at two ticks in a row."""
+    v0, v1 = velocities[:-1], velocities[1:]
+    flips = (np.sign(v0) * np.sign(v1) < 0) & (np.abs(v1 - v0) > jump)
+    return int(np.sum(flips[:-1] & flips[1:]))
+
+
+def test_an_acceleration_limit_stops_the_posture_chatter_at_the_edge_of_reach(panda):
+    from redik.limits import AccelerationLimit
+
+    # Damping level 0 does not smooth level 1: near the stretched elbow the posture
+    # regulator's step flips between the velocity box's corners at every tick (214 two-tick
+    # reversals, 400 rad/s²), and the arm leaves on the other elbow branch (90 mm miss).
+    v, errors = track_circle_with_posture(panda, MENAGERIE_PANDA_HOME)
+    assert two_tick_cycles(v) > 100
+    assert np.abs(np.diff(v, axis=0)).max() / 0.01 > 390.0
+    v, errors = track_circle_with_posture(panda, MENAGERIE_PANDA_HOME, [AccelerationLimit(20.0)])
+    assert np.abs(np.diff(v, axis=0)).max() / 0.01 <= 20.0 + 1e-6
+    assert two_tick_cycles(v) <= 2
+    assert errors.max() < 0.040  # the gap to the fold (39 mm), as with the pose task alone
+    # On a reachable circle the limit costs nothing.
+    v, errors = track_circle_with_posture(panda, panda.home, [AccelerationLimit(20.0)])
+    assert errors.max() < 1e-4

@@ -9,7 +9,7 @@ import pytest
 import redik
 from redik.limits import PositionLimit
 from redik.qp import QP, make_backend, solve_lexicographic
-from redik.qp.hierarchy import free_directions
+from redik.qp.hierarchy import SLACK_DAMPING, free_directions
 from redik.solvers.problem import Problem
 from redik.tasks import (
     DampingTask,
@@ -277,3 +277,34 @@ def test_a_one_dimensional_lower_level_without_constraints():
     backends = [make_backend("daqp") for _ in objectives]
     x = solve_lexicographic(objectives, backends, damping=eps, rows0=A0)
     np.testing.assert_allclose(x, [3.0, -2.0], atol=1e-6)
+
+
+def test_ranked_rows_bind_the_levels_from_theirs_down_and_yield_to_those_above():
+    # Level 0 wants x0 = 1, level 1 wants x1 = 1; the rows x0 ≤ 0, x1 ≤ 0.5.
+    eps = 1e-9
+    objectives = [
+        (np.diag([1.0, 0.0]) + eps * np.eye(2), np.array([-1.0, 0.0])),
+        (np.diag([0.0, 1.0]) + eps * np.eye(2), np.array([0.0, -1.0])),
+    ]
+    G, h = np.eye(2), np.array([0.0, 0.5])
+
+    def solve(**kwargs):
+        backends = [make_backend("daqp") for _ in objectives]
+        return solve_lexicographic(objectives, backends, damping=eps, **kwargs)
+
+    np.testing.assert_allclose(solve(), [1.0, 1.0], atol=1e-6)
+    hard = solve(C=G, l=np.full(2, -np.inf), u=h)
+    np.testing.assert_allclose(hard, [0.0, 0.5], atol=1e-6)
+    for index, expected in ((0, [0.0, 0.5]), (1, [1.0, 0.5]), (2, [1.0, 1.0])):
+        # Before level 0: hard; between the levels: level 0 breaks x0 ≤ 0 (its least
+        # violation), level 1 keeps x1 ≤ 0.5; after level 1: no freedom left to use.
+        x = solve(ranked=[(index, G, h, make_backend("daqp"))])
+        np.testing.assert_allclose(x, expected, atol=1e-6, err_msg=f"ranked at {index}")
+    # Rows no point meets (x0 ≤ 0 and x0 ≥ 1): hard, infeasible; ranked above level 0, the
+    # least violation (x0 = ½, damped by ρ: 1/(2 + ρ)), which level 0 then keeps.
+    G2, h2 = np.array([[1.0, 0.0], [-1.0, 0.0]]), np.array([0.0, -1.0])
+    with pytest.raises(redik.InfeasibleProblem):
+        solve(C=G2, l=np.full(2, -np.inf), u=h2)
+    x = solve(ranked=[(0, G2, h2, make_backend("daqp"))])
+    assert x[0] == pytest.approx(1.0 / (2.0 + SLACK_DAMPING), abs=1e-6)
+    assert x[1] == pytest.approx(1.0, abs=1e-6)

@@ -1,5 +1,6 @@
 """Limits: hard inequalities on the joint step. The contract is in :mod:`redik.limits.limit`."""
 
+from redik.limits.acceleration_limit import AccelerationLimit
 from redik.limits.ball_joint_limit import BallJointLimit
 from redik.limits.collision_avoidance_limit import CollisionAvoidanceLimit
 from redik.limits.limit import BoxLimit, InequalityLimit, Limit
@@ -8,6 +9,7 @@ from redik.limits.position_limit import PositionLimit
 from redik.limits.velocity_limit import VelocityLimit
 
 __all__ = [
+    "AccelerationLimit",
     "BallJointLimit",
     "BoxLimit",
     "CollisionAvoidanceLimit",

@@ -49,13 +49,15 @@ class BallJointLimit(InequalityLimit):
 
     Args:
         margin: Angle (rad) to keep from each cone's rim, ≥ 0.
+        priority: None (default): hard at every level; ``k``: ranked just above the tasks
+            of priority ``k`` (:mod:`redik.limits.limit`).
 
     Attributes:
         joint_names: The limited ball joints, once bound.
         max_angle: Their bounds ``range[1] − margin − tolerance`` (rad).
     """
 
-    def __init__(self, margin: float = 0.0):
+    def __init__(self, margin: float = 0.0, *, priority: int | None = None):
         try:
             margin = float(margin)
         except (TypeError, ValueError):
@@ -63,6 +65,7 @@ class BallJointLimit(InequalityLimit):
         if not (np.isfinite(margin) and margin >= 0.0):
             raise InvalidInput(f"margin must be finite and >= 0, got {margin}")
         self.margin = margin
+        self._set_priority(priority)
         self.joint_names: tuple[str, ...] = ()
         self.max_angle = np.empty(0)
 

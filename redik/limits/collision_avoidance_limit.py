@@ -28,9 +28,11 @@ still instead). Pairs farther than :math:`d_i` give no row; a cheap bounding-sph
 Distances are computed on the robot's own ``MjData`` after the problem's forward
 kinematics; only the robot's moved joints get columns (:mod:`redik.kinematics.robot`).
 
-The rows are hard: a :class:`redik.Problem` imposes them while solving every priority
-level, so no lower level (a posture, a second hand) can buy its objective with a
-collision.
+By default the rows are hard: a :class:`redik.Problem` imposes them while solving every
+priority level, so no task (a posture, a second hand) can buy its objective with a
+collision. With ``priority=k`` the tasks ranked above ``k`` may (a hand asked into the
+obstacle gets there) and the rest of the arm keeps clear as far as they allow
+(:mod:`redik.limits.limit`).
 
 **Long steps.** The rows are first order and exist only for pairs closer than
 :math:`d_i`, so one long step (an iterative solve far from its target) could carry a
@@ -77,6 +79,9 @@ class CollisionAvoidanceLimit(InequalityLimit):
         detection_distance: ``d_i`` (m), the distance under which a pair is constrained;
             > ``minimum_distance``.
         gain: ``ξ ∈ (0, 1]``, the fraction of the margin a step may close.
+        priority: None (default): hard at every priority level; ``k``: ranked just above
+            the tasks of priority ``k``, which those above may override (the semantics and
+            math are in :mod:`redik.limits.limit`).
 
     Attributes:
         pairs: The geom id pairs checked, once bound.
@@ -88,6 +93,8 @@ class CollisionAvoidanceLimit(InequalityLimit):
         minimum_distance: float = 0.005,
         detection_distance: float = 0.05,
         gain: float = 0.5,
+        *,
+        priority: int | None = None,
     ):
         minimum_distance = _as_number(minimum_distance, "minimum_distance")
         detection_distance = _as_number(detection_distance, "detection_distance")
@@ -115,6 +122,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         self.minimum_distance = minimum_distance
         self.detection_distance = detection_distance
         self.gain = gain
+        self._set_priority(priority)
         self.pairs = np.empty((0, 2), dtype=int)
 
     def bind(self, robot: Robot, tolerance: float = 0.0) -> CollisionAvoidanceLimit:

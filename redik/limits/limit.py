@@ -14,6 +14,50 @@ intersected into one pair of bounds per step, which every back-end takes nativel
 A :class:`redik.Problem` binds its limits to its robot and passes the back-end's
 feasibility ``tolerance``, by which position boxes are shrunk so that a solution
 returned within tolerance still lies inside the true limits.
+
+**Priority.** By default (``priority=None``) a limit is hard at every level: it belongs to
+the feasible set :math:`\mathcal{X}` in which the whole lexicographic QP is solved
+(:mod:`redik.qp.hierarchy`), so no task, however high, may break it — the joint box,
+collision avoidance between arms. A limit given ``priority=k`` is instead an *inequality
+task* placed just above the tasks of priority :math:`k` (Kanoun, Lamiraux & Wieber, IEEE
+T-RO 2011, §III; Escande, Mansard & Wieber, IJRR 2014, the slack form). With
+:math:`S` the step set the levels of priority :math:`< k` leave optimal (and the hard
+limits), its level is
+
+.. math::
+
+    w^* = \arg\min_{Δq \in S,\ w} \tfrac12 \|w\|^2 \quad\text{s.t.}\quad
+    G Δq - w \le h ,
+
+and every level from :math:`k` down is solved subject to :math:`G Δq \le h + w^*`. So:
+
+- tasks of priority :math:`< k` ignore the limit (they may violate it: a target inside an
+  obstacle is reached when the collision limit ranks below the hand);
+- the limit is then met as far as those tasks allow, with the least violation in the
+  least-squares sense over its rows (of its own units: metres for a distance, radians for
+  a joint) — no violation when their optimal set meets it;
+- tasks of priority :math:`\ge k` cannot buy their objective with a violation: to them the
+  limit is hard (relaxed by :math:`w^*` only).
+
+Why not "a hard constraint of the levels :math:`\ge k` only": the higher levels' optimal set
+need not meet :math:`Gx \le h` at all, and the QP of level :math:`k` would then be
+infeasible; the slack level is the least-violation version of that intent, equal to it
+whenever it is feasible (to the damping below). Why not a weighted penalty within level
+:math:`k`: it trades millimetres of clearance against task error at a ratio set by units and
+weights, and gives no guarantee that the limit holds when it can. ``priority=0`` is a hard
+limit that degrades to least violation instead of
+:class:`~redik.core.exceptions.InfeasibleProblem`.
+The slack level is damped (:data:`redik.qp.hierarchy.SLACK_DAMPING` ``ρ``, as
+Levenberg–Marquardt damps a least-squares step): one step removes the fraction
+:math:`σ^2/(σ^2 + ρ)` of a violation the free directions can remove with gain :math:`σ`
+(96 % at 0.5 m/rad, and a small :math:`σ` no longer calls for a huge step), and the
+iteration (``solve``, or a control loop) converges to the least violation itself.
+
+Iterative solves (:meth:`redik.Problem.solve`) shorten a step by
+:meth:`InequalityLimit.admits` only for the limits no task outranks (hard, or ranked at or
+above the first level): a limit ranked below a task must let that task's steps through. A
+prioritised position box does not clip :math:`q + Δq`: the levels above it may move the
+joint out of that box.
 """
 
 from __future__ import annotations
@@ -23,17 +67,32 @@ import abc
 import numpy as np
 
 from redik.kinematics.robot import Robot
+from redik.tasks.task import as_priority
 
 
 class Limit:
-    """Base class of hard limits on the robot's joint step."""
+    """Base class of limits on the robot's joint step.
+
+    Attributes:
+        priority: None (the default): hard at every priority level; an integer ``k ≥ 0``:
+            an inequality task ranked just above the tasks of priority ``k`` (module
+            docstring). Every limit takes it as the keyword argument ``priority=``.
+    """
 
     robot: Robot | None = None
+    priority: int | None = None
+
+    def _set_priority(self, priority: int | None) -> None:
+        self.priority = None if priority is None else as_priority(priority)
 
     def bind(self, robot: Robot, tolerance: float = 0.0) -> Limit:
         """Prepare for ``robot``; ``tolerance`` is the back-end's feasibility tolerance."""
         self.robot = robot
         return self
+
+    def advance(self, dq: np.ndarray, dt: float | None) -> None:
+        """Called by :meth:`redik.Problem.step` with the step it returns; a limit with memory
+        (:class:`~redik.limits.acceleration_limit.AccelerationLimit`) records it."""
 
 
 class BoxLimit(Limit, abc.ABC):

@@ -21,13 +21,16 @@ class MinkLimit(InequalityLimit):
         limit: The mink limit.
         dt: The ``dt`` handed to mink when the step has none (mink limits other than
             velocity limits ignore it).
+        priority: None (default): hard at every level; ``k``: ranked just above the tasks
+            of priority ``k`` (:mod:`redik.limits.limit`).
     """
 
     needs_configuration = True
 
-    def __init__(self, limit, dt: float = 1.0):
+    def __init__(self, limit, dt: float = 1.0, *, priority: int | None = None):
         self.limit = limit
         self.dt = float(dt)
+        self._set_priority(priority)
 
     def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
         constraint = self.limit.compute_qp_inequalities(state, self.dt if dt is None else dt)

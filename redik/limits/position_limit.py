@@ -29,6 +29,7 @@ import numpy as np
 
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.robot import Robot
+from redik.lie import periodic_coordinates, wrap_into_range
 from redik.limits.limit import BoxLimit
 
 
@@ -39,13 +40,16 @@ class PositionLimit(BoxLimit):
         margin: Distance (rad or m) to keep from each limit, ≥ 0.
         periodic: Leave revolute joints whose range spans a full turn unboxed; they are
             turned back into range by :meth:`wrap` (module docstring).
+        priority: None (default): hard at every level; ``k``: ranked just above the tasks
+            of priority ``k`` (:mod:`redik.limits.limit`).
 
     Attributes:
         turning: Per tangent coordinate, True for the joints :meth:`wrap` turns (none
-            unless ``periodic``).
+            unless ``periodic``): the periodic joints (:func:`redik.lie.periodic_coordinates`)
+            of the range shrunk by the margin, which must still span a full turn.
     """
 
-    def __init__(self, margin: float = 0.0, *, periodic: bool = False):
+    def __init__(self, margin: float = 0.0, *, periodic: bool = False, priority: int | None = None):
         margin = float(margin)
         if not np.isfinite(margin) or margin < 0.0:
             raise InvalidInput(f"margin must be finite and >= 0, got {margin}")
@@ -53,6 +57,7 @@ class PositionLimit(BoxLimit):
             raise InvalidInput(f"periodic must be True or False, got {periodic!r}")
         self.margin = margin
         self.periodic = bool(periodic)
+        self._set_priority(priority)
         self.lower = np.empty(0)
         self.upper = np.empty(0)
         self.turning = np.zeros(0, dtype=bool)
@@ -66,7 +71,7 @@ class PositionLimit(BoxLimit):
         self.turning = np.zeros(robot.dof, dtype=bool)
         if self.periodic:
             # A range of a turn less the shrink still holds a representative of every angle.
-            self.turning = robot.revolute & (self.upper - self.lower >= 2.0 * np.pi)
+            self.turning = periodic_coordinates(robot.revolute, self.lower, self.upper)
             self.lower[self.turning] = -np.inf
             self.upper[self.turning] = np.inf
         self._range_lower = robot.lower[self.turning] + shrink[self.turning]
@@ -85,7 +90,7 @@ class PositionLimit(BoxLimit):
         if not outside.any():
             return q
         lower = self._range_lower[outside]
-        turned[outside] = lower + np.mod(turned[outside] - lower, 2.0 * np.pi)
+        turned[outside] = wrap_into_range(turned[outside], lower)
         values[self.turning] = turned
         return robot.with_scalar_values(q, values)
 

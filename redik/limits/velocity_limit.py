@@ -21,11 +21,14 @@ class VelocityLimit(BoxLimit):
     Args:
         max_velocity: A scalar, one value per tangent coordinate, or a mapping from joint name to
             its bound (rad/s or m/s, > 0); joints not in the mapping are unbounded.
+        priority: None (default): hard at every level; ``k``: ranked just above the tasks
+            of priority ``k`` (:mod:`redik.limits.limit`).
     """
 
-    def __init__(self, max_velocity):
+    def __init__(self, max_velocity, *, priority: int | None = None):
         self._spec = max_velocity
         self.max_velocity = np.empty(0)
+        self._set_priority(priority)
 
     def bind(self, robot: Robot, tolerance: float = 0.0) -> VelocityLimit:
         try:

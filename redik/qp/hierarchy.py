@@ -38,6 +38,23 @@ feasible — so a lower level can always be solved; should its back-end still fa
 degenerate face confuses some), the level and those below it are skipped and counted.
 Levels after the freedom is used up are skipped.
 
+**Ranked inequalities.** A group of rows :math:`Gx \le h` may also be given a place in the
+order (``ranked``: a limit with ``priority=``, :mod:`redik.limits.limit`). Just before level
+:math:`k` it is the slack level
+
+.. math::
+
+    \min_{z,\,w}\ \tfrac12\|w\|^2 + \tfrac{ρ}{2}\|z\|^2
+    \quad\text{s.t.}\quad G(x + Nz) - w \le h,\ \ x + Nz \in \mathcal{X},
+
+(:math:`ρ` = :data:`SLACK_DAMPING`: the least violation, damped as Levenberg–Marquardt
+damps a least-squares step where the rows lose rank). Its :math:`w^* = \max(G x^+ - h, 0)`
+at the new point :math:`x^+ = x + Nz^*` is the least violation within :math:`S_k`; from
+there on :math:`G x \le h + w^*` joins the constraints of every lower level, and the free
+directions :math:`N` are unchanged (an inequality fixes a polyhedron, not a subspace). The
+levels above never saw the rows. Kanoun et al.'s inequality tasks, one QP each (rather
+than Escande et al.'s active-set HQP).
+
 **Cost.** A strict level should cost little more than a weighted one. When level 0 is a
 pure least-squares level (:math:`H_0 = A_0^\top A_0 + εI`, e.g. a pose task), its null
 space comes from one Householder QR of :math:`A_0^\top` (:func:`row_null_space`) instead
@@ -76,6 +93,18 @@ from redik.qp.problem_data import QP
 CURVATURE_MARGIN = 0.01
 """A second-order term is used only while the reduced model keeps this fraction of level 1's
 own reduced Hessian (a step at most 1/0.01 = 100 times level 1's own Newton step)."""
+
+
+SLACK_DAMPING = 1e-2
+"""``ρ`` of a ranked inequality's slack level, ``½‖w‖² + ½ρ‖z‖²`` (row units² per unit² of
+``Δq``: a radian of motion weighs as 0.1 m of violation): Levenberg–Marquardt damping of the
+least-violation step. Where the free directions barely move the rows (gain ``σ``: a link
+pivoting about a hand held inside an obstacle) the undamped step ``v/σ`` is huge and trusts
+the linearisation far beyond its reach; damped, it is at most ``v/(2√ρ) = 5v``, and where
+the rows have gain it keeps ``σ²/(σ² + ρ)`` of the reduction (96 % at σ = 0.5 m/rad). As in
+Levenberg–Marquardt the damping shapes the step, not the stationary points: a point from
+which the slack level does not move (``z* = 0``) satisfies ``(GN)ᵀw = 0``, the first-order
+condition of the least violation itself."""
 
 
 def free_directions(H: np.ndarray, c: np.ndarray, rank_tol: float, shift: float = 0.0):
@@ -218,6 +247,63 @@ def _solve_one_variable(
     return z
 
 
+def _least_violation(
+    x: np.ndarray,
+    N: np.ndarray | None,
+    G: np.ndarray,
+    h: np.ndarray,
+    lb: np.ndarray | None,
+    ub: np.ndarray | None,
+    C: np.ndarray | None,
+    l: np.ndarray | None,
+    u: np.ndarray | None,
+    backend: Backend,
+    shift: float,
+) -> np.ndarray:
+    """The point ``x + Nz`` of the slack level of the rows ``Gx ≤ h`` (module docstring).
+
+    ``N`` None: the full space from ``x = 0`` with the constraints as given (before level
+    0); else they are relaxed by ``x``'s own violation so that ``z = 0`` stays feasible, as
+    for a lower level."""
+    n = x.shape[0]
+    r = n if N is None else N.shape[1]
+    m = G.shape[0]
+    H = np.zeros((r + m, r + m))
+    H.flat[: r * (r + m) : r + m + 1] = max(shift, SLACK_DAMPING)
+    H.flat[r * (r + m) + r :: r + m + 1] = 1.0  # ½‖w‖²
+    GN = G if N is None else G @ N
+    rows = [np.hstack([GN, -np.eye(m)])]
+    lower = [np.full(m, -np.inf)]
+    upper = [h - G @ x]
+    if lb is not None:
+        rows.append(np.hstack([np.eye(n) if N is None else N, np.zeros((n, m))]))
+        lower.append(lb - x)
+        upper.append(ub - x)
+    if C is not None:
+        rows.append(np.hstack([C if N is None else C @ N, np.zeros((C.shape[0], m))]))
+        Cx = C @ x
+        lower.append(l - Cx)
+        upper.append(u - Cx)
+    low, up = np.concatenate(lower), np.concatenate(upper)
+    if N is not None:
+        low[m:] = np.minimum(low[m:], 0.0)
+        up[m:] = np.maximum(up[m:], 0.0)
+    qp = QP(H, np.zeros(r + m), C=np.vstack(rows), l=low, u=up)
+    z = backend.solve(qp)[:r]
+    return x + (z if N is None else N @ z)
+
+
+def _with_rows(C, l, u, G, bound):
+    """``C, l, u`` with the rows ``G x ≤ bound`` appended."""
+    if C is None:
+        return G, np.full(G.shape[0], -np.inf), bound
+    return (
+        np.vstack([C, G]),
+        np.concatenate([l, np.full(G.shape[0], -np.inf)]),
+        (np.concatenate([u, bound])),
+    )
+
+
 def solve_lexicographic(
     objectives: Sequence[tuple[np.ndarray, np.ndarray]],
     backends: Sequence[Backend],
@@ -233,6 +319,7 @@ def solve_lexicographic(
     kernel0: np.ndarray | None = None,
     curvature1: Callable[[np.ndarray], np.ndarray] | None = None,
     rhs0: np.ndarray | None = None,
+    ranked: Sequence[tuple[int, np.ndarray, np.ndarray, Backend]] = (),
 ) -> np.ndarray:
     """Solve the levels ``objectives`` (highest first) lexicographically; returns ``x``.
 
@@ -263,6 +350,11 @@ def solve_lexicographic(
             definite, else ignored (see :meth:`redik.Problem.solve`: the curvature of level
             0's constraint weighted by level 1's multipliers, the Hessian of the Lagrangian
             of sequential quadratic programming).
+        ranked: Ranked inequality groups ``(k, G, h, backend)``, in order: the rows
+            ``G x ≤ h`` as a slack level just before level ``k`` (``k = len(objectives)``:
+            after the last), solved by ``backend`` (module docstring). A group at 0 that the
+            hard constraints leave no point for raises as level 0 does; a later group whose
+            back-end fails ends the hierarchy there, counted as a skipped level.
 
     Raises:
         InfeasibleProblem, BackendError: from the back-end of level 0.
@@ -272,12 +364,18 @@ def solve_lexicographic(
     else:
         shifts = list(damping)
     H0, c0 = objectives[0]
+    ranked = list(ranked)
+    n = H0.shape[0]
+    while ranked and ranked[0][0] == 0:
+        _, G, h, backend = ranked.pop(0)
+        point = _least_violation(np.zeros(n), None, G, h, lb, ub, C, l, u, backend, shifts[0])
+        C, l, u = _with_rows(C, l, u, G, np.maximum(G @ point, h))
     x = None
     if rows0 is not None and rhs0 is not None and not backends[0].active_set:
         x = least_squares_minimiser(rows0, rhs0, shifts[0], lb, ub, C, l, u)
     if x is None:
         x = backends[0].solve(QP(H0, c0, lb, ub, C, l, u))
-    if len(objectives) == 1:
+    if len(objectives) == 1 and not ranked:
         return x
     if kernel0 is not None:
         N = without_gradient(kernel0, c0, rank_tol)
@@ -285,12 +383,31 @@ def solve_lexicographic(
         N = None if rows0 is None else row_null_space(rows0, rank_tol)
         if N is None:
             N = free_directions(H0, c0, rank_tol, shifts[0])
-    last = len(objectives) - 1
+    # The last level whose free directions are used: the last objective, or the level before
+    # trailing ranked groups.
+    last = len(objectives) - (0 if ranked and ranked[-1][0] == len(objectives) else 1)
     for level, ((H_k, c_k), backend, shift) in enumerate(
-        zip(objectives[1:], backends[1:], shifts[1:], strict=True), start=1
+        zip(
+            [*objectives[1:], (None, None)],
+            [*backends[1:], None],
+            [*shifts[1:], shifts[-1]],
+            strict=True,
+        ),
+        start=1,
     ):
         if N.shape[1] == 0:
             break
+        while ranked and ranked[0][0] == level:
+            _, G, h, ranked_backend = ranked.pop(0)
+            try:
+                x = _least_violation(x, N, G, h, lb, ub, C, l, u, ranked_backend, shift)
+            except (BackendError, InfeasibleProblem):
+                if stats is not None:
+                    stats["skipped_levels"] = stats.get("skipped_levels", 0) + 1
+                return x
+            C, l, u = _with_rows(C, l, u, G, np.maximum(G @ x, h))
+        if H_k is None:
+            break  # after the trailing ranked groups
         if N.shape[1] == 1:
             # One free direction (a 7-joint arm under a 6-D pose): a one-variable QP, solved
             # in closed form on Python floats.

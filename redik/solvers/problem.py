@@ -39,7 +39,15 @@ from redik.core._validate import non_negative, positive
 from redik.core.exceptions import InfeasibleProblem, InvalidInput
 from redik.core.result import IKResult
 from redik.kinematics.robot import Robot
-from redik.limits import BallJointLimit, BoxLimit, InequalityLimit, Limit, MinkLimit, PositionLimit
+from redik.limits import (
+    AccelerationLimit,
+    BallJointLimit,
+    BoxLimit,
+    InequalityLimit,
+    Limit,
+    MinkLimit,
+    PositionLimit,
+)
 from redik.limits.ball_joint_limit import limited_ball_joints
 from redik.qp.assembly import Assembly
 from redik.qp.backends import Backend, make_backend
@@ -121,6 +129,9 @@ class Problem:
         limits: redik or mink limits; None is the robot's own ranges, ``[PositionLimit()]``
             plus a :class:`~redik.limits.BallJointLimit` when it moves limited ball joints
             (whose cones no box holds); ``[]`` is none; a single limit is the list of it.
+            A limit is hard at every level unless given ``priority=k``: it then ranks just
+            above the tasks of priority ``k`` — those above may break it, those from ``k``
+            down may not (:mod:`redik.limits.limit`).
         backend: A back-end name, a list of names (a fallback chain) or a
             :class:`~redik.qp.backends.Backend` (see :func:`~redik.qp.backends.make_backend`);
             an instance serves one priority level only, since back-ends keep per-QP state
@@ -200,9 +211,42 @@ class Problem:
                     raise InvalidInput(f"{limit!r} is not a limit")
                 limit = MinkLimit(limit)
             self.limits.append(limit.bind(robot, tolerance))
-        self._boxes = [limit for limit in self.limits if isinstance(limit, BoxLimit)]
-        self._rows = [limit for limit in self.limits if isinstance(limit, InequalityLimit)]
-        self._clip = any(isinstance(limit, PositionLimit) for limit in self.limits)
+        hard = [limit for limit in self.limits if limit.priority is None]
+        # The acceleration box yields to the position and velocity boxes: applied after them.
+        self._boxes = sorted(
+            (limit for limit in hard if isinstance(limit, BoxLimit)),
+            key=lambda limit: isinstance(limit, AccelerationLimit),
+        )
+        self._rows = [limit for limit in hard if isinstance(limit, InequalityLimit)]
+        self._clip = any(isinstance(limit, PositionLimit) for limit in hard)
+        # Ranked limits (priority=k): one slack level per priority, just above the tasks of
+        # that priority (redik.limits.limit); (priority, index of the first task level at or
+        # below it, its limits, its back-end).
+        priorities = sorted({limit.priority for limit in self.limits} - {None})
+        if priorities and isinstance(backend, Backend):
+            raise InvalidInput(
+                f"a Backend instance ({backend.name!r}) keeps one QP's state: it cannot also "
+                f"serve the levels of the limits ranked at priorities {priorities}; pass the "
+                "back-end by name"
+            )
+        self._ranked = [
+            (
+                p,
+                sum(level < p for level in self.levels),
+                [limit for limit in self.limits if limit.priority == p],
+                make_backend(backend, **options),
+            )
+            for p in priorities
+        ]
+        # Limits whose nonlinear check shortens the steps of solve(): those no task outranks.
+        # A limit ranked below a task must let that task's steps through.
+        self._admitting = self._rows + [
+            limit
+            for _, index, limits, _ in self._ranked
+            if index == 0
+            for limit in limits
+            if isinstance(limit, InequalityLimit)
+        ]
         # Position limits that turn full-turn joints back into range (periodic=True).
         self._wraps = [
             limit
@@ -214,7 +258,9 @@ class Problem:
         self.stats: dict[str, int] = {}
         self._state = KinematicState.for_robot(robot)
         self._configuration = None
-        if self._assembly.needs_configuration or any(r.needs_configuration for r in self._rows):
+        if self._assembly.needs_configuration or any(
+            getattr(limit, "needs_configuration", False) for limit in self.limits
+        ):
             self._configuration = mink.Configuration(robot.model)
         self._lb = np.full(robot.dof, -np.inf)
         self._ub = np.full(robot.dof, np.inf)
@@ -276,8 +322,13 @@ class Problem:
         :math:`O(‖δA‖/σ)` per tick, so a posture regulator at priority 1 that saturates the
         velocity box (gain 1) still reverses there, and the arm may leave the fold on the
         other branch of the elbow and stall at a joint limit (there: 90 mm at the end).
-        Keep such a regulator's gain low (0.02 on that circle: no reversal) or put it at
-        level 0 with a small weight.
+        Keep such a regulator's gain low (0.02 on that circle: no reversal), put it at
+        level 0 with a small weight, or bound the acceleration: with
+        :class:`~redik.limits.AccelerationLimit` (20 rad/s²) on that circle, a posture of gain
+        1 at priority 1 makes 1 two-tick reversal instead of 214, |q̈| ≤ 20 rad/s² instead of
+        400, and the miss is the 39 mm gap again, not 90 mm
+        (``examples/acceleration_limit_posture_chatter.py``). :meth:`step` reports each step
+        it returns to the limits (:meth:`~redik.limits.limit.Limit.advance`).
 
         Raises:
             InfeasibleProblem: the limits admit no step (e.g. a joint outside its range
@@ -287,7 +338,10 @@ class Problem:
         q = _joint_vector(self.robot, q, "q")
         _check_dt(dt)
         self._update(q)
-        return self._step(q, dt, error_damping=self.step_damping)
+        dq = self._step(q, dt, error_damping=self.step_damping)
+        for limit in self.limits:
+            limit.advance(dq, dt)
+        return dq
 
     def _update(self, q: np.ndarray) -> None:
         self._state.update(q)
@@ -351,6 +405,11 @@ class Problem:
                 C = np.vstack([G for G, _ in blocks])
                 up = np.concatenate([h for _, h in blocks])
                 low = np.full_like(up, -np.inf)
+        ranked = [
+            (index, *self._ranked_rows(limits, q_box if self._boxes else None, q, dt), backend)
+            for _, index, limits, backend in self._ranked
+        ]
+        ranked = [(index, G, h, backend) for index, G, h, backend in ranked if G is not None]
         bounded = self._bounded or max_step is not None
         dq = solve_lexicographic(
             objectives,
@@ -367,6 +426,7 @@ class Problem:
             rhs0=self._rhs0,
             kernel0=kernel0,
             curvature1=curvature1,
+            ranked=ranked,
         )
         if self._clip:
             # Into the (shrunk) box the solver was given: inside the limits, whatever its
@@ -374,6 +434,30 @@ class Problem:
             np.maximum(dq, lb, out=dq)
             np.minimum(dq, ub, out=dq)
         return dq
+
+    def _ranked_rows(self, limits: list[Limit], q_box, q: np.ndarray, dt: float | None):
+        """``(G, h)``: the rows ``G Δq ≤ h`` of ranked ``limits`` at the current state, boxes
+        as ``±Δq_i`` rows of their finite bounds; ``(None, None)`` when none is active."""
+        blocks = []
+        for limit in limits:
+            if isinstance(limit, BoxLimit):
+                if q_box is None:
+                    q_box = self.robot.scalar_values(q)
+                lower, upper = np.full(self.robot.dof, -np.inf), np.full(self.robot.dof, np.inf)
+                limit.bounds_into(q_box, dt, lower, upper)
+                eye = np.eye(self.robot.dof)
+                up, low = np.isfinite(upper), np.isfinite(lower)
+                if up.any() or low.any():
+                    blocks.append(
+                        (np.vstack([eye[up], -eye[low]]), np.concatenate([upper[up], -lower[low]]))
+                    )
+            else:
+                block = limit.inequalities(self._configuration, dt)
+                if block is not None:
+                    blocks.append(block)
+        if not blocks:
+            return None, None
+        return np.vstack([G for G, _ in blocks]), np.concatenate([h for _, h in blocks])
 
     def _level1_curvature(self, q: np.ndarray, c1: np.ndarray, N: np.ndarray) -> np.ndarray:
         r"""``NᵀMN`` with :math:`M = \sum_i λ_i ∇^2 r_i`: the curvature of level 0's rows
@@ -582,7 +666,7 @@ class Problem:
                 trial = self._wrapped(self.robot.integrate(q, alpha * dq))
                 self._update(trial)
                 result = self._level0_errors(pos_tol, rot_tol)
-                admitted = all(limit.admits() for limit in self._rows)
+                admitted = all(limit.admits() for limit in self._admitting)
                 accepted = admitted and (
                     not self._targets
                     or (result[0] if converged else (result[1] < error or result[0]))
@@ -704,7 +788,13 @@ class Problem:
             if block is not None:
                 G, h = block
                 active.append(G[h <= _ACTIVE_TOL])
-        A = np.vstack(active) if active else None
+        # A ranked limit binds the levels from its own down (violated rows count as active:
+        # their bound on Δq is then the least violation the levels above left).
+        ranked_active = []
+        for _, index, limits, _ in self._ranked:
+            G, h = self._ranked_rows(limits, None, q, dt)
+            if G is not None:
+                ranked_active.append((index, G[h <= _ACTIVE_TOL]))
         N = self._kernel0(objectives) if kernel0 is None else kernel0
         values = []
         last = len(objectives) - 1
@@ -712,6 +802,8 @@ class Problem:
             if N.shape[1] == 0:
                 values.append(0.0)
                 continue
+            rows_of_level = active + [G for index, G in ranked_active if index <= level]
+            A = np.vstack(rows_of_level) if rows_of_level else None
             g = c_k @ N
             rows = None if A is None else A @ N
             if rows is None or rows.shape[0] == 0:

@@ -20,7 +20,7 @@ import numpy as np
 
 from redik.core.result import IKResult
 from redik.kinematics.robot import Robot
-from redik.lie import apply_inverse_v
+from redik.lie import apply_inverse_v, wrap_into_range
 from redik.solvers.pose.attempt import Attempt, PoseProblem
 
 
@@ -180,7 +180,7 @@ def shift_into_limits(robot: Robot, q: np.ndarray) -> np.ndarray:
         return q
     q = q.copy()
     for i in np.flatnonzero(outside):
-        shifted = robot.lower[i] + np.mod(q[i] - robot.lower[i], 2.0 * np.pi)
+        shifted = wrap_into_range(q[i], robot.lower[i])
         if shifted <= robot.upper[i]:
             q[i] = shifted
     return q

@@ -186,7 +186,7 @@ class Corrector:
         width = self.upper[hinges] - self.lower[hinges]
         offset = np.mod(q[..., hinges] - self.lower[hinges], 2 * np.pi)  # past the lower limit
         outside = np.where(offset > width, np.minimum(offset - width, 2 * np.pi - offset), 0.0)
-        distance[..., hinges] = np.where(width >= 2 * np.pi, 0.0, outside)
+        distance[..., hinges] = np.where(self.periodic[hinges], 0.0, outside)  # never outside
         return np.max(distance, axis=-1, initial=0.0)
 
     def into_limits(self, q: np.ndarray) -> np.ndarray | None:
