@@ -490,12 +490,14 @@ def test_the_stationarity_test_accounts_for_active_limits(panda):
         start = q_star.copy()
         start[joint] -= 0.05
         result = Problem(panda, tasks).solve(start, max_iter=300)
-        assert result.success and result.stationary and result.stationarity == [0.0]
+        # Zero up to rounding: the NNLS projection gave exactly 0 in one tree and 2.8e-17 in
+        # another (same code, its own numba cache), against > 1e-3 without the limits.
+        assert result.success and result.stationary and result.stationarity[0] <= 1e-12
         assert result.q[joint] == pytest.approx(panda.upper[joint], abs=1e-8)
         # Without the limits, the same point is not stationary: the cone made the difference.
         assert Problem(panda, tasks, limits=[]).stationarity(result.q)[0] > 1e-3
         # The projection is the problem's own (NNLS), not the back-end's: the same with any.
-        assert Problem(panda, tasks, backend="proxsuite").stationarity(result.q) == [0.0]
+        assert Problem(panda, tasks, backend="proxsuite").stationarity(result.q)[0] <= 1e-12
 
         def pose_residual(q, T=T):
             F = panda.fk(q)
