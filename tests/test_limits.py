@@ -351,3 +351,12 @@ def test_position_limit_refuses_a_margin_that_is_not_a_number():
     for margin in (np.nan, -0.1, np.inf):
         with pytest.raises(InvalidInput, match="margin must be finite"):
             PositionLimit(margin)
+
+
+def test_mink_limit_refuses_a_dt_that_is_not_a_positive_number(arm):
+    """``MinkLimit(limit, dt="x")`` raised a raw ValueError; NaN, 0 and negative steps were
+    kept and handed to mink (which divides by dt)."""
+    for dt in ("x", None, np.nan, 0.0, -1.0, np.inf):
+        with pytest.raises(InvalidInput, match="dt must be a finite positive number"):
+            MinkLimit(mink.ConfigurationLimit(arm.model), dt=dt)
+    assert MinkLimit(mink.ConfigurationLimit(arm.model), dt=0.01).dt == 0.01
