@@ -433,11 +433,15 @@ def test_solve_pose_qp_reuses_its_problem_and_stays_reproducible(rng):
 
 
 def test_solve_pose_qp_refuses_tasks_that_are_not_a_list(panda):
-    """``tasks=PostureTask()`` (one task, not a list) raised a raw TypeError."""
+    """``tasks=3`` or ``tasks=PostureTask()`` raised a raw TypeError; one task is the list
+    of it, as :class:`Problem` takes it."""
     T = panda.fk(panda.home)
-    for tasks in (3, PostureTask(priority=1), "posture"):
+    for tasks in (3, None, "posture"):
         with pytest.raises(InvalidInput, match="tasks must be a list"):
             solve_pose_qp(panda, T, panda.home, tasks=tasks)
+    one = solve_pose_qp(panda, T, panda.home, tasks=PostureTask(priority=1))
+    listed = solve_pose_qp(panda, T, panda.home, tasks=[PostureTask(priority=1)])
+    assert one.success and np.array_equal(one.q, listed.q)
 
 
 def test_solve_pose_qp_keeps_a_bounded_number_of_problems(rng):
