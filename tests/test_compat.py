@@ -83,3 +83,38 @@ def test_renamed_classes_and_functions_keep_their_old_names_for_one_release():
     assert issubclass(redik.FrameTask, redik.PoseTask)
     with pytest.warns(DeprecationWarning, match="it is SuccessCriterion"):
         assert taskspec.Criterion is taskspec.SuccessCriterion
+
+
+def test_the_registry_names_of_the_flat_models_module_still_resolve():
+    """``redik.models`` was the third-party registry module; it is now the models package,
+    and ``from redik.models import example_robot_data_dir`` (or the tables) failed."""
+    import warnings
+
+    import pytest
+
+    from redik.models import registry
+
+    for name in ("EXAMPLE_ROBOT_DATA", "PYBULLET_DATA", "ThirdPartyModel",
+                 "example_robot_data_dir", "pybullet_data_dir"):  # fmt: skip
+        with pytest.warns(DeprecationWarning, match=f"redik.models.registry.{name}"):
+            exec(f"from redik.models import {name} as value", {})
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DeprecationWarning)
+            import redik.models
+
+            assert getattr(redik.models, name) is getattr(registry, name)
+    with pytest.raises(AttributeError):
+        redik.models.no_such_name  # noqa: B018
+
+
+def test_the_corrector_tolerances_keep_their_flat_names():
+    """``from redik.redundancy.corrector import POSITION_TOLERANCE`` (the flat tree's name,
+    used by its tests) failed after the rename to ``SAMPLE_POSITION_TOLERANCE``."""
+    import pytest
+
+    from redik.solvers.redundancy import corrector
+
+    for old, new in (("POSITION_TOLERANCE", "SAMPLE_POSITION_TOLERANCE"),
+                     ("ROTATION_TOLERANCE", "SAMPLE_ROTATION_TOLERANCE")):  # fmt: skip
+        with pytest.warns(DeprecationWarning, match=new):
+            assert getattr(corrector, old) == getattr(corrector, new)

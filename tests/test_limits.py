@@ -340,3 +340,23 @@ def test_acceleration_limit_bounds_the_velocity_change_and_brakes_before_the_lim
     lower, upper = np.full(robot.dof, -np.inf), np.full(robot.dof, np.inf)
     loose.bounds_into(robot.scalar_values(robot.home), dt, lower, upper)
     assert upper[0] == pytest.approx(0.01 * dt) and np.isinf(upper[1:]).all()
+
+
+def test_position_limit_refuses_a_margin_that_is_not_a_number():
+    """``PositionLimit("x")`` or ``PositionLimit(None)`` raised a raw ValueError/TypeError
+    from ``float()``; ``BallJointLimit`` already named the fault."""
+    for margin in ("x", None, [0.1], np.array([0.1, 0.2])):
+        with pytest.raises(InvalidInput, match="margin must be a number"):
+            PositionLimit(margin)
+    for margin in (np.nan, -0.1, np.inf):
+        with pytest.raises(InvalidInput, match="margin must be finite"):
+            PositionLimit(margin)
+
+
+def test_mink_limit_refuses_a_dt_that_is_not_a_positive_number(arm):
+    """``MinkLimit(limit, dt="x")`` raised a raw ValueError; NaN, 0 and negative steps were
+    kept and handed to mink (which divides by dt)."""
+    for dt in ("x", None, np.nan, 0.0, -1.0, np.inf):
+        with pytest.raises(InvalidInput, match="dt must be a finite positive number"):
+            MinkLimit(mink.ConfigurationLimit(arm.model), dt=dt)
+    assert MinkLimit(mink.ConfigurationLimit(arm.model), dt=0.01).dt == 0.01

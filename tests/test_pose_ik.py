@@ -474,3 +474,24 @@ def test_dls_settings_evicted_by_another_thread_between_prepare_and_solve(monkey
     for pos_tol in (1e-6, 2e-6):
         result = solve_pose(robot, T_target, seed=0, pos_tol=pos_tol)
         check_solution(robot, result, T_target, pos_tol=pos_tol)
+
+
+def test_a_read_only_or_strided_q0_and_target_take_the_fast_dls_path(monkeypatch):
+    """``solve_pose(robot, T, robot.home)``: ``robot.home`` is read-only, and such a ``q0``
+    (or a Fortran-ordered target) went through the full validation on every call, 2.4×
+    slower; it is copied for the kernel instead, with the same answer."""
+    from redik.solvers.pose import solve as solve_module
+
+    robot = redik.load("panda")
+    T_target = robot.fk(robot.random_q(np.random.default_rng(6)))
+    reference = solve_pose(robot, T_target, robot.home.copy(), seed=0)  # prepares the settings
+    validations = []
+    as_pose = solve_module.as_pose
+    monkeypatch.setattr(
+        solve_module, "as_pose", lambda *a, **k: validations.append(1) or as_pose(*a, **k)
+    )
+    for q0, T in ((robot.home, T_target), (robot.home.copy(), np.asfortranarray(T_target))):
+        result = solve_pose(robot, T, q0, seed=0)
+        np.testing.assert_array_equal(result.q, reference.q)
+    assert not validations
+    assert not robot.home.flags.writeable

@@ -212,3 +212,20 @@ def test_daqp_set_up_and_update_failures_are_reported_not_left_in_the_workspace(
     np.testing.assert_allclose(backend.solve(box), [0.5, 0.5])
     with pytest.raises(BackendError, match="non-convex"):
         backend.solve(QP(-np.eye(2), np.zeros(2), lb=-np.ones(2), ub=np.ones(2)))
+
+
+@pytest.mark.parametrize("names", [["daqp"], ["proxsuite"], ["proxsuite", "daqp"]])
+def test_reset_makes_a_persistent_backend_answer_as_a_fresh_one(names, rng):
+    if not set(names) <= set(available_backends()):
+        pytest.skip(f"{names} not installed")
+    qps = random_ik_qps(rng, 30)[1::3]  # one size (box, rows): the workspace is updated
+    fresh = [make_backend(names).solve(qp) for qp in qps]
+    backend = make_backend(names)
+    used = []  # answers after another problem: warm-started, equal to round-off only
+    for qp, x in zip(qps, fresh, strict=True):
+        backend.solve(qps[-1])
+        used.append(np.abs(backend.solve(qp) - x).max())
+        backend.solve(qps[-1])
+        backend.reset()
+        np.testing.assert_array_equal(backend.solve(qp), x)
+    assert max(used) > 0.0  # the warm start did change an answer: reset had work to do

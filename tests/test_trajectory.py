@@ -168,3 +168,37 @@ def test_path_is_a_deprecated_alias_of_pose_path():
         from redik.apps.trajectory import Path  # noqa: F401
     with pytest.raises(AttributeError, match="no attribute 'Paths'"):
         _ = redik.apps.trajectory.Paths
+
+
+def test_a_qp_stack_follows_the_path_alike_after_a_simulation():
+    import warnings
+
+    from redik.apps.sim import TrackingWarning, simulate
+    from redik.limits import AccelerationLimit, PositionLimit, VelocityLimit
+    from redik.solvers.problem import Problem
+    from redik.tasks import PoseTask, PostureTask
+
+    # solve() looks for a static solution: an acceleration limit has no meaning between its
+    # iterates, and the motion a simulation leaves in the problem must not leak into it.
+    robot = redik.load("iiwa14")
+    T0 = robot.fk(robot.home)
+    path = CartesianPath.line(T0, T0 @ pose([0.0, 0.2, 0.0], [0.1, 0.0, -0.05]), 1.0)
+
+    def stack(*extra):
+        task = PoseTask(T0)
+        posture = PostureTask(robot.home, weight=1e-2, priority=1)
+        limits = [PositionLimit(), VelocityLimit(2.0), *extra]
+        problem = Problem(robot, [task, posture], limits)
+        return problem, task, lambda T, q: (task.set_target(T), problem.solve(q, dt=0.01))[1]
+
+    problem, task, qp = stack(AccelerationLimit(20.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", TrackingWarning)
+        simulate(robot, problem, task, path, 0.5, control_rate=100.0)
+    assert np.abs(problem.limits[-1].velocity).max() > 0.1  # the simulation left it moving
+    after = follow_path(robot, path, robot.home, qp, rate=20.0)
+    fresh = follow_path(robot, path, robot.home, stack(AccelerationLimit(20.0))[2], rate=20.0)
+    unlimited = follow_path(robot, path, robot.home, stack()[2], rate=20.0)
+    np.testing.assert_array_equal(after.q, fresh.q)
+    np.testing.assert_array_equal(fresh.q, unlimited.q)
+    assert fresh.success.all() and fresh.position_error.max() <= 1e-6

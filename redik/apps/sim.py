@@ -448,7 +448,10 @@ def simulate(
     Args:
         robot: The robot; its model needs a position servo or a torque motor on every chain
             joint (:func:`joint_drives`).
-        problem: A :class:`redik.Problem` whose ``step(q, dt)`` returns ``Δq``.
+        problem: A :class:`redik.Problem` whose ``step(q, dt)`` returns ``Δq``. It is reset
+            (:meth:`redik.Problem.reset`) at the start: the run starts at rest and does not
+            continue the motion of an earlier run, so the same problem simulated twice gives
+            the same result.
         task: The task of ``problem`` that tracks the reference (it must have
             ``set_target(T)``, like :class:`redik.PoseTask`).
         reference: A path (:class:`~redik.apps.trajectory.CartesianPath`,
@@ -525,6 +528,7 @@ def simulate(
     saturated = np.zeros(ticks, dtype=bool)
     q_command = q.copy()
     velocity = np.zeros(robot.dof)
+    problem.reset()  # the arm starts at rest: no motion of an earlier run to continue
     still = np.zeros(robot.dof)
     for k, t in enumerate(times):
         q_measured = data.qpos[qpos_adr].copy()

@@ -39,13 +39,14 @@ velocity boxes it is moved to their nearest point: those are never given up
 (:class:`redik.Problem` applies this box after the others).
 
 The limit has memory: :meth:`redik.Problem.step` reports each step it returns
-(:meth:`advance`); :meth:`reset` forgets it (a new motion, from rest by default).
-:meth:`redik.Problem.solve` (iterative IK, not motion) does not record its iterations.
+(:meth:`advance`); :meth:`reset` forgets it (a new motion, from rest by default), and
+:meth:`redik.Problem.reset` resets every limit of a problem — the loop drivers
+(:func:`redik.apps.sim.simulate`) call it at the start of each run.
+:meth:`redik.Problem.solve` (iterative IK towards a static solution, not a motion) leaves
+the limit out: it neither applies it to its iterates nor changes its state.
 """
 
 from __future__ import annotations
-
-from collections.abc import Mapping
 
 import numpy as np
 
@@ -76,17 +77,7 @@ class AccelerationLimit(BoxLimit):
         self._set_priority(priority)
 
     def bind(self, robot: Robot, tolerance: float = 0.0) -> AccelerationLimit:
-        try:
-            bound = self._per_dof(robot)
-        except InvalidInput:
-            raise
-        except (TypeError, ValueError):  # text or None where a number belongs
-            raise InvalidInput(
-                "max_acceleration must be a number, an array or a mapping from joint name to "
-                f"a number, got {self._spec!r}"
-            ) from None
-        if np.any(np.isnan(bound)) or np.any(bound <= 0.0):
-            raise InvalidInput(f"max_acceleration must be > 0, got {bound.tolist()}")
+        bound = self.positive_per_dof(self._spec, robot, "max_acceleration", "AccelerationLimit")
         self.max_acceleration = bound
         self.velocity = np.zeros(robot.dof)
         self._low = np.zeros(robot.dof)
@@ -94,24 +85,6 @@ class AccelerationLimit(BoxLimit):
         self._lower_range = robot.lower
         self._upper_range = robot.upper
         return super().bind(robot, tolerance)
-
-    def _per_dof(self, robot: Robot) -> np.ndarray:
-        spec = self._spec
-        if isinstance(spec, Mapping):
-            unknown = sorted(set(spec) - set(robot.joint_names))
-            if unknown:
-                raise InvalidInput(
-                    f"AccelerationLimit names joints {unknown} the robot does not move "
-                    f"{robot.joint_names}"
-                )
-            return np.array([float(spec.get(name, np.inf)) for name in robot.dof_joints])
-        bound = np.atleast_1d(np.asarray(spec, dtype=float))
-        if bound.shape not in ((1,), (robot.dof,)):
-            raise InvalidInput(
-                f"max_acceleration must be a scalar, ({robot.dof},) or a mapping, "
-                f"got shape {bound.shape}"
-            )
-        return np.broadcast_to(bound, (robot.dof,)).copy()
 
     def reset(self, velocity=None) -> None:
         """Forget the recorded motion: the next step starts from ``velocity`` (default rest)."""

@@ -63,9 +63,11 @@ joint out of that box.
 from __future__ import annotations
 
 import abc
+from collections.abc import Mapping
 
 import numpy as np
 
+from redik.core.exceptions import InvalidInput
 from redik.kinematics.robot import Robot
 from redik.tasks.task import as_priority
 
@@ -94,6 +96,16 @@ class Limit:
         """Called by :meth:`redik.Problem.step` with the step it returns; a limit with memory
         (:class:`~redik.limits.acceleration_limit.AccelerationLimit`) records it."""
 
+    def reset(self, velocity: np.ndarray | None = None) -> None:
+        """Forget what earlier steps recorded (:meth:`advance`): the next step starts a new
+        motion with joint velocity ``velocity`` (``robot.dof``,; None: at rest).
+
+        Called by :meth:`redik.Problem.reset`, which the loop drivers
+        (:func:`redik.apps.sim.simulate`) call at the start of each run. A memoryless limit
+        (every limit but :class:`~redik.limits.acceleration_limit.AccelerationLimit`) has
+        nothing to forget: this default does nothing.
+        """
+
 
 class BoxLimit(Limit, abc.ABC):
     """A limit of the form ``lower(q, dt) ≤ Δq ≤ upper(q, dt)``, joint by joint."""
@@ -115,6 +127,45 @@ class BoxLimit(Limit, abc.ABC):
         lower.fill(-np.inf)
         upper.fill(np.inf)
         self.bounds_into(q, dt, lower, upper)
+
+    @staticmethod
+    def positive_per_dof(spec, robot: Robot, name: str, owner: str) -> np.ndarray:
+        """A bound given as a scalar, one value per tangent coordinate, or a mapping from
+        joint name to value (joints not named: unbounded), as one value per tangent
+        coordinate of ``robot`` (a ball or free joint's value applies to each of its
+        coordinates), every one > 0.
+
+        Raises:
+            InvalidInput: a joint the robot does not move, a wrong shape, text or None, or a
+                value that is NaN or ≤ 0 (``name`` and ``owner`` name them).
+        """
+        try:
+            if isinstance(spec, Mapping):
+                unknown = sorted(set(spec) - set(robot.joint_names))
+                if unknown:
+                    raise InvalidInput(
+                        f"{owner} names joints {unknown} the robot does not move "
+                        f"{robot.joint_names}"
+                    )
+                bound = np.array([float(spec.get(joint, np.inf)) for joint in robot.dof_joints])
+            else:
+                bound = np.atleast_1d(np.asarray(spec, dtype=float))
+                if bound.shape not in ((1,), (robot.dof,)):
+                    raise InvalidInput(
+                        f"{name} must be a scalar, ({robot.dof},) or a mapping, "
+                        f"got shape {bound.shape}"
+                    )
+                bound = np.broadcast_to(bound, (robot.dof,)).copy()
+        except (TypeError, ValueError) as error:  # text or None where a number belongs
+            if isinstance(error, InvalidInput):
+                raise
+            raise InvalidInput(
+                f"{name} must be a number, an array or a mapping from joint name to a "
+                f"number, got {spec!r}"
+            ) from None
+        if np.any(np.isnan(bound)) or np.any(bound <= 0.0):
+            raise InvalidInput(f"{name} must be > 0, got {bound.tolist()}")
+        return bound
 
 
 class InequalityLimit(Limit, abc.ABC):

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from redik.core._validate import positive
 from redik.limits.limit import InequalityLimit
 
 
@@ -29,7 +30,7 @@ class MinkLimit(InequalityLimit):
 
     def __init__(self, limit, dt: float = 1.0, *, priority: int | None = None):
         self.limit = limit
-        self.dt = float(dt)
+        self.dt = positive(dt, "dt", unit="s")
         self._set_priority(priority)
 
     def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:

@@ -50,7 +50,10 @@ class PositionLimit(BoxLimit):
     """
 
     def __init__(self, margin: float = 0.0, *, periodic: bool = False, priority: int | None = None):
-        margin = float(margin)
+        try:
+            margin = float(margin)
+        except (TypeError, ValueError):
+            raise InvalidInput(f"margin must be a number, got {margin!r}") from None
         if not np.isfinite(margin) or margin < 0.0:
             raise InvalidInput(f"margin must be finite and >= 0, got {margin}")
         if not isinstance(periodic, bool | np.bool_):

@@ -6,8 +6,6 @@ online control at a fixed rate.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
@@ -31,39 +29,10 @@ class VelocityLimit(BoxLimit):
         self._set_priority(priority)
 
     def bind(self, robot: Robot, tolerance: float = 0.0) -> VelocityLimit:
-        try:
-            limit = self._per_dof(robot)
-        except InvalidInput:
-            raise
-        except (TypeError, ValueError):  # text or None where a number belongs
-            raise InvalidInput(
-                f"max_velocity must be a number, an array or a mapping from joint name to a "
-                f"number, got {self._spec!r}"
-            ) from None
-        if np.any(np.isnan(limit)) or np.any(limit <= 0.0):
-            raise InvalidInput(f"max_velocity must be > 0, got {limit.tolist()}")
-        self.max_velocity = limit
+        self.max_velocity = self.positive_per_dof(
+            self._spec, robot, "max_velocity", "VelocityLimit"
+        )
         return super().bind(robot, tolerance)
-
-    def _per_dof(self, robot: Robot) -> np.ndarray:
-        """The bound of each tangent coordinate (unchecked values)."""
-        spec = self._spec
-        if isinstance(spec, Mapping):
-            unknown = sorted(set(spec) - set(robot.joint_names))
-            if unknown:
-                raise InvalidInput(
-                    f"VelocityLimit names joints {unknown} the robot does not move "
-                    f"{robot.joint_names}"
-                )
-            # A ball or free joint's bound applies to each of its tangent coordinates.
-            return np.array([float(spec.get(name, np.inf)) for name in robot.dof_joints])
-        limit = np.atleast_1d(np.asarray(spec, dtype=float))
-        if limit.shape not in ((1,), (robot.dof,)):
-            raise InvalidInput(
-                f"max_velocity must be a scalar, ({robot.dof},) or a mapping, "
-                f"got shape {limit.shape}"
-            )
-        return np.broadcast_to(limit, (robot.dof,)).copy()
 
     def bounds_into(
         self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray

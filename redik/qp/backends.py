@@ -131,6 +131,11 @@ class Backend(abc.ABC):
     def solve(self, qp: QP) -> np.ndarray:
         """The minimiser ``x`` (a fresh array)."""
 
+    def reset(self) -> None:  # noqa: B027 - a stateless back-end has nothing to override
+        """Forget the state kept from earlier QPs (a workspace, a warm start): the next
+        solve starts cold, as on a fresh instance, and returns bit for bit what that would
+        (:meth:`redik.Problem.reset`). A stateless back-end has nothing to forget."""
+
     def _error(self, reason: str, qp: QP) -> BackendError:
         return BackendError(f"QP back-end {self.name!r} failed ({reason}) on a QP with {qp.size()}")
 
@@ -210,6 +215,9 @@ class DaqpBackend(Backend):
             raise self._error(f"{type(error).__name__}: {error}", qp) from None
         self._check(exitflag, qp, "solve")
         return self._checked(x, qp)
+
+    def reset(self) -> None:
+        self._model = None
 
     def _check(self, exitflag: int, qp: QP, stage: str) -> None:
         """Raise on a failed DAQP exit flag, forgetting the workspace.
@@ -295,6 +303,9 @@ class ProxsuiteBackend(Backend):
             self._qp.init(*data)
         self._qp.solve()
         return self._qp.results.info.status
+
+    def reset(self) -> None:
+        self._qp = None
 
 
 class QpsolversBackend(Backend):
@@ -416,6 +427,10 @@ class FallbackChain(Backend):
             f"every back-end of the fallback chain failed on a QP with {qp.size()}: "
             + "; ".join(str(error) for error in failures)
         )
+
+    def reset(self) -> None:
+        for backend in self.backends:
+            backend.reset()
 
 
 _NATIVE_MODULES = {"daqp": "daqp", "proxsuite": "proxsuite", "cvxpy": "cvxpy"}

@@ -39,6 +39,7 @@ from redik.core._validate import integer, non_negative, positive
 from redik.core.exceptions import InfeasibleProblem, InvalidInput
 from redik.core.result import IKResult
 from redik.kinematics.robot import Robot
+from redik.lie import real_array
 from redik.limits import (
     AccelerationLimit,
     BallJointLimit,
@@ -217,6 +218,11 @@ class Problem:
             (limit for limit in hard if isinstance(limit, BoxLimit)),
             key=lambda limit: isinstance(limit, AccelerationLimit),
         )
+        # solve() and stationarity() look for a static configuration, not a motion: the
+        # acceleration box (a bound between control ticks) has no meaning there.
+        self._static_boxes = [
+            limit for limit in self._boxes if not isinstance(limit, AccelerationLimit)
+        ]
         self._rows = [limit for limit in hard if isinstance(limit, InequalityLimit)]
         self._clip = any(isinstance(limit, PositionLimit) for limit in hard)
         # Ranked limits (priority=k): one slack level per priority, just above the tasks of
@@ -253,7 +259,6 @@ class Problem:
             for limit in self.limits
             if isinstance(limit, PositionLimit) and limit.turning.any()
         ]
-        self._bounded = bool(self._boxes)
 
         self.stats: dict[str, int] = {}
         self._state = KinematicState.for_robot(robot)
@@ -327,8 +332,18 @@ class Problem:
         :class:`~redik.limits.AccelerationLimit` (20 rad/s²) on that circle, a posture of gain
         1 at priority 1 makes 1 two-tick reversal instead of 214, |q̈| ≤ 20 rad/s² instead of
         400, and the miss is the 39 mm gap again, not 90 mm
-        (``examples/acceleration_limit_posture_chatter.py``). :meth:`step` reports each step
-        it returns to the limits (:meth:`~redik.limits.limit.Limit.advance`).
+        (``examples/acceleration_limit_posture_chatter.py``).
+
+        **State between calls.** :meth:`step` reports each step it returns to the limits
+        (:meth:`~redik.limits.limit.Limit.advance`): an
+        :class:`~redik.limits.AccelerationLimit` bounds the next step around the velocity of
+        this one, so consecutive calls form one motion. That recorded velocity is the only
+        state that changes a later step's answer; it persists until :meth:`reset` (a new
+        motion), which the loop drivers (:func:`redik.apps.sim.simulate`) call at the start
+        of each run, and is neither read nor changed by :meth:`solve`. The back-ends' warm
+        starts also persist (they change an answer by round-off only) until :meth:`reset`;
+        task targets are the caller's (``set_target``) and are kept; :attr:`stats` counts
+        across calls.
 
         Raises:
             InfeasibleProblem: the limits admit no step (e.g. a joint outside its range
@@ -338,10 +353,41 @@ class Problem:
         q = _joint_vector(self.robot, q, "q")
         _check_dt(dt)
         self._update(q)
-        dq = self._step(q, dt, error_damping=self.step_damping)
+        dq = self._step(q, dt, error_damping=self.step_damping, motion=True)
         for limit in self.limits:
             limit.advance(dq, dt)
         return dq
+
+    def reset(self, velocity: np.ndarray | None = None) -> None:
+        """Start a new motion: every limit and task forgets what earlier :meth:`step` calls
+        recorded, and the next step starts from joint velocity ``velocity`` (``robot.dof``,
+        rad/s or m/s; None: at rest).
+
+        Call it whenever the robot does not continue the motion of the previous step: a new
+        run from a new start, a stop, a jump of ``q``. :func:`redik.apps.sim.simulate` calls
+        it at the start of each run (the arm starts at rest). Without it, an
+        :class:`~redik.limits.AccelerationLimit` brakes the first step of a new run against
+        the last velocity of the previous one. The back-ends forget their warm starts too,
+        so the run repeats a fresh problem's bit for bit. Task targets are kept.
+
+        Raises:
+            InvalidInput: ``velocity`` not finite or not of shape (``robot.dof``,).
+        """
+        if velocity is not None:
+            velocity = real_array(velocity, "velocity")
+            if velocity.shape != (self.robot.dof,) or not np.isfinite(velocity).all():
+                raise InvalidInput(
+                    f"velocity must be finite with shape ({self.robot.dof},) (robot.dof), "
+                    f"got {velocity.tolist()!r}"
+                )
+        for limit in self.limits:
+            limit.reset(velocity)
+        for task in self.tasks:
+            reset = getattr(task, "reset", None)  # mink tasks have no memory and no reset
+            if reset is not None:
+                reset(velocity)
+        for backend in [*self.backends, *(backend for *_, backend in self._ranked)]:
+            backend.reset()
 
     def _update(self, q: np.ndarray) -> None:
         self._state.update(q)
@@ -358,11 +404,13 @@ class Problem:
         objectives: list | None = None,
         kernel0: np.ndarray | None = None,
         second_order: bool = False,
+        motion: bool = False,
     ):
         """The step at the current state (``q``); ``objectives`` and ``kernel0`` (level 0's
         null space), when given, are this state's (:meth:`_stationarity` just built them)
         and are not rebuilt. ``second_order`` adds level 1's curvature term
-        (:meth:`_level1_curvature`) where level 0 is a least-squares level."""
+        (:meth:`_level1_curvature`) where level 0 is a least-squares level. ``motion``
+        (:meth:`step`) applies the acceleration limits, which :meth:`solve` leaves out."""
         if objectives is None:
             objectives = self._assembly.objectives(self._state, self._configuration)
         curvature1 = None
@@ -379,16 +427,17 @@ class Problem:
             H0.flat[:: H0.shape[0] + 1] += lm_damping
             damping = [self.damping + lm_damping] + [self.damping] * (len(objectives) - 1)
         lb, ub = self._lb, self._ub
-        if self._boxes:
+        boxes = self._boxes if motion else self._static_boxes
+        if boxes:
             q_box = self.robot.scalar_values(q)
-            self._boxes[0].set_bounds(q_box, dt, lb, ub)
-            for limit in self._boxes[1:]:
+            boxes[0].set_bounds(q_box, dt, lb, ub)
+            for limit in boxes[1:]:
                 limit.bounds_into(q_box, dt, lb, ub)
         if max_step is not None:
             np.maximum(lb, -max_step, out=lb)
             np.minimum(ub, max_step, out=ub)
         # One position box is never empty (bind shrinks it by at most a quarter range).
-        if len(self._boxes) > 1 and (lb > ub).any():
+        if len(boxes) > 1 and (lb > ub).any():
             bad = np.flatnonzero(lb > ub)
             names = [self.robot.dof_names[i] for i in bad]
             raise InfeasibleProblem(
@@ -406,11 +455,11 @@ class Problem:
                 up = np.concatenate([h for _, h in blocks])
                 low = np.full_like(up, -np.inf)
         ranked = [
-            (index, *self._ranked_rows(limits, q_box if self._boxes else None, q, dt), backend)
+            (index, *self._ranked_rows(limits, q_box if boxes else None, q, dt, motion), backend)
             for _, index, limits, backend in self._ranked
         ]
         ranked = [(index, G, h, backend) for index, G, h, backend in ranked if G is not None]
-        bounded = self._bounded or max_step is not None
+        bounded = bool(boxes) or max_step is not None
         dq = solve_lexicographic(
             objectives,
             self.backends,
@@ -435,11 +484,16 @@ class Problem:
             np.minimum(dq, ub, out=dq)
         return dq
 
-    def _ranked_rows(self, limits: list[Limit], q_box, q: np.ndarray, dt: float | None):
+    def _ranked_rows(
+        self, limits: list[Limit], q_box, q: np.ndarray, dt: float | None, motion: bool = False
+    ):
         """``(G, h)``: the rows ``G Δq ≤ h`` of ranked ``limits`` at the current state, boxes
-        as ``±Δq_i`` rows of their finite bounds; ``(None, None)`` when none is active."""
+        as ``±Δq_i`` rows of their finite bounds; ``(None, None)`` when none is active.
+        Acceleration limits count only in a ``motion`` (:meth:`step`)."""
         blocks = []
         for limit in limits:
+            if isinstance(limit, AccelerationLimit) and not motion:
+                continue
             if isinstance(limit, BoxLimit):
                 if q_box is None:
                     q_box = self.robot.scalar_values(q)
@@ -564,6 +618,15 @@ class Problem:
         below the pose: 17.1 → 6.0 iterations per target on average, the slowest from the
         100-iteration cap, not stationary, to 10). Levels below 1 keep their own Hessians.
 
+        **Motion limits are left out.** The iterates are not control ticks but steps towards
+        a static solution: an :class:`~redik.limits.AccelerationLimit` (a bound on the
+        change of velocity from one tick to the next) has no meaning between them, and
+        applied with the velocity :meth:`step` last recorded it would make the answer
+        depend on what ran before and cap every iterate near that velocity. ``solve``
+        ignores it and neither reads nor changes its state (a :meth:`step` after ``solve``
+        continues the motion of the steps before it); :meth:`stationarity` likewise.
+        Position, velocity and the other limits apply.
+
         Args:
             q0: Initial chain configuration.
             pos_tol, rot_tol: Tolerances.
@@ -571,7 +634,8 @@ class Problem:
             q_tol: Stop as ``"stalled"`` when the step taken, ``‖αΔq‖``, falls below it
                 before converging.
             max_step: Optional trust region, ``|Δq_i| ≤ max_step`` per iteration.
-            dt: Passed to the limits (velocity limits need it).
+            dt: Passed to the limits (velocity limits need it; acceleration limits are
+                left out, above).
             lm_damping: Initial Levenberg–Marquardt scale ``μ`` (≥ 0).
             stationarity_tol: Bound on each lower level's projected gradient (units of
                 that gradient: ``α w² (q − r)`` for a posture task), or None.
@@ -768,10 +832,10 @@ class Problem:
         n = self.robot.dof
         # Active limits as rows a_i of a_i·Δq ≤ 0.
         active = []
-        if self._boxes:
+        if self._static_boxes:
             lb, ub = np.full(n, -np.inf), np.full(n, np.inf)
             q_box = self.robot.scalar_values(q)
-            for limit in self._boxes:
+            for limit in self._static_boxes:
                 limit.bounds_into(q_box, dt, lb, ub)
             at_lower, at_upper = lb >= -_ACTIVE_TOL, ub <= _ACTIVE_TOL
             if at_lower.any() or at_upper.any():

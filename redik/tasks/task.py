@@ -114,6 +114,18 @@ class Task(BaseTask):
         self.robot = robot
         return self
 
+    def reset(self, velocity: np.ndarray | None = None) -> None:
+        """Forget what earlier steps of a :class:`redik.Problem` left in the task: the next
+        step starts a new motion with joint velocity ``velocity`` (``robot.dof``,; None: at
+        rest).
+
+        Called by :meth:`redik.Problem.reset` at the start of each run of a loop driver
+        (:func:`redik.apps.sim.simulate`). The target (``set_target``) is the caller's and
+        is kept. redik's tasks are memoryless: their objective is a function of ``q`` and
+        the target alone, so this default does nothing; a task with memory (a filtered
+        target, an integral term) overrides it.
+        """
+
     def _require_robot(self) -> Robot:
         if self.robot is None:
             raise InvalidInput(

@@ -108,9 +108,12 @@ def solve_pose_qp(
         raise InvalidInput(f"unknown options {unknown} for method='qp'; known: {list(_OPTIONS)}")
     candidates = integer(options.get("candidates", 16), "candidates", 1)
     tasks = options.get("tasks", ())
-    if isinstance(tasks, str) or not isinstance(tasks, Iterable):
+    if hasattr(tasks, "compute_qp_objective"):  # one task is the list of it, as in Problem
+        options = {**options, "tasks": [tasks]}
+    elif isinstance(tasks, str) or not isinstance(tasks, Iterable):
         raise InvalidInput(
-            f"tasks must be a list of tasks (e.g. [PostureTask(priority=1)]), got {tasks!r}"
+            f"tasks must be a list of tasks (or a single one, e.g. PostureTask(priority=1)), "
+            f"got {tasks!r}"
         )
     problem = _problem(robot, T_target, frame, respect_limits, options)
     task = problem.tasks[0]
