@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 import redik
-from redik.core._validate import integer
+from redik.apps import workspace
+from redik.core._validate import integer, seed
 from redik.solvers.analytic.srs import self_motion_curves
 
 
@@ -50,3 +51,45 @@ def test_a_numpy_integer_is_a_count_everywhere():
     curves = self_motion_curves(iiwa, iiwa.fk(iiwa.home), spacing=0.2, samples=np.int64(64))
     assert curves and all(np.all(np.isfinite(curve)) for curve in curves)
     assert redik.PostureTask(priority=np.int64(1)).priority == 1
+
+
+def test_seed_takes_none_integers_and_generators_and_refuses_bools():
+    rng = np.random.default_rng(0)
+    sequence = np.random.SeedSequence(0)
+    assert seed(None) is None and seed(rng) is rng and seed(sequence) is sequence
+    assert seed(3) == 3 and type(seed(np.uint32(3))) is int
+    for bad in (True, False, np.True_, -1, 1.0, "1", [1], np.random.PCG64(0)):
+        with pytest.raises(redik.InvalidInput, match=r"seed must be None, an integer ≥ 0 or"):
+            seed(bad)
+    with pytest.raises(redik.InvalidInput, match=r"or a numpy SeedSequence, got Generator"):
+        seed(rng, generator=False)
+
+
+def test_every_seed_option_uses_the_one_check():
+    """``seed=True`` was taken for seed 1 by solve_pose, solve_all, explore_self_motion and the
+    workspace maps (numpy's default_rng accepts a bool), while ``respect_limits=1`` is refused."""
+    planar = redik.load("planar_2r")
+    T = planar.fk(planar.home)
+    panda = redik.load("panda")
+    T_panda = panda.fk(panda.home)
+    calls = {
+        "solve_pose dls": lambda v: redik.solve_pose(planar, T, seed=v),
+        "solve_pose newton": lambda v: redik.solve_pose(
+            planar, T, method="newton", restarts=1, seed=v
+        ),
+        "solve_pose qp": lambda v: redik.solve_pose(planar, T, method="qp", restarts=1, seed=v),
+        "solve_all": lambda v: redik.solve_all(planar, T, n_starts=2, seed=v),
+        "solve_batch": lambda v: redik.solve_batch(planar, T[None], seed=v),
+        "explore_self_motion": lambda v: redik.explore_self_motion(
+            panda, T_panda, max_samples=20, seed=v
+        ),
+        "reachability": lambda v: workspace.reachability(
+            planar, np.zeros((1, 3)), orientations=1, seed=v
+        ),
+        "sample": lambda v: workspace.sample(planar, 2, orientations=1, seed=v),
+    }
+    for name, call in calls.items():
+        for bad in (True, -1, 1.5):
+            with pytest.raises(redik.InvalidInput, match=r"seed must be None, an integer ≥ 0"):
+                call(bad)
+        assert call(np.int64(1)) is not None, name  # a numpy integer is a seed everywhere

@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from redik.core._validate import seed as check_seed
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.robot import Robot
 from redik.solvers.batch import Chain, forward_kinematics, solve_batch
@@ -187,7 +188,7 @@ def reachability(
     grid = np.asarray(grid, dtype=float)
     if grid.ndim < 1 or grid.shape[-1] != 3 or not np.isfinite(grid).all():
         raise InvalidInput(f"grid must be finite positions of shape (..., 3), got {grid.shape}")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     if np.ndim(orientations) == 0:
         if int(orientations) < 1:
             raise InvalidInput(f"orientations must be at least 1, got {orientations!r}")
@@ -246,7 +247,7 @@ def sample(
     if n < 1 or resolution < 1:
         raise InvalidInput(f"n and resolution must be positive, got {n} and {resolution}")
     chain = robot if isinstance(robot, Chain) else Chain.from_robot(robot)
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     q = rng.uniform(chain.sampling_lower, chain.sampling_upper, (n, chain.dof))
     points = forward_kinematics(chain, q)[:, :3, 3]
     low = points.min(axis=0)

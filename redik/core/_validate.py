@@ -55,6 +55,24 @@ def integer(value: object, name: str, minimum: int = 0, *, allow_none: bool = Fa
     return int(value)
 
 
+def seed(value: object, name: str = "seed", *, generator: bool = True) -> object:
+    """``value`` when it is a seed of random choices: None (fresh entropy), an integer ``≥ 0``
+    (an ``int`` or numpy integer, returned as ``int``), a :class:`numpy.random.SeedSequence`,
+    or — when ``generator`` — a :class:`numpy.random.Generator` (used as is, so its stream
+    carries on). A bool is refused like for :func:`integer` (``seed=True`` is no seed 1), and
+    so are floats, strings and negative integers. ``generator=False`` for the callers that
+    split one root into independent streams (:func:`redik.solvers.batch.solve_batch`), which
+    need a SeedSequence rather than a stream already drawn from."""
+    if value is None or isinstance(value, np.random.SeedSequence):
+        return value
+    if generator and isinstance(value, np.random.Generator):
+        return value
+    if not isinstance(value, bool) and isinstance(value, (int, np.integer)) and value >= 0:
+        return int(value)
+    kinds = "a numpy Generator or SeedSequence" if generator else "a numpy SeedSequence"
+    raise InvalidInput(f"{name} must be None, an integer ≥ 0 or {kinds}, got {value!r}")
+
+
 def flag(value: object, name: str) -> bool:
     """``value`` when it is a bool (a truthy string such as ``"no"`` is refused, not obeyed)."""
     if not isinstance(value, bool):

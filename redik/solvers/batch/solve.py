@@ -30,6 +30,7 @@ import numba
 import numpy as np
 
 from redik.core._validate import integer
+from redik.core._validate import seed as check_seed
 from redik.core.exceptions import InvalidInput
 from redik.core.result import Status
 from redik.kinematics import dls
@@ -294,13 +295,7 @@ def solve_batch(
     chunk_size = integer(chunk_size, "chunk_size", 1, allow_none=True)
     workers = integer(workers, "workers", 1, allow_none=True)
     runner = as_engine(engine, workers, address)
-    if not isinstance(seed, np.random.SeedSequence):
-        try:
-            integer(seed, "seed", allow_none=True)
-        except InvalidInput:
-            raise InvalidInput(
-                f"seed must be None, an integer ≥ 0 or a SeedSequence, got {seed!r}"
-            ) from None
+    seed = check_seed(seed, generator=False)
     chain = robot if isinstance(robot, Chain) else Chain.from_robot(robot)
     options = BatchOptions(
         pos_tol=pos_tol, rot_tol=rot_tol, restarts=restarts, max_iterations=max_iterations

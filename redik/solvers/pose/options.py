@@ -60,14 +60,3 @@ def check_flag(value: object, name: str) -> bool:
     if not isinstance(value, bool | np.bool_):
         raise InvalidInput(f"{name} must be True or False, got {value!r}")
     return bool(value)
-
-
-def check_seed(seed: object) -> None:
-    """Refuse what ``np.random.default_rng`` would fail on deep inside a solve."""
-    try:
-        np.random.default_rng(seed)
-    except (TypeError, ValueError) as error:
-        raise InvalidInput(
-            f"seed must be None, a non-negative integer or a numpy Generator, got {seed!r} "
-            f"({error})"
-        ) from None

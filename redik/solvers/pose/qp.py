@@ -33,6 +33,7 @@ import numba
 import numpy as np
 
 from redik.core._validate import integer
+from redik.core._validate import seed as check_seed
 from redik.core.exceptions import InvalidInput
 from redik.core.result import IKResult
 from redik.kinematics.chain import Chain
@@ -118,7 +119,7 @@ def solve_pose_qp(
     problem = _problem(robot, T_target, frame, respect_limits, options)
     task = problem.tasks[0]
     chain = _chain_of(robot, task.frame) if restarts else None
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     best: IKResult | None = None
     iterations = 0
     unwound = None  # the last attempt's q with its blocked full-turn joints turned back

@@ -15,6 +15,7 @@ from collections.abc import Callable
 import numpy as np
 
 from redik.core._validate import integer, positive
+from redik.core._validate import seed as check_seed
 from redik.core.result import IKResult, Status
 from redik.kinematics.robot import Frame, Robot
 from redik.lie import as_pose, wrap_angle
@@ -31,7 +32,6 @@ from redik.solvers.pose.options import (
     check_flag,
     check_method,
     check_options,
-    check_seed,
 )
 from redik.solvers.pose.result import Outcome, finish
 
@@ -123,7 +123,7 @@ def solve_pose(
     q_start = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
     method = check_method(method)
     respect_limits = check_flag(respect_limits, "respect_limits")
-    check_seed(seed)
+    seed = check_seed(seed)
     pos_tol, rot_tol = (
         positive(pos_tol, "pos_tol", unit="m"),
         positive(rot_tol, "rot_tol", unit="rad"),
@@ -248,7 +248,7 @@ def solve_all(
     n_starts = integer(n_starts, "n_starts", 1)
     cluster_tol = positive(cluster_tol, "cluster_tol")
     first = None if q0 is None else robot.check_q(q0, "q0")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     solutions: list[IKResult] = []
     for start in range(n_starts):
         q_start = first if start == 0 and first is not None else robot.random_q(rng)

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from redik.core._validate import integer
+from redik.core._validate import seed as check_seed
 from redik.core.exceptions import InvalidInput
 from redik.core.result import Status
 from redik.lie import as_pose, real_array
@@ -104,12 +105,7 @@ def explore_self_motion(
         raise InvalidInput(f"spacing must be a positive number, got {spacing!r}")
     n_starts = integer(n_starts, "n_starts")
     max_samples = integer(max_samples, "max_samples")
-    try:
-        rng = np.random.default_rng(seed)
-    except (TypeError, ValueError):
-        raise InvalidInput(
-            f"seed must be None, an integer ≥ 0 or a Generator, got {seed!r}"
-        ) from None
+    rng = np.random.default_rng(check_seed(seed))
     extra = np.empty((0, robot.dof))
     if initial is not None:
         extra = np.atleast_2d(real_array(initial, "initial"))
