@@ -17,6 +17,7 @@ from redik.core.exceptions import (
     RedikError,
 )
 from redik.core.result import IKResult
+from redik.kinematics.dls import BatchOptions
 from redik.solvers.pose import solve_all, solve_pose
 from redik.solvers.pose.attempt import PoseProblem
 from redik.solvers.pose.result import body_twist_norm
@@ -374,6 +375,20 @@ def test_a_repeated_dls_call_still_refuses_what_the_first_call_would(rng):
             solve_pose(robot, T, q0, **{"seed": 0, **bad_arguments})
     with pytest.raises(InvalidInput, match="respect_limits"):
         solve_pose(robot, T, q0, seed=0, respect_limits=1)
+
+
+def test_progress_is_one_rule_for_dls_and_qp():
+    """``progress`` is a fraction in (0, 1) for both methods that take it: "dls" clamped 1.5
+    to 1 (an attempt stalls unless ‖e‖² reaches 0) where "qp" (Problem.solve) refused it."""
+    robot = redik.load("panda")
+    T = robot.fk(robot.clip(robot.home + 0.1))
+    for method in ("dls", "qp"):
+        assert solve_pose(robot, T, method=method, seed=0, progress=np.float64(0.25)).success
+        for bad in (0.0, 1.0, 1.5, -0.5, float("nan"), True, "0.5"):
+            with pytest.raises(InvalidInput, match=r"progress must be a number in \(0, 1\)"):
+                solve_pose(robot, T, method=method, seed=0, progress=bad)
+    with pytest.raises(InvalidInput, match=r"progress must be a number in \(0, 1\)"):
+        BatchOptions(progress=1.0)  # the compiled kernel's options, as "dls" passes them
 
 
 def test_a_dls_option_of_a_refused_type_is_refused_after_an_equal_accepted_one():

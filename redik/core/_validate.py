@@ -43,6 +43,14 @@ def non_negative(value: object, name: str) -> float:
     return float(value)
 
 
+def fraction(value: object, name: str) -> float:
+    """``value`` as a float strictly between 0 and 1 (a share such as the fraction by which
+    ``‖e‖²`` must fall to count as progress: 0 asks nothing, 1 asks an exact zero)."""
+    if isinstance(value, bool) or not isinstance(value, Real) or not 0.0 < value < 1.0:
+        raise InvalidInput(f"{name} must be a number in (0, 1), got {value!r}")
+    return float(value)
+
+
 def integer(value: object, name: str, minimum: int = 0, *, allow_none: bool = False) -> int | None:
     """``value`` as a Python ``int ≥ minimum`` (an ``int`` or numpy integer), or None when
     ``allow_none``. A bool, a float (even ``3.0``) or a string is refused: a count of

@@ -45,7 +45,7 @@ import math
 import numba
 import numpy as np
 
-from redik.core._validate import integer
+from redik.core._validate import fraction, integer
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.compiled import (
     COMPILE,
@@ -243,7 +243,7 @@ class BatchOptions:
         damping: ``μ`` at the start of each attempt (``λ = μ‖e‖² + λ_min``).
         min_damping, max_damping: ``λ_min``, and the ``λ`` past which an attempt has stalled.
         patience, progress: An attempt whose ``‖e‖²`` fell by less than the fraction
-            ``progress`` over the last ``patience`` iterations has stalled.
+            ``progress`` (in (0, 1)) over the last ``patience`` iterations has stalled.
         candidates: Each restart starts from the nearest in pose of this many random
             configurations (1: a uniform random start).
 
@@ -265,7 +265,8 @@ class BatchOptions:
     candidates: int = 16
 
     def __post_init__(self) -> None:
-        for name in ("pos_tol", "rot_tol", "damping", "min_damping", "max_damping", "progress"):
+        fraction(self.progress, "progress")  # as Problem.solve: 1 would ask ‖e‖² to reach 0
+        for name in ("pos_tol", "rot_tol", "damping", "min_damping", "max_damping"):
             value = getattr(self, name)
             if isinstance(value, bool) or not (
                 isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0
@@ -286,7 +287,7 @@ class BatchOptions:
         settings[DAMPING] = self.damping
         settings[MIN_DAMPING] = self.min_damping
         settings[MAX_DAMPING] = self.max_damping
-        settings[REQUIRED] = math.sqrt(1.0 - min(self.progress, 1.0))
+        settings[REQUIRED] = math.sqrt(1.0 - self.progress)
         settings[REACH] = 0.0
         settings[TARGET_TOL] = ROTATION_TOLERANCE
         counts = np.empty(5, dtype=np.int64)

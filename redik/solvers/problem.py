@@ -35,7 +35,7 @@ import mink
 import numpy as np
 from scipy.optimize import nnls
 
-from redik.core._validate import integer, non_negative, positive
+from redik.core._validate import fraction, integer, non_negative, positive
 from redik.core.exceptions import InfeasibleProblem, InvalidInput
 from redik.core.result import IKResult
 from redik.kinematics.robot import Robot
@@ -666,9 +666,8 @@ class Problem:
             positive(max_step, "max_step", allow_inf=True)
         non_negative(lm_damping, "lm_damping")
         integer(patience, "patience", 1, allow_none=True)
-        if not (_is_real(progress) and 0.0 < progress < 1.0):
-            raise InvalidInput(f"progress must be in (0, 1), got {progress!r}")
-        required = 1.0 - progress  # ‖e‖² must fall to this fraction in `patience` iterations
+        # ‖e‖² must fall to this fraction in `patience` iterations
+        required = 1.0 - fraction(progress, "progress")
         if plateau is not None and not (_is_real(plateau) and 0.0 < plateau < 1.0):
             raise InvalidInput(f"plateau must be in (0, 1) or None, got {plateau!r}")
         flat = 1.0 - (plateau or 0.0)  # ‖e‖² must fall below this fraction in one iteration
