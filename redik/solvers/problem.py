@@ -37,7 +37,7 @@ from scipy.optimize import nnls
 
 from redik.core._validate import fraction, integer, non_negative, positive
 from redik.core.exceptions import InfeasibleProblem, InvalidInput
-from redik.core.result import IKResult
+from redik.core.result import IKResult, Status
 from redik.kinematics.robot import Robot
 from redik.lie import real_array
 from redik.limits import (
@@ -682,24 +682,24 @@ class Problem:
         stationarity_at_q = False  # `stationarity` is that of the current q
         iterations = 0
         mu = lm_damping
-        status = "max_iterations"
+        status = Status.MAX_ITERATIONS
         while True:
             # The state is at q here. Once level 0 converged, the objectives that measure
             # the lower levels' stationarity are also those of the next step: built once.
             objectives = kernel0 = None
             if converged and self._targets:
                 if not finish_lower:
-                    status = "converged"
+                    status = Status.CONVERGED
                     break
                 objectives = self._assembly.objectives(self._state, self._configuration)
                 kernel0 = self._kernel0(objectives)
                 stationarity = self._stationarity(q, dt, objectives, kernel0)
                 stationarity_at_q = True
                 if max(stationarity) <= stationarity_tol:
-                    status = "converged"
+                    status = Status.CONVERGED
                     break
             if iterations >= max_iter:
-                status = "converged" if converged and self._targets else "max_iterations"
+                status = Status.CONVERGED if converged and self._targets else Status.MAX_ITERATIONS
                 break
             dq = self._step(
                 q,
@@ -733,7 +733,7 @@ class Problem:
                 alpha *= 0.5
             if not accepted:
                 self._update(q)  # no acceptable step along Δq: a (constrained) stationary point
-                status = "converged" if converged and self._targets else "stalled"
+                status = Status.CONVERGED if converged and self._targets else Status.STALLED
                 break
             # A full step trusted the model: damp less; a cut step: damp more (Nielsen 1999).
             if mu > 0.0:
@@ -750,27 +750,27 @@ class Problem:
                 and iterations >= patience
                 and error * error > required * errors[-1 - patience] ** 2
             ):
-                status = "stalled"
+                status = Status.STALLED
                 break
             if plateau is not None and not converged and error * error > flat * errors[-2] ** 2:
-                status = "stalled"
+                status = Status.STALLED
                 break
             if alpha * math.sqrt(float(dq @ dq)) < q_tol:
                 # Without level-0 targets, a vanishing step converges.
-                status = "converged" if converged or not self._targets else "stalled"
+                status = Status.CONVERGED if converged or not self._targets else Status.STALLED
                 break
         if finish_lower and not stationarity_at_q:
             stationarity = self._stationarity(q, dt)
         stationary = not stationarity or max(stationarity) <= (stationarity_tol or np.inf)
         message = self._message(status, position_error, rotation_error, error)
-        if status == "converged" and not stationary:
+        if status is Status.CONVERGED and not stationary:
             message = (
                 f"level 0 converged; lower levels not stationary within {stationarity_tol:g} "
                 f"(projected gradients {[float(f'{v:.3g}') for v in stationarity]})"
             )
         return QPResult(
             q=q,
-            success=status == "converged",
+            success=status is Status.CONVERGED,
             status=status,
             iterations=iterations,
             error=error,
@@ -902,7 +902,7 @@ class Problem:
 
     @staticmethod
     def _message(status, position_error, rotation_error, error) -> str:
-        if status == "converged":
+        if status is Status.CONVERGED:
             return ""
         parts = []
         if position_error is not None:
@@ -913,7 +913,7 @@ class Problem:
             parts.append(f"|e| = {error:.3g}")
         reason = (
             "the level-0 error stopped falling"
-            if status == "stalled"
+            if status is Status.STALLED
             else "the iteration budget ran out"
         )
         return f"{reason} with {', '.join(parts)} (limits may block the target)"
