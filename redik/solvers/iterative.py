@@ -110,7 +110,20 @@ ARMIJO_SHRINK = 0.5
 """Backtracking factor applied to ``λ`` after each rejected trial."""
 
 ARMIJO_MAX_TRIALS = 60
-"""Halvings tried before a line search gives up (``λ`` then ≈ 10⁻¹⁸ of the first trial)."""
+"""Halvings tried before a line search of the root finders here gives up: ``λ`` then is
+``2⁻⁶⁰ ≈ 8.7·10⁻¹⁹`` of the first trial, below the double-precision spacing (``2⁻⁵² ≈
+2.2·10⁻¹⁶``) relative to a unit step, so a longer search would only re-evaluate ``q`` itself.
+These runs have no restart to fall back on and often a ``q_tol`` (``min_alpha``) that ends
+the search earlier, so the budget is "until the step cannot move ``q``"."""
+
+ARMIJO_ATTEMPT_TRIALS = 30
+"""Halvings tried by a line search inside one attempt of a restarting solver (the
+``"transpose"``/``"hybrid"`` methods of :func:`redik.solve_pose`): ``λ`` then is ``2⁻³⁰ ≈
+9.3·10⁻¹⁰`` of Buss's step ``α₀``, itself the minimiser along ``Jᵀe`` of the linearised
+error. No decrease at a billionth of that step is a stalled attempt (a stationary point of
+``‖e‖²`` or a limit-blocked direction), and a random restart is a better use of the 30
+more forward-kinematics-and-Jacobian evaluations that :data:`ARMIJO_MAX_TRIALS` would spend
+on steps of ``10⁻⁹``–``10⁻¹⁸`` ``α₀`` (moves far below the pose tolerances)."""
 
 MAX_GROWTH = 1e8
 """Default ``max_growth``: an iterate or error this many times its starting scale diverged."""

@@ -18,11 +18,8 @@ import numpy as np
 
 from redik.core._validate import positive
 from redik.core.result import Status
-from redik.solvers.iterative import armijo_backtrack
+from redik.solvers.iterative import ARMIJO_ATTEMPT_TRIALS, armijo_backtrack
 from redik.solvers.pose.attempt import Attempt, Iteration, PoseProblem
-
-ARMIJO_TRIALS = 30
-"""Step halvings of one line search before the attempt has stalled."""
 
 
 def transpose_step(
@@ -63,7 +60,7 @@ def transpose_step(
         E,
         -2.0 * slope,
         slope / curvature if curvature > 0.0 else 1.0,
-        trials=ARMIJO_TRIALS,
+        trials=ARMIJO_ATTEMPT_TRIALS,
     )
     return None if alpha is None else (last[0], float(e_trial @ e_trial))
 
