@@ -165,6 +165,69 @@ def test_target_outside_the_workspace_is_unreachable_and_finite():
             assert result.position_error < 2.2
 
 
+NARROW_2R = """
+<mujoco model="narrow_2r">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="l1">
+      <joint name="shoulder" type="hinge" axis="0 0 1" range="-1 1"/>
+      <geom type="capsule" fromto="0 0 0 1 0 0" size="0.03"/>
+      <body name="l2" pos="1 0 0">
+        <joint name="elbow" type="hinge" axis="0 0 1" range="-1 1"/>
+        <geom type="capsule" fromto="0 0 0 1 0 0" size="0.03"/>
+        <site name="ee" pos="1 0 0"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize("method", ["dls", "newton", "hybrid", "transpose", "qp"])
+def test_a_pose_reached_only_outside_the_limits_is_limits(method):
+    """A 2R arm reaches a pose with one q up to the elbow's sign: θ2 = ±2.9 rad, both
+    beyond the elbow's ±1 rad. Without the diagnosis the failure was "max_iterations" or
+    "unreachable", which says nothing of the limits."""
+    robot = redik.Robot.from_xml_string(NARROW_2R)
+    T_target = robot.fk(np.array([0.3, 2.9]))
+    result = solve_pose(robot, T_target, seed=0, method=method)
+    assert not result.success and result.status == "limits", (result.status, result.message)
+    assert robot.within_limits(result.q) and np.all(np.isfinite(result.q))
+    assert "elbow = 2.9 outside [-1, 1]" in result.message  # in (−π, π], whatever it found
+    assert "elbow at its upper limit" in result.message and "closest pose" in result.message
+    unchecked = solve_pose(robot, T_target, seed=0, method=method, diagnose_limits=False)
+    assert unchecked.status in ("max_iterations", "stalled", "unreachable")
+    np.testing.assert_array_equal(unchecked.q, result.q)
+
+
+def test_the_limits_diagnosis_runs_on_failures_within_reach_only(monkeypatch):
+    from redik.solvers.pose import solve as module
+
+    robot = redik.Robot.from_xml_string(NARROW_2R)
+    calls = []
+    original = module.solve_pose
+
+    def counting(*args, **kwargs):  # solve_all's calls respect the limits
+        if kwargs.get("respect_limits") is False:
+            calls.append(args[1])
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(module, "solve_pose", counting)  # what the diagnosis calls
+    reachable = robot.fk(np.array([0.3, 0.9]))
+    for _ in range(3):  # the first call validates, the others take the compiled fast path
+        assert solve_pose(robot, reachable, seed=0).status == "converged"
+    assert solve_all(robot, robot.fk(np.array([0.3, 2.9])), n_starts=3, seed=0) == []
+    beyond = lie.make_pose(np.eye(3), np.array([3.0, 0.0, 0.0]))
+    assert solve_pose(robot, beyond, seed=0).status == "unreachable"
+    outside = robot.fk(np.array([0.3, 2.9]))
+    assert not solve_pose(robot, outside, seed=0, max_iter=1, respect_limits=False).success
+    assert calls == []
+    for _ in range(2):
+        assert solve_pose(robot, outside, seed=0).status == "limits"
+    assert len(calls) == 2  # one unconstrained solve per failure, of its target
+    assert all(np.array_equal(target, outside) for target in calls)
+
+
 def test_orientation_out_of_reach_of_a_planar_arm_is_a_failure_without_nan():
     """Inside the planar arm's reach but tilted out of its plane: no q matches it."""
     robot = redik.load("planar_2r")
@@ -245,6 +308,7 @@ def test_a_frame_some_joints_move_is_solved_with_those_joints():
         {"bogus_option": 1.0},
         {"method": "newton", "form": "diagonal"},
         {"method": "dls", "damping": -1.0},
+        {"diagnose_limits": 1},
     ],
 )
 def test_bad_arguments_raise(arm, kwargs):

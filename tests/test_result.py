@@ -34,6 +34,16 @@ def planar():
     return redik.load("planar_2r")
 
 
+@pytest.fixture(scope="module")
+def narrow():
+    """A planar 2R arm whose joints may bend only ±1 rad."""
+    spec = mujoco.MjSpec.from_file(str(redik.models.scene_path("planar_2r")))
+    for joint in spec.joints:
+        joint.range = [-1.0, 1.0]
+        joint.limited = mujoco.mjtLimited.mjLIMITED_TRUE
+    return redik.Robot(spec.compile(), name="planar_2r_narrow")
+
+
 def out_of_reach(robot: redik.Robot) -> np.ndarray:
     T = robot.fk(robot.home)
     T[:3, 3] *= 10.0
@@ -83,7 +93,7 @@ def test_root_finders_report_every_status_of_theirs():
     produced(hybrid, "converged")
 
 
-def test_solve_pose_reports_converged_unreachable_and_max_iterations(planar):
+def test_solve_pose_reports_converged_unreachable_max_iterations_and_limits(planar, narrow):
     T = planar.fk(np.array([0.4, 1.1]))
     produced(redik.solve_pose(planar, T, seed=0), "converged")
     produced(redik.solve_pose(planar, out_of_reach(planar), seed=0), "unreachable")
@@ -91,6 +101,15 @@ def test_solve_pose_reports_converged_unreachable_and_max_iterations(planar):
     produced(tight, "max_iterations")
     for solution in redik.solve_all(planar, T, n_starts=4, seed=0):
         produced(solution, "converged")
+    # Each pose of a 2R arm has one q up to the elbow's sign: θ2 = ±2.9 rad, both beyond ±1.
+    for method in redik.solvers.pose.METHODS:
+        limited = redik.solve_pose(narrow, narrow.fk(np.array([0.3, 2.9])), seed=0, method=method)
+        produced(limited, "limits")
+        assert not limited.success and narrow.within_limits(limited.q)
+        assert "joint2 = 2.9 outside [-1, 1]" in limited.message
+        assert "joint2 at its upper limit" in limited.message
+    produced(redik.solve_pose(narrow, out_of_reach(narrow), seed=0), "unreachable")
+    produced(redik.solve_pose(narrow, narrow.fk(np.array([0.3, 0.9])), seed=0), "converged")
 
 
 def test_problem_reports_converged_max_iterations_and_stalled(planar):
@@ -112,7 +131,7 @@ def test_solve_batch_reports_converged_stalled_and_invalid_per_target(planar):
     PRODUCED.update(result.statuses)
 
 
-def test_self_motion_reports_converged_max_iterations_unreachable_and_limits():
+def test_self_motion_reports_converged_max_iterations_unreachable_and_limits(narrow):
     panda = redik.load("panda")
     T = panda.fk(panda.home)
     options = {"seed": 0, "n_starts": 4, "initial": panda.home, "spacing": 0.3}
@@ -120,11 +139,6 @@ def test_self_motion_reports_converged_max_iterations_unreachable_and_limits():
     produced(redik.explore_self_motion(panda, T, **options, max_samples=5), "max_iterations")
     produced(redik.explore_self_motion(panda, out_of_reach(panda), **options), "unreachable")
     # A planar 2R arm whose elbow may bend only 1 rad, asked for a pose that needs 2.9 rad.
-    spec = mujoco.MjSpec.from_file(str(redik.models.scene_path("planar_2r")))
-    for joint in spec.joints:
-        joint.range = [-1.0, 1.0]
-        joint.limited = mujoco.mjtLimited.mjLIMITED_TRUE
-    narrow = redik.Robot(spec.compile(), name="planar_2r_narrow")
     q = np.array([0.3, 2.9])
     motion = redik.explore_self_motion(narrow, narrow.fk(q), seed=0, n_starts=8, initial=q)
     produced(motion, "limits")

@@ -284,9 +284,13 @@ def warm_up() -> None:
     tens of seconds on a fresh machine, then a fraction of a second per process. That is a
     cost of the machine, not of a spec, and must not land in a spec's time ratio. Kernel
     signatures do not depend on the robot, so a generated 2R arm compiles them all: the
-    single-target, the threaded and the serial batch kernel, and the QP pose residual.
+    single-target, the threaded and the serial batch kernel, and the QP pose residual. The
+    closed forms' kernels (subproblem decomposition, labelled and raw) are compiled through
+    the bundled PUMA 560 and UR5e, whose solvers take the revolute and the three-parallel
+    paths.
     """
-    from redik.kinematics.robot import Robot
+    from redik.kinematics.robot import Robot, load
+    from redik.solvers.analytic import solver_for
     from redik.solvers.batch import solve_batch
     from redik.solvers.pose import solve_pose
     from redik.solvers.problem import Problem
@@ -298,6 +302,11 @@ def warm_up() -> None:
     Problem(robot, [PoseTask(targets[0])]).step(robot.home)
     solve_batch(robot, targets, engine="local", seed=0)
     solve_batch(robot, targets, engine="process", workers=1, seed=0)
+    for scene in ("puma560", "ur5e"):
+        arm = load(scene)
+        closed_form = solver_for(arm)
+        closed_form(arm.fk(arm.home), limits=None)
+        closed_form(arm.fk(arm.home))
 
 
 def run_regression(

@@ -54,7 +54,10 @@ class Status(str, Enum):
                         exists (:class:`~redik.solvers.analytic.IKSolutions`).
     ``LIMITS``          The target is reached only outside the joint limits: solutions exist,
                         none inside (:func:`redik.explore_self_motion`,
-                        :class:`~redik.solvers.analytic.IKSolutions`).
+                        :class:`~redik.solvers.analytic.IKSolutions`); as far as can be told
+                        for :func:`redik.solve_pose` with ``respect_limits``: it failed within
+                        the limits and one solve without them converged outside them (the
+                        message names the joints at and beyond their limits).
     ``INVALID``         The target is not a finite rigid transform and was not solved
                         (:func:`redik.solve_batch`, per target; a single-target solver raises
                         :class:`~redik.core.exceptions.InvalidPose` instead).

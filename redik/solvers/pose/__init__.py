@@ -93,7 +93,12 @@ Success
     A target farther from the first joint than the chain can reach, or one at which every
     attempt stops at the same non-zero error with a vanishing gradient ``Jᵀe``, is
     ``"unreachable"``; other failures are ``"max_iterations"`` (or ``"diverged"`` when
-    every attempt hit a NaN). ``q`` is then the closest configuration found.
+    every attempt hit a NaN). ``q`` is then the closest configuration found. A failure
+    with ``respect_limits`` that is not beyond reach (nor a divergence) is then diagnosed
+    by one solve without the limits (same method and seed, at most two restarts): if that
+    one converges outside the limits, the status is ``"limits"`` and the message names the
+    joints at their limits and those the unconstrained solution puts outside. The extra
+    solve is paid on failure only (``diagnose_limits=False`` skips it).
 """
 
 from redik.solvers.pose.options import MAX_ITER, METHODS, RESTARTS

@@ -20,7 +20,7 @@ import numpy as np
 
 from redik.core.result import IKResult, Status
 from redik.kinematics.robot import Robot
-from redik.lie import apply_inverse_v, wrap_into_range
+from redik.lie import apply_inverse_v, wrap_angle, wrap_into_range
 from redik.solvers.pose.attempt import Attempt, PoseProblem
 
 
@@ -187,3 +187,34 @@ def shift_into_limits(robot: Robot, q: np.ndarray) -> np.ndarray:
         if shifted <= robot.upper[i]:
             q[i] = shifted
     return q
+
+
+def limits_message(robot: Robot, result: IKResult, q_free: np.ndarray) -> str:
+    """The message of a ``"limits"`` failure: the joints of ``result.q`` at a limit (within
+    1e-6 rad or m), the joints the unconstrained solution ``q_free`` puts outside (angles
+    in (−π, π]), and the closest pose found within the limits."""
+    names = robot.joint_names
+    values, free = robot.scalar_values(result.q), robot.scalar_values(q_free)
+    # No multiple of 2π brought these inside (shift_into_limits): show them in (−π, π].
+    free = np.where(robot.revolute, wrap_angle(free), free)
+    lower, upper = robot.lower, robot.upper
+
+    def name(i: int) -> str:
+        return names[i] if len(names) == len(lower) else f"dof {i}"
+
+    at_limit = [
+        f"{name(i)} at its {'lower' if values[i] - lower[i] <= 1e-6 else 'upper'} limit"
+        for i in range(len(lower))
+        if values[i] - lower[i] <= 1e-6 or upper[i] - values[i] <= 1e-6
+    ]
+    outside = [
+        f"{name(i)} = {free[i]:.3g} outside [{lower[i]:.3g}, {upper[i]:.3g}]"
+        for i in range(len(lower))
+        if not lower[i] <= free[i] <= upper[i]
+    ]
+    return (
+        f"the target is reached only outside the joint limits as far as can be told: a solve "
+        f"without them converged with {', '.join(outside)}; within them, "
+        f"{', '.join(at_limit) if at_limit else 'no joint at a limit'}; closest pose found: "
+        f"{result.position_error:.3g} m, {result.rotation_error:.3g} rad away"
+    )

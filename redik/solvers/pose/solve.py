@@ -23,6 +23,7 @@ from redik.solvers.pose.attempt import Iteration, PoseProblem
 from redik.solvers.pose.cache import PoseCache
 from redik.solvers.pose.closed_form import closed_form_solutions
 from redik.solvers.pose.dls import fast_kernel_key, kernel_key
+from redik.solvers.pose.frame import PoseFrame
 from redik.solvers.pose.gradient import hybrid, transpose
 from redik.solvers.pose.newton import newton
 from redik.solvers.pose.options import (
@@ -33,7 +34,7 @@ from redik.solvers.pose.options import (
     check_method,
     check_options,
 )
-from redik.solvers.pose.result import Outcome, finish
+from redik.solvers.pose.result import Outcome, finish, limits_message
 
 ITERATIONS: dict[str, Callable[[dict], Iteration]] = {
     "newton": newton,
@@ -56,6 +57,7 @@ def solve_pose(
     seed: int | np.random.Generator | None = None,
     frame: str | Frame | None = None,
     strict: bool = False,
+    diagnose_limits: bool = True,
     **method_options: object,
 ) -> IKResult:
     """Joint values that put ``frame`` at ``T_target`` (see :mod:`redik.solvers.pose`).
@@ -79,6 +81,13 @@ def solve_pose(
         frame: Site or body to place; default the end-effector.
         strict: Refuse a near-rotation target instead of projecting it onto SO(3) with a
             warning (the tolerance policy of :mod:`redik.lie`).
+        diagnose_limits: On a failure with ``respect_limits`` (``"max_iterations"``,
+            ``"stalled"``, or ``"unreachable"`` within the chain's reach), solve once more
+            without the limits (same method, budget and seed, at most
+            :data:`LIMITS_RESTARTS` restarts); if that converges outside the limits, the
+            status is ``"limits"`` and the message names the joints at their limits and
+            those the unconstrained solution puts outside. Paid on failure only; ``False``
+            skips it (:func:`solve_all` does, its failed starts are discarded).
         **method_options: ``"dls"``: ``damping`` (initial μ), ``min_damping`` (λ_min),
             ``max_damping``, ``patience`` and ``progress`` (an attempt ends as stalled when
             ``‖e‖²`` fell by less than the fraction ``progress`` in ``patience`` iterations);
@@ -106,23 +115,34 @@ def solve_pose(
         pos_tol, rot_tol, max_iter, restarts, respect_limits,
         type(pos_tol), type(rot_tol), type(max_iter), type(restarts), type(respect_limits),
     )  # fmt: skip
-    if type(method) is str and method == "dls" and not method_options:
+    if (
+        type(method) is str
+        and method == "dls"
+        and not method_options
+        and type(diagnose_limits) is bool
+    ):
         solver = PoseCache.known_dls(robot, frame)
         key = fast_kernel_key(seed)
         if solver is not None and key is not None:
             result = solver.solve(T_target, q0, key, arguments)
             if result is not None:
-                return result
+                if result.success or not respect_limits or not diagnose_limits:
+                    return result
+                return _diagnose_limits(
+                    result, robot, T_target, q0, "dls", pos_tol, rot_tol, max_iter, restarts,
+                    seed, frame, {},
+                )  # fmt: skip
     T_target = as_pose(T_target, "T_target", strict=strict)
     if not robot.is_chain:
         return _solve_on_chain(
             robot, T_target, q0, method=method, pos_tol=pos_tol, rot_tol=rot_tol,
             max_iter=max_iter, restarts=restarts, respect_limits=respect_limits, seed=seed,
-            frame=frame, **method_options,
+            frame=frame, diagnose_limits=diagnose_limits, **method_options,
         )  # fmt: skip
     q_start = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
     method = check_method(method)
     respect_limits = check_flag(respect_limits, "respect_limits")
+    diagnose_limits = check_flag(diagnose_limits, "diagnose_limits")
     seed = check_seed(seed)
     pos_tol, rot_tol = (
         positive(pos_tol, "pos_tol", unit="m"),
@@ -137,12 +157,43 @@ def solve_pose(
     if method == "qp":
         from redik.solvers.pose.qp import solve_pose_qp  # on use: the others need no QP stack
 
-        return solve_pose_qp(
+        result = solve_pose_qp(
             robot, T_target, q_start, pos_tol=pos_tol, rot_tol=rot_tol, max_iter=max_iter,
             respect_limits=respect_limits, frame=frame, restarts=restarts, seed=seed,
             **method_options,
         )  # fmt: skip
+    else:
+        result = _solve_chain(
+            robot, T_target, q_start, method, pos_tol, rot_tol, max_iter, restarts,
+            respect_limits, seed, frame, resolved, cache, pose_frame, arguments, method_options,
+        )  # fmt: skip
+    if result.success or not respect_limits or not diagnose_limits:
+        return result
+    return _diagnose_limits(
+        result, robot, T_target, q0, method, pos_tol, rot_tol, max_iter, restarts, seed, frame,
+        method_options,
+    )  # fmt: skip
 
+
+def _solve_chain(
+    robot: Robot,
+    T_target: np.ndarray,
+    q_start: np.ndarray,
+    method: str,
+    pos_tol: float,
+    rot_tol: float,
+    max_iter: int,
+    restarts: int,
+    respect_limits: bool,
+    seed: int | np.random.Generator | None,
+    frame: str | Frame | None,
+    resolved: Frame,
+    cache: PoseCache,
+    pose_frame: PoseFrame,
+    arguments: tuple,
+    method_options: dict,
+) -> IKResult:
+    """:func:`solve_pose` of a chain by a method other than ``"qp"``, arguments validated."""
     check_options(method, method_options)
     if method == "dls":
         # Kept under the arguments as given (with the options and their types, as for the
@@ -176,6 +227,52 @@ def solve_pose(
             if attempts[-1].status == Status.CONVERGED:
                 break
     return finish(problem, Outcome.of(attempts, robot.lower, robot.upper), method, reach)
+
+
+LIMITS_RESTARTS = 2
+"""Restarts of the unconstrained solve that tells ``"limits"`` apart (:func:`solve_pose`)."""
+
+
+def _diagnose_limits(
+    result: IKResult,
+    robot: Robot,
+    T_target: np.ndarray,
+    q0: np.ndarray | None,
+    method: str,
+    pos_tol: float,
+    rot_tol: float,
+    max_iter: int | None,
+    restarts: int | None,
+    seed: int | np.random.Generator | None,
+    frame: str | Frame | None,
+    method_options: dict,
+) -> IKResult:
+    """``result`` (a failure with the limits respected), its status turned to
+    ``"limits"`` when one unconstrained solve reaches the target outside the limits.
+
+    A target beyond the chain's reach, or a failure that is not a budget spent, a stall or
+    an unreachable stationary point (a divergence), keeps its status: no solve is run.
+    Otherwise :func:`solve_pose` runs with ``respect_limits=False``, the same method,
+    tolerances, budget and seed, ``q0`` and at most :data:`LIMITS_RESTARTS` restarts. It is a
+    diagnosis, not a proof: a converged unconstrained ``q`` outside the limits shows the pose
+    exists without them; a redundant arm may still have a posture inside that no attempt
+    found. An unconstrained ``q`` inside the limits (after the 2π shifts) leaves the status.
+    """
+    if result.status not in (Status.MAX_ITERATIONS, Status.STALLED, Status.UNREACHABLE):
+        return result
+    pose_frame = PoseCache.of(robot).frame(robot.frame(frame))
+    if pose_frame.reach_excess(np.asarray(T_target, dtype=float)[:3, 3]) > 0.0:
+        return result
+    budget = RESTARTS[method] if restarts is None else restarts
+    free = solve_pose(
+        robot, T_target, q0, method=method, pos_tol=pos_tol, rot_tol=rot_tol,
+        max_iter=max_iter, restarts=min(budget, LIMITS_RESTARTS), respect_limits=False,
+        seed=seed, frame=frame, **method_options,
+    )  # fmt: skip
+    if not free.success or robot.within_limits(free.q):
+        return result
+    result.status, result.message = Status.LIMITS, limits_message(robot, result, free.q)
+    return result
 
 
 def _solve_on_chain(
@@ -255,7 +352,7 @@ def solve_all(
         result = solve_pose(
             robot, T_target, q_start, method=method, pos_tol=pos_tol,
             rot_tol=rot_tol, max_iter=max_iter, restarts=0, respect_limits=respect_limits,
-            frame=frame, **method_options,
+            frame=frame, diagnose_limits=False, **method_options,
         )  # fmt: skip
         if not result.success:
             continue
