@@ -226,7 +226,7 @@ def spherical_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free,
     gives θ1, θ2 (SP2, shoulder ±). Slot = 4·shoulder + 2·elbow + wrist.
     """
     z0, z1, z2, p = _target(T, G)
-    h1, h2, h3 = _row(G, 0), _row(G, 1), _row(G, 2)
+    h3 = _row(G, 2)
     o, a3, w, pM = _row(G, 6), _row(G, 8), _row(G, 9), _row(G, 12)
     pw = sub(p, _mul(z0, z1, z2, sub(pM, w)))
     z = _mul(z0, z1, z2, _row(G, 5))
@@ -239,43 +239,58 @@ def spherical_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, free,
             _empty(4 + 2 * e, 2, 2, status, stage, free)
             continue
         u = add(sub(a3, o), rotate_cs(h3, c3, s3, sub(w, a3)))
-        # θ1 is the angle about −h1 here: rot(−h1, θ1) = R1ᵀ.
-        t1a, t2a, t1b, t2b, shoulder, which, trig = sp2_cs(
-            _neg(h1),
-            sub(pw, o),
-            h2,
-            u,
-            _fixed(fix_joint, fix_value, 0),
-            _fixed(fix_joint, fix_value, 1),
+        _shoulder_then_wrist(
+            G, z, y, pw, o, u, e, t3, c3, s3, elbow, fix_joint, fix_value, tol, q, status,
+            free, stage,
+        )  # fmt: skip
+
+
+@numba.njit(**COMPILE)
+def _shoulder_then_wrist(
+    G, z, y, pw, o, u, e, t3, c3, s3, third, fix_joint, fix_value, tol, q, status, free, stage
+):
+    """Slots ``4·shoulder + 2·e + wrist`` of an arm whose axes 1, 2 meet at ``o`` and whose
+    third joint (value ``t3``; cosine and sine ``c3``, ``s3`` of its rotation, 1 and 0 for a
+    slide; ``third`` its status code) has placed the wrist centre at ``o + R1 R2 u``:
+    ``rot(−h1, θ1)(p_w − o) = rot(h2, θ2) u`` gives θ1, θ2 (SP2, shoulder ±), then the
+    spherical wrist.
+    """
+    # θ1 is the angle about −h1 here: rot(−h1, θ1) = R1ᵀ.
+    t1a, t2a, t1b, t2b, shoulder, which, trig = sp2_cs(
+        _neg(_row(G, 0)),
+        sub(pw, o),
+        _row(G, 1),
+        u,
+        _fixed(fix_joint, fix_value, 0),
+        _fixed(fix_joint, fix_value, 1),
+        tol,
+    )
+    for s in range(2):
+        slot = 4 * s + 2 * e
+        if shoulder == OUT:
+            _empty(slot, 2, 1, status, stage, free)
+            continue
+        free[slot] = -1 if which == 0 else which - 1
+        t1, t2 = (t1a, t2a) if s == 0 else (t1b, t2b)
+        c1, s1, c2, s2 = trig[4 * s], trig[4 * s + 1], trig[4 * s + 2], trig[4 * s + 3]
+        _wrist(
+            G,
+            z,
+            y,
+            (t1, t2, t3),
+            (c1, s1, c2, s2, c3, s3),
+            fix_joint,
+            fix_value,
             tol,
+            slot,
+            q,
+            status,
+            free,
+            stage,
+            _status_of(third, shoulder),
         )
-        for s in range(2):
-            slot = 4 * s + 2 * e
-            if shoulder == OUT:
-                _empty(slot, 2, 1, status, stage, free)
-                continue
-            free[slot] = -1 if which == 0 else which - 1
-            t1, t2 = (t1a, t2a) if s == 0 else (t1b, t2b)
-            c1, s1, c2, s2 = trig[4 * s], trig[4 * s + 1], trig[4 * s + 2], trig[4 * s + 3]
-            pos = _status_of(elbow, shoulder)
-            _wrist(
-                G,
-                z,
-                y,
-                (t1, t2, t3),
-                (c1, s1, c2, s2, c3, s3),
-                fix_joint,
-                fix_value,
-                tol,
-                slot,
-                q,
-                status,
-                free,
-                stage,
-                pos,
-            )
-            if shoulder == FREE and s == 1:
-                _empty(slot, 2, 0, status, stage, free)
+        if shoulder == FREE and s == 1:
+            _empty(slot, 2, 0, status, stage, free)
 
 
 @numba.njit(**COMPILE)
@@ -586,7 +601,7 @@ def spherical_two_intersecting_prismatic(T, G, fix_joint, fix_value, tol, q, sta
     :func:`spherical_two_intersecting`. Slot = 4·shoulder + 2·slide + wrist.
     """
     z0, z1, z2, p = _target(T, G)
-    h1, h2, h3 = _row(G, 0), _row(G, 1), _row(G, 2)
+    h3 = _row(G, 2)
     o, w, pM = _row(G, 6), _row(G, 9), _row(G, 12)
     pw = sub(p, _mul(z0, z1, z2, sub(pM, w)))
     z = _mul(z0, z1, z2, _row(G, 5))
@@ -608,43 +623,11 @@ def spherical_two_intersecting_prismatic(T, G, fix_joint, fix_value, tol, q, sta
             continue
         d3 = -along + half if e == 0 else -along - half
         u = add(b, scale(h3, d3))
-        t1a, t2a, t1b, t2b, shoulder, which, trig = sp2_cs(
-            _neg(h1),
-            sub(pw, o),
-            h2,
-            u,
-            _fixed(fix_joint, fix_value, 0),
-            _fixed(fix_joint, fix_value, 1),
-            tol,
-        )
-        for s in range(2):
-            slot = 4 * s + 2 * e
-            if shoulder == OUT:
-                _empty(slot, 2, 1, status, stage, free)
-                continue
-            free[slot] = -1 if which == 0 else which - 1
-            t1, t2 = (t1a, t2a) if s == 0 else (t1b, t2b)
-            c1, s1, c2, s2 = trig[4 * s], trig[4 * s + 1], trig[4 * s + 2], trig[4 * s + 3]
-            pos = _status_of(reach, shoulder)
-            # The slide's "cosine and sine" are those of no rotation: _wrist's R3 is I.
-            _wrist(
-                G,
-                z,
-                y,
-                (t1, t2, d3),
-                (c1, s1, c2, s2, 1.0, 0.0),
-                fix_joint,
-                fix_value,
-                tol,
-                slot,
-                q,
-                status,
-                free,
-                stage,
-                pos,
-            )
-            if shoulder == FREE and s == 1:
-                _empty(slot, 2, 0, status, stage, free)
+        # The slide's "cosine and sine" are those of no rotation: _wrist's R3 is I.
+        _shoulder_then_wrist(
+            G, z, y, pw, o, u, e, d3, 1.0, 0.0, reach, fix_joint, fix_value, tol, q, status,
+            free, stage,
+        )  # fmt: skip
 
 
 @numba.njit(**COMPILE)
