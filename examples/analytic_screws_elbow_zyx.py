@@ -11,7 +11,7 @@ Run: python examples/analytic_screws_elbow_zyx.py
 import numpy as np
 
 import redik
-from redik import analytic
+from redik.solvers import analytic
 
 L0, L1, L2, L3 = 0.35, 0.45, 0.40, 0.10  # base height, upper arm, forearm, tool (m)
 points = np.array(

@@ -13,7 +13,7 @@ import mujoco
 import numpy as np
 
 import redik
-from redik import dh
+from redik.models import dh
 from redik.models.builder import dh_to_mjcf, read_dh
 
 # UR5e, standard DH (a, d, alpha) in metres and radians, as Universal Robots publish it.

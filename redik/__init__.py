@@ -11,10 +11,8 @@ Conventions (frames, twist order, units) are in :mod:`redik.core.conventions`.
 """
 
 import importlib as _importlib
-import warnings as _warnings
 
-from redik import (  # noqa: F401 (_compat: the old flat import paths)
-    _compat,
+from redik import (
     apps,
     core,
     criteria,
@@ -69,7 +67,7 @@ from redik.tasks import (
     PostureTask,
 )
 
-# Loaded with redik, as in the previous release, so that ``redik.solvers.analytic.ur(...)`` or
+# Loaded with redik so that ``redik.solvers.analytic.ur(...)`` or
 # ``redik.apps.workspace.sample(...)`` work after a bare ``import redik`` — without binding the
 # module names on ``redik`` itself (they are not part of its API).
 for _module in (
@@ -142,64 +140,3 @@ __all__ = [
     "solvers",
     "tasks",
 ]
-
-_MOVED = {
-    # name on redik in the previous release: (module, attribute there or None for the module)
-    "newton": ("redik.solvers.iterative", "newton_raphson"),
-    "gradient": ("redik.solvers.iterative", "gradient_descent"),
-    "hybrid": ("redik.solvers.iterative", "gradient_then_newton"),
-    "finite_difference_jacobian": ("redik.solvers.iterative", "finite_difference_jacobian"),
-    "Frame": ("redik.kinematics.robot", "Frame"),
-    "PosePath": ("redik.apps.trajectory", "PosePath"),
-    "CircularPath": ("redik.apps.trajectory", "CircularPath"),
-    "MinkLimit": ("redik.limits", "MinkLimit"),
-    "available_backends": ("redik.qp", "available_backends"),
-    "make_backend": ("redik.qp", "make_backend"),
-    "scene_path": ("redik.models", "scene_path"),
-    "dh_to_mjcf": ("redik.models.builder", "dh_to_mjcf"),
-    "read_dh": ("redik.models.builder", "read_dh"),
-    "read_screws": ("redik.models.builder", "read_screws"),
-    "screws_to_mjcf": ("redik.models.builder", "screws_to_mjcf"),
-    "analytic": ("redik.solvers.analytic", None),
-    "batch": ("redik.solvers.batch", None),
-    "redundancy": ("redik.solvers.redundancy", None),
-    "dh": ("redik.models.dh", None),
-    "loading": ("redik.models.loading", None),
-    "model_builder": ("redik.models.builder", None),
-    "scene_library": ("redik.models.scene_library", None),
-    "plot": ("redik.apps.plot", None),
-    "trajectory": ("redik.apps.trajectory", None),
-    "workspace": ("redik.apps.workspace", None),
-}
-"""Names the previous release had on ``redik``, kept for one release: each still works, with
-a :class:`DeprecationWarning` naming its home."""
-
-
-_METHODS = ("newton", "gradient", "hybrid")
-
-
-def __getattr__(name: str) -> object:
-    if name == "STATUSES":
-        _warnings.warn(
-            "redik.STATUSES is deprecated: use redik.Status (an enum of the same strings)",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        return tuple(status.value for status in Status)
-    if name in _MOVED:
-        module, attribute = _MOVED[name]
-        home = module if attribute is None else f"{module}.{attribute}"
-        hint = f" or redik.solve_equations(..., method={name!r})" if name in _METHODS else ""
-        _warnings.warn(
-            f"redik.{name} is deprecated and leaves redik's namespace in the next release: "
-            f"use {home}{hint}",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        value = _importlib.import_module(module)
-        return value if attribute is None else getattr(value, attribute)
-    raise AttributeError(f"module 'redik' has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))

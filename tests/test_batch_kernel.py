@@ -106,18 +106,6 @@ def test_damped_solve_equals_its_numpy_twin_damped_step(rng):
         np.testing.assert_allclose(dq, batched[:, b], rtol=1e-9, atol=1e-12)
 
 
-def test_the_old_homes_re_export_the_moved_kernel():
-    from redik.solvers.batch import kernel, solve
-    from redik.solvers.redundancy import corrector
-
-    for name in kernel.__all__:
-        home = compiled if hasattr(compiled, name) else dls
-        assert getattr(kernel, name) is getattr(home, name)
-    assert solve.BatchOptions is dls.BatchOptions
-    assert solve.damped_step is corrector.damped_step is dls.damped_step
-    assert solve.rotation_log is redik.lie.rotation_log
-
-
 def test_results_do_not_depend_on_chunks_or_threads():
     robot = redik.load("panda")
     chain = Chain.from_robot(robot)

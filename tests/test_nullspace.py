@@ -182,15 +182,6 @@ def test_qp_priority_level_equals_the_nullspace_formula(panda, rng):
     assert np.allclose(dq_qp, dq_formula, atol=2e-5 * max(1.0, np.linalg.norm(dq_formula)))
 
 
-def test_gradient_projection_ik_still_found_at_its_old_home_with_a_warning():
-    from redik.solvers.redundancy import gradient_projection, nullspace
-
-    with pytest.warns(DeprecationWarning, match="gradient_projection"):
-        assert nullspace.gradient_projection_ik is gradient_projection.gradient_projection_ik
-    with pytest.raises(AttributeError):
-        nullspace.no_such_name  # noqa: B018
-
-
 def test_nullspace_basis_of_a_stack_is_each_basis(rng):
     J = rng.standard_normal((5, 6, 8))
     bases = nullspace_basis(J, 2)

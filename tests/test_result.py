@@ -104,13 +104,6 @@ def test_results_store_the_member_and_refuse_unknown_statuses():
         IKResult(np.zeros(2), False, "failed", 3, 0.5)
 
 
-def test_statuses_is_a_deprecated_alias():
-    for module in (redik, redik.core.result):
-        with pytest.warns(DeprecationWarning, match="use redik.Status"):
-            statuses = module.STATUSES
-        assert statuses == tuple(status.value for status in Status)
-
-
 def test_root_finders_report_every_status_of_theirs():
     def tip(q):  # planar 2R, unit links
         return np.array([np.cos(q[0]) + np.cos(q[0] + q[1]), np.sin(q[0]) + np.sin(q[0] + q[1])])

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import redik
-from redik.apps.trajectory import CartesianPath, PosePath, follow_path, joint_steps, time_scaling
+from redik.apps.trajectory import CartesianPath, follow_path, joint_steps, time_scaling
 from redik.lie import make_pose, pose_errors, rotation_angle, so3_exp
 
 
@@ -158,16 +158,6 @@ def test_branch_switch_is_flagged_as_discontinuous():
     trajectory = follow_path(robot, path, elbow_up, switching, rate=100.0)
     assert not trajectory.continuous
     assert trajectory.discontinuities.tolist() == [4]
-
-
-def test_path_is_a_deprecated_alias_of_pose_path():
-    assert issubclass(CartesianPath, PosePath) and redik.apps.trajectory.PosePath is PosePath
-    with pytest.warns(DeprecationWarning, match="use redik.apps.trajectory.PosePath"):
-        assert redik.apps.trajectory.Path is PosePath
-    with pytest.warns(DeprecationWarning, match="clashes with pathlib.Path"):
-        from redik.apps.trajectory import Path  # noqa: F401
-    with pytest.raises(AttributeError, match="no attribute 'Paths'"):
-        _ = redik.apps.trajectory.Paths
 
 
 def test_a_qp_stack_follows_the_path_alike_after_a_simulation():

@@ -35,7 +35,6 @@ import operator
 import re
 import time
 import traceback
-import warnings
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any, TypeVar
@@ -61,7 +60,7 @@ _CRITERION = re.compile(r"^\s*(>=|<=|==|>|<)\s*([-+0-9.eE]+|inf|-inf)\s*$")
 class SuccessCriterion:
     """One success condition ``metric OP threshold`` (e.g. ``max_position_error <= 1e-6``)
     of a spec's ``CRITERIA``. (Not :class:`redik.solvers.redundancy.Criterion`, a score of
-    configurations; this class was ``taskspec.Criterion`` in the previous release.)"""
+    configurations.)"""
 
     metric: str
     op: str
@@ -332,15 +331,3 @@ def summary_table(outcome: SpecOutcome) -> str:
     if outcome.error:
         text += "\n" + outcome.error.rstrip()
     return text
-
-
-def __getattr__(name: str) -> object:
-    if name == "Criterion":
-        warnings.warn(
-            "redik.apps.taskspec.Criterion is deprecated: it is SuccessCriterion "
-            "(redik.solvers.redundancy.Criterion is the other, unrelated class)",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        return SuccessCriterion
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import warnings
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -74,8 +73,6 @@ class PosePath:
     """A timed pose path: :meth:`pose` at any time from ``start_time`` to ``end_time``.
 
     Subclasses define :meth:`pose`, ``start_time`` and ``end_time``; sampling is shared.
-    (Named ``Path`` before 0.2, a name that clashed with :class:`pathlib.Path`; the old name
-    still works and warns, for one release.)
     """
 
     start_time: float
@@ -441,20 +438,3 @@ def follow_path(
         singular_crossings=singular_crossings(times, sigma_min, singular_tol),
         limit_contacts=limit_contacts(times, qs, robot, limit_margin),
     )
-
-
-_DEPRECATED = {"Path": ("PosePath", PosePath)}
-
-
-def __getattr__(name: str):
-    """Deprecated names, kept for one release with a :class:`DeprecationWarning`."""
-    if name in _DEPRECATED:
-        new_name, value = _DEPRECATED[name]
-        warnings.warn(
-            f"redik.apps.trajectory.{name} is deprecated (it clashes with pathlib.Path); "
-            f"use redik.apps.trajectory.{new_name}",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

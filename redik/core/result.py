@@ -7,7 +7,6 @@ is a result with ``success=False`` and a :class:`Status`; exceptions are kept fo
 from __future__ import annotations
 
 import dataclasses
-import warnings
 from enum import Enum
 
 import numpy as np
@@ -91,23 +90,6 @@ class Status(str, Enum):
             raise InvalidInput(
                 f"{name} must be one of {[member.value for member in cls]}, got {status!r}"
             ) from None
-
-
-_DEPRECATED = {
-    "STATUSES": (
-        tuple(member.value for member in Status),
-        "redik.core.result.STATUSES is deprecated: use redik.Status (an enum of the same "
-        "strings, e.g. `status in set(redik.Status)` or `redik.Status(text)`)",
-    )
-}
-
-
-def __getattr__(name: str) -> object:
-    if name in _DEPRECATED:
-        value, message = _DEPRECATED[name]
-        warnings.warn(message, DeprecationWarning, stacklevel=2)
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 @dataclasses.dataclass

@@ -12,8 +12,7 @@ over threads with ``numba.prange``.
 The chain is that of :class:`~redik.kinematics.chain.Chain`; its FK, world Jacobian and pose
 error are those of :mod:`redik.kinematics.compiled`. This module sits in the kinematics
 layer (below the solvers) so that :mod:`redik.solvers.batch` and :mod:`redik.solvers.pose` share
-it; its
-old home :mod:`redik.solvers.batch.kernel` re-exports it.
+it.
 
 Each attempt iterates (Wampler 1986; Nakamura & Hanafusa 1986; damping after Sugihara 2011)
 

@@ -14,30 +14,7 @@
 layer up, in :mod:`redik.kinematics.robot`.
 """
 
-import warnings
-
-from redik.models import registry
 from redik.models.registry import example_robot_data, pybullet_data
 from redik.models.scenes import list_scenes, scene_path, scenes_dir
 
 __all__ = ["example_robot_data", "list_scenes", "pybullet_data", "scene_path", "scenes_dir"]
-
-_REGISTRY_NAMES = frozenset(
-    ("EXAMPLE_ROBOT_DATA", "PYBULLET_DATA", "ThirdPartyModel", "example_robot_data_dir",
-     "pybullet_data_dir")
-)  # fmt: skip
-"""The other public names of the flat tree's ``redik.models`` module (now this package, the
-registry in :mod:`redik.models.registry`), answered for one release like the moved modules
-(:mod:`redik._compat`)."""
-
-
-def __getattr__(name: str) -> object:
-    if name in _REGISTRY_NAMES:
-        warnings.warn(
-            f"redik.models.{name} moved to redik.models.registry.{name}; the old path works "
-            "until the next release",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        return getattr(registry, name)
-    raise AttributeError(f"module 'redik.models' has no attribute {name!r}")

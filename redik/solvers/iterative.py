@@ -5,10 +5,7 @@ r"""The classic iterative root finders on a user's own task function ``x = f(q)`
 ``e(q) = x_d − f(q)`` and every solver drives ``‖e‖`` to zero (Lynch & Park, *Modern
 Robotics* §6.2; the numbered options below are the textbook's, so a course's worked example
 can be reproduced line by line — ``tests/test_course.py``). They take any function, where
-:func:`redik.solve_pose` takes a robot and a pose; their names say which algorithm runs
-(the previous release's ``newton``, ``gradient`` and ``hybrid`` read like
-``solve_pose(method="newton")``, a different solver on a different error; they remain as
-deprecated aliases for one release).
+:func:`redik.solve_pose` takes a robot and a pose; their names say which algorithm runs.
 
 :func:`newton_raphson`
     Newton–Raphson (*Modern Robotics* §6.2.1):
@@ -83,7 +80,6 @@ from __future__ import annotations
 
 import inspect
 import math
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -382,27 +378,6 @@ def solve_equations(
     if unknown:
         raise InvalidInput(f"unknown option(s) {unknown} for method={method!r}; it takes {known}")
     return solver(f, x_d, q0, jac, **options)
-
-
-_RENAMED = {
-    "newton": "newton_raphson",
-    "gradient": "gradient_descent",
-    "hybrid": "gradient_then_newton",
-}
-"""Names of the previous release, kept for one release with a :class:`DeprecationWarning`."""
-
-
-def __getattr__(name: str) -> object:
-    if name in _RENAMED:
-        new = _RENAMED[name]
-        warnings.warn(
-            f"redik.solvers.iterative.{name} is deprecated: it is {new} (or "
-            f"solve_equations(..., method={name!r}))",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        return globals()[new]
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 # --------------------------------------------------------------------------------------

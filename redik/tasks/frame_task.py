@@ -25,15 +25,9 @@ SE(3) log) is group math: :func:`redik.lie.so3_left_jacobian_inverse` and
 from __future__ import annotations
 
 import abc
-import warnings
 
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.robot import FRAME_KINDS, Frame, Robot
-from redik.lie import (  # noqa: F401 (their home until this release: re-exported for one more)
-    se3_left_jacobian_inverse,
-    se3_left_jacobian_inverse_entries,
-    so3_left_jacobian_inverse,
-)
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import ResidualTask
 
@@ -81,15 +75,3 @@ class FrameTargetTask(ResidualTask):
     @abc.abstractmethod
     def pose_errors(self, state: KinematicState) -> tuple[float | None, float | None]:
         """``(‖p_d − p‖, angle(Rᵀ R_d))`` at ``state``; None for what the task ignores."""
-
-
-def __getattr__(name: str) -> object:
-    if name == "FrameTask":
-        warnings.warn(
-            "redik.tasks.frame_task.FrameTask, the base class of the frame tasks, is now "
-            "FrameTargetTask; redik.FrameTask is the pose task, as mink.FrameTask is",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        return FrameTargetTask
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

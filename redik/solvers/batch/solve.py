@@ -37,10 +37,8 @@ from redik.kinematics import dls
 from redik.kinematics.chain import Chain
 from redik.kinematics.compiled import valid_targets
 from redik.kinematics.dls import BatchOptions
-from redik.kinematics.dls import damped_step as damped_step  # re-exported: its old home
 from redik.kinematics.robot import Robot
 from redik.lie import MAX_COORDINATE, ROTATION_TOLERANCE, check_rotations, real_array
-from redik.lie import rotation_log as rotation_log  # re-exported: its old home
 from redik.solvers.batch.engines import ENGINES, Engine, as_engine
 
 BATCH_STATUSES = (

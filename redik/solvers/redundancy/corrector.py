@@ -23,7 +23,6 @@ Frames and twists follow :mod:`redik.core.conventions`.
 from __future__ import annotations
 
 import math
-import warnings
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -50,24 +49,6 @@ SAMPLE_ROTATION_TOLERANCE = 1e-8
 """Largest ``angle(Rᵀ R_d)`` (rad) of a sample after correction (and the default of
 :func:`redik.solvers.redundancy.gradient_projection_ik`): an accuracy asked of a solver, not
 the validation tolerance of an input rotation (:data:`redik.lie.ROTATION_TOLERANCE`)."""
-
-_RENAMED = {
-    "POSITION_TOLERANCE": "SAMPLE_POSITION_TOLERANCE",
-    "ROTATION_TOLERANCE": "SAMPLE_ROTATION_TOLERANCE",
-}
-"""The flat tree's names of the two constants (renamed apart from
-:data:`redik.lie.ROTATION_TOLERANCE`), answered for one release like :mod:`redik._compat`."""
-
-
-def __getattr__(name: str) -> object:
-    if name in _RENAMED:
-        warnings.warn(
-            f"{__name__}.{name} is now {_RENAMED[name]}; the old name works until the next release",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        return globals()[_RENAMED[name]]
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 _CONVERGED = 0.01  # iterate until the errors are this fraction of the tolerances

@@ -25,8 +25,6 @@ for which ``det(JJᵀ)`` equals that of the body Jacobian.
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
@@ -125,19 +123,3 @@ def nullspace_velocity(
             raise InvalidInput(f"dq0 must be within ±{_MAX_ENTRY:g} (its products overflow)")
         dq += dq0 - J_pinv @ (J @ dq0)
     return dq
-
-
-def __getattr__(name: str) -> object:
-    """``gradient_projection_ik``, whose home this module was, for one release (with a
-    :class:`DeprecationWarning`); it is :mod:`redik.solvers.redundancy.gradient_projection`'s."""
-    if name == "gradient_projection_ik":
-        from redik.solvers.redundancy.gradient_projection import gradient_projection_ik
-
-        warnings.warn(
-            "redik.solvers.redundancy.nullspace.gradient_projection_ik moved to "
-            "redik.solvers.redundancy.gradient_projection (also on redik.solvers.redundancy)",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        return gradient_projection_ik
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
