@@ -22,7 +22,7 @@ from redik.apps.sim import TrackingWarning, simulate
 from redik.apps.trajectory import CircularPath
 from redik.limits import AccelerationLimit, PositionLimit, VelocityLimit
 from redik.solvers.problem import Problem
-from redik.tasks import PoseTask, PostureTask
+from redik.tasks import FrameTask, PostureTask
 
 robot = redik.load("panda")
 q0 = np.array([0.0, 0.0, 0.0, -1.57079, 0.0, 1.57079, -0.7853])  # Menagerie's home
@@ -30,7 +30,7 @@ T0 = robot.fk(q0)
 path = CircularPath(T0, center=T0[:3, 3] + [0.0, 0.0, 0.1], normal=[1.0, 0.0, 0.0], duration=4.0)
 
 for extra in ([], [AccelerationLimit(20.0)]):
-    pose = PoseTask(T0)
+    pose = FrameTask("ee", target=T0)
     limits = [PositionLimit(), VelocityLimit(2.0), *extra]
     problem = Problem(robot, [pose, PostureTask(q0, priority=1)], limits, step_damping=10.0)
     with warnings.catch_warnings():

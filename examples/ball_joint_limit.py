@@ -42,7 +42,7 @@ print(robot, robot.joint_types)
 q_far = robot.home.copy()
 q_far[:4] = [np.cos(0.7), 0.0, 0.0, np.sin(0.7)]
 target = robot.fk(q_far, "ee")[:3, 3]
-tasks = [redik.PositionTask(target, frame="ee"), redik.PostureTask(priority=1)]
+tasks = [redik.PositionTask("ee", target=target), redik.PostureTask(priority=1)]
 
 cone = redik.BallJointLimit().bind(robot)
 for limits in ([redik.PositionLimit()], [redik.PositionLimit(), cone]):

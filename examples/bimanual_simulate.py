@@ -32,8 +32,8 @@ robot = redik.Robot(spec.compile(), joints=arms)
 print(robot, f"with {robot.model.nu} position servos")
 
 down = np.diag([1.0, -1.0, -1.0])
-left = redik.PoseTask(make_pose(down, [0.75, 0.25, 0.1]), frame="left_gripper")
-right = redik.PoseTask(make_pose(down, [0.75, -0.25, 0.1]), frame="right_gripper")
+left = redik.FrameTask("left_gripper", target=make_pose(down, [0.75, 0.25, 0.1]))
+right = redik.FrameTask("right_gripper", target=make_pose(down, [0.75, -0.25, 0.1]))
 q0 = redik.Problem(robot, [left, right, redik.PostureTask(priority=1)]).solve(robot.home).q
 
 T_left = robot.fk(q0, "left_gripper")

@@ -23,7 +23,7 @@ targets = {
     "left_gripper": make_pose(down, [0.75, 0.2, 0.0]),
     "right_gripper": make_pose(down, [0.75, -0.2, 0.0]),
 }
-tasks = [redik.PoseTask(T, frame=frame, priority=0) for frame, T in targets.items()]
+tasks = [redik.FrameTask(frame, target=T, priority=0) for frame, T in targets.items()]
 tasks.append(redik.PostureTask(priority=1))
 arms = ["left_*", "right_*"]
 collisions = redik.CollisionAvoidanceLimit(
@@ -45,7 +45,7 @@ print("within joint limits:", robot.within_limits(result.q))
 # Hands 10 cm apart: without the limit the forearms collide; with it they keep 1 cm and the
 # grippers stop short of their targets (the limit outranks every task).
 close = [
-    redik.PoseTask(make_pose(down, [0.75, y, 0.0]), frame=f"{side}_gripper", priority=0)
+    redik.FrameTask(f"{side}_gripper", target=make_pose(down, [0.75, y, 0.0]), priority=0)
     for side, y in (("left", 0.05), ("right", -0.05))
 ]
 for limits in ([redik.PositionLimit()], [redik.PositionLimit(), collisions]):

@@ -59,7 +59,7 @@ for priority in ("absent", None, 1, 2):
                 priority=priority,
             )
         )
-    tasks = [PositionTask([1.6, 1.2, 0.0], frame="tip"), PostureTask(priority=1)]
+    tasks = [PositionTask("tip", target=[1.6, 1.2, 0.0]), PostureTask(priority=1)]
     result = Problem(robot, tasks, limits).solve(robot.home, max_iter=200)
     label = "no collision limit" if priority == "absent" else f"priority={priority}"
     print(

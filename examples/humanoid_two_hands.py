@@ -22,7 +22,7 @@ hands = {
     "left_rubber_hand": make_pose(np.eye(3), [0.35, 0.12, 0.15]),
     "right_rubber_hand": make_pose(np.eye(3), [0.35, -0.12, 0.15]),
 }
-tasks = [redik.PoseTask(T, frame=frame, priority=0) for frame, T in {**hands, **feet}.items()]
+tasks = [redik.FrameTask(frame, target=T, priority=0) for frame, T in {**hands, **feet}.items()]
 tasks.append(redik.PostureTask(priority=1))
 arms = ["left_shoulder_*", "left_elbow*", "left_wrist*"]
 arms += [name.replace("left", "right") for name in arms]

@@ -10,7 +10,7 @@ import numpy as np
 
 import redik
 from redik.solvers.problem import Problem
-from redik.tasks import PoseTask, PostureTask
+from redik.tasks import FrameTask, PostureTask
 
 robot = redik.load("panda")
 rng = np.random.default_rng(3)
@@ -18,7 +18,9 @@ q0 = np.clip(robot.random_q(rng), robot.lower + 0.3, robot.upper - 0.3)
 T_target = robot.fk(np.clip(q0 + rng.uniform(-0.3, 0.3, robot.dof), robot.lower, robot.upper))
 q_nominal = np.clip(q0 + rng.uniform(-0.5, 0.5, robot.dof), robot.lower, robot.upper)
 
-problem = Problem(robot, [PoseTask(T_target), PostureTask(q_nominal, gain=0.2, priority=1)])
+problem = Problem(
+    robot, [FrameTask("ee", target=T_target), PostureTask(q_nominal, gain=0.2, priority=1)]
+)
 
 
 def posture_cost(q: np.ndarray) -> float:

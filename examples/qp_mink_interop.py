@@ -8,7 +8,7 @@ import numpy as np
 
 import redik
 from redik.solvers.problem import Problem
-from redik.tasks import JointLimitAvoidanceTask, PoseTask
+from redik.tasks import FrameTask, JointLimitAvoidanceTask
 
 robot = redik.load("panda")
 T_target = robot.fk(robot.random_q(np.random.default_rng(4)))
@@ -22,7 +22,10 @@ print("redik Problem with a mink task:", problem.solve(robot.home, max_iter=200)
 # The other way round: a redik task, bound to the robot, inside mink.solve_ik.
 configuration = mink.Configuration(robot.model, robot.full_qpos(robot.home))
 # Weighted, as mink sums everything: the small limit term biases the pose by ~1e-6.
-tasks = [PoseTask(T_target).bind(robot), JointLimitAvoidanceTask(weight=1e-3).bind(robot)]
+tasks = [
+    FrameTask("ee", target=T_target).bind(robot),
+    JointLimitAvoidanceTask(weight=1e-3).bind(robot),
+]
 limits = [mink.ConfigurationLimit(robot.model)]
 for _ in range(200):
     velocity = mink.solve_ik(configuration, tasks, 1.0, "daqp", damping=1e-6, limits=limits)

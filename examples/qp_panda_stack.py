@@ -10,14 +10,14 @@ import numpy as np
 import redik
 from redik.limits import PositionLimit, VelocityLimit
 from redik.solvers.problem import Problem
-from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
+from redik.tasks import FrameTask, JointLimitAvoidanceTask, PostureTask
 
 robot = redik.load("panda")
 rng = np.random.default_rng(7)
 q_goal = robot.random_q(rng)
 T_target = robot.fk(q_goal)
 
-pose = PoseTask(T_target)  # priority 0, frame None = the end-effector
+pose = FrameTask("ee", target=T_target)  # priority 0, on the end-effector site "ee"
 stack = [pose, JointLimitAvoidanceTask(gain=0.2), PostureTask(gain=0.2)]  # priority 1
 problem = Problem(robot, stack, backend="daqp")  # limits default: the position box
 
@@ -28,7 +28,9 @@ print("within limits:", robot.within_limits(result.q))
 print("error per iteration:", np.array2string(result.error_history, precision=2))
 
 # Online control at 100 Hz: one QP per tick, the step bounded by a velocity limit.
-online = Problem(robot, [PoseTask(T_target, gain=0.5)], [PositionLimit(), VelocityLimit(2.0)])
+online = Problem(
+    robot, [FrameTask("ee", target=T_target, gain=0.5)], [PositionLimit(), VelocityLimit(2.0)]
+)
 q = q0.copy()
 for _ in range(200):
     q += online.step(q, dt=0.01)

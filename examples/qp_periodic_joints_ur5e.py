@@ -12,13 +12,13 @@ import numpy as np
 import redik
 from redik.limits import PositionLimit
 from redik.solvers.problem import Problem
-from redik.tasks import PoseTask
+from redik.tasks import FrameTask
 
 robot = redik.load("ur5e")
 q_goal = np.array([-0.3, -1.2, 1.4, -1.8, -1.5, 0.4])
 start = q_goal.copy()
 start[0] = robot.lower[0] + 0.05  # −2π + 0.05: the goal's −0.3 ≡ −2π − 0.3 is just below
-task = PoseTask(robot.fk(q_goal))
+task = FrameTask("ee", target=robot.fk(q_goal))
 
 for name, limit in (("boxed", PositionLimit()), ("periodic", PositionLimit(periodic=True))):
     result = Problem(robot, [task], [limit]).solve(start)

@@ -3,7 +3,7 @@
 Explores the self-motion manifold of a pose (curves cut by the joint limits), picks the
 sample closest to the home posture and the one with the largest manipulability, and
 compares them with what a local optimiser finds from the same start: the QP core
-(PoseTask at priority 0, PostureTask at priority 1) and the gradient projection method.
+(FrameTask at priority 0, PostureTask at priority 1) and the gradient projection method.
 Writes the manifold plot and an animation of the arm moving with its hand held still to
 $REDIK_OUT (default: the current directory).
 
@@ -20,7 +20,7 @@ from redik.apps.render import render_frames, save_gif
 from redik.apps.selfmotion_plot import plot_joint_pairs
 from redik.solvers.problem import Problem
 from redik.solvers.redundancy import Manipulability, PostureDistance, explore_self_motion
-from redik.tasks.pose_task import PoseTask
+from redik.tasks import FrameTask
 from redik.tasks.posture_task import PostureTask
 
 out = Path(os.environ.get("REDIK_OUT", "."))
@@ -43,7 +43,9 @@ def value(criterion, q):
 
 # Distance to home: the best sample of the manifold versus the QP's local optimum.
 posture = PostureDistance(robot.home)
-problem = Problem(robot, [PoseTask(T, priority=0), PostureTask(robot.home, priority=1)])
+problem = Problem(
+    robot, [FrameTask("ee", target=T, priority=0), PostureTask(robot.home, priority=1)]
+)
 q_qp = q_start.copy()
 for _ in range(200):  # the posture level keeps acting after the pose is met
     q_qp = q_qp + problem.step(q_qp)

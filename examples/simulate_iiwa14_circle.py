@@ -19,12 +19,12 @@ from redik.apps.sim import plot_tracking, simulate
 from redik.apps.trajectory import CircularPath
 from redik.limits import PositionLimit, VelocityLimit
 from redik.solvers.problem import Problem
-from redik.tasks import PoseTask, PostureTask
+from redik.tasks import FrameTask, PostureTask
 
 robot = redik.load("iiwa14")
 T0 = robot.fk(robot.home)
 path = CircularPath(T0, center=T0[:3, 3] + [0.0, 0.0, 0.1], normal=[1.0, 0.0, 0.0], duration=4.0)
-pose = PoseTask(T0)
+pose = FrameTask("ee", target=T0)
 problem = Problem(
     robot,
     [pose, PostureTask(robot.home, weight=0.1, priority=1)],

@@ -20,7 +20,7 @@ from redik.apps.sim import TrackingWarning, joint_drives, simulate
 from redik.apps.trajectory import CircularPath
 from redik.limits import PositionLimit, VelocityLimit
 from redik.solvers.problem import Problem
-from redik.tasks import PoseTask, PostureTask
+from redik.tasks import FrameTask, PostureTask
 
 
 def iiwa14(actuation: str) -> redik.Robot:
@@ -42,7 +42,7 @@ def iiwa14(actuation: str) -> redik.Robot:
 def circle_run(robot: redik.Robot, feedforward: bool = True):
     T0 = robot.fk(robot.home)
     path = CircularPath(T0, T0[:3, 3] + [0.0, 0.0, 0.1], [1.0, 0.0, 0.0], duration=4.0)
-    pose = PoseTask(T0)
+    pose = FrameTask("ee", target=T0)
     problem = Problem(
         robot,
         [pose, PostureTask(robot.home, weight=0.1, priority=1)],

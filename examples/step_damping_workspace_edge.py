@@ -19,7 +19,7 @@ from redik.apps.sim import TrackingWarning, simulate
 from redik.apps.trajectory import CircularPath
 from redik.limits import PositionLimit, VelocityLimit
 from redik.solvers.problem import Problem
-from redik.tasks import PoseTask
+from redik.tasks import FrameTask
 
 robot = redik.load("panda")
 q0 = np.array([0.0, 0.0, 0.0, -1.57079, 0.0, 1.57079, -0.7853])  # Menagerie's home
@@ -27,7 +27,7 @@ T0 = robot.fk(q0)
 path = CircularPath(T0, center=T0[:3, 3] + [0.0, 0.0, 0.1], normal=[1.0, 0.0, 0.0], duration=4.0)
 
 for step_damping in (0.0, 10.0):
-    pose = PoseTask(T0)
+    pose = FrameTask("ee", target=T0)
     limits = [PositionLimit(), VelocityLimit(2.0)]
     problem = Problem(robot, [pose], limits=limits, step_damping=step_damping)
     with warnings.catch_warnings():

@@ -62,7 +62,6 @@ from redik.tasks import (
     JointLimitAvoidanceTask,
     ManipulabilityTask,
     OrientationTask,
-    PoseTask,
     PositionTask,
     PostureTask,
 )
@@ -105,7 +104,6 @@ __all__ = [
     "ModelWarning",
     "NearRotationWarning",
     "OrientationTask",
-    "PoseTask",
     "PositionLimit",
     "PositionTask",
     "PostureTask",

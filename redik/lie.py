@@ -561,7 +561,7 @@ def apply_inverse_v(
     (:func:`so3_left_jacobian_inverse`; Modern Robotics §3.3.3.2). Compiled (numba), from
     floats, so that Python (:func:`se3_log`, 0.22 µs per call against 0.57 µs as Python
     code, same run, load 1.6) and the compiled pose residual
-    (:func:`redik.tasks.pose_task.pose_residual`) call the same code.
+    (:func:`redik.tasks.frame_task.pose_residual`) call the same code.
     """
     k = _inverse_jacobian_coefficients(wx * wx + wy * wy + wz * wz)[0]
     ax, ay, az = wy * dz - wz * dy, wz * dx - wx * dz, wx * dy - wy * dx  # ω × d

@@ -15,7 +15,7 @@ from redik.apps.sim import plot_tracking, simulate
 from redik.apps.trajectory import CircularPath
 from redik.limits import PositionLimit, VelocityLimit
 from redik.solvers.problem import Problem
-from redik.tasks import PoseTask, PostureTask
+from redik.tasks import FrameTask, PostureTask
 
 CRITERIA = {
     "max_position_error": "<= 3e-3",
@@ -28,7 +28,7 @@ def run(ctx):
     robot = redik.load("iiwa14")
     T_home = robot.fk(robot.home)
     path = CircularPath(T_home, T_home[:3, 3] + [0.0, 0.0, 0.1], [1.0, 0.0, 0.0], duration=4.0)
-    pose = PoseTask(T_home)
+    pose = FrameTask("ee", target=T_home)
     problem = Problem(
         robot,
         [pose, PostureTask(robot.home, weight=0.1, priority=1)],

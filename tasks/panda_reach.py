@@ -15,7 +15,7 @@ import numpy as np
 import redik
 from redik.lie import make_pose, pose_errors, so3_exp
 from redik.solvers.problem import Problem
-from redik.tasks import JointLimitAvoidanceTask, PoseTask
+from redik.tasks import FrameTask, JointLimitAvoidanceTask
 
 CRITERIA = {
     "success_rate": ">= 0.97",
@@ -41,10 +41,10 @@ def run(ctx):
     worst_p = worst_r = 0.0
     phi_plain, phi_avoid = [], []
     for T in ctx.progress(targets, total=len(targets), desc="panda reach"):
-        pose = PoseTask(T)
+        pose = FrameTask("ee", target=T)
         with_avoidance = Problem(robot, [pose, JointLimitAvoidanceTask(priority=1)])
         result = with_avoidance.solve(robot.home)
-        plain = Problem(robot, [PoseTask(T)]).solve(robot.home)
+        plain = Problem(robot, [FrameTask("ee", target=T)]).solve(robot.home)
         p_err, r_err = pose_errors(robot.fk(result.q), T)  # checked by FK, not the flag
         solved.append(p_err <= 1e-6 and r_err <= 1e-5 and robot.within_limits(result.q))
         if solved[-1]:

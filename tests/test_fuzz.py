@@ -388,12 +388,12 @@ def test_newton_and_gradient(x_d, q0, step, tol):
 @SLOW
 @given(data=st.data())
 def test_problem_and_task_targets(panda, data):
-    task = redik.PoseTask(panda.fk(panda.home))
-    orientation = redik.OrientationTask(np.eye(3), priority=1)
+    task = redik.FrameTask("ee", target=panda.fk(panda.home))
+    orientation = redik.OrientationTask("ee", target=np.eye(3), priority=1)
     problem = redik.Problem(panda, [task, orientation, redik.PostureTask(panda.home, priority=1)])
     holds(lambda: task.set_target(data.draw(targets(panda)), strict=data.draw(st.booleans())))
     holds(lambda: orientation.set_target(data.draw(st.one_of(rotations(), junk()))))
-    holds(lambda: redik.PositionTask(data.draw(st.one_of(junk(), poses()))))
+    holds(lambda: redik.PositionTask("ee", target=data.draw(st.one_of(junk(), poses()))))
     q = data.draw(configurations(panda))
     holds(lambda: problem.solve(q, max_iter=5), panda)
     holds(lambda: problem.step(q))
@@ -402,7 +402,16 @@ def test_problem_and_task_targets(panda, data):
     priority = data.draw(mostly(st.just(1), st.integers(-2, 2), number, junk()))
     holds(lambda: redik.PostureTask(data.draw(configurations(panda)), weight=weight))
     holds(lambda: redik.JointLimitAvoidanceTask(weight, gain, priority))
-    holds(lambda: redik.PoseTask(panda.fk(panda.home), None, weight, weight, gain, priority))
+    holds(
+        lambda: redik.FrameTask(
+            "ee",
+            target=panda.fk(panda.home),
+            position_cost=weight,
+            orientation_cost=weight,
+            gain=gain,
+            priority=priority,
+        )
+    )
     holds(lambda: redik.DampingTask(weight, priority))
     holds(lambda: redik.ManipulabilityTask(None, weight, gain, priority))
     holds(
@@ -554,12 +563,12 @@ def test_cartesian_path_and_follow_path(panda, data, times, rate):
 
 
 def test_pose_translation_beyond_mjmaxval_is_refused_everywhere(panda, ur5e):
-    # Found by test_problem_and_task_targets: a PoseTask 1e143 m away overflowed the QP and
+    # Found by test_problem_and_task_targets: a FrameTask 1e143 m away overflowed the QP and
     # daqp raised a raw RuntimeError ("Model has not been set up").
     T = np.eye(4)
     T[2, 3] = 1e143
     with pytest.raises(redik.InvalidPose, match="beyond ±1e\\+10 m"):
-        redik.PoseTask(T)
+        redik.FrameTask("ee", target=T)
     with pytest.raises(redik.InvalidPose, match="beyond"):
         redik.solvers.analytic.solver_for(ur5e)(T)
     with pytest.raises(redik.InvalidPose, match="beyond"):
@@ -567,7 +576,7 @@ def test_pose_translation_beyond_mjmaxval_is_refused_everywhere(panda, ur5e):
     result = redik.solve_batch(panda, T[None], restarts=0, max_iterations=1)
     assert result.status_names.tolist() == ["invalid"]
     T[2, 3] = 1e9  # far, but a number MuJoCo and the QP handle: an explicit status
-    task = redik.PoseTask(T)
+    task = redik.FrameTask("ee", target=T)
     problem = redik.Problem(panda, [task])
     assert problem.solve(panda.home, max_iter=3).status in ("max_iterations", "stalled")
 
@@ -576,7 +585,7 @@ def test_pose_translation_beyond_mjmaxval_is_refused_everywhere(panda, ur5e):
 def test_problem_step_refuses_non_real_or_huge_q(panda, q):
     # Found by test_problem_and_task_targets: step() cast complex q (ComplexWarning) and
     # failed on strings with a raw ValueError.
-    problem = redik.Problem(panda, [redik.PoseTask(panda.fk(panda.home))])
+    problem = redik.Problem(panda, [redik.FrameTask("ee", target=panda.fk(panda.home))])
     with pytest.raises(redik.InvalidConfiguration):
         problem.step(q)
 
@@ -678,7 +687,7 @@ def test_problem_and_tasks_refuse_junk_arguments(panda):
     # Found by test_problem_and_task_targets: tasks=1.0 / None raised "not iterable",
     # backend=None a TypeError inside make_backend, damping="" a numpy TypeError,
     # max_iter=None a comparison TypeError, gain/priority junk raw ValueErrors.
-    task = redik.PoseTask(panda.fk(panda.home))
+    task = redik.FrameTask("ee", target=panda.fk(panda.home))
     for tasks in (1.0, None, np.array(0.0)):
         with pytest.raises(redik.InvalidInput, match="tasks must be a list"):
             redik.Problem(panda, tasks)  # type: ignore[arg-type]
@@ -701,10 +710,10 @@ def test_problem_and_tasks_refuse_junk_arguments(panda):
 
 
 def test_huge_task_weights_are_refused_and_daqp_failures_are_backend_errors(panda):
-    # Found by test_problem_and_task_targets: a PoseTask weight of 1e100 reached daqp, whose
+    # Found by test_problem_and_task_targets: a FrameTask weight of 1e100 reached daqp, whose
     # set-up failed; the next solve raised a raw RuntimeError ("Model has not been set up").
-    with pytest.raises(redik.InvalidInput, match=r"position_weight must be in \[0, 1e\+06\]"):
-        redik.PoseTask(panda.fk(panda.home), position_weight=1e100)
+    with pytest.raises(redik.InvalidInput, match=r"position_cost must be in \[0, 1e\+06\]"):
+        redik.FrameTask("ee", target=panda.fk(panda.home), position_cost=1e100)
     from redik.qp.backends import DaqpBackend
     from redik.qp.problem_data import QP
 

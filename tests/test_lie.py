@@ -282,9 +282,11 @@ def _families(strict: bool):
         "solve_pose": lambda T: redik.solve_pose(
             robot, T, method="newton", max_iter=1, restarts=0, strict=strict
         ),
-        "PoseTask": lambda T: redik.PoseTask(T, strict=strict),
-        "PoseTask.set_target": lambda T: redik.PoseTask(np.eye(4)).set_target(T, strict=strict),
-        "OrientationTask": lambda T: redik.OrientationTask(T[:3, :3], strict=strict),
+        "FrameTask": lambda T: redik.FrameTask("ee", target=T, strict=strict),
+        "FrameTask.set_target": lambda T: redik.FrameTask("ee", target=np.eye(4)).set_target(
+            T, strict=strict
+        ),
+        "OrientationTask": lambda T: redik.OrientationTask("ee", target=T[:3, :3], strict=strict),
         "analytic.spherical_wrist": lambda T: redik.solvers.analytic.spherical_wrist(
             T[:3, :3], strict=strict
         ),

@@ -11,7 +11,7 @@ from redik.core.exceptions import InfeasibleProblem, InvalidInput
 from redik.limits import InequalityLimit, MinkLimit, PositionLimit, VelocityLimit
 from redik.qp import available_backends
 from redik.solvers.problem import Problem
-from redik.tasks import PoseTask, PositionTask, PostureTask
+from redik.tasks import FrameTask, PositionTask, PostureTask
 
 
 def test_position_box_is_shrunk_by_margin_and_tolerance_and_pulls_back_inside(arm):
@@ -56,8 +56,10 @@ def test_a_periodic_position_limit_leaves_full_turn_joints_unboxed_and_wraps_the
     # Problem.solve turns every iterate back into range.
     T = ur5e.fk(np.array([-0.3, -1.2, 1.4, -1.8, -1.5, 0.4]))
     start = np.array([ur5e.lower[0] + 0.05, -1.2, 1.4, -1.8, -1.5, 0.4])
-    boxed = Problem(ur5e, [PoseTask(T)]).solve(start)
-    periodic = Problem(ur5e, [PoseTask(T)], [PositionLimit(periodic=True)]).solve(start)
+    boxed = Problem(ur5e, [FrameTask("ee", target=T)]).solve(start)
+    periodic = Problem(ur5e, [FrameTask("ee", target=T)], [PositionLimit(periodic=True)]).solve(
+        start
+    )
     assert not boxed.success  # stuck against the shoulder's lower bound
     assert periodic.success and periodic.iterations < 10
     assert all(ur5e.within_limits(q) for q in periodic.history)
@@ -100,7 +102,7 @@ def test_returned_q_never_leaves_the_limits(backend, rng):
     # eigenvalues at the 1e-6 damping, a minimiser that first-order back-ends (osqp) cannot
     # resolve to their tolerance — they then raise BackendError, which is not this test.
     posture = PostureTask(robot.home, weight=1e-2, priority=0)
-    problem = Problem(robot, [PositionTask([2.0, 0.0, 0.5]), posture], backend=backend)
+    problem = Problem(robot, [PositionTask("ee", target=[2.0, 0.0, 0.5]), posture], backend=backend)
     for _ in range(2):
         problem.tasks[0].set_target(rng.normal(size=3) * 2.0)
         result = problem.solve(robot.random_q(rng), max_iter=15)
@@ -115,7 +117,7 @@ def test_a_joint_too_far_outside_for_its_velocity_limit_is_infeasible():
     robot = redik.load("panda")
     problem = Problem(
         robot,
-        [PoseTask(robot.fk(robot.home))],
+        [FrameTask("ee", target=robot.fk(robot.home))],
         [PositionLimit(), VelocityLimit(1.0)],
     )
     q = robot.home.copy()
@@ -137,7 +139,9 @@ class EmptySet(InequalityLimit):
 @pytest.mark.parametrize("backend", ["daqp", ["daqp", "cvxpy"]])
 def test_contradictory_rows_are_reported_infeasible(backend):
     robot = redik.load("panda")
-    problem = Problem(robot, [PoseTask(robot.fk(robot.home))], [EmptySet()], backend=backend)
+    problem = Problem(
+        robot, [FrameTask("ee", target=robot.fk(robot.home))], [EmptySet()], backend=backend
+    )
     with pytest.raises(InfeasibleProblem, match="infeasible"):
         problem.step(robot.home)
 
@@ -148,7 +152,7 @@ def test_no_iterate_leaves_the_limits_on_any_backend(backend):
     accuracy (its declared tolerance shrinks the box), every iterate stays within."""
     robot = redik.load("panda")
     rng = np.random.default_rng(11)
-    problem = Problem(robot, [PoseTask(np.eye(4))], backend=backend)
+    problem = Problem(robot, [FrameTask("ee", target=np.eye(4))], backend=backend)
     for _ in range(3):
         q_target = robot.random_q(rng)
         joints = rng.choice(robot.dof, size=2, replace=False)  # two joints at a limit
@@ -168,7 +172,7 @@ class ZeroRow(InequalityLimit):
 def test_a_row_refused_at_the_backend_set_up_is_infeasible_not_a_raw_error():
     robot = redik.load("panda")
     target = robot.fk(robot.clip(robot.home + 0.1))
-    problem = Problem(robot, [PoseTask(target)], [PositionLimit(), ZeroRow()])
+    problem = Problem(robot, [FrameTask("ee", target=target)], [PositionLimit(), ZeroRow()])
     for _ in range(2):
         with pytest.raises(InfeasibleProblem, match=r"'daqp'.*infeasible"):
             problem.step(robot.home)
@@ -225,7 +229,7 @@ def _solve_with_collision_priority(robot, priority):
                 priority=priority,
             )
         )
-    tasks = [PositionTask([1.6, 1.2, 0.0], frame="tip"), PostureTask(priority=1)]
+    tasks = [PositionTask("tip", target=[1.6, 1.2, 0.0]), PostureTask(priority=1)]
     return Problem(robot, tasks, limits).solve(robot.home, max_iter=200)
 
 
@@ -269,7 +273,7 @@ def test_a_ranked_limit_in_online_steps_and_its_bad_input(planar_obstacles):
     np.testing.assert_allclose(dq, 0.1, atol=1e-6)
     # Only the first task at level 0 and the limit between the levels: level 1 (a posture
     # to home, which wants dq = 0 where level 0 leaves freedom) is boxed.
-    tasks = [PositionTask(robot.fk(far)[:3, 3], frame="tip"), PostureTask(far, priority=1)]
+    tasks = [PositionTask("tip", target=robot.fk(far)[:3, 3]), PostureTask(far, priority=1)]
     dq = Problem(robot, tasks, [VelocityLimit(0.1, priority=1)]).step(robot.home, dt=1.0)
     assert np.abs(dq).max() > 0.1 + 1e-3  # level 0 needs more than the box
     # A link deep in the bin: the hard damper asks more than the velocity box allows in one

@@ -15,10 +15,11 @@ from redik.qp.backends import QPSOLVERS_SETTINGS
 from redik.solvers.problem import Problem
 from redik.tasks import (
     DampingTask,
+    FrameTask,
     JointLimitAvoidanceTask,
+    KinematicState,
     ManipulabilityTask,
     OrientationTask,
-    PoseTask,
     PositionTask,
     PostureTask,
 )
@@ -52,7 +53,7 @@ def test_weighted_stack_equals_mink_solve_ik(backend, rng):
     for q, T in targets(robot, rng, 5):
         q_nominal = robot.random_q(rng)
         redik_tasks = [
-            PoseTask(T, position_weight=[1, 2, 3], orientation_weight=0.5),
+            FrameTask("ee", target=T, position_cost=[1, 2, 3], orientation_cost=0.5),
             PostureTask(q_nominal, weight=0.1, priority=0),
             JointLimitAvoidanceTask(weight=0.3, priority=0),
         ]
@@ -69,7 +70,7 @@ def test_weighted_stack_equals_mink_solve_ik(backend, rng):
 def test_position_box_equals_minks_full_gain_configuration_limit(rng):
     robot = redik.load("panda")
     for q, T in targets(robot, rng, 5):
-        problem = Problem(robot, [PoseTask(T)], backend="daqp", damping=DAMPING)
+        problem = Problem(robot, [FrameTask("ee", target=T)], backend="daqp", damping=DAMPING)
         v = mink_step(robot, q, [_frame(T)], [mink.ConfigurationLimit(robot.model, gain=1.0)])
         # redik shrinks the box by daqp's 1e-9 tolerance; otherwise the QPs are the same.
         np.testing.assert_allclose(problem.step(q), v, atol=1e-8)
@@ -84,7 +85,7 @@ def _frame(T, name="ee", kind="site"):
 def test_mink_tasks_and_limits_inside_a_redik_problem_on_an_off_chain_model(arm, rng):
     # arm: nv = 14 with a free body and a gripper off the chain; mink tasks see all nv.
     for q, T in targets(arm, rng, 3):
-        native = Problem(arm, [PoseTask(T)], limits=[])
+        native = Problem(arm, [FrameTask("ee", target=T)], limits=[])
         with_mink = Problem(arm, [_frame(T)], limits=[])
         np.testing.assert_allclose(with_mink.step(q), native.step(q), atol=1e-10)
         mixed = Problem(arm, [_frame(T), PostureTask()], [PositionLimit(),
@@ -98,9 +99,9 @@ def test_mink_tasks_and_limits_inside_a_redik_problem_on_an_off_chain_model(arm,
 
 def test_redik_tasks_inside_mink_solve_ik_on_an_off_chain_model(arm, rng):
     q, T = targets(arm, rng, 1)[0]
-    tasks = [PoseTask(T, frame="ee").bind(arm), PositionTask(T[:3, 3], frame="l5").bind(arm)]
+    tasks = [FrameTask("ee", target=T).bind(arm), PositionTask("l5", target=T[:3, 3]).bind(arm)]
     v = mink_step(arm, q, tasks, limits=[])
-    problem = Problem(arm, [PoseTask(T, frame="ee"), PositionTask(T[:3, 3], frame="l5")],
+    problem = Problem(arm, [FrameTask("ee", target=T), PositionTask("l5", target=T[:3, 3])],
                       limits=[], damping=DAMPING)  # fmt: skip
     np.testing.assert_allclose(v[arm.dof_indices], problem.step(q), atol=1e-8)
     off_chain = np.setdiff1d(np.arange(arm.model.nv), arm.dof_indices)
@@ -110,7 +111,7 @@ def test_redik_tasks_inside_mink_solve_ik_on_an_off_chain_model(arm, rng):
 def test_an_unbound_redik_task_in_mink_says_what_to_do(arm):
     configuration = mink.Configuration(arm.model)
     with pytest.raises(InvalidInput, match=r"task.bind\(robot\)"):
-        PoseTask(np.eye(4)).compute_error(configuration)
+        FrameTask("ee", target=np.eye(4)).compute_error(configuration)
 
 
 def test_minks_cost_vocabulary_is_accepted_beside_redik_weight(rng):
@@ -118,13 +119,13 @@ def test_minks_cost_vocabulary_is_accepted_beside_redik_weight(rng):
     q, T = next(iter(targets(robot, rng, 1)))
     q_nominal = robot.random_q(rng)
     in_mink_words = [
-        PoseTask(T, position_cost=[1, 2, 3], orientation_cost=0.5),
+        FrameTask("ee", target=T, position_cost=[1, 2, 3], orientation_cost=0.5),
         PostureTask(q_nominal, cost=0.1, priority=0),
         JointLimitAvoidanceTask(cost=0.3, priority=0),
         DampingTask(cost=0.2, priority=0),
     ]
     in_redik_words = [
-        PoseTask(T, position_weight=[1, 2, 3], orientation_weight=0.5),
+        FrameTask("ee", target=T, position_cost=[1, 2, 3], orientation_cost=0.5),
         PostureTask(q_nominal, weight=0.1, priority=0),
         JointLimitAvoidanceTask(weight=0.3, priority=0),
         DampingTask(weight=0.2, priority=0),
@@ -148,10 +149,7 @@ def test_minks_cost_vocabulary_is_accepted_beside_redik_weight(rng):
     "make",
     [
         lambda: PostureTask(weight=1.0, cost=1.0),
-        lambda: PositionTask([0, 0, 0.5], weight=1.0, cost=2.0),
-        lambda: OrientationTask(np.eye(3), weight=1.0, cost=2.0),
         lambda: ManipulabilityTask(weight=1.0, cost=2.0),
-        lambda: PoseTask(np.eye(4), position_weight=1.0, position_cost=1.0),
     ],
 )
 def test_weight_and_cost_together_are_refused(make):
@@ -204,9 +202,10 @@ def test_frame_task_is_minks_frame_task_built_with_minks_arguments(arm, rng):
                                    theirs.compute_jacobian(configuration), atol=1e-10)  # fmt: skip
         np.testing.assert_array_equal(ours.cost, theirs.cost)
         np.testing.assert_allclose(ours.transform_target_to_world.as_matrix(), T, atol=1e-15)
-        # In a redik Problem it is a PoseTask.
-        native = Problem(arm, [PoseTask(T, position_cost=[1, 2, 3], orientation_cost=0.5,
-                                        gain=0.8)], limits=[])  # fmt: skip
+        # In a redik Problem it is a FrameTask.
+        native_task = FrameTask("ee", position_cost=[1, 2, 3], orientation_cost=0.5, gain=0.8,
+                                target=T)  # fmt: skip
+        native = Problem(arm, [native_task], limits=[])
         mirrored = Problem(arm, [ours], limits=[])
         np.testing.assert_allclose(mirrored.step(q), native.step(q), atol=1e-12)
 
@@ -227,6 +226,33 @@ def test_frame_task_target_from_a_configuration_and_before_one_is_set(arm):
         redik.FrameTask("ee", "joint")
     with pytest.raises(InvalidInput, match="lm_damping must be a finite number ≥ 0"):
         redik.FrameTask("ee", "site", lm_damping=-1.0)
+    with pytest.raises(InvalidInput, match="frame_name must be the name of a site, body or geom"):
+        redik.FrameTask(None, target=np.eye(4))  # type: ignore[arg-type]
+
+
+def test_frame_task_defaults_look_the_frame_up_with_unit_costs(arm, rng):
+    q, T = targets(arm, rng, 1)[0]
+    short = redik.FrameTask("ee", target=T).bind(arm)
+    full = redik.FrameTask("ee", "site", 1.0, 1.0, target=T).bind(arm)
+    assert (short.frame.kind, short.frame.id) == (full.frame.kind, full.frame.id)
+    assert short.frame_type is None
+    np.testing.assert_array_equal(short.cost, np.ones(6))
+    state = KinematicState.for_robot(arm)
+    state.update(q)
+    for ours, theirs in zip(short.error_and_jacobian(state), full.error_and_jacobian(state),
+                            strict=True):  # fmt: skip
+        np.testing.assert_array_equal(ours, theirs)
+
+
+@pytest.mark.parametrize("make", [PositionTask, OrientationTask])
+def test_position_and_orientation_tasks_take_the_frame_first_and_a_later_target(arm, make):
+    task = make("l5", "body", 2.0)
+    np.testing.assert_array_equal(task.cost, np.full(3, 2.0))
+    with pytest.raises(redik.TargetNotSet, match=r"'l5' has no target: call set_target"):
+        Problem(arm, [task]).step(arm.home)
+    T = arm.fk(arm.home, "l5")
+    task.set_target(T[:3, 3] if make is PositionTask else T[:3, :3])
+    np.testing.assert_allclose(Problem(arm, [task], limits=[]).step(arm.home), 0.0, atol=1e-9)
 
 
 @pytest.mark.parametrize("lm_damping", [0.0, 0.3])

@@ -158,16 +158,16 @@ def test_gradient_projection_keeps_the_pose_and_improves_the_criterion(panda, cr
 
 
 def test_qp_priority_level_equals_the_nullspace_formula(panda, rng):
-    """Unconstrained, a PoseTask at priority 0 and a PostureTask at priority 1 give the
+    """Unconstrained, a FrameTask at priority 0 and a PostureTask at priority 1 give the
     textbook step ``Δq = J⁺ẋ + (I − J⁺J) q̇₀`` with ``ẋ = −e``, ``q̇₀ = −e_posture``."""
     from redik.solvers.problem import Problem
+    from redik.tasks import FrameTask
     from redik.tasks.kinematics import KinematicState
-    from redik.tasks.pose_task import PoseTask
     from redik.tasks.posture_task import PostureTask
 
     q = panda.home + rng.normal(scale=0.05, size=7)
     target = panda.fk(panda.home)
-    pose = PoseTask(target, priority=0)
+    pose = FrameTask("ee", target=target, priority=0)
     posture = PostureTask(panda.home + rng.normal(scale=0.3, size=7), priority=1)
     problem = Problem(panda, [pose, posture], limits=[], damping=0.0)
     dq_qp = problem.step(q)

@@ -12,7 +12,7 @@ from redik.core.exceptions import InvalidConfiguration, InvalidInput
 from redik.limits import PositionLimit, VelocityLimit
 from redik.solvers.pose.qp import solve_pose_qp
 from redik.solvers.problem import Problem
-from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
+from redik.tasks import FrameTask, JointLimitAvoidanceTask, PostureTask
 
 
 @pytest.fixture(scope="module")
@@ -31,7 +31,11 @@ def nearby_targets(robot, rng, count: int, spread: float = 0.4):
 
 
 def test_solve_converges_with_strict_priorities_and_reports_a_result(panda, rng):
-    tasks = [PoseTask(np.eye(4)), JointLimitAvoidanceTask(gain=0.2), PostureTask(gain=0.2)]
+    tasks = [
+        FrameTask("ee", target=np.eye(4)),
+        JointLimitAvoidanceTask(gain=0.2),
+        PostureTask(gain=0.2),
+    ]
     problem = Problem(panda, tasks)
     assert problem.levels == [0, 1]
     for q0, T in nearby_targets(panda, rng, 8):
@@ -53,7 +57,7 @@ def test_solve_converges_with_strict_priorities_and_reports_a_result(panda, rng)
 def test_solve_reports_the_budget_and_stalls_as_failures(panda):
     far = np.eye(4)
     far[:3, 3] = (3.0, 0.0, 0.0)  # out of reach
-    problem = Problem(panda, [PoseTask(far)])
+    problem = Problem(panda, [FrameTask("ee", target=far)])
     result = problem.solve(panda.home, max_iter=5)
     assert not result.success and result.status == "max_iterations" and result.iterations == 5
     assert "position error" in result.message
@@ -69,7 +73,7 @@ def test_a_level0_without_targets_converges_when_the_step_vanishes(panda):
 
 def test_step_returns_a_joint_step_and_validates_its_input(panda):
     problem = Problem(
-        panda, [PoseTask(panda.fk(panda.home))], [PositionLimit(), VelocityLimit(1.0)]
+        panda, [FrameTask("ee", target=panda.fk(panda.home))], [PositionLimit(), VelocityLimit(1.0)]
     )
     dq = problem.step(panda.home + 0.1, dt=0.01)
     assert dq.shape == (7,) and np.all(np.abs(dq) <= 0.01 + 1e-12)
@@ -89,16 +93,16 @@ def test_constructor_rejects_misuse(panda):
     with pytest.raises(InvalidInput, match="not a task"):
         Problem(panda, [object()])
     with pytest.raises(InvalidInput, match="not a limit"):
-        Problem(panda, [PoseTask(np.eye(4))], [object()])
+        Problem(panda, [FrameTask("ee", target=np.eye(4))], [object()])
     with pytest.raises(InvalidInput, match=r"redik\.Robot"):
-        Problem(panda.model, [PoseTask(np.eye(4))])
+        Problem(panda.model, [FrameTask("ee", target=np.eye(4))])
     with pytest.raises(redik.BackendError, match="unknown"):
-        Problem(panda, [PoseTask(np.eye(4))], backend="nope")
+        Problem(panda, [FrameTask("ee", target=np.eye(4))], backend="nope")
 
 
 def test_problem_on_a_model_with_off_chain_joints(arm, rng):
     # nv = 14 (free body, gripper), dof = 7: Δq is over the chain only.
-    problem = Problem(arm, [PoseTask(np.eye(4)), PostureTask()])
+    problem = Problem(arm, [FrameTask("ee", target=np.eye(4)), PostureTask()])
     for q0, T in nearby_targets(arm, rng, 4, spread=0.2):
         problem.tasks[0].set_target(T)
         result = problem.solve(q0, max_iter=100)
@@ -119,9 +123,13 @@ def test_solve_pose_qp_is_the_solve_pose_entry_point(panda, rng):
 
 def test_backends_give_the_same_iterates(panda, rng):
     q0, T = nearby_targets(panda, rng, 1)[0]
-    reference = Problem(panda, [PoseTask(T), PostureTask()], backend="quadprog").solve(q0)
+    reference = Problem(
+        panda, [FrameTask("ee", target=T), PostureTask()], backend="quadprog"
+    ).solve(q0)
     for backend in ("daqp", "proxsuite", "clarabel"):
-        result = Problem(panda, [PoseTask(T), PostureTask()], backend=backend).solve(q0)
+        result = Problem(panda, [FrameTask("ee", target=T), PostureTask()], backend=backend).solve(
+            q0
+        )
         assert result.iterations == reference.iterations
         np.testing.assert_allclose(result.q, reference.q, atol=1e-6)
 
@@ -129,7 +137,7 @@ def test_backends_give_the_same_iterates(panda, rng):
 def test_solve_never_increases_the_level0_error_and_does_not_cycle(panda):
     """From home, this target made the plain iteration cycle between two points at 0.55 m."""
     target = panda.fk(panda.random_q(1))
-    problem = Problem(panda, [PoseTask(target)])
+    problem = Problem(panda, [FrameTask("ee", target=target)])
     result = problem.solve(panda.home, max_iter=200)
     assert result.success and panda.within_limits(result.q)
     assert np.all(np.diff(result.error_history) <= 0.0)
@@ -140,13 +148,15 @@ def test_solve_never_increases_the_level0_error_and_does_not_cycle(panda):
 
 def test_lm_damping_is_validated(panda):
     with pytest.raises(InvalidInput, match="lm_damping"):
-        Problem(panda, [PoseTask(panda.fk(panda.home))]).solve(panda.home, lm_damping=-1.0)
+        Problem(panda, [FrameTask("ee", target=panda.fk(panda.home))]).solve(
+            panda.home, lm_damping=-1.0
+        )
 
 
 def test_a_backend_instance_cannot_be_shared_by_priority_levels(panda):
     from redik.qp import make_backend
 
-    stack = [PoseTask(panda.fk(panda.home)), PostureTask(panda.home, priority=1)]
+    stack = [FrameTask("ee", target=panda.fk(panda.home)), PostureTask(panda.home, priority=1)]
     with pytest.raises(InvalidInput, match="priority levels"):
         Problem(panda, stack, backend=make_backend("daqp"))
     Problem(panda, stack[:1], backend=make_backend("daqp")).step(panda.home)  # one level: fine
@@ -154,7 +164,7 @@ def test_a_backend_instance_cannot_be_shared_by_priority_levels(panda):
 
 def test_a_single_task_or_limit_is_the_list_of_it(panda):
     T = panda.fk(panda.home)
-    problem = Problem(panda, PoseTask(T), PositionLimit())
+    problem = Problem(panda, FrameTask("ee", target=T), PositionLimit())
     assert problem.levels == [0] and len(problem.tasks) == 1 and len(problem.limits) == 1
     np.testing.assert_allclose(problem.step(panda.home), 0.0, atol=1e-12)
 
@@ -163,7 +173,7 @@ def test_a_single_task_or_limit_is_the_list_of_it(panda):
     ("arguments", "match"),
     [
         ({"tasks": 3}, "tasks must be a list"),
-        ({"tasks": "PoseTask"}, "tasks must be a list"),
+        ({"tasks": "FrameTask"}, "tasks must be a list"),
         ({"tasks": ()}, "at least one task"),
         ({"limits": 1.0}, "limits must be a list"),
         ({"damping": float("nan")}, "damping"),
@@ -173,7 +183,7 @@ def test_a_single_task_or_limit_is_the_list_of_it(panda):
     ],
 )
 def test_constructor_arguments_are_checked(panda, arguments, match):
-    kwargs = {"tasks": [PoseTask(np.eye(4))], **arguments}
+    kwargs = {"tasks": [FrameTask("ee", target=np.eye(4))], **arguments}
     with pytest.raises(InvalidInput, match=match):
         Problem(panda, **kwargs)
 
@@ -181,7 +191,7 @@ def test_constructor_arguments_are_checked(panda, arguments, match):
 def test_unknown_or_malformed_backend_is_a_backend_error(panda):
     for backend in ("nope", ["daqp", "nope"], 7, [None]):
         with pytest.raises(redik.BackendError, match="available"):
-            Problem(panda, PoseTask(np.eye(4)), backend=backend)
+            Problem(panda, FrameTask("ee", target=np.eye(4)), backend=backend)
 
 
 @pytest.mark.parametrize(
@@ -204,14 +214,14 @@ def test_unknown_or_malformed_backend_is_a_backend_error(panda):
     ],
 )
 def test_solve_arguments_are_checked(panda, arguments, error, match):
-    problem = Problem(panda, PoseTask(panda.fk(panda.home)))
+    problem = Problem(panda, FrameTask("ee", target=panda.fk(panda.home)))
     kwargs = {"q0": panda.home, **arguments}
     with pytest.raises(error, match=match):
         problem.solve(**kwargs)
 
 
 def test_step_checks_dt_and_q(panda):
-    problem = Problem(panda, PoseTask(panda.fk(panda.home)))
+    problem = Problem(panda, FrameTask("ee", target=panda.fk(panda.home)))
     for dt in (0.0, -1.0, float("nan"), "0.01"):
         with pytest.raises(InvalidInput, match="dt"):
             problem.step(panda.home, dt=dt)
@@ -231,7 +241,9 @@ def test_solve_finishes_the_lower_level_at_the_constrained_optimum(panda, rng):
         q0 = np.clip(panda.random_q(rng), panda.lower + 0.3, panda.upper - 0.3)
         T = panda.fk(np.clip(q0 + rng.uniform(-0.3, 0.3, 7), panda.lower, panda.upper))
         q_nominal = np.clip(q0 + rng.uniform(-0.5, 0.5, 7), panda.lower, panda.upper)
-        problem = Problem(panda, [PoseTask(T), PostureTask(q_nominal, gain=0.2, priority=1)])
+        problem = Problem(
+            panda, [FrameTask("ee", target=T), PostureTask(q_nominal, gain=0.2, priority=1)]
+        )
         result = problem.solve(q0, max_iter=300)
         early = problem.solve(q0, max_iter=300, stationarity_tol=None)
         assert result.success and result.stationary and len(result.stationarity) == 1
@@ -278,9 +290,9 @@ def test_the_lower_level_converges_fast_once_level_0_holds(panda):
     ]
     iterations = []
     for T in targets:
-        result = Problem(panda, [PoseTask(T), JointLimitAvoidanceTask(priority=1)]).solve(
-            panda.home
-        )
+        result = Problem(
+            panda, [FrameTask("ee", target=T), JointLimitAvoidanceTask(priority=1)]
+        ).solve(panda.home)
         assert result.success and result.stationary
         iterations.append(result.iterations)
     assert max(iterations) <= 15 and np.mean(iterations) < 8
@@ -300,7 +312,7 @@ def test_level0_null_space_is_computed_once_per_iteration(panda, rng, monkeypatc
     monkeypatch.setattr(redik.solvers.problem, "row_null_space", counted)
     monkeypatch.setattr(redik.qp.hierarchy, "row_null_space", counted)
     q0, T = nearby_targets(panda, rng, 1)[0]
-    problem = Problem(panda, [PoseTask(T), PostureTask(q0, gain=0.5, priority=1)])
+    problem = Problem(panda, [FrameTask("ee", target=T), PostureTask(q0, gain=0.5, priority=1)])
     early = problem.solve(q0, stationarity_tol=None)
     calls.clear()
     result = problem.solve(q0)
@@ -311,13 +323,15 @@ def test_level0_null_space_is_computed_once_per_iteration(panda, rng, monkeypatc
 
 def test_stationarity_is_reported_as_unmet_when_the_budget_runs_out(panda, rng):
     q0, T = nearby_targets(panda, rng, 1)[0]
-    problem = Problem(panda, [PoseTask(T), PostureTask(panda.home, gain=0.05, priority=1)])
+    problem = Problem(
+        panda, [FrameTask("ee", target=T), PostureTask(panda.home, gain=0.05, priority=1)]
+    )
     early = problem.solve(q0, stationarity_tol=None)
     result = problem.solve(q0, max_iter=early.iterations + 2)
     assert result.success and result.status == "converged"
     assert not result.stationary and result.stationarity[0] > 1e-8
     assert "not stationary" in result.message
-    single = Problem(panda, [PoseTask(T)]).solve(q0)
+    single = Problem(panda, [FrameTask("ee", target=T)]).solve(q0)
     assert single.stationary and single.stationarity == []
     with pytest.raises(InvalidInput, match="stationarity_tol"):
         problem.solve(q0, stationarity_tol=0.0)
@@ -326,7 +340,7 @@ def test_stationarity_is_reported_as_unmet_when_the_budget_runs_out(panda, rng):
 def test_patience_ends_an_attempt_that_stops_making_progress(panda):
     far = np.eye(4)
     far[:3, 3] = (3.0, 0.0, 0.0)  # out of reach: the error plateaus
-    problem = Problem(panda, [PoseTask(far)])
+    problem = Problem(panda, [FrameTask("ee", target=far)])
     patient = problem.solve(panda.home, max_iter=200, patience=5)
     assert patient.status == "stalled" and patient.iterations < 60
     squared = patient.error_history**2
@@ -346,7 +360,7 @@ def test_patience_ends_an_attempt_that_stops_making_progress(panda):
 def test_plateau_ends_an_attempt_at_the_first_flat_step(panda):
     far = np.eye(4)
     far[:3, 3] = (3.0, 0.0, 0.0)  # out of reach: the error plateaus
-    problem = Problem(panda, [PoseTask(far)])
+    problem = Problem(panda, [FrameTask("ee", target=far)])
     flat = problem.solve(panda.home, max_iter=200, plateau=0.01)
     patient = problem.solve(panda.home, max_iter=200, patience=5)
     assert flat.status == "stalled" and flat.iterations < patient.iterations
@@ -360,13 +374,13 @@ def test_plateau_ends_an_attempt_at_the_first_flat_step(panda):
             problem.solve(panda.home, plateau=plateau)
     # A converging solve is not stopped by it.
     q0, T = panda.home, panda.fk(np.clip(panda.home + 0.2, panda.lower, panda.upper))
-    assert Problem(panda, [PoseTask(T)]).solve(q0, plateau=0.01).success
+    assert Problem(panda, [FrameTask("ee", target=T)]).solve(q0, plateau=0.01).success
 
 
 def test_solve_pose_qp_restarts_from_the_nearest_candidate(panda, rng):
     from redik.solvers.pose.qp import _nearest_start
 
-    task = PoseTask(panda.fk(panda.random_q(rng)))
+    task = FrameTask("ee", target=panda.fk(panda.random_q(rng)))
     problem = Problem(panda, [task])  # binds the task to the robot
     start = _nearest_start(panda, task, np.random.default_rng(5), 32)
     candidates = panda.random_q(np.random.default_rng(5), size=32)
@@ -490,7 +504,7 @@ def test_the_stationarity_test_accounts_for_active_limits(panda):
         n *= np.sign(n[joint])
         offset = 0.2 * n
         offset[joint] = 0.0
-        tasks = [PoseTask(T), PostureTask(q_star + offset, priority=1)]
+        tasks = [FrameTask("ee", target=T), PostureTask(q_star + offset, priority=1)]
         start = q_star.copy()
         start[joint] -= 0.05
         result = Problem(panda, tasks).solve(start, max_iter=300)
@@ -531,7 +545,7 @@ def track_circle_kinematically(robot, q0, step_damping, radius=0.1):
     Returns (joint velocities (N, n), position error of each tick (N,), tick times (N,))."""
     T0 = robot.fk(q0)
     path = CircularPath(T0, T0[:3, 3] + [0.0, 0.0, radius], [1.0, 0.0, 0.0], duration=4.0)
-    task = PoseTask(T0)
+    task = FrameTask("ee", target=T0)
     limits = [PositionLimit(), VelocityLimit(2.0)]
     problem = Problem(robot, [task], limits=limits, step_damping=step_damping)
     dt, q = 0.01, q0.copy()
@@ -576,12 +590,14 @@ def test_step_damping_leaves_a_reachable_path_tracked(panda):
     assert errors_damped.max() < 1e-4 and errors_plain.max() < 1e-4
     assert np.allclose(v_damped, v_plain, atol=1e-3)
     with pytest.raises(InvalidInput, match="step_damping"):
-        Problem(panda, [PoseTask(np.eye(4))], step_damping=-1.0)
+        Problem(panda, [FrameTask("ee", target=np.eye(4))], step_damping=-1.0)
 
 
 def test_qp_result_is_exported_with_the_problem():
     robot = redik.load("panda")
-    result = redik.Problem(robot, redik.PoseTask(robot.fk(robot.home))).solve(robot.home)
+    result = redik.Problem(robot, redik.FrameTask("ee", target=robot.fk(robot.home))).solve(
+        robot.home
+    )
     assert isinstance(result, redik.QPResult) and isinstance(result, redik.IKResult)
     assert "QPResult" in redik.__all__
 
@@ -591,7 +607,7 @@ def track_circle_with_posture(robot, q0, extra_limits=()):
     (gain 1, target ``q0``) at priority 1; returns (velocities, errors)."""
     T0 = robot.fk(q0)
     path = CircularPath(T0, T0[:3, 3] + [0.0, 0.0, 0.1], [1.0, 0.0, 0.0], duration=4.0)
-    task = PoseTask(T0)
+    task = FrameTask("ee", target=T0)
     limits = [PositionLimit(), VelocityLimit(2.0), *extra_limits]
     problem = Problem(robot, [task, PostureTask(q0, priority=1)], limits, step_damping=10.0)
     dt, q = 0.01, q0.copy()
@@ -639,7 +655,7 @@ def test_reset_starts_a_new_motion_and_checks_the_velocity(panda):
     target = panda.fk(panda.home + 0.3)
 
     def problem_with(acceleration):
-        tasks = [PoseTask(target), PostureTask(panda.home, priority=1)]
+        tasks = [FrameTask("ee", target=target), PostureTask(panda.home, priority=1)]
         return Problem(panda, tasks, [PositionLimit(), VelocityLimit(2.0), acceleration])
 
     acceleration = AccelerationLimit(a)
@@ -662,7 +678,9 @@ def test_reset_starts_a_new_motion_and_checks_the_velocity(panda):
     # Memoryless limits and tasks, mink's among them, have nothing to forget.
     posture = mink.PostureTask(panda.model, cost=1.0)
     posture.set_target(panda.full_qpos(panda.home))
-    plain = Problem(panda, [PoseTask(target), posture], [PositionLimit(), VelocityLimit(2.0)])
+    plain = Problem(
+        panda, [FrameTask("ee", target=target), posture], [PositionLimit(), VelocityLimit(2.0)]
+    )
     step = plain.step(panda.home, dt)
     plain.reset(v)
     np.testing.assert_array_equal(plain.step(panda.home, dt), step)
@@ -674,7 +692,7 @@ def test_solve_leaves_acceleration_limits_out_and_their_motion_alone(panda):
     target = panda.fk(panda.home + 0.3)
 
     def problem_with(*extra):
-        tasks = [PoseTask(target), PostureTask(panda.home, priority=1)]
+        tasks = [FrameTask("ee", target=target), PostureTask(panda.home, priority=1)]
         return Problem(panda, tasks, [PositionLimit(), VelocityLimit(2.0), *extra])
 
     acceleration = AccelerationLimit(20.0)
@@ -695,6 +713,8 @@ def test_solve_leaves_acceleration_limits_out_and_their_motion_alone(panda):
     np.testing.assert_allclose(result.stationarity, reference.stationarity, atol=1e-12)
     # …does not touch the motion (the next step continues it), and needs no dt for it.
     np.testing.assert_array_equal(acceleration.velocity, velocity)
-    alone = Problem(panda, [PoseTask(target)], [PositionLimit(), AccelerationLimit(20.0)])
+    alone = Problem(
+        panda, [FrameTask("ee", target=target)], [PositionLimit(), AccelerationLimit(20.0)]
+    )
     assert alone.solve(panda.home).success
     np.testing.assert_allclose(problem.step(q, 0.01), twin.step(q, 0.01), rtol=0.0, atol=1e-12)

@@ -169,10 +169,10 @@ def test_persistent_proxsuite_follows_changing_problems(rng):
 def test_daqp_solves_every_step_of_ik_runs_with_the_default_regularisation(rng):
     """mink's 1e-12 damping lets DAQP call valid IK QPs infeasible; redik's 1e-6 must not."""
     from redik.solvers.problem import Problem
-    from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
+    from redik.tasks import FrameTask, JointLimitAvoidanceTask, PostureTask
 
     robot = redik.load("panda")
-    tasks = [PoseTask(np.eye(4)), JointLimitAvoidanceTask(), PostureTask()]
+    tasks = [FrameTask("ee", target=np.eye(4)), JointLimitAvoidanceTask(), PostureTask()]
     problem = Problem(robot, tasks, backend="daqp")
     reference = Problem(robot, tasks, backend="quadprog")
     for q_target in robot.random_q(rng, size=10):

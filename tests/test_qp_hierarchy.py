@@ -13,9 +13,9 @@ from redik.qp.hierarchy import SLACK_DAMPING, free_directions
 from redik.solvers.problem import Problem
 from redik.tasks import (
     DampingTask,
+    FrameTask,
     KinematicState,
     ManipulabilityTask,
-    PoseTask,
     PositionTask,
     PostureTask,
 )
@@ -36,11 +36,11 @@ def test_level0_is_identical_with_and_without_conflicting_lower_levels(rng):
         q = robot.random_q(rng)
         q = np.clip(q, robot.lower + 0.3, robot.upper - 0.3)
         T = robot.fk(robot.random_q(rng))
-        alone = Problem(robot, [PositionTask(T[:3, 3])], limits=[])
+        alone = Problem(robot, [PositionTask("ee", target=T[:3, 3])], limits=[])
         stacked = Problem(
             robot,
             [
-                PositionTask(T[:3, 3]),
+                PositionTask("ee", target=T[:3, 3]),
                 PostureTask(robot.random_q(rng), weight=5.0, priority=1),  # pulls elsewhere
                 ManipulabilityTask(weight=1.0, gain=3.0, priority=2),
             ],
@@ -65,7 +65,9 @@ def test_lower_level_is_optimal_within_the_higher_optimal_set(rng):
         T = robot.fk(robot.random_q(rng))
         q_nominal = robot.random_q(rng)
         problem = Problem(
-            robot, [PoseTask(T), PostureTask(q_nominal, priority=1)], [PositionLimit()]
+            robot,
+            [FrameTask("ee", target=T), PostureTask(q_nominal, priority=1)],
+            [PositionLimit()],
         )
         dq = problem.step(q)
         # Stage 1 then stage 2 in cvxpy, the box as given to the solver.
@@ -202,7 +204,9 @@ def test_damping_task_at_the_lowest_level_gives_the_damped_minimum_norm_step(rng
     robot = redik.load("panda")
     q = np.clip(robot.random_q(rng), robot.lower + 0.3, robot.upper - 0.3)
     target = robot.fk(robot.random_q(rng))[:3, 3]
-    problem = Problem(robot, [PositionTask(target), DampingTask(priority=1)], limits=[])
+    problem = Problem(
+        robot, [PositionTask("ee", target=target), DampingTask(priority=1)], limits=[]
+    )
     dq = problem.step(q)
     J = robot.jacobian(q, reference="world")[:3]
     e = robot.fk(q)[:3, 3] - target

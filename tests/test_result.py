@@ -143,9 +143,11 @@ def test_solve_pose_reports_converged_unreachable_max_iterations_and_limits(plan
 
 def test_problem_reports_converged_max_iterations_and_stalled(planar):
     T = planar.fk(np.array([0.4, 1.1]))
-    produced(redik.Problem(planar, [redik.PoseTask(T, orientation_cost=0.0)]).solve(planar.home),
-             "converged")  # fmt: skip
-    far = redik.Problem(planar, [redik.PoseTask(out_of_reach(planar), orientation_cost=0.0)])
+    near = redik.Problem(planar, [redik.FrameTask("ee", orientation_cost=0.0, target=T)])
+    produced(near.solve(planar.home), "converged")
+    far = redik.Problem(
+        planar, [redik.FrameTask("ee", target=out_of_reach(planar), orientation_cost=0.0)]
+    )
     produced(far.solve(planar.home, max_iter=2), "max_iterations")
     produced(far.solve(planar.home, max_iter=500, q_tol=1e-6), "stalled")
 

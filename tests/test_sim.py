@@ -25,14 +25,14 @@ from redik.apps.sim import (
 from redik.apps.trajectory import CircularPath
 from redik.limits import PositionLimit, VelocityLimit
 from redik.solvers.problem import Problem
-from redik.tasks import PoseTask, PostureTask
+from redik.tasks import FrameTask, PostureTask
 
 POSITION_BOUND, ROTATION_BOUND, FINAL_BOUND = 3e-3, 1e-2, 5e-5
 
 
 def tracking_problem(robot, q0=None):
     q0 = robot.home if q0 is None else q0
-    task = PoseTask(robot.fk(q0))
+    task = FrameTask(robot.ee.name, target=robot.fk(q0))
     posture = PostureTask(q0, weight=0.1, priority=1)
     limits = [PositionLimit(), VelocityLimit(2.0)]
     return Problem(robot, [task, posture], limits=limits), task
@@ -213,7 +213,7 @@ def test_exceeding_the_bound_warns_and_says_why():
 
 def test_a_reference_the_ik_cannot_follow_is_blamed_on_the_ik():
     robot = menagerie_like_iiwa14()
-    task = PoseTask(robot.fk(robot.home))
+    task = FrameTask(robot.ee.name, target=robot.fk(robot.home))
     slow = Problem(robot, [task], limits=[PositionLimit(), VelocityLimit(0.05)])
     with pytest.warns(TrackingWarning, match="The IK reference itself leaves the path"):
         result = simulate(robot, slow, task, circle(robot, robot.home, duration=1.0))
@@ -331,7 +331,7 @@ def test_the_same_problem_simulated_twice_runs_the_same_both_times():
     # velocity (0.27 rad of command apart on this half circle).
     robot = redik.load("iiwa14")
     path = circle(robot, robot.home, duration=2.0)
-    task = PoseTask(path.pose(0.0))
+    task = FrameTask("ee", target=path.pose(0.0))
     acceleration = AccelerationLimit(20.0)
     posture = PostureTask(robot.home, weight=0.1, priority=1)
     limits = [PositionLimit(), VelocityLimit(2.0), acceleration]

@@ -58,7 +58,7 @@ def test_baxter_two_priority_stack_and_two_hand_stack(baxter):
     T_left = make_pose(DOWN, [0.75, 0.2, 0.0])
     T_right = make_pose(DOWN, [0.75, -0.2, 0.0])
     one_hand = redik.Problem(
-        baxter, [redik.PoseTask(T_left, frame="left_gripper"), redik.PostureTask(priority=1)]
+        baxter, [redik.FrameTask("left_gripper", target=T_left), redik.PostureTask(priority=1)]
     )
     result = one_hand.solve(baxter.home)
     assert result.success
@@ -68,8 +68,8 @@ def test_baxter_two_priority_stack_and_two_hand_stack(baxter):
 
     collisions = _arm_collisions()
     tasks = [
-        redik.PoseTask(T_left, frame="left_gripper"),
-        redik.PoseTask(T_right, frame="right_gripper"),
+        redik.FrameTask("left_gripper", target=T_left),
+        redik.FrameTask("right_gripper", target=T_right),
         redik.PostureTask(priority=1),
     ]
     result = redik.Problem(baxter, tasks, [redik.PositionLimit(), collisions]).solve(baxter.home)
@@ -82,8 +82,8 @@ def test_baxter_two_priority_stack_and_two_hand_stack(baxter):
 
 def test_baxter_collision_limit_binds_where_the_free_solution_collides(baxter):
     tasks = [
-        redik.PoseTask(make_pose(DOWN, [0.75, 0.05, 0.0]), frame="left_gripper"),
-        redik.PoseTask(make_pose(DOWN, [0.75, -0.05, 0.0]), frame="right_gripper"),
+        redik.FrameTask("left_gripper", target=make_pose(DOWN, [0.75, 0.05, 0.0])),
+        redik.FrameTask("right_gripper", target=make_pose(DOWN, [0.75, -0.05, 0.0])),
         redik.PostureTask(priority=1),
     ]
     checker = _arm_collisions().bind(baxter)
@@ -99,8 +99,8 @@ def test_baxter_carries_a_box_along_a_path(baxter):
     start = make_pose(DOWN, [0.75, 0.15, 0.0])
     offset = make_pose(np.eye(3), [0.0, 0.3, 0.0])  # right gripper in the left's frame
     path = CartesianPath([start, make_pose(DOWN, [0.75, 0.15, 0.15])], [0.0, 1.0], "quintic")
-    left = redik.PoseTask(start, frame="left_gripper")
-    right = redik.PoseTask(start @ offset, frame="right_gripper")
+    left = redik.FrameTask("left_gripper", target=start)
+    right = redik.FrameTask("right_gripper", target=start @ offset)
     problem = redik.Problem(
         baxter,
         [left, right, redik.PostureTask(priority=1)],
@@ -161,7 +161,7 @@ def test_g1_two_hands_with_feet_held_and_no_collision(g1):
         minimum_distance=0.01,
         detection_distance=0.08,
     )
-    tasks = [redik.PoseTask(T, frame=f) for f, T in targets.items()]
+    tasks = [redik.FrameTask(f, target=T) for f, T in targets.items()]
     problem = redik.Problem(
         g1, [*tasks, redik.PostureTask(priority=1)], [redik.PositionLimit(), collisions]
     )
@@ -193,7 +193,7 @@ def test_g1_two_hands_with_feet_held_and_no_collision(g1):
 
 
 def test_g1_frame_errors_and_jacobians_are_minks(g1):
-    """On the floating base: PoseTask's error and Jacobian equal mink's FrameTask's at the
+    """On the floating base: FrameTask's error and Jacobian equal mink's FrameTask's at the
     same mink.Configuration (nv columns) and on redik's own state (dof columns, here = nv)."""
     import mink
 
@@ -206,7 +206,7 @@ def test_g1_frame_errors_and_jacobians_are_minks(g1):
         for _ in range(3):
             q, q_target = g1.random_q(rng), g1.random_q(rng)
             T = g1.fk(q_target, frame)
-            ours = redik.PoseTask(T, frame=frame).bind(g1)
+            ours = redik.FrameTask(frame, target=T).bind(g1)
             theirs = mink.FrameTask(frame, "body", position_cost=1.0, orientation_cost=1.0)
             theirs.set_target(mink.SE3.from_matrix(T))
             configuration.update(g1.full_qpos(q))
@@ -270,7 +270,7 @@ def test_third_party_model_stack_and_chain(spec):
     )
     q_target = robot.with_scalar_values(q_target, values)
     targets = {frame: robot.fk(q_target, frame) for frame in frames}
-    tasks = [redik.PoseTask(T, frame=frame) for frame, T in targets.items()]
+    tasks = [redik.FrameTask(frame, target=T) for frame, T in targets.items()]
     result = redik.Problem(robot, [*tasks, redik.PostureTask(priority=1)]).solve(
         robot.home, max_iter=200
     )

@@ -109,12 +109,12 @@ def replaying(joint_path: np.ndarray):
 
 def test_a_qp_stack_can_follow_the_path_too():
     from redik.solvers.problem import Problem
-    from redik.tasks import PoseTask, PostureTask
+    from redik.tasks import FrameTask, PostureTask
 
     robot = redik.load("panda")
     T0 = robot.fk(robot.home)
     path = CartesianPath.line(T0, T0 @ pose([0.0, 0.2, 0.0], [0.1, 0.0, -0.05]), 1.0)
-    task = PoseTask(T0)
+    task = FrameTask("ee", target=T0)
     problem = Problem(robot, [task, PostureTask(robot.home, weight=1e-2, priority=1)])
 
     def qp(T, q):
@@ -166,7 +166,7 @@ def test_a_qp_stack_follows_the_path_alike_after_a_simulation():
     from redik.apps.sim import TrackingWarning, simulate
     from redik.limits import AccelerationLimit, PositionLimit, VelocityLimit
     from redik.solvers.problem import Problem
-    from redik.tasks import PoseTask, PostureTask
+    from redik.tasks import FrameTask, PostureTask
 
     # solve() looks for a static solution: an acceleration limit has no meaning between its
     # iterates, and the motion a simulation leaves in the problem must not leak into it.
@@ -175,7 +175,7 @@ def test_a_qp_stack_follows_the_path_alike_after_a_simulation():
     path = CartesianPath.line(T0, T0 @ pose([0.0, 0.2, 0.0], [0.1, 0.0, -0.05]), 1.0)
 
     def stack(*extra):
-        task = PoseTask(T0)
+        task = FrameTask("ee", target=T0)
         posture = PostureTask(robot.home, weight=1e-2, priority=1)
         limits = [PositionLimit(), VelocityLimit(2.0), *extra]
         problem = Problem(robot, [task, posture], limits)

@@ -31,7 +31,7 @@ def test_every_count_option_uses_the_one_check():
         "candidates": lambda v: redik.solve_pose(planar, T, method="qp", candidates=v),
         "chunk_size": lambda v: redik.solve_batch(planar, T[None], chunk_size=v),
         "workers": lambda v: redik.solve_batch(planar, T[None], workers=v),
-        "patience": lambda v: redik.Problem(planar, [redik.PoseTask(T)]).solve(
+        "patience": lambda v: redik.Problem(planar, [redik.FrameTask("ee", target=T)]).solve(
             planar.home, patience=v
         ),
         "priority": lambda v: redik.PostureTask(priority=v),

@@ -175,8 +175,8 @@ def test_two_hands_at_priority_0_posture_at_priority_1(whole):
     rng = np.random.default_rng(3)
     T_left, T_right = _reachable_poses(whole, ["left_ee", "right_ee"], rng)
     tasks = [
-        redik.PoseTask(T_left, frame="left_ee", priority=0),
-        redik.PoseTask(T_right, frame="right_ee", priority=0),
+        redik.FrameTask("left_ee", target=T_left, priority=0),
+        redik.FrameTask("right_ee", target=T_right, priority=0),
         redik.PostureTask(priority=1),
     ]
     result = redik.Problem(whole, tasks).solve(whole.home, max_iter=200)
@@ -227,7 +227,7 @@ def test_posture_jacobian_is_exact_along_the_error_only(whole):
 
 
 def test_step_is_a_tangent_vector(whole):
-    problem = redik.Problem(whole, [redik.PositionTask([0.3, 0.4, 1.3], frame="left_ee")])
+    problem = redik.Problem(whole, [redik.PositionTask("left_ee", target=[0.3, 0.4, 1.3])])
     dq = problem.step(whole.home)
     assert dq.shape == (whole.dof,)
     with pytest.raises(redik.InvalidConfiguration, match=r"shape \(25,\)"):
@@ -368,7 +368,7 @@ def test_chain_of_a_whole_model_runs_the_fast_paths(whole):
 def _collision_problem(model, with_limit: bool, minimum_distance: float = 0.01):
     arm = redik.Robot(model, joints=["left_*"], fixed=["*finger*"])
     # The hand is asked to a point inside the table: only the limit stops it.
-    target = redik.PositionTask([0.4, 0.25, 0.95], frame="left_ee", priority=0)
+    target = redik.PositionTask("left_ee", target=[0.4, 0.25, 0.95], priority=0)
     limits = [redik.PositionLimit()]
     if with_limit:
         limits.append(
@@ -467,7 +467,7 @@ def test_mink_tasks_and_mink_interop_on_a_floating_base(whole):
     T_left, T_right = _reachable_poses(whole, ["left_ee", "right_ee"], rng)
     left = mink.FrameTask("left_ee", "site", position_cost=1.0, orientation_cost=1.0)
     left.set_target(mink.SE3.from_matrix(T_left))
-    tasks = [left, redik.PoseTask(T_right, frame="right_ee"), redik.PostureTask(priority=1)]
+    tasks = [left, redik.FrameTask("right_ee", target=T_right), redik.PostureTask(priority=1)]
     result = redik.Problem(whole, tasks).solve(whole.home, max_iter=200)
     assert result.success, result.message
     assert pose_errors(whole.fk(result.q, "left_ee"), T_left)[0] < 1e-6
@@ -496,7 +496,7 @@ def test_frame_task_on_sites_and_geoms_is_minks(whole, frame, kind, mink_name):
     rng = np.random.default_rng(10)
     configuration = mink.Configuration(whole.model)
     T = whole.fk(whole.random_q(rng), frame)
-    ours = redik.PoseTask(T, frame=frame).bind(whole)
+    ours = redik.FrameTask(frame, target=T).bind(whole)
     theirs = mink.FrameTask(mink_name, kind, position_cost=1.0, orientation_cost=1.0)
     theirs.set_target(mink.SE3.from_matrix(T))
     for _ in range(3):
@@ -620,8 +620,8 @@ def test_online_control_of_a_floating_robot_respects_velocity_and_position_limit
     rng = np.random.default_rng(9)
     T_left, T_right = _reachable_poses(whole, ["left_ee", "right_ee"], rng)
     tasks = [
-        redik.PoseTask(T_left, frame="left_ee", gain=0.5),
-        redik.PoseTask(T_right, frame="right_ee", gain=0.5),
+        redik.FrameTask("left_ee", target=T_left, gain=0.5),
+        redik.FrameTask("right_ee", target=T_right, gain=0.5),
         redik.PostureTask(priority=1),
     ]
     dt, speed = 0.01, 2.0
@@ -650,8 +650,8 @@ def test_joint_space_terms_are_computed_once_per_target_not_per_step(whole, monk
     """On a whole model the posture's factor ``α w²d²`` was recomputed (allocated) per task
     every step; it changes only with the task's target or weight."""
     posture = redik.PostureTask(priority=1)
-    problem = redik.Problem(whole, [redik.PoseTask(whole.fk(whole.home, "left_ee"),
-                                                   frame="left_ee"), posture])  # fmt: skip
+    left = redik.FrameTask("left_ee", target=whole.fk(whole.home, "left_ee"))
+    problem = redik.Problem(whole, [left, posture])
     calls = []
     original = posture.diagonal_terms
     monkeypatch.setattr(posture, "diagonal_terms", lambda: calls.append(1) or original())

@@ -39,7 +39,7 @@ from redik.solvers.redundancy import (
     evaluate_criteria,
     explore_self_motion,
 )
-from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
+from redik.tasks import FrameTask, JointLimitAvoidanceTask, PostureTask
 
 SCENE = "dexter8r"
 TARGET_OFFSET = np.array([0.5, 0.3, -0.3, 0.6, 0.4, -0.5, -0.4, 0.6])
@@ -75,7 +75,7 @@ def run_demo(
     target = robot.fk(q_target)
 
     log(f"[1/4] QP solve on {robot.name} ({robot.dof} joints, redundancy {robot.dof - 6})")
-    pose = PoseTask(target)
+    pose = FrameTask("ee", target=target)
     problem = Problem(
         robot,
         [

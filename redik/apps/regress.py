@@ -294,12 +294,12 @@ def warm_up() -> None:
     from redik.solvers.batch import solve_batch
     from redik.solvers.pose import solve_pose
     from redik.solvers.problem import Problem
-    from redik.tasks import PoseTask
+    from redik.tasks import FrameTask
 
     robot = Robot.from_dh([(1.0, 0.0, 0.0), (1.0, 0.0, 0.0)], name="warm_up")
     targets = np.stack([robot.fk(robot.home)] * 2)
     solve_pose(robot, targets[0])
-    Problem(robot, [PoseTask(targets[0])]).step(robot.home)
+    Problem(robot, [FrameTask("ee", target=targets[0])]).step(robot.home)
     solve_batch(robot, targets, engine="local", seed=0)
     solve_batch(robot, targets, engine="process", workers=1, seed=0)
     for scene in ("puma560", "ur5e"):

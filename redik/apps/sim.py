@@ -453,7 +453,7 @@ def simulate(
             continue the motion of an earlier run, so the same problem simulated twice gives
             the same result.
         task: The task of ``problem`` that tracks the reference (it must have
-            ``set_target(T)``, like :class:`redik.PoseTask`).
+            ``set_target(T)``, like :class:`redik.FrameTask`).
         reference: A path (:class:`~redik.apps.trajectory.CartesianPath`,
             :class:`~redik.apps.trajectory.CircularPath`) or a function ``t -> T_d``.
         duration: Seconds to simulate; default the path's duration.

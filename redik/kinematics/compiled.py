@@ -2,7 +2,7 @@ r"""Compiled kinematics of a :class:`~redik.kinematics.chain.Chain`: FK, world J
 
 The scalar building blocks of every compiled pose solver (:mod:`redik.kinematics.dls`, which
 :func:`redik.solvers.batch.solve_batch` and :func:`redik.solve_pose` with ``method="dls"``
-run) and of :class:`redik.tasks.pose_task.PoseTask`'s residual, compiled by numba
+run) and of :class:`redik.tasks.frame_task.FrameTask`'s residual, compiled by numba
 (``cache=True``).
 
 The chain is ``T(q) = F_0 M_1(q_1) F_1 ⋯ M_n(q_n) F_n``; FK walks it joint by joint and the

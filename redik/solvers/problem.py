@@ -53,9 +53,9 @@ from redik.limits.ball_joint_limit import limited_ball_joints
 from redik.qp.assembly import Assembly
 from redik.qp.backends import Backend, make_backend
 from redik.qp.hierarchy import kernel_directions, row_null_space, solve_lexicographic
-from redik.tasks.frame_task import FrameTargetTask
 from redik.tasks.joint_space_task import JointSpaceTask
 from redik.tasks.kinematics import KinematicState
+from redik.tasks.single_frame_task import SingleFrameTask
 from redik.tasks.task import ResidualTask, Task
 
 _MIN_STEP_FRACTION = 1.0 / 64.0
@@ -126,7 +126,7 @@ class Problem:
             configuration ``q`` has ``robot.nq`` (see :mod:`redik.kinematics.robot`).
         tasks: redik tasks and/or mink tasks (``mink.FrameTask``, ``mink.ComTask``…). Tasks
             of equal ``priority`` are weighted and summed; priorities are strict. A single
-            task is accepted as the list of it, ``Problem(robot, PoseTask(T))``.
+            task is accepted as the list of it, ``Problem(robot, FrameTask("ee", target=T))``.
         limits: redik or mink limits; None is the robot's own ranges, ``[PositionLimit()]``
             plus a :class:`~redik.limits.BallJointLimit` when it moves limited ball joints
             (whose cones no box holds); ``[]`` is none; a single limit is the list of it.
@@ -283,7 +283,7 @@ class Problem:
                 task,
                 np.empty(task.k),
                 np.empty((task.k, self._state.n_columns)),
-                isinstance(task, FrameTargetTask),
+                isinstance(task, SingleFrameTask),
             )
             if isinstance(task, ResidualTask)
             else (task, None, None, False)

@@ -1,77 +1,211 @@
-r"""Shared ground of the tasks on a frame's pose: frame binding (:class:`FrameTargetTask`)
-and the log-map Jacobians. (``redik.FrameTask`` itself, mink's name for the pose task, is
-in :mod:`redik.tasks.pose_task`.)
-
-:class:`PoseTask`, :class:`PositionTask` and :class:`OrientationTask` regulate one frame
-(a site or body; ``None`` is the robot's end-effector) towards a target. Their errors are
-those of :mod:`redik.core.conventions`: the body twist :math:`e = \log(T^{-1} T_d)` for a pose,
-:math:`\log(R^\top R_d)` for an orientation, :math:`p - p_d` for a position.
-
-The derivative of a log-map error needs the inverse left Jacobian of the group. Perturbing
-the frame by a body twist :math:`δ = J_b Δq` (:math:`T \to T \exp(δ)`) changes
-:math:`\log(T_d^{-1} T) = -e` by :math:`J_l^{-1}(e)\, δ` to first order (Barfoot, *State
-Estimation for Robotics*, 2017, §7.1.5; Solà et al., *A micro Lie theory*, 2018, eq. 79),
-so
+r"""Regulate the full pose of a frame (mink's ``FrameTask``): :math:`e = \log(T^{-1} T_d)`,
+a body twist.
 
 .. math::
 
-    \frac{\partial e}{\partial q} = -J_l^{-1}(e)\, J_b .
+    e(q) = \log\big(T(q)^{-1} T_d\big) \in \mathbb{R}^6, \qquad
+    J(q) = -J_l^{-1}(e)\, J_b(q) = -J_l^{-1}(e)
+    \begin{pmatrix} R^\top & 0 \\ 0 & R^\top \end{pmatrix} J_w(q)
 
-:math:`J_l^{-1}` on SO(3) and SE(3) (closed forms, and the relation to ``V(ω)⁻¹`` of the
-SE(3) log) is group math: :func:`redik.lie.so3_left_jacobian_inverse` and
-:func:`redik.lie.se3_left_jacobian_inverse`.
+with :math:`J_w` the world Jacobian and :math:`J_b` the body Jacobian
+(:mod:`redik.core.conventions`), and :math:`J_l^{-1}` the SE(3) inverse left Jacobian
+(:func:`redik.lie.se3_left_jacobian_inverse`; why it appears:
+:mod:`redik.tasks.single_frame_task`).
+These are the error and Jacobian of ``mink.FrameTask``, so the two give the same step.
+
+The error is :math:`\log` of :math:`T^{-1} T_d = (R^\top R_d,\; R^\top (p_d - p))`: the
+rotation part :math:`ω = R^\top \log(R_d R^\top)` from the world-frame error of the compiled
+solver kernel (:func:`redik.kinematics.compiled.pose_error`, robust at every angle), the
+translation part :math:`v = V(ω)^{-1} R^\top (p_d - p)` by :func:`redik.lie.apply_inverse_v`,
+as in :func:`redik.lie.se3_log`. Error, body Jacobian and the 6 × 6 inverse Jacobian
+(:func:`redik.lie.se3_left_jacobian_inverse_entries`) are fused in one compiled function,
+:func:`pose_residual`: this residual is the bulk of a QP step, and as Python scalar code it
+cost about half of one. ``tests/test_tasks.py`` pins it to ``mink.FrameTask``'s error and
+Jacobian and to finite differences.
 """
 
 from __future__ import annotations
 
-import abc
+import numba
+import numpy as np
 
+from redik import lie
 from redik.core.exceptions import InvalidInput
-from redik.kinematics.robot import FRAME_KINDS, Frame, Robot
+from redik.kinematics.compiled import pose_error
+from redik.lie import apply_inverse_v, se3_left_jacobian_inverse_entries
 from redik.tasks.kinematics import KinematicState
-from redik.tasks.task import ResidualTask
+from redik.tasks.single_frame_task import SingleFrameTask
+from redik.tasks.task import as_weight
 
 
-class FrameTargetTask(ResidualTask):
-    """Base of the tasks that drive one frame to a target: :class:`~redik.tasks.PoseTask`
-    (and its mink-named twin :class:`~redik.tasks.FrameTask`),
-    :class:`~redik.tasks.PositionTask`, :class:`~redik.tasks.OrientationTask`. It resolves
-    the frame on bind and reports the frame's pose errors (what :meth:`redik.Problem.solve`
-    tests convergence on).
+def as_target_pose(target, name: str = "target", *, strict: bool = False) -> np.ndarray:
+    """A 4 × 4 target pose from an array or anything with ``as_matrix()`` (``mink.SE3``),
+    under :mod:`redik.lie`'s rotation tolerance policy."""
+    if hasattr(target, "as_matrix"):
+        target = target.as_matrix()
+    return lie.as_pose(target, name=name, strict=strict).copy()
 
-    Attributes:
-        frame_name: The site, body or geom name given, or None for the end-effector.
-        frame_type: ``"site"``, ``"body"`` or ``"geom"`` when the kind is fixed (mink's
-            ``frame_type``), else None: the name is looked up as a site, body, then geom
-            (:meth:`redik.Robot.frame`).
-        frame: The resolved :class:`~redik.kinematics.robot.Frame` once bound.
+
+_ONES = np.ones(6)
+_MINUS_ONES = -_ONES
+
+
+@numba.njit(cache=True)
+def pose_residual(R, p, R_d, p_d, J_world, row_scale, error_scale, A, b):
+    """``A = diag(row_scale) J_l⁻¹(e) blockdiag(Rᵀ, Rᵀ) J_w`` and ``b = error_scale ⊙ e``.
+
+    ``e = log(T⁻¹ T_d) = (v, ω)`` (module docstring). With ``row_scale = −1`` and
+    ``error_scale = 1`` these are the task's Jacobian ``J`` and error ``e``.
+    """
+    world = np.empty(6)
+    pose_error(R_d, p_d, R, p, world)
+    # Into the frame's own axes: d = Rᵀ(p_d − p), ω = Rᵀ log(R_d Rᵀ) = log(Rᵀ R_d).
+    dx = R[0, 0] * world[0] + R[1, 0] * world[1] + R[2, 0] * world[2]
+    dy = R[0, 1] * world[0] + R[1, 1] * world[1] + R[2, 1] * world[2]
+    dz = R[0, 2] * world[0] + R[1, 2] * world[1] + R[2, 2] * world[2]
+    wx = R[0, 0] * world[3] + R[1, 0] * world[4] + R[2, 0] * world[5]
+    wy = R[0, 1] * world[3] + R[1, 1] * world[4] + R[2, 1] * world[5]
+    wz = R[0, 2] * world[3] + R[1, 2] * world[4] + R[2, 2] * world[5]
+    e = np.empty(6)
+    e[0], e[1], e[2] = apply_inverse_v(wx, wy, wz, dx, dy, dz)  # v = V(ω)⁻¹ d
+    e[3], e[4], e[5] = wx, wy, wz
+    F = se3_left_jacobian_inverse_entries(e[0], e[1], e[2], wx, wy, wz)
+    column = np.empty(6)
+    for j in range(J_world.shape[1]):
+        for k in range(3):
+            column[k] = R[0, k] * J_world[0, j] + R[1, k] * J_world[1, j] + R[2, k] * J_world[2, j]
+            column[3 + k] = (
+                R[0, k] * J_world[3, j] + R[1, k] * J_world[4, j] + R[2, k] * J_world[5, j]
+            )
+        for i in range(6):
+            total = 0.0
+            for k in range(6):
+                total += F[6 * i + k] * column[k]
+            A[i, j] = row_scale[i] * total
+    for i in range(6):
+        b[i] = error_scale[i] * e[i]
+
+
+class FrameTask(SingleFrameTask):
+    """Drive a frame to a target pose ``T_d`` (4 × 4, world frame): mink's ``FrameTask``,
+    with mink's signature.
+
+    Error ``log(T⁻¹ T_d)`` (a body twist) and its Jacobian are those of ``mink.FrameTask``
+    (equal to 1e-12, ``tests/test_mink_interop.py``), so code written for mink reads the
+    same::
+
+        task = redik.FrameTask("attachment_site", "site", position_cost=1.0,
+                               orientation_cost=1.0)
+        task.set_target(T)  # or task.set_target_from_configuration(configuration)
+
+        task = redik.FrameTask("ee", target=T)  # redik's defaults: the kind looked up, costs 1
+
+    Args:
+        frame_name: The site, body or geom name.
+        frame_type: ``"site"``, ``"body"`` or ``"geom"`` (mink's ``frame_type``); None looks
+            the name up as a site, body, then geom.
+        position_cost: Cost of the linear part ``v`` of the error (scalar or 3; default 1).
+        orientation_cost: Cost of the angular part ``ω`` (scalar or 3; default 1).
+        gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
+        lm_damping: mink's Levenberg–Marquardt scale ``λ ≥ 0``: adds ``λ‖α W e‖² I`` to the
+            Hessian (:class:`~redik.tasks.task.ResidualTask`), damping the step towards an
+            infeasible target.
+        target: The target pose ``T_wd`` (4 × 4 array or ``mink.SE3``), or None (mink's way)
+            to set it later (:meth:`set_target`, :meth:`set_target_from_configuration`; using
+            the task before raises :class:`~redik.core.exceptions.TargetNotSet`).
+        priority: Priority level, 0 highest (mink has none).
+        strict: Refuse a near-rotation target instead of projecting it onto SO(3) with a
+            warning (:mod:`redik.lie`'s tolerance policy); also the default of
+            :meth:`set_target`.
     """
 
     def __init__(
         self,
-        frame: str | None,
-        weight,
-        gain: float,
-        priority: int,
-        size: int,
-        *,
+        frame_name: str,
         frame_type: str | None = None,
+        position_cost=1.0,
+        orientation_cost=1.0,
+        gain: float = 1.0,
         lm_damping: float = 0.0,
+        *,
+        target=None,
+        priority: int = 0,
+        strict: bool = False,
     ):
-        super().__init__(weight, gain, priority, size, lm_damping=lm_damping)
-        if frame_type is not None and frame_type not in FRAME_KINDS:
-            raise InvalidInput(f"frame_type must be one of {FRAME_KINDS}, got {frame_type!r}")
-        if frame_type is not None and not isinstance(frame, str):
-            raise InvalidInput(f"frame_name must be a string, got {frame!r}")
-        self.frame_name = frame
-        self.frame_type = frame_type
-        self.frame: Frame | None = None
+        super().__init__(frame_name, frame_type, 1.0, gain, priority, 6, lm_damping=lm_damping)
+        self.cost[:3] = as_weight(position_cost, 3, "position_cost")
+        self.cost[3:] = as_weight(orientation_cost, 3, "orientation_cost")
+        self.strict = strict
+        self.target: np.ndarray | None = None
+        if target is not None:
+            self.set_target(target)
+        self._scales_version = -1
+        self._scratch = np.empty(6)
 
-    def bind(self, robot: Robot) -> FrameTargetTask:
-        name = self.frame_name
-        self.frame = robot.frame(name if self.frame_type is None else f"{self.frame_type}:{name}")
-        return super().bind(robot)
+    def set_position_cost(self, position_cost) -> None:
+        """Replace the cost of the linear part (scalar or 3 values)."""
+        self.cost[:3] = as_weight(position_cost, 3, "position_cost")
+        self.version += 1
 
-    @abc.abstractmethod
-    def pose_errors(self, state: KinematicState) -> tuple[float | None, float | None]:
-        """``(‖p_d − p‖, angle(Rᵀ R_d))`` at ``state``; None for what the task ignores."""
+    def set_orientation_cost(self, orientation_cost) -> None:
+        """Replace the cost of the angular part (scalar or 3 values)."""
+        self.cost[3:] = as_weight(orientation_cost, 3, "orientation_cost")
+        self.version += 1
+
+    def set_target(self, target, *, strict: bool | None = None) -> None:
+        """Replace the target pose (validated; ``strict`` defaults to the task's)."""
+        self.target = as_target_pose(target, strict=self.strict if strict is None else strict)
+        self._R_d = self.target[:3, :3].copy()
+        self._p_d = self.target[:3, 3].copy()
+
+    def set_target_from_configuration(self, configuration) -> None:
+        """mink's: the target is the frame's current pose in ``configuration`` (a
+        ``mink.Configuration``). A task bound to a robot reads it through the robot; an
+        unbound one needs ``frame_type`` (mink's lookup by name and type)."""
+        if self.robot is None and self.frame_type is not None:
+            if not hasattr(configuration, "get_transform_frame_to_world"):
+                raise InvalidInput(
+                    f"configuration must be a mink.Configuration, got {configuration!r}"
+                )
+            T = configuration.get_transform_frame_to_world(self.frame_name, self.frame_type)
+        else:
+            R, p = self._state(configuration).pose(self.frame)
+            T = np.eye(4)
+            T[:3, :3], T[:3, 3] = R, p
+        self.set_target(T)
+
+    @property
+    def transform_target_to_world(self):
+        """mink's name of the target: a ``mink.SE3``, or None before one is set."""
+        from mink import SE3  # redik tasks already depend on mink; imported where used
+
+        return None if self.target is None else SE3.from_matrix(self.target)
+
+    def _refresh_scales(self) -> None:
+        if self._scales_version != self.version:
+            self._row_scale = -self.cost
+            self._error_scale = -self.gain * self.cost
+            self._scales_version = self.version
+
+    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+        if self.target is None:
+            self._require_target()
+        R, p = state.pose(self.frame)
+        jacobian = state.jacobian(self.frame)
+        pose_residual(R, p, self._R_d, self._p_d, jacobian, _MINUS_ONES, _ONES, J, e)
+
+    def weighted_residual_into(self, state: KinematicState, A: np.ndarray, b: np.ndarray) -> None:
+        if self.target is None:
+            self._require_target()
+        self._refresh_scales()
+        R, p = state.pose(self.frame)
+        jacobian = state.jacobian(self.frame)
+        pose_residual(
+            R, p, self._R_d, self._p_d, jacobian, self._row_scale, self._error_scale, A, b
+        )
+
+    def pose_errors(self, state: KinematicState) -> tuple[float, float]:
+        if self.target is None:
+            self._require_target()
+        R, p = state.pose(self.frame)
+        return pose_error(self._R_d, self._p_d, R, p, self._scratch)

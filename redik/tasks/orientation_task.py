@@ -7,8 +7,8 @@ r"""Regulate the orientation of a frame: :math:`e = \log(R^\top R_d)`, in body a
 
 with :math:`J_ω` the angular block of the world Jacobian and :math:`J_l^{-1}` the SO(3)
 inverse left Jacobian (:func:`redik.lie.so3_left_jacobian_inverse`; why it appears:
-:mod:`redik.tasks.frame_task`). These are the angular rows of
-:class:`~redik.tasks.pose_task.PoseTask`. The position is left free.
+:mod:`redik.tasks.single_frame_task`). These are the angular rows of
+:class:`~redik.tasks.frame_task.FrameTask`. The position is left free.
 """
 
 from __future__ import annotations
@@ -17,9 +17,8 @@ import numpy as np
 
 from redik import lie
 from redik.core.exceptions import InvalidRotation
-from redik.tasks.frame_task import FrameTargetTask
 from redik.tasks.kinematics import KinematicState
-from redik.tasks.task import weight_or_cost
+from redik.tasks.single_frame_task import SingleFrameTask
 
 
 def as_target_rotation(target, *, strict: bool = False) -> np.ndarray:
@@ -33,35 +32,40 @@ def as_target_rotation(target, *, strict: bool = False) -> np.ndarray:
     return lie.as_rotation(target, name="target_rotation", strict=strict).copy()
 
 
-class OrientationTask(FrameTargetTask):
+class OrientationTask(SingleFrameTask):
     """Drive a frame to a target orientation ``R_d`` (world frame).
 
     Args:
-        target_rotation: 3 × 3 rotation matrix, unit quaternion ``(w, x, y, z)`` or
-            ``mink.SO3``.
-        frame: Site or body name; None is the robot's end-effector.
-        weight: Scalar or per-axis (3, body axes) weight (default 1).
+        frame_name: The site, body or geom name.
+        frame_type: ``"site"``, ``"body"`` or ``"geom"``; None looks the name up as a site,
+            body, then geom.
+        cost: Scalar or per-axis (3, body axes) cost (default 1).
         gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
+        lm_damping: Levenberg–Marquardt scale ``λ ≥ 0`` (:class:`~redik.tasks.task.ResidualTask`).
+        target: 3 × 3 rotation matrix, unit quaternion ``(w, x, y, z)`` or ``mink.SO3``, or
+            None to set it later (:meth:`set_target`; using the task before raises
+            :class:`~redik.core.exceptions.TargetNotSet`).
         priority: Priority level, 0 highest.
         strict: Refuse a near-rotation instead of projecting it onto SO(3) with a warning
             (:mod:`redik.lie`'s tolerance policy); also the default of :meth:`set_target`.
-        cost: mink's name for ``weight`` (give one of them).
     """
 
     def __init__(
         self,
-        target_rotation,
-        frame: str | None = None,
-        weight=None,
+        frame_name: str,
+        frame_type: str | None = None,
+        cost=1.0,
         gain: float = 1.0,
-        priority: int = 0,
+        lm_damping: float = 0.0,
         *,
+        target=None,
+        priority: int = 0,
         strict: bool = False,
-        cost=None,
     ):
-        super().__init__(frame, weight_or_cost(weight, cost), gain, priority, size=3)
+        super().__init__(frame_name, frame_type, cost, gain, priority, 3, lm_damping=lm_damping)
         self.strict = strict
-        self.target = as_target_rotation(target_rotation, strict=strict)
+        if target is not None:
+            self.set_target(target)
 
     def set_target(self, target_rotation, *, strict: bool | None = None) -> None:
         """Replace the target orientation (validated; ``strict`` defaults to the task's)."""
@@ -70,6 +74,8 @@ class OrientationTask(FrameTargetTask):
         )
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+        if self.target is None:
+            self._require_target()
         R, _ = state.pose(self.frame)
         Rt = R.T
         e[:] = lie.so3_log(Rt @ self.target)
@@ -78,5 +84,7 @@ class OrientationTask(FrameTargetTask):
         np.matmul(Jinv @ Rt, state.jacobian(self.frame)[3:], out=J)
 
     def pose_errors(self, state: KinematicState) -> tuple[None, float]:
+        if self.target is None:
+            self._require_target()
         R, _ = state.pose(self.frame)
         return None, lie.rotation_angle(R, self.target)

@@ -9,45 +9,53 @@ from __future__ import annotations
 import numpy as np
 
 from redik import lie
-from redik.tasks.frame_task import FrameTargetTask
 from redik.tasks.kinematics import KinematicState
-from redik.tasks.task import weight_or_cost
+from redik.tasks.single_frame_task import SingleFrameTask
 
 
-class PositionTask(FrameTargetTask):
+class PositionTask(SingleFrameTask):
     """Drive a frame's origin to a target position ``p_d`` (3,) in the world frame.
 
     Args:
-        target_position: The target ``p_d`` in metres.
-        frame: Site or body name; None is the robot's end-effector.
-        weight: Scalar or per-axis (3) weight (default 1).
+        frame_name: The site, body or geom name.
+        frame_type: ``"site"``, ``"body"`` or ``"geom"``; None looks the name up as a site,
+            body, then geom.
+        cost: Scalar or per-axis (3) cost (default 1).
         gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
+        lm_damping: Levenberg–Marquardt scale ``λ ≥ 0`` (:class:`~redik.tasks.task.ResidualTask`).
+        target: The target ``p_d`` in metres, or None to set it later (:meth:`set_target`;
+            using the task before raises :class:`~redik.core.exceptions.TargetNotSet`).
         priority: Priority level, 0 highest.
-        cost: mink's name for ``weight`` (give one of them).
     """
 
     def __init__(
         self,
-        target_position,
-        frame: str | None = None,
-        weight=None,
+        frame_name: str,
+        frame_type: str | None = None,
+        cost=1.0,
         gain: float = 1.0,
-        priority: int = 0,
+        lm_damping: float = 0.0,
         *,
-        cost=None,
+        target=None,
+        priority: int = 0,
     ):
-        super().__init__(frame, weight_or_cost(weight, cost), gain, priority, size=3)
-        self.target = lie.as_vector(target_position, 3, "target_position").copy()
+        super().__init__(frame_name, frame_type, cost, gain, priority, 3, lm_damping=lm_damping)
+        if target is not None:
+            self.set_target(target)
 
     def set_target(self, target_position) -> None:
         """Replace the target position (validated)."""
         self.target = lie.as_vector(target_position, 3, "target_position").copy()
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+        if self.target is None:
+            self._require_target()
         _, p = state.pose(self.frame)
         np.subtract(p, self.target, out=e)
         J[:] = state.jacobian(self.frame)[:3]
 
     def pose_errors(self, state: KinematicState) -> tuple[float, None]:
+        if self.target is None:
+            self._require_target()
         _, p = state.pose(self.frame)
         return float(np.linalg.norm(self.target - p)), None

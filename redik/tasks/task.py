@@ -34,8 +34,8 @@ Tasks that are not least squares (:class:`ManipulabilityTask`) implement
 :meth:`Task.add_objective` directly.
 
 A task names frames, not ids; :meth:`Task.bind` resolves them against a
-:class:`redik.Robot` (a :class:`redik.Problem` binds its tasks; ``frame=None`` is the
-robot's end-effector). Errors and Jacobians follow :mod:`redik.core.conventions`.
+:class:`redik.Robot` (a :class:`redik.Problem` binds its tasks). Errors and Jacobians follow
+:mod:`redik.core.conventions`.
 """
 
 from __future__ import annotations

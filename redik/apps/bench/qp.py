@@ -1,6 +1,6 @@
 """QP core: per-step time of every back-end beside mink.solve_ik, and convergence on FK targets.
 
-Part 1 times one differential-IK step of the panda stack (PoseTask + JointLimitAvoidanceTask
+Part 1 times one differential-IK step of the panda stack (FrameTask + JointLimitAvoidanceTask
 + PostureTask at equal priority, joint position box) for each back-end, and mink's
 ``solve_ik`` on the equivalent stack (``FrameTask``, ``PostureTask``, and a ``PostureTask``
 towards the mid-range with cost ``√2 w / (q_max − q_min)`` standing in for joint-limit
@@ -46,7 +46,7 @@ from redik.kinematics.robot import load
 from redik.limits import PositionLimit
 from redik.qp.backends import QPSOLVERS_SETTINGS, available_backends
 from redik.solvers.problem import Problem
-from redik.tasks import JointLimitAvoidanceTask, PoseTask, PostureTask
+from redik.tasks import FrameTask, JointLimitAvoidanceTask, PostureTask
 
 MINK_SOLVER = {"daqp": "daqp", "proxsuite": "proxqp", "qpsolvers:daqp": "daqp", "cvxpy": None}
 """The mink (qpsolvers) solver compared with each redik back-end."""
@@ -112,7 +112,7 @@ class _MinkStack:
 def _redik_problem(robot, weight: float, backend: str, strict: bool) -> Problem:
     priority = 1 if strict else 0
     tasks = [
-        PoseTask(robot.fk(robot.home)),
+        FrameTask(robot.ee.name, target=robot.fk(robot.home)),
         JointLimitAvoidanceTask(weight, priority=priority),
         PostureTask(weight=weight, priority=priority),
     ]
@@ -238,7 +238,7 @@ def _latency(robot, args) -> list[dict]:
     targets = [robot.fk(q) for q in robot.random_q(rng, size=args.latency_targets)]
     seeds = robot.random_q(rng, size=args.latency_targets)
     solve_pose(robot, targets[0], method="qp")  # warm-up: imports, first allocations
-    step_problem = Problem(robot, [PoseTask(targets[0])], backend="daqp")
+    step_problem = Problem(robot, [FrameTask(robot.ee.name, target=targets[0])], backend="daqp")
     rows = []
     for mode in ("home", "random"):
         times, walls, successes, iterations, step_times = [], [], 0, [], []

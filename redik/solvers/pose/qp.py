@@ -1,6 +1,6 @@
 """``solve_pose_qp``: one pose target by the QP driver — what ``solve_pose(method="qp")`` runs.
 
-A :class:`redik.Problem` with a :class:`~redik.tasks.pose_task.PoseTask` at level 0 (plus
+A :class:`redik.Problem` with a :class:`~redik.tasks.frame_task.FrameTask` at level 0 (plus
 any extra ``tasks`` at lower levels), the position box when ``respect_limits``, iterated
 from ``q0`` (:meth:`redik.Problem.solve`).
 
@@ -43,7 +43,7 @@ from redik.limits import BallJointLimit, PositionLimit
 from redik.limits.ball_joint_limit import limited_ball_joints
 from redik.solvers.pose.cache import PoseCache
 from redik.solvers.problem import Problem
-from redik.tasks.pose_task import PoseTask
+from redik.tasks.frame_task import FrameTask
 
 _OPTIONS = (
     "backend",
@@ -188,7 +188,12 @@ def _problem(robot: Robot, T_target, frame, respect_limits: bool, options: dict)
         return Problem(
             robot,
             [
-                PoseTask(T_target, frame=frame, gain=options.get("gain", 1.0), priority=0),
+                FrameTask(
+                    robot.frame(frame).name,
+                    gain=options.get("gain", 1.0),
+                    target=T_target,
+                    priority=0,
+                ),
                 *options.get("tasks", ()),
             ],
             limits=_limits(robot, periodic="tasks" not in options) if respect_limits else [],
