@@ -24,7 +24,7 @@ configuration = mink.Configuration(robot.model, robot.full_qpos(robot.home))
 # Weighted, as mink sums everything: the small limit term biases the pose by ~1e-6.
 tasks = [
     FrameTask("ee", target=T_target).bind(robot),
-    JointLimitAvoidanceTask(weight=1e-3).bind(robot),
+    JointLimitAvoidanceTask(cost=1e-3).bind(robot),
 ]
 limits = [mink.ConfigurationLimit(robot.model)]
 for _ in range(200):

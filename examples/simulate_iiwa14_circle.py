@@ -27,7 +27,7 @@ path = CircularPath(T0, center=T0[:3, 3] + [0.0, 0.0, 0.1], normal=[1.0, 0.0, 0.
 pose = FrameTask("ee", target=T0)
 problem = Problem(
     robot,
-    [pose, PostureTask(robot.home, weight=0.1, priority=1)],
+    [pose, PostureTask(robot.home, cost=0.1, priority=1)],
     limits=[PositionLimit(), VelocityLimit(2.0)],
 )
 result = simulate(robot, problem, pose, path, control_rate=100.0)

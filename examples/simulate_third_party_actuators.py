@@ -45,7 +45,7 @@ def circle_run(robot: redik.Robot, feedforward: bool = True):
     pose = FrameTask("ee", target=T0)
     problem = Problem(
         robot,
-        [pose, PostureTask(robot.home, weight=0.1, priority=1)],
+        [pose, PostureTask(robot.home, cost=0.1, priority=1)],
         limits=[PositionLimit(), VelocityLimit(2.0)],
     )
     return simulate(robot, problem, pose, path, feedforward=feedforward, error_bound=(3e-3, 0.01))

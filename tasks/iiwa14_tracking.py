@@ -31,7 +31,7 @@ def run(ctx):
     pose = FrameTask("ee", target=T_home)
     problem = Problem(
         robot,
-        [pose, PostureTask(robot.home, weight=0.1, priority=1)],
+        [pose, PostureTask(robot.home, cost=0.1, priority=1)],
         limits=[PositionLimit(), VelocityLimit(2.0)],
     )
     rate = ctx.size(full=250.0, fast=100.0)

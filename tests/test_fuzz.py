@@ -397,23 +397,23 @@ def test_problem_and_task_targets(panda, data):
     q = data.draw(configurations(panda))
     holds(lambda: problem.solve(q, max_iter=5), panda)
     holds(lambda: problem.step(q))
-    weight = data.draw(mostly(st.just(1.0), number, junk()))
+    cost = data.draw(mostly(st.just(1.0), number, junk()))
     gain = data.draw(mostly(st.just(0.5), number, junk()))
     priority = data.draw(mostly(st.just(1), st.integers(-2, 2), number, junk()))
-    holds(lambda: redik.PostureTask(data.draw(configurations(panda)), weight=weight))
-    holds(lambda: redik.JointLimitAvoidanceTask(weight, gain, priority))
+    holds(lambda: redik.PostureTask(data.draw(configurations(panda)), cost=cost))
+    holds(lambda: redik.JointLimitAvoidanceTask(cost, gain, priority))
     holds(
         lambda: redik.FrameTask(
             "ee",
             target=panda.fk(panda.home),
-            position_cost=weight,
-            orientation_cost=weight,
+            position_cost=cost,
+            orientation_cost=cost,
             gain=gain,
             priority=priority,
         )
     )
-    holds(lambda: redik.DampingTask(weight, priority))
-    holds(lambda: redik.ManipulabilityTask(None, weight, gain, priority))
+    holds(lambda: redik.DampingTask(cost, priority))
+    holds(lambda: redik.ManipulabilityTask(None, cost, gain, priority))
     holds(
         lambda: redik.Problem(
             panda,
@@ -709,8 +709,8 @@ def test_problem_and_tasks_refuse_junk_arguments(panda):
         redik.ManipulabilityTask(gain=None)  # type: ignore[arg-type]
 
 
-def test_huge_task_weights_are_refused_and_daqp_failures_are_backend_errors(panda):
-    # Found by test_problem_and_task_targets: a FrameTask weight of 1e100 reached daqp, whose
+def test_huge_task_costs_are_refused_and_daqp_failures_are_backend_errors(panda):
+    # Found by test_problem_and_task_targets: a FrameTask cost of 1e100 reached daqp, whose
     # set-up failed; the next solve raised a raw RuntimeError ("Model has not been set up").
     with pytest.raises(redik.InvalidInput, match=r"position_cost must be in \[0, 1e\+06\]"):
         redik.FrameTask("ee", target=panda.fk(panda.home), position_cost=1e100)

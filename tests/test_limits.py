@@ -101,7 +101,7 @@ def test_returned_q_never_leaves_the_limits(backend, rng):
     # same level keeps the QP well-posed: a position task alone leaves four Hessian
     # eigenvalues at the 1e-6 damping, a minimiser that first-order back-ends (osqp) cannot
     # resolve to their tolerance — they then raise BackendError, which is not this test.
-    posture = PostureTask(robot.home, weight=1e-2, priority=0)
+    posture = PostureTask(robot.home, cost=1e-2, priority=0)
     problem = Problem(robot, [PositionTask("ee", target=[2.0, 0.0, 0.5]), posture], backend=backend)
     for _ in range(2):
         problem.tasks[0].set_target(rng.normal(size=3) * 2.0)

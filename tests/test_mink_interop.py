@@ -54,15 +54,15 @@ def test_weighted_stack_equals_mink_solve_ik(backend, rng):
         q_nominal = robot.random_q(rng)
         redik_tasks = [
             FrameTask("ee", target=T, position_cost=[1, 2, 3], orientation_cost=0.5),
-            PostureTask(q_nominal, weight=0.1, priority=0),
-            JointLimitAvoidanceTask(weight=0.3, priority=0),
+            PostureTask(q_nominal, cost=0.1, priority=0),
+            JointLimitAvoidanceTask(cost=0.3, priority=0),
         ]
         problem = Problem(robot, redik_tasks, limits=[], backend=backend, damping=DAMPING)
         frame = mink.FrameTask("ee", "site", [1, 2, 3], 0.5)
         frame.set_target(mink.SE3.from_matrix(T))
         posture = mink.PostureTask(robot.model, cost=0.1)
         posture.set_target(robot.full_qpos(q_nominal))
-        limit_avoidance = JointLimitAvoidanceTask(weight=0.3).bind(robot)  # a redik task in mink
+        limit_avoidance = JointLimitAvoidanceTask(cost=0.3).bind(robot)  # a redik task in mink
         v = mink_step(robot, q, [frame, posture, limit_avoidance], limits=[], solver=solver)
         np.testing.assert_allclose(problem.step(q), v[robot.dof_indices], atol=1e-8)
 
@@ -114,47 +114,21 @@ def test_an_unbound_redik_task_in_mink_says_what_to_do(arm):
         FrameTask("ee", target=np.eye(4)).compute_error(configuration)
 
 
-def test_minks_cost_vocabulary_is_accepted_beside_redik_weight(rng):
+def test_costs_are_set_with_minks_setters(rng):
     robot = redik.load("panda")
-    q, T = next(iter(targets(robot, rng, 1)))
-    q_nominal = robot.random_q(rng)
-    in_mink_words = [
-        FrameTask("ee", target=T, position_cost=[1, 2, 3], orientation_cost=0.5),
-        PostureTask(q_nominal, cost=0.1, priority=0),
-        JointLimitAvoidanceTask(cost=0.3, priority=0),
-        DampingTask(cost=0.2, priority=0),
-    ]
-    in_redik_words = [
-        FrameTask("ee", target=T, position_cost=[1, 2, 3], orientation_cost=0.5),
-        PostureTask(q_nominal, weight=0.1, priority=0),
-        JointLimitAvoidanceTask(weight=0.3, priority=0),
-        DampingTask(weight=0.2, priority=0),
-    ]
-    step_mink = Problem(robot, in_mink_words, limits=[]).step(q)
-    np.testing.assert_array_equal(step_mink, Problem(robot, in_redik_words, limits=[]).step(q))
-    for mink_task, redik_task in zip(in_mink_words, in_redik_words, strict=True):
-        np.testing.assert_array_equal(mink_task.cost, redik_task.cost)
-    pose = in_mink_words[0]
+    T = robot.fk(robot.random_q(rng))
+    pose = FrameTask("ee", target=T, position_cost=[1, 2, 3], orientation_cost=0.5)
+    np.testing.assert_array_equal(pose.cost, [1, 2, 3, 0.5, 0.5, 0.5])
     pose.set_position_cost(4.0)
     pose.set_orientation_cost([1, 2, 3])
     np.testing.assert_array_equal(pose.cost, [4, 4, 4, 1, 2, 3])
-    posture = in_mink_words[1]
+    posture = PostureTask(robot.random_q(rng), cost=0.1).bind(robot)
     posture.set_cost(0.7)
     np.testing.assert_array_equal(posture.cost, np.full(7, 0.7))
+    for task, cost in ((JointLimitAvoidanceTask(cost=0.3), 0.3), (DampingTask(cost=0.2), 0.2)):
+        np.testing.assert_array_equal(task.bind(robot).cost, np.full(7, cost))
     manipulability = ManipulabilityTask(cost=0.4).bind(robot)
-    np.testing.assert_array_equal(manipulability.weight, np.full(7, 0.4))
-
-
-@pytest.mark.parametrize(
-    "make",
-    [
-        lambda: PostureTask(weight=1.0, cost=1.0),
-        lambda: ManipulabilityTask(weight=1.0, cost=2.0),
-    ],
-)
-def test_weight_and_cost_together_are_refused(make):
-    with pytest.raises(InvalidInput, match="not both"):
-        make()
+    np.testing.assert_array_equal(manipulability.cost, np.full(7, 0.4))
 
 
 def test_mink_tasks_converge_on_their_cost_weighted_error():

@@ -41,8 +41,8 @@ def test_level0_is_identical_with_and_without_conflicting_lower_levels(rng):
             robot,
             [
                 PositionTask("ee", target=T[:3, 3]),
-                PostureTask(robot.random_q(rng), weight=5.0, priority=1),  # pulls elsewhere
-                ManipulabilityTask(weight=1.0, gain=3.0, priority=2),
+                PostureTask(robot.random_q(rng), cost=5.0, priority=1),  # pulls elsewhere
+                ManipulabilityTask(cost=1.0, gain=3.0, priority=2),
             ],
             limits=[],
         )

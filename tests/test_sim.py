@@ -33,7 +33,7 @@ POSITION_BOUND, ROTATION_BOUND, FINAL_BOUND = 3e-3, 1e-2, 5e-5
 def tracking_problem(robot, q0=None):
     q0 = robot.home if q0 is None else q0
     task = FrameTask(robot.ee.name, target=robot.fk(q0))
-    posture = PostureTask(q0, weight=0.1, priority=1)
+    posture = PostureTask(q0, cost=0.1, priority=1)
     limits = [PositionLimit(), VelocityLimit(2.0)]
     return Problem(robot, [task, posture], limits=limits), task
 
@@ -333,7 +333,7 @@ def test_the_same_problem_simulated_twice_runs_the_same_both_times():
     path = circle(robot, robot.home, duration=2.0)
     task = FrameTask("ee", target=path.pose(0.0))
     acceleration = AccelerationLimit(20.0)
-    posture = PostureTask(robot.home, weight=0.1, priority=1)
+    posture = PostureTask(robot.home, cost=0.1, priority=1)
     limits = [PositionLimit(), VelocityLimit(2.0), acceleration]
     problem = Problem(robot, [task, posture], limits)
     first = simulate(robot, problem, task, path, 1.0, control_rate=100.0)

@@ -57,8 +57,8 @@ def test_every_residual_jacobian_matches_finite_differences(robot_name, arm, rng
     robot = arm if robot_name == "arm" else redik.load("panda")
     tasks = [
         *frame_tasks(robot, rng),
-        PostureTask(robot.random_q(rng), weight=0.3),
-        JointLimitAvoidanceTask(weight=2.0),
+        PostureTask(robot.random_q(rng), cost=0.3),
+        JointLimitAvoidanceTask(cost=2.0),
     ]
     for task in tasks:
         task.bind(robot)
@@ -95,7 +95,7 @@ def test_frame_task_matches_minks_frame_task(rng):
 
 
 def test_joint_limit_potential_gradient_and_hessian(arm, rng):
-    task = JointLimitAvoidanceTask(weight=0.7, gain=0.5).bind(arm)
+    task = JointLimitAvoidanceTask(cost=0.7, gain=0.5).bind(arm)
     q = arm.random_q(rng)
     gradient = np.array(
         [
@@ -150,7 +150,7 @@ def test_manipulability_value_and_gradient(robot_name, arm, rng):
 
 def test_manipulability_objective_is_a_gradient_step(rng):
     robot = redik.load("panda")
-    task = ManipulabilityTask(weight=0.5, gain=0.2).bind(robot)
+    task = ManipulabilityTask(cost=0.5, gain=0.2).bind(robot)
     q = robot.random_q(rng)
     state = state_at(robot, q)
     Hq, c = np.zeros((7, 7)), np.zeros(7)
@@ -161,7 +161,7 @@ def test_manipulability_objective_is_a_gradient_step(rng):
 
 
 def test_damping_task_objective(arm):
-    task = DampingTask(weight=[1, 2, 3, 4, 5, 6, 7]).bind(arm)
+    task = DampingTask(cost=[1, 2, 3, 4, 5, 6, 7]).bind(arm)
     Hq, c = np.zeros((7, 7)), np.zeros(7)
     task.add_objective(state_at(arm, arm.home), Hq, c)
     np.testing.assert_allclose(Hq, np.diag(np.arange(1, 8) ** 2.0))
@@ -190,8 +190,8 @@ def test_bad_inputs_are_rejected_at_the_boundary(arm):
         FrameTask("ee", target=T, priority=-1)
     with pytest.raises(InvalidInput, match="target_position"):
         PositionTask("ee", target=[0.0, np.nan, 0.0])
-    with pytest.raises(InvalidInput, match="weight"):
-        JointLimitAvoidanceTask(weight=np.ones(3)).bind(arm)
+    with pytest.raises(InvalidInput, match="JointLimitAvoidanceTask cost must be a scalar"):
+        JointLimitAvoidanceTask(cost=np.ones(3)).bind(arm)
     with pytest.raises(redik.UnknownFrame):
         FrameTask("nowhere", target=T).bind(arm)
     with pytest.raises(InvalidInput, match="6 chain joints"):
@@ -205,7 +205,7 @@ def test_targets_accept_mink_types_and_quaternions(arm):
     assert np.allclose(OrientationTask("ee", target=quat).target, T[:3, :3])
 
 
-def test_set_weight_is_seen_by_the_next_objective(rng):
+def test_set_cost_is_seen_by_the_next_objective(rng):
     robot = redik.load("panda")
     task = FrameTask("ee", target=robot.fk(robot.random_q(rng))).bind(robot)
     state = state_at(robot, robot.home)

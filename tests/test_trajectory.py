@@ -115,7 +115,7 @@ def test_a_qp_stack_can_follow_the_path_too():
     T0 = robot.fk(robot.home)
     path = CartesianPath.line(T0, T0 @ pose([0.0, 0.2, 0.0], [0.1, 0.0, -0.05]), 1.0)
     task = FrameTask("ee", target=T0)
-    problem = Problem(robot, [task, PostureTask(robot.home, weight=1e-2, priority=1)])
+    problem = Problem(robot, [task, PostureTask(robot.home, cost=1e-2, priority=1)])
 
     def qp(T, q):
         task.set_target(T)
@@ -176,7 +176,7 @@ def test_a_qp_stack_follows_the_path_alike_after_a_simulation():
 
     def stack(*extra):
         task = FrameTask("ee", target=T0)
-        posture = PostureTask(robot.home, weight=1e-2, priority=1)
+        posture = PostureTask(robot.home, cost=1e-2, priority=1)
         limits = [PositionLimit(), VelocityLimit(2.0), *extra]
         problem = Problem(robot, [task, posture], limits)
         return problem, task, lambda T, q: (task.set_target(T), problem.solve(q, dt=0.01))[1]

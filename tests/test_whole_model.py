@@ -473,7 +473,7 @@ def test_mink_tasks_and_mink_interop_on_a_floating_base(whole):
     assert pose_errors(whole.fk(result.q, "left_ee"), T_left)[0] < 1e-6
 
     # A redik posture inside mink: the same error as mink's own PostureTask (tangent space),
-    # which leaves the free joint out (redik's keeps it; weight 0 there does as mink).
+    # which leaves the free joint out (redik's keeps it; cost 0 there does as mink).
     configuration = mink.Configuration(whole.model)
     configuration.update(whole.full_qpos(whole.random_q(rng)))
     ours = redik.PostureTask(whole.home).bind(whole)
@@ -648,7 +648,7 @@ def test_chain_of_a_model_with_unnamed_and_bracketed_joints():
 
 def test_joint_space_terms_are_computed_once_per_target_not_per_step(whole, monkeypatch):
     """On a whole model the posture's factor ``α w²d²`` was recomputed (allocated) per task
-    every step; it changes only with the task's target or weight."""
+    every step; it changes only with the task's target or cost."""
     posture = redik.PostureTask(priority=1)
     left = redik.FrameTask("left_ee", target=whole.fk(whole.home, "left_ee"))
     problem = redik.Problem(whole, [left, posture])

@@ -80,8 +80,8 @@ def run_demo(
         robot,
         [
             pose,
-            JointLimitAvoidanceTask(weight=1.0, priority=1),
-            PostureTask(nominal, weight=0.3, priority=1),
+            JointLimitAvoidanceTask(cost=1.0, priority=1),
+            PostureTask(nominal, cost=0.3, priority=1),
         ],
     )
     started = time.perf_counter()

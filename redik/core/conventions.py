@@ -49,7 +49,7 @@ Joint vector
     range has limits ``±inf``. A whole-model robot (``Robot(model, joints=...)``) moves any
     set of joints, ball and free joints included: ``q`` is then their ``qpos`` entries
     (``robot.nq``: a free joint's position then unit quaternion ``(w, x, y, z)``), while
-    ``Δq``, Jacobian columns, limits and weights live in the tangent space (``robot.dof``,
+    ``Δq``, Jacobian columns, limits and task costs live in the tangent space (``robot.dof``,
     MuJoCo's velocity coordinates); ``robot.integrate`` and ``robot.difference`` map between
     them (:mod:`redik.kinematics.robot`).
 

@@ -44,7 +44,7 @@ need not meet :math:`Gx \le h` at all, and the QP of level :math:`k` would then 
 infeasible; the slack level is the least-violation version of that intent, equal to it
 whenever it is feasible (to the damping below). Why not a weighted penalty within level
 :math:`k`: it trades millimetres of clearance against task error at a ratio set by units and
-weights, and gives no guarantee that the limit holds when it can. ``priority=0`` is a hard
+costs, and gives no guarantee that the limit holds when it can. ``priority=0`` is a hard
 limit that degrades to least violation instead of
 :class:`~redik.core.exceptions.InfeasibleProblem`.
 The slack level is damped (:data:`redik.qp.hierarchy.SLACK_DAMPING` ``ρ``, as

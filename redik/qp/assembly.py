@@ -107,7 +107,7 @@ class LevelAssembly:
     def _refresh_joint_terms(self) -> bool:
         """Σ of the joint-space tasks' ``w²d²`` (+ damping), ``α w²d²`` and, on a flat
         robot, ``α w²d² r`` (else each task's ``α w²d²``, kept for :meth:`_joint_gradient`);
-        True when they changed (a task's target or weight was set) since the last call."""
+        True when they changed (a task's target or cost was set) since the last call."""
         versions = [(id(task), task.version) for task in self.joint_tasks]
         if versions == self._joint_versions and self._joint_ready:
             return False

@@ -7,7 +7,7 @@
   (``newton_raphson``, ``gradient_descent``, ``gradient_then_newton``: the textbook
   iterations);
 - :mod:`~redik.solvers.problem`: the differential ``Problem`` (tasks and limits stacked into
-  per-step QPs, weights and strict priorities);
+  per-step QPs, costs and strict priorities);
 - :mod:`~redik.solvers.analytic`: closed forms with every solution;
 - :mod:`~redik.solvers.batch`: many targets at once, compiled, on every core;
 - :mod:`~redik.solvers.redundancy`: null-space motion and the self-motion manifold.

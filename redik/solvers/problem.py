@@ -328,7 +328,7 @@ class Problem:
         velocity box (gain 1) still reverses there, and the arm may leave the fold on the
         other branch of the elbow and stall at a joint limit (there: 90 mm at the end).
         Keep such a regulator's gain low (0.02 on that circle: no reversal), put it at
-        level 0 with a small weight, or bound the acceleration: with
+        level 0 with a small cost, or bound the acceleration: with
         :class:`~redik.limits.AccelerationLimit` (20 rad/s²) on that circle, a posture of gain
         1 at priority 1 makes 1 two-tick reversal instead of 214, |q̈| ≤ 20 rad/s² instead of
         400, and the miss is the 39 mm gap again, not 90 mm

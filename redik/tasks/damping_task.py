@@ -15,20 +15,18 @@ import numpy as np
 from redik.kinematics.robot import Robot
 from redik.tasks.joint_space_task import JointSpaceTask
 from redik.tasks.kinematics import KinematicState
-from redik.tasks.task import weight_or_cost
 
 
 class DampingTask(JointSpaceTask):
-    """Penalise joint motion with a scalar or per-joint ``weight``.
+    """Penalise joint motion with a scalar or per-joint ``cost``.
 
     Args:
-        weight: Scalar or per-joint damping weight (default 1).
+        cost: Scalar or per-joint damping cost (default 1).
         priority: Priority level, 0 highest.
-        cost: mink's name for ``weight`` (give one of them).
     """
 
-    def __init__(self, weight=None, priority: int = 1, *, cost=None):
-        super().__init__(weight_or_cost(weight, cost), gain=0.0, priority=priority)
+    def __init__(self, cost=1.0, priority: int = 1):
+        super().__init__(cost, gain=0.0, priority=priority)
 
     def bind(self, robot: Robot) -> DampingTask:
         super().bind(robot)

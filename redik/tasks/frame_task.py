@@ -35,7 +35,7 @@ from redik.kinematics.compiled import pose_error
 from redik.lie import apply_inverse_v, se3_left_jacobian_inverse_entries
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.single_frame_task import SingleFrameTask
-from redik.tasks.task import as_weight
+from redik.tasks.task import as_cost
 
 
 def as_target_pose(target, name: str = "target", *, strict: bool = False) -> np.ndarray:
@@ -133,8 +133,8 @@ class FrameTask(SingleFrameTask):
         strict: bool = False,
     ):
         super().__init__(frame_name, frame_type, 1.0, gain, priority, 6, lm_damping=lm_damping)
-        self.cost[:3] = as_weight(position_cost, 3, "position_cost")
-        self.cost[3:] = as_weight(orientation_cost, 3, "orientation_cost")
+        self.cost[:3] = as_cost(position_cost, 3, "position_cost")
+        self.cost[3:] = as_cost(orientation_cost, 3, "orientation_cost")
         self.strict = strict
         self.target: np.ndarray | None = None
         if target is not None:
@@ -144,12 +144,12 @@ class FrameTask(SingleFrameTask):
 
     def set_position_cost(self, position_cost) -> None:
         """Replace the cost of the linear part (scalar or 3 values)."""
-        self.cost[:3] = as_weight(position_cost, 3, "position_cost")
+        self.cost[:3] = as_cost(position_cost, 3, "position_cost")
         self.version += 1
 
     def set_orientation_cost(self, orientation_cost) -> None:
         """Replace the cost of the angular part (scalar or 3 values)."""
-        self.cost[3:] = as_weight(orientation_cost, 3, "orientation_cost")
+        self.cost[3:] = as_cost(orientation_cost, 3, "orientation_cost")
         self.version += 1
 
     def set_target(self, target, *, strict: bool | None = None) -> None:

@@ -29,7 +29,6 @@ import numpy as np
 from redik import criteria
 from redik.kinematics.robot import Robot
 from redik.tasks.joint_space_task import JointSpaceTask
-from redik.tasks.task import weight_or_cost
 
 
 class JointLimitAvoidanceTask(JointSpaceTask):
@@ -38,14 +37,13 @@ class JointLimitAvoidanceTask(JointSpaceTask):
     A joint-space task (:mod:`redik.tasks.joint_space_task`) with ``d = √2 s``, ``r = q̄``.
 
     Args:
-        weight: Scalar or per-joint weight ``w`` (the objective scales with ``w²``; default 1).
+        cost: Scalar or per-joint cost ``w`` (the objective scales with ``w²``; default 1).
         gain: Newton step fraction ``α ∈ [0, 1]``.
         priority: Priority level, 0 highest.
-        cost: mink's name for ``weight`` (give one of them).
     """
 
-    def __init__(self, weight=None, gain: float = 1.0, priority: int = 1, *, cost=None):
-        super().__init__(weight_or_cost(weight, cost), gain, priority)
+    def __init__(self, cost=1.0, gain: float = 1.0, priority: int = 1):
+        super().__init__(cost, gain, priority)
         self.scale = np.empty(0)
 
     def bind(self, robot: Robot) -> JointLimitAvoidanceTask:

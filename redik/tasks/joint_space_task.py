@@ -41,8 +41,8 @@ class JointSpaceTask(ResidualTask):
     :meth:`bind` (and bump :attr:`version` when they change them later).
     """
 
-    def __init__(self, weight, gain: float, priority: int):
-        super().__init__(weight, gain, priority)
+    def __init__(self, cost, gain: float, priority: int):
+        super().__init__(cost, gain, priority)
         self.jacobian_diagonal = np.empty(0)
         self.reference = np.empty(0)
 

@@ -23,7 +23,7 @@ from redik import criteria
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.robot import Frame, Robot
 from redik.tasks.kinematics import KinematicState
-from redik.tasks.task import Task, as_weight, weight_or_cost
+from redik.tasks.task import Task, as_cost
 
 
 class ManipulabilityTask(Task):
@@ -31,26 +31,23 @@ class ManipulabilityTask(Task):
 
     Args:
         frame: Site or body name; None is the robot's end-effector.
-        weight: Scalar or per-joint weight ``w`` (the objective scales with ``w²``; default 1).
+        cost: Scalar or per-joint cost ``w`` (the objective scales with ``w²``; default 1).
         gain: Gradient step ``α`` (radians per unit of manipulability gradient), ≥ 0.
         priority: Priority level, 0 highest.
-        cost: mink's name for ``weight`` (give one of them).
     """
 
     def __init__(
         self,
         frame: str | None = None,
-        weight=None,
+        cost=1.0,
         gain: float = 1.0,
         priority=1,
-        *,
-        cost=None,
     ):
         super().__init__(priority)
         self.frame_name = frame
         self.frame: Frame | None = None
-        self._weight_spec = weight_or_cost(weight, cost)
-        self.weight = np.empty(0)
+        self._cost_spec = cost
+        self.cost = np.empty(0)
         if isinstance(gain, bool) or not isinstance(gain, int | float | np.integer | np.floating):
             raise InvalidInput(f"gain must be a finite number >= 0, got {gain!r}")
         self.gain = float(gain)
@@ -69,7 +66,7 @@ class ManipulabilityTask(Task):
                 f"{robot!r} has {robot.dof}"
             )
         self.frame = robot.frame(self.frame_name)
-        self.weight = as_weight(self._weight_spec, robot.dof, "ManipulabilityTask weight")
+        self.cost = as_cost(self._cost_spec, robot.dof, "ManipulabilityTask cost")
         return super().bind(robot)
 
     def value_and_gradient(self, state: KinematicState) -> tuple[float, np.ndarray]:
@@ -80,6 +77,6 @@ class ManipulabilityTask(Task):
     def add_objective(self, state: KinematicState, H: np.ndarray, c: np.ndarray) -> None:
         _, gradient = self.value_and_gradient(state)
         columns = state.chain_columns
-        weight2 = self.weight**2
-        H[columns, columns] += weight2
-        c[columns] -= self.gain * weight2 * gradient
+        cost2 = self.cost**2
+        H[columns, columns] += cost2
+        c[columns] -= self.gain * cost2 * gradient

@@ -13,7 +13,6 @@ import numpy as np
 from redik import lie
 from redik.kinematics.robot import Robot
 from redik.tasks.joint_space_task import JointSpaceTask
-from redik.tasks.task import weight_or_cost
 
 
 class PostureTask(JointSpaceTask):
@@ -22,16 +21,13 @@ class PostureTask(JointSpaceTask):
     Args:
         q_nominal: The nominal configuration (``robot.nq``,); None is the robot's ``home``,
             taken when the task is bound.
-        weight: Scalar or per-joint weight (default 1).
+        cost: Scalar or per-joint cost (default 1).
         gain: Fraction ``α ∈ [0, 1]`` of the error corrected per step.
         priority: Priority level, 0 highest.
-        cost: mink's name for ``weight`` (give one of them).
     """
 
-    def __init__(
-        self, q_nominal=None, weight=None, gain: float = 1.0, priority: int = 1, *, cost=None
-    ):
-        super().__init__(weight_or_cost(weight, cost), gain, priority)
+    def __init__(self, q_nominal=None, cost=1.0, gain: float = 1.0, priority: int = 1):
+        super().__init__(cost, gain, priority)
         self._q_nominal_given = q_nominal
 
     def bind(self, robot: Robot) -> PostureTask:

@@ -8,8 +8,9 @@ Every task contributes a convex quadratic to the objective of its priority level
 
 and the tasks of one level are summed (:mod:`redik.qp.assembly`). Most tasks are
 **residual tasks** (:class:`ResidualTask`): a task error :math:`e(q) \in \mathbb{R}^k` with
-Jacobian :math:`J(q) = \partial e / \partial q` (``k × n``), a weight :math:`W =
-\mathrm{diag}(w)` and a gain :math:`\alpha \in [0, 1]`, entering as the first-order task
+Jacobian :math:`J(q) = \partial e / \partial q` (``k × n``), a cost :math:`w` (weight
+matrix :math:`W = \mathrm{diag}(w)`) and a gain :math:`\alpha \in [0, 1]`, entering as the
+first-order task
 dynamics :math:`J \Delta q = -\alpha e` in the least-squares sense:
 
 .. math::
@@ -20,15 +21,10 @@ dynamics :math:`J \Delta q = -\alpha e` in the least-squares sense:
 
 This is mink's task protocol (``mink.Task``: ``compute_error``, ``compute_jacobian``,
 ``cost`` = :math:`w`, ``gain``), so a redik task can be handed to ``mink.solve_ik`` and a
-mink task to :class:`redik.Problem`. Weights multiply the residual, as mink's ``cost``
-does: the objective scales with :math:`w^2`. A weight is a scalar or one value per error
-component.
-
-**Vocabulary.** redik's canonical word is *weight* (``weight=``, ``position_weight=``,
-:meth:`ResidualTask.set_weight`); mink's *cost* is accepted everywhere as a synonym
-(``cost=``, ``position_cost=``, ``set_cost``, ``set_position_cost``), so code written
-for mink reads the same. The stored vector is ``task.cost``, the attribute mink reads.
-Giving both names at once is an error.
+mink task to :class:`redik.Problem`. Costs multiply the residual, as mink's do: the
+objective scales with :math:`w^2`. A cost is a scalar or one value per error component
+(``cost=``, or ``position_cost=`` and ``orientation_cost=`` on a
+:class:`~redik.tasks.FrameTask`; :meth:`ResidualTask.set_cost`).
 
 Tasks that are not least squares (:class:`ManipulabilityTask`) implement
 :meth:`Task.add_objective` directly.
@@ -52,34 +48,22 @@ from redik.kinematics.robot import Robot
 from redik.lie import real_array
 from redik.tasks.kinematics import KinematicState
 
-MAX_WEIGHT = 1e6
-"""Largest task weight accepted. A weight enters the Hessian squared: beyond ``1e6`` (``w² =
-1e12``) a weight-1 task beside it is lost to rounding and active-set back-ends fail
+MAX_COST = 1e6
+"""Largest task cost accepted. A cost enters the Hessian squared: beyond ``1e6`` (``w² =
+1e12``) a cost-1 task beside it is lost to rounding and active-set back-ends fail
 (quadprog's Cholesky at 1e8, daqp's set-up at 1e20, measured on panda). Strict precedence
 is what priorities are for."""
 
 
-def as_weight(weight, size: int, name: str) -> np.ndarray:
-    """A finite weight in ``[0, MAX_WEIGHT]``, scalar or per component, as a (``size``,)
+def as_cost(cost, size: int, name: str) -> np.ndarray:
+    """A finite cost in ``[0, MAX_COST]``, scalar or per component, as a (``size``,)
     array."""
-    array = np.atleast_1d(real_array(weight, name))
+    array = np.atleast_1d(real_array(cost, name))
     if array.ndim != 1 or array.shape[0] not in (1, size):
         raise InvalidInput(f"{name} must be a scalar or have shape ({size},), got {array.shape}")
-    if not np.all((array >= 0.0) & (array <= MAX_WEIGHT)):  # NaN fails too
-        raise InvalidInput(f"{name} must be in [0, {MAX_WEIGHT:g}], got {array.tolist()}")
+    if not np.all((array >= 0.0) & (array <= MAX_COST)):  # NaN fails too
+        raise InvalidInput(f"{name} must be in [0, {MAX_COST:g}], got {array.tolist()}")
     return np.broadcast_to(array, (size,)).copy()
-
-
-def weight_or_cost(weight, cost, weight_name: str = "weight", cost_name: str = "cost"):
-    """The weight given under redik's name or mink's (default 1); refuses both at once."""
-    if cost is None:
-        return 1.0 if weight is None else weight
-    if weight is not None:
-        raise InvalidInput(
-            f"give {weight_name}= or {cost_name}= (mink's name for it), not both: "
-            f"{weight_name}={weight!r}, {cost_name}={cost!r}"
-        )
-    return cost
 
 
 def as_gain(gain: float) -> float:
@@ -101,7 +85,7 @@ class Task(BaseTask):
 
     Attributes:
         priority: Level in the hierarchy, 0 (highest) first. Tasks of equal priority are
-            weighted and summed; a lower level never degrades a higher one.
+            weighted by their costs and summed; a lower level never degrades a higher one.
         robot: The robot the task is bound to, or None before :meth:`bind`.
     """
 
@@ -158,21 +142,21 @@ class ResidualTask(Task, MinkTask):
 
     Attributes:
         k: Dimension of the error.
-        cost: The weight :math:`w` (``k``,) — mink's name, so mink reads it too.
+        cost: The cost :math:`w` (``k``,), the attribute mink reads too.
         gain: The gain :math:`α`.
         lm_damping: mink's Levenberg–Marquardt scale :math:`λ ≥ 0` (0 for most tasks): the
             task adds :math:`μ I` to its Hessian, :math:`μ = λ \|α W e\|^2`, which grows
             with the error and so damps the step towards an infeasible target (mink's
             ``Task``). Fixed at construction; a task with :math:`λ > 0` is assembled by its
             own :meth:`add_objective`.
-        version: Incremented whenever the weight, gain or target changes.
+        version: Incremented whenever the cost, gain or target changes.
     """
 
     k: int
 
     def __init__(
         self,
-        weight,
+        cost,
         gain: float,
         priority: int,
         size: int | None = None,
@@ -183,7 +167,7 @@ class ResidualTask(Task, MinkTask):
         self.version = 0
         self.gain = gain
         self._lm_damping = non_negative(lm_damping, "lm_damping")
-        self._weight_spec = weight
+        self._cost_spec = cost
         self.cost = np.empty(0)
         if size is not None:
             self._set_size(size)
@@ -205,18 +189,14 @@ class ResidualTask(Task, MinkTask):
 
     def _set_size(self, size: int) -> None:
         self.k = size
-        self.cost = as_weight(self._weight_spec, size, f"{type(self).__name__} weight")
-        self.version += 1
-
-    def set_weight(self, weight) -> None:
-        """Replace the weight (scalar or per component). Use it rather than editing
-        ``cost`` in place: cached products are refreshed through :attr:`version`."""
-        self.cost[:] = as_weight(weight, self.k, f"{type(self).__name__} weight")
+        self.cost = as_cost(self._cost_spec, size, f"{type(self).__name__} cost")
         self.version += 1
 
     def set_cost(self, cost) -> None:
-        """mink's name for :meth:`set_weight`."""
-        self.set_weight(cost)
+        """Replace the cost (scalar or per component). Use it rather than editing ``cost``
+        in place: cached products are refreshed through :attr:`version`."""
+        self.cost[:] = as_cost(cost, self.k, f"{type(self).__name__} cost")
+        self.version += 1
 
     @abc.abstractmethod
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:

@@ -10,7 +10,7 @@ their ratio. A step includes forward kinematics in both; both use the same solve
 tolerances (:data:`redik.qp.backends.QPSOLVERS_SETTINGS`).
 
 Part 2 solves the FK targets (seeded random configurations, start at ``home``) to
-``pos_tol``/``rot_tol`` with both loops — the same weighted stack (weights small enough not
+``pos_tol``/``rot_tol`` with both loops — the same weighted stack (costs small enough not
 to bias the converged pose) — and reports success, median iterations, median time to
 converge and the worst joint-limit overshoot of any iterate. redik's strict-priority
 stack (joint-space tasks at priority 1) is reported beside them.
@@ -61,7 +61,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--max-iter", type=int, default=200)
     parser.add_argument("--pos-tol", type=float, default=1e-6)
     parser.add_argument("--rot-tol", type=float, default=1e-5)
-    parser.add_argument("--weight", type=float, default=1e-2, help="posture/limit weight, part 1")
+    parser.add_argument("--cost", type=float, default=1e-2, help="posture/limit cost, part 1")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--latency-robots", nargs="*", default=["panda", "iiwa14", "ur5e"])
     parser.add_argument("--latency-targets", type=int, default=200)
@@ -70,7 +70,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 class _MinkStack:
     """mink's equivalent of the redik stack, on a configuration of the full model."""
 
-    def __init__(self, robot, weight: float, solver: str):
+    def __init__(self, robot, cost: float, solver: str):
         model = robot.model
         self.robot = robot
         self.solver = solver
@@ -79,12 +79,12 @@ class _MinkStack:
         self.configuration = mink.Configuration(model, robot.full_qpos(robot.home))
         self.frame = mink.FrameTask(robot.ee.name, robot.ee.kind, 1.0, 1.0)
         posture_cost = np.zeros(model.nv)
-        posture_cost[robot.dof_indices] = weight
+        posture_cost[robot.dof_indices] = cost
         self.posture = mink.PostureTask(model, cost=posture_cost)
         self.posture.set_target(robot.full_qpos(robot.home))
-        limits = JointLimitAvoidanceTask(weight).bind(robot)
+        limits = JointLimitAvoidanceTask(cost).bind(robot)
         limit_cost = np.zeros(model.nv)
-        limit_cost[robot.dof_indices] = weight * math.sqrt(2.0) * limits.scale
+        limit_cost[robot.dof_indices] = cost * math.sqrt(2.0) * limits.scale
         self.limit_avoidance = mink.PostureTask(model, cost=limit_cost)
         self.limit_avoidance.set_target(robot.full_qpos(limits.middle))
         self.tasks = [self.frame, self.posture, self.limit_avoidance]
@@ -109,19 +109,19 @@ class _MinkStack:
         )
 
 
-def _redik_problem(robot, weight: float, backend: str, strict: bool) -> Problem:
+def _redik_problem(robot, cost: float, backend: str, strict: bool) -> Problem:
     priority = 1 if strict else 0
     tasks = [
         FrameTask(robot.ee.name, target=robot.fk(robot.home)),
-        JointLimitAvoidanceTask(weight, priority=priority),
-        PostureTask(weight=weight, priority=priority),
+        JointLimitAvoidanceTask(cost, priority=priority),
+        PostureTask(cost=cost, priority=priority),
     ]
     return Problem(robot, tasks, [PositionLimit()], backend=backend, damping=1e-6)
 
 
 def _time_steps(robot, backend: str, solver: str | None, args, targets) -> tuple:
-    problem = _redik_problem(robot, args.weight, backend, strict=False)
-    reference = _MinkStack(robot, args.weight, solver) if solver else None
+    problem = _redik_problem(robot, args.cost, backend, strict=False)
+    reference = _MinkStack(robot, args.cost, solver) if solver else None
     redik_times, mink_times = [], []
     steps_per_target = 8
     for i in range(math.ceil(args.steps / steps_per_target)):
@@ -148,8 +148,8 @@ def _time_steps(robot, backend: str, solver: str | None, args, targets) -> tuple
 def _time_priorities(robot, backend: str, args, targets) -> tuple[float, float]:
     """Median step time of the same three tasks as one weighted level and as two strict
     levels (pose, then posture + joint-limit avoidance), interleaved at the same ``q``."""
-    one = _redik_problem(robot, args.weight, backend, strict=False)
-    two = _redik_problem(robot, args.weight, backend, strict=True)
+    one = _redik_problem(robot, args.cost, backend, strict=False)
+    two = _redik_problem(robot, args.cost, backend, strict=True)
     times: tuple[list, list] = ([], [])
     steps_per_target = 8
     for i in range(math.ceil(args.steps / steps_per_target)):
@@ -167,8 +167,8 @@ def _time_priorities(robot, backend: str, args, targets) -> tuple[float, float]:
 
 
 def _converge_redik(robot, backend, args, targets, strict: bool) -> dict:
-    weight = 1.0 if strict else 1e-4
-    problem = _redik_problem(robot, weight, backend, strict)
+    cost = 1.0 if strict else 1e-4
+    problem = _redik_problem(robot, cost, backend, strict)
     results = []
     overshoot = 0.0
     start_all = time.perf_counter()
@@ -289,7 +289,7 @@ def _run(args: argparse.Namespace) -> int:
     targets = [robot.fk(q) for q in robot.random_q(rng, size=args.targets)]
     backends = args.backends or available_backends()
     print(
-        f"{robot!r}: per-step time, weighted stack (weight {args.weight}), medians, "
+        f"{robot!r}: per-step time, weighted stack (cost {args.cost}), medians, "
         f"load average {_load()}"
     )
     print(f"{'redik back-end':<16}{'mink solver':<13}{'redik µs':>10}{'mink µs':>10}{'ratio':>8}")

@@ -16,7 +16,7 @@ and free joints — two arms, a floating base — for the task/limit :class:`red
 **Configuration and tangent space.** ``q`` holds the moved joints' entries of
 ``model.qpos`` (``robot.nq`` values: 7 for a free joint, position then unit quaternion
 ``(w, x, y, z)``; 4 for a ball joint; 1 for a hinge or slide), while a step ``Δq``, a
-Jacobian column, a limit bound, a weight live in the tangent space (``robot.dof`` values,
+Jacobian column, a limit bound, a task cost live in the tangent space (``robot.dof`` values,
 MuJoCo's velocity coordinates: for a free joint the linear velocity in world axes then the
 angular velocity in the body frame). They are related by MuJoCo's exponential map,
 
