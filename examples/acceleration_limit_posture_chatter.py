@@ -20,7 +20,7 @@ import numpy as np
 import redik
 from redik.apps.sim import TrackingWarning, simulate
 from redik.apps.trajectory import CircularPath
-from redik.limits import AccelerationLimit, PositionLimit, VelocityLimit
+from redik.limits import AccelerationLimit, ConfigurationLimit, VelocityLimit
 from redik.solvers.problem import Problem
 from redik.tasks import FrameTask, PostureTask
 
@@ -31,7 +31,7 @@ path = CircularPath(T0, center=T0[:3, 3] + [0.0, 0.0, 0.1], normal=[1.0, 0.0, 0.
 
 for extra in ([], [AccelerationLimit(20.0)]):
     pose = FrameTask("ee", target=T0)
-    limits = [PositionLimit(), VelocityLimit(2.0), *extra]
+    limits = [ConfigurationLimit(), VelocityLimit(2.0), *extra]
     problem = Problem(robot, [pose, PostureTask(q0, priority=1)], limits, step_damping=10.0)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", TrackingWarning)  # the top is out of reach: expected

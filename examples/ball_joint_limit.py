@@ -1,7 +1,7 @@
 """A shoulder ball joint with a 1 rad cone (MuJoCo's ball ``range``) reaching past it.
 
 The arm has a ball shoulder (range 0–1 rad), an elbow hinge and a wrist hinge. The hand is
-asked to a point the shoulder can only reach by rotating 1.4 rad. ``PositionLimit`` boxes
+asked to a point the shoulder can only reach by rotating 1.4 rad. ``ConfigurationLimit`` boxes
 hinges and slides only; ``redik.BallJointLimit`` adds the cone, so the solve stops at the
 rim, 1.000 rad (every iterate inside it), with the hand 184 mm short: the closest the cone
 allows (the wrist at 1 rad is 233 mm from the target, less the 50 mm hand turned towards
@@ -45,7 +45,7 @@ target = robot.fk(q_far, "ee")[:3, 3]
 tasks = [redik.PositionTask("ee", target=target), redik.PostureTask(priority=1)]
 
 cone = redik.BallJointLimit().bind(robot)
-for limits in ([redik.PositionLimit()], [redik.PositionLimit(), cone]):
+for limits in ([redik.ConfigurationLimit()], [redik.ConfigurationLimit(), cone]):
     result = redik.Problem(robot, tasks, limits).solve(robot.home, max_iter=200)
     miss = np.linalg.norm(robot.fk(result.q, "ee")[:3, 3] - target)
     largest = max(cone.angles_at(q)[0] for q in result.history)

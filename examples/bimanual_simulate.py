@@ -44,7 +44,7 @@ collisions = redik.CollisionAvoidanceLimit(
 problem = redik.Problem(
     robot,
     [left, right, redik.PostureTask(q0, cost=0.1, priority=1)],
-    [redik.PositionLimit(), redik.VelocityLimit(2.0), collisions],
+    [redik.ConfigurationLimit(), redik.VelocityLimit(2.0), collisions],
 )
 result = simulate(robot, problem, left, circle, q0=q0, control_rate=100.0)
 print("left gripper (the circle):", result.summary())

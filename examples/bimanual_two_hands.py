@@ -31,7 +31,7 @@ collisions = redik.CollisionAvoidanceLimit(
     minimum_distance=0.01,
     detection_distance=0.1,
 )
-problem = redik.Problem(robot, tasks, [redik.PositionLimit(), collisions])
+problem = redik.Problem(robot, tasks, [redik.ConfigurationLimit(), collisions])
 
 result = problem.solve(robot.home, max_iter=200)
 print(result.summary())
@@ -48,7 +48,7 @@ close = [
     redik.FrameTask(f"{side}_gripper", target=make_pose(down, [0.75, y, 0.0]), priority=0)
     for side, y in (("left", 0.05), ("right", -0.05))
 ]
-for limits in ([redik.PositionLimit()], [redik.PositionLimit(), collisions]):
+for limits in ([redik.ConfigurationLimit()], [redik.ConfigurationLimit(), collisions]):
     q = redik.Problem(robot, [*close, redik.PostureTask(priority=1)], limits).solve(robot.home).q
     errors = [pose_errors(robot.fk(q, task.frame_name), task.target)[0] for task in close]
     closest = collisions.minimum_distance_at(q)[0]

@@ -16,7 +16,7 @@ Run: python examples/collision_limit_priority.py
 import mujoco
 
 import redik
-from redik.limits import CollisionAvoidanceLimit, PositionLimit
+from redik.limits import CollisionAvoidanceLimit, ConfigurationLimit
 from redik.solvers.problem import Problem
 from redik.tasks import PositionTask, PostureTask
 
@@ -49,7 +49,7 @@ post = CollisionAvoidanceLimit([(["link1", "link2"], ["post"])]).bind(robot)
 bin_ = CollisionAvoidanceLimit([(["link3"], ["bin"])]).bind(robot)
 
 for priority in ("absent", None, 1, 2):
-    limits = [PositionLimit()]
+    limits = [ConfigurationLimit()]
     if priority != "absent":
         limits.append(
             CollisionAvoidanceLimit(

@@ -31,7 +31,7 @@ collisions = redik.CollisionAvoidanceLimit(
     minimum_distance=0.01,
     detection_distance=0.08,
 )
-problem = redik.Problem(robot, tasks, [redik.PositionLimit(), collisions])
+problem = redik.Problem(robot, tasks, [redik.ConfigurationLimit(), collisions])
 
 result = problem.solve(q0, max_iter=200)
 print(result.summary())

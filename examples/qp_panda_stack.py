@@ -8,7 +8,7 @@ the limits. Run: python examples/qp_panda_stack.py
 import numpy as np
 
 import redik
-from redik.limits import PositionLimit, VelocityLimit
+from redik.limits import ConfigurationLimit, VelocityLimit
 from redik.solvers.problem import Problem
 from redik.tasks import FrameTask, JointLimitAvoidanceTask, PostureTask
 
@@ -29,7 +29,7 @@ print("error per iteration:", np.array2string(result.error_history, precision=2)
 
 # Online control at 100 Hz: one QP per tick, the step bounded by a velocity limit.
 online = Problem(
-    robot, [FrameTask("ee", target=T_target, gain=0.5)], [PositionLimit(), VelocityLimit(2.0)]
+    robot, [FrameTask("ee", target=T_target, gain=0.5)], [ConfigurationLimit(), VelocityLimit(2.0)]
 )
 q = q0.copy()
 for _ in range(200):

@@ -1,7 +1,7 @@
 """A UR5e whose shoulder starts near its −2π bound reaches a pose that the short way needs
 past that bound.
 
-Boxed, the iteration stops against the bound; with ``PositionLimit(periodic=True)`` a joint
+Boxed, the iteration stops against the bound; with ``ConfigurationLimit(periodic=True)`` a joint
 whose range spans a full turn is not boxed and each iterate is turned back into range by
 2π — the same pose — so the solve goes on (``solve_pose(method="qp")`` does this by
 default). Run: python examples/qp_periodic_joints_ur5e.py
@@ -10,7 +10,7 @@ default). Run: python examples/qp_periodic_joints_ur5e.py
 import numpy as np
 
 import redik
-from redik.limits import PositionLimit
+from redik.limits import ConfigurationLimit
 from redik.solvers.problem import Problem
 from redik.tasks import FrameTask
 
@@ -20,7 +20,10 @@ start = q_goal.copy()
 start[0] = robot.lower[0] + 0.05  # −2π + 0.05: the goal's −0.3 ≡ −2π − 0.3 is just below
 task = FrameTask("ee", target=robot.fk(q_goal))
 
-for name, limit in (("boxed", PositionLimit()), ("periodic", PositionLimit(periodic=True))):
+for name, limit in (
+    ("boxed", ConfigurationLimit()),
+    ("periodic", ConfigurationLimit(periodic=True)),
+):
     result = Problem(robot, [task], [limit]).solve(start)
     print(f"{name:<9} {result.summary()}; shoulder {result.q[0]:+.4f} rad, within limits: "
           f"{robot.within_limits(result.q)}")  # fmt: skip

@@ -17,7 +17,7 @@ import redik
 from redik.apps.render import render_states, save_video
 from redik.apps.sim import plot_tracking, simulate
 from redik.apps.trajectory import CircularPath
-from redik.limits import PositionLimit, VelocityLimit
+from redik.limits import ConfigurationLimit, VelocityLimit
 from redik.solvers.problem import Problem
 from redik.tasks import FrameTask, PostureTask
 
@@ -28,7 +28,7 @@ pose = FrameTask("ee", target=T0)
 problem = Problem(
     robot,
     [pose, PostureTask(robot.home, cost=0.1, priority=1)],
-    limits=[PositionLimit(), VelocityLimit(2.0)],
+    limits=[ConfigurationLimit(), VelocityLimit(2.0)],
 )
 result = simulate(robot, problem, pose, path, control_rate=100.0)
 print(result.summary())

@@ -18,7 +18,7 @@ import mujoco
 import redik
 from redik.apps.sim import TrackingWarning, joint_drives, simulate
 from redik.apps.trajectory import CircularPath
-from redik.limits import PositionLimit, VelocityLimit
+from redik.limits import ConfigurationLimit, VelocityLimit
 from redik.solvers.problem import Problem
 from redik.tasks import FrameTask, PostureTask
 
@@ -46,7 +46,7 @@ def circle_run(robot: redik.Robot, feedforward: bool = True):
     problem = Problem(
         robot,
         [pose, PostureTask(robot.home, cost=0.1, priority=1)],
-        limits=[PositionLimit(), VelocityLimit(2.0)],
+        limits=[ConfigurationLimit(), VelocityLimit(2.0)],
     )
     return simulate(robot, problem, pose, path, feedforward=feedforward, error_bound=(3e-3, 0.01))
 

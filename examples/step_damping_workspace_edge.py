@@ -17,7 +17,7 @@ import numpy as np
 import redik
 from redik.apps.sim import TrackingWarning, simulate
 from redik.apps.trajectory import CircularPath
-from redik.limits import PositionLimit, VelocityLimit
+from redik.limits import ConfigurationLimit, VelocityLimit
 from redik.solvers.problem import Problem
 from redik.tasks import FrameTask
 
@@ -28,7 +28,7 @@ path = CircularPath(T0, center=T0[:3, 3] + [0.0, 0.0, 0.1], normal=[1.0, 0.0, 0.
 
 for step_damping in (0.0, 10.0):
     pose = FrameTask("ee", target=T0)
-    limits = [PositionLimit(), VelocityLimit(2.0)]
+    limits = [ConfigurationLimit(), VelocityLimit(2.0)]
     problem = Problem(robot, [pose], limits=limits, step_damping=step_damping)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", TrackingWarning)  # the top is out of reach: expected

@@ -47,7 +47,7 @@ from redik.limits import (
     AccelerationLimit,
     BallJointLimit,
     CollisionAvoidanceLimit,
-    PositionLimit,
+    ConfigurationLimit,
     VelocityLimit,
 )
 from redik.models.scenes import list_scenes
@@ -89,6 +89,7 @@ __all__ = [
     "BatchResult",
     "CartesianPath",
     "CollisionAvoidanceLimit",
+    "ConfigurationLimit",
     "DampingTask",
     "FrameTask",
     "IKResult",
@@ -104,7 +105,6 @@ __all__ = [
     "ModelWarning",
     "NearRotationWarning",
     "OrientationTask",
-    "PositionLimit",
     "PositionTask",
     "PostureTask",
     "Problem",

@@ -13,7 +13,7 @@ import numpy as np
 import redik
 from redik.apps.sim import plot_tracking, simulate
 from redik.apps.trajectory import CircularPath
-from redik.limits import PositionLimit, VelocityLimit
+from redik.limits import ConfigurationLimit, VelocityLimit
 from redik.solvers.problem import Problem
 from redik.tasks import FrameTask, PostureTask
 
@@ -32,7 +32,7 @@ def run(ctx):
     problem = Problem(
         robot,
         [pose, PostureTask(robot.home, cost=0.1, priority=1)],
-        limits=[PositionLimit(), VelocityLimit(2.0)],
+        limits=[ConfigurationLimit(), VelocityLimit(2.0)],
     )
     rate = ctx.size(full=250.0, fast=100.0)
     ticks = iter(ctx.progress(range(round(path.duration * rate)), desc="iiwa14 ticks"))

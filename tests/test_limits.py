@@ -8,14 +8,14 @@ import pytest
 
 import redik
 from redik.core.exceptions import InfeasibleProblem, InvalidInput
-from redik.limits import InequalityLimit, MinkLimit, PositionLimit, VelocityLimit
+from redik.limits import ConfigurationLimit, InequalityLimit, MinkLimit, VelocityLimit
 from redik.qp import available_backends
 from redik.solvers.problem import Problem
 from redik.tasks import FrameTask, PositionTask, PostureTask
 
 
 def test_position_box_is_shrunk_by_margin_and_tolerance_and_pulls_back_inside(arm):
-    limit = PositionLimit(margin=0.01).bind(arm, tolerance=1e-6)
+    limit = ConfigurationLimit(margin=0.01).bind(arm, tolerance=1e-6)
     lower, upper = np.empty(7), np.empty(7)
     q = arm.home.copy()
     limit.set_bounds(q, None, lower, upper)
@@ -29,17 +29,17 @@ def test_position_box_is_shrunk_by_margin_and_tolerance_and_pulls_back_inside(ar
 
 
 def test_position_box_never_shrinks_past_a_quarter_range(arm):
-    limit = PositionLimit(margin=10.0).bind(arm)
+    limit = ConfigurationLimit(margin=10.0).bind(arm)
     lower, upper = np.empty(7), np.empty(7)
     limit.set_bounds(arm.home, None, lower, upper)
     assert np.all(lower <= upper)
 
 
-def test_a_periodic_position_limit_leaves_full_turn_joints_unboxed_and_wraps_them(rng):
+def test_a_periodic_configuration_limit_leaves_full_turn_joints_unboxed_and_wraps_them(rng):
     ur5e = redik.load("ur5e")  # ±2π everywhere, the elbow ±π (a full turn too)
     panda = redik.load("panda")
-    assert not PositionLimit(periodic=True).bind(panda).turning.any()  # ranges below a turn
-    limit = PositionLimit(periodic=True).bind(ur5e, tolerance=1e-9)
+    assert not ConfigurationLimit(periodic=True).bind(panda).turning.any()  # ranges below a turn
+    limit = ConfigurationLimit(periodic=True).bind(ur5e, tolerance=1e-9)
     assert limit.turning.all()
     lower, upper = np.empty(6), np.empty(6)
     limit.set_bounds(ur5e.home, None, lower, upper)
@@ -50,16 +50,16 @@ def test_a_periodic_position_limit_leaves_full_turn_joints_unboxed_and_wraps_the
     np.testing.assert_allclose(ur5e.fk(wrapped), ur5e.fk(q), atol=1e-9)
     inside = ur5e.random_q(rng)
     assert limit.wrap(inside) is inside  # nothing outside: untouched, bit for bit
-    assert not PositionLimit().bind(ur5e).turning.any()
+    assert not ConfigurationLimit().bind(ur5e).turning.any()
     with pytest.raises(InvalidInput, match="periodic"):
-        PositionLimit(periodic="yes")
+        ConfigurationLimit(periodic="yes")
     # Problem.solve turns every iterate back into range.
     T = ur5e.fk(np.array([-0.3, -1.2, 1.4, -1.8, -1.5, 0.4]))
     start = np.array([ur5e.lower[0] + 0.05, -1.2, 1.4, -1.8, -1.5, 0.4])
     boxed = Problem(ur5e, [FrameTask("ee", target=T)]).solve(start)
-    periodic = Problem(ur5e, [FrameTask("ee", target=T)], [PositionLimit(periodic=True)]).solve(
-        start
-    )
+    periodic = Problem(
+        ur5e, [FrameTask("ee", target=T)], [ConfigurationLimit(periodic=True)]
+    ).solve(start)
     assert not boxed.success  # stuck against the shoulder's lower bound
     assert periodic.success and periodic.iterations < 10
     assert all(ur5e.within_limits(q) for q in periodic.history)
@@ -118,7 +118,7 @@ def test_a_joint_too_far_outside_for_its_velocity_limit_is_infeasible():
     problem = Problem(
         robot,
         [FrameTask("ee", target=robot.fk(robot.home))],
-        [PositionLimit(), VelocityLimit(1.0)],
+        [ConfigurationLimit(), VelocityLimit(1.0)],
     )
     q = robot.home.copy()
     q[1] = robot.upper[1] + 0.5  # needs 0.5 rad back, 0.1 rad allowed in dt = 0.1
@@ -172,7 +172,7 @@ class ZeroRow(InequalityLimit):
 def test_a_row_refused_at_the_backend_set_up_is_infeasible_not_a_raw_error():
     robot = redik.load("panda")
     target = robot.fk(robot.clip(robot.home + 0.1))
-    problem = Problem(robot, [FrameTask("ee", target=target)], [PositionLimit(), ZeroRow()])
+    problem = Problem(robot, [FrameTask("ee", target=target)], [ConfigurationLimit(), ZeroRow()])
     for _ in range(2):
         with pytest.raises(InfeasibleProblem, match=r"'daqp'.*infeasible"):
             problem.step(robot.home)
@@ -219,7 +219,7 @@ def _solve_with_collision_priority(robot, priority):
     the collision limit ("none": absent) at ``priority``."""
     from redik.limits import CollisionAvoidanceLimit
 
-    limits = [PositionLimit()]
+    limits = [ConfigurationLimit()]
     if priority != "none":
         limits.append(
             CollisionAvoidanceLimit(
@@ -300,7 +300,7 @@ def test_a_ranked_limit_in_online_steps_and_its_bad_input(planar_obstacles):
             VelocityLimit(1.0, priority=bad)
     with pytest.raises(InvalidInput, match="Backend instance"):
         backend = redik.qp.make_backend("daqp")
-        Problem(robot, tasks[:1], [PositionLimit(priority=0)], backend=backend)
+        Problem(robot, tasks[:1], [ConfigurationLimit(priority=0)], backend=backend)
 
 
 def test_acceleration_limit_bounds_the_velocity_change_and_brakes_before_the_limits():
@@ -315,7 +315,7 @@ def test_acceleration_limit_bounds_the_velocity_change_and_brakes_before_the_lim
     problem = Problem(
         robot,
         [PostureTask(beyond, gain=1.0, priority=0)],
-        [PositionLimit(), VelocityLimit(v_max), acceleration],
+        [ConfigurationLimit(), VelocityLimit(v_max), acceleration],
     )
     q, v = robot.home.copy(), np.zeros(robot.dof)
     for _ in range(300):
@@ -346,15 +346,15 @@ def test_acceleration_limit_bounds_the_velocity_change_and_brakes_before_the_lim
     assert upper[0] == pytest.approx(0.01 * dt) and np.isinf(upper[1:]).all()
 
 
-def test_position_limit_refuses_a_margin_that_is_not_a_number():
-    """``PositionLimit("x")`` or ``PositionLimit(None)`` raised a raw ValueError/TypeError
+def test_configuration_limit_refuses_a_margin_that_is_not_a_number():
+    """``ConfigurationLimit("x")`` or ``ConfigurationLimit(None)`` raised a raw ValueError/TypeError
     from ``float()``; ``BallJointLimit`` already named the fault."""
     for margin in ("x", None, [0.1], np.array([0.1, 0.2])):
         with pytest.raises(InvalidInput, match="margin must be a number"):
-            PositionLimit(margin)
+            ConfigurationLimit(margin)
     for margin in (np.nan, -0.1, np.inf):
         with pytest.raises(InvalidInput, match="margin must be finite"):
-            PositionLimit(margin)
+            ConfigurationLimit(margin)
 
 
 def test_mink_limit_refuses_a_dt_that_is_not_a_positive_number(arm):

@@ -10,7 +10,7 @@ import pytest
 
 import redik
 from redik.core.exceptions import InvalidInput
-from redik.limits import MinkLimit, PositionLimit
+from redik.limits import ConfigurationLimit, MinkLimit
 from redik.qp.backends import QPSOLVERS_SETTINGS
 from redik.solvers.problem import Problem
 from redik.tasks import (
@@ -88,7 +88,7 @@ def test_mink_tasks_and_limits_inside_a_redik_problem_on_an_off_chain_model(arm,
         native = Problem(arm, [FrameTask("ee", target=T)], limits=[])
         with_mink = Problem(arm, [_frame(T)], limits=[])
         np.testing.assert_allclose(with_mink.step(q), native.step(q), atol=1e-10)
-        mixed = Problem(arm, [_frame(T), PostureTask()], [PositionLimit(),
+        mixed = Problem(arm, [_frame(T), PostureTask()], [ConfigurationLimit(),
                         MinkLimit(mink.ConfigurationLimit(arm.model))])  # fmt: skip
         assert mixed.step(q).shape == (arm.dof,)
     com = mink.ComTask(cost=1.0)

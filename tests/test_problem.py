@@ -9,7 +9,7 @@ import redik
 from redik import lie
 from redik.apps.trajectory import CircularPath
 from redik.core.exceptions import InvalidConfiguration, InvalidInput
-from redik.limits import PositionLimit, VelocityLimit
+from redik.limits import ConfigurationLimit, VelocityLimit
 from redik.solvers.pose.qp import solve_pose_qp
 from redik.solvers.problem import Problem
 from redik.tasks import FrameTask, JointLimitAvoidanceTask, PostureTask
@@ -73,7 +73,9 @@ def test_a_level0_without_targets_converges_when_the_step_vanishes(panda):
 
 def test_step_returns_a_joint_step_and_validates_its_input(panda):
     problem = Problem(
-        panda, [FrameTask("ee", target=panda.fk(panda.home))], [PositionLimit(), VelocityLimit(1.0)]
+        panda,
+        [FrameTask("ee", target=panda.fk(panda.home))],
+        [ConfigurationLimit(), VelocityLimit(1.0)],
     )
     dq = problem.step(panda.home + 0.1, dt=0.01)
     assert dq.shape == (7,) and np.all(np.abs(dq) <= 0.01 + 1e-12)
@@ -164,7 +166,7 @@ def test_a_backend_instance_cannot_be_shared_by_priority_levels(panda):
 
 def test_a_single_task_or_limit_is_the_list_of_it(panda):
     T = panda.fk(panda.home)
-    problem = Problem(panda, FrameTask("ee", target=T), PositionLimit())
+    problem = Problem(panda, FrameTask("ee", target=T), ConfigurationLimit())
     assert problem.levels == [0] and len(problem.tasks) == 1 and len(problem.limits) == 1
     np.testing.assert_allclose(problem.step(panda.home), 0.0, atol=1e-12)
 
@@ -546,7 +548,7 @@ def track_circle_kinematically(robot, q0, step_damping, radius=0.1):
     T0 = robot.fk(q0)
     path = CircularPath(T0, T0[:3, 3] + [0.0, 0.0, radius], [1.0, 0.0, 0.0], duration=4.0)
     task = FrameTask("ee", target=T0)
-    limits = [PositionLimit(), VelocityLimit(2.0)]
+    limits = [ConfigurationLimit(), VelocityLimit(2.0)]
     problem = Problem(robot, [task], limits=limits, step_damping=step_damping)
     dt, q = 0.01, q0.copy()
     times = dt * np.arange(1, 401)
@@ -608,7 +610,7 @@ def track_circle_with_posture(robot, q0, extra_limits=()):
     T0 = robot.fk(q0)
     path = CircularPath(T0, T0[:3, 3] + [0.0, 0.0, 0.1], [1.0, 0.0, 0.0], duration=4.0)
     task = FrameTask("ee", target=T0)
-    limits = [PositionLimit(), VelocityLimit(2.0), *extra_limits]
+    limits = [ConfigurationLimit(), VelocityLimit(2.0), *extra_limits]
     problem = Problem(robot, [task, PostureTask(q0, priority=1)], limits, step_damping=10.0)
     dt, q = 0.01, q0.copy()
     velocities, errors = np.empty((400, robot.dof)), np.empty(400)
@@ -656,7 +658,7 @@ def test_reset_starts_a_new_motion_and_checks_the_velocity(panda):
 
     def problem_with(acceleration):
         tasks = [FrameTask("ee", target=target), PostureTask(panda.home, priority=1)]
-        return Problem(panda, tasks, [PositionLimit(), VelocityLimit(2.0), acceleration])
+        return Problem(panda, tasks, [ConfigurationLimit(), VelocityLimit(2.0), acceleration])
 
     acceleration = AccelerationLimit(a)
     problem = problem_with(acceleration)
@@ -679,7 +681,7 @@ def test_reset_starts_a_new_motion_and_checks_the_velocity(panda):
     posture = mink.PostureTask(panda.model, cost=1.0)
     posture.set_target(panda.full_qpos(panda.home))
     plain = Problem(
-        panda, [FrameTask("ee", target=target), posture], [PositionLimit(), VelocityLimit(2.0)]
+        panda, [FrameTask("ee", target=target), posture], [ConfigurationLimit(), VelocityLimit(2.0)]
     )
     step = plain.step(panda.home, dt)
     plain.reset(v)
@@ -693,7 +695,7 @@ def test_solve_leaves_acceleration_limits_out_and_their_motion_alone(panda):
 
     def problem_with(*extra):
         tasks = [FrameTask("ee", target=target), PostureTask(panda.home, priority=1)]
-        return Problem(panda, tasks, [PositionLimit(), VelocityLimit(2.0), *extra])
+        return Problem(panda, tasks, [ConfigurationLimit(), VelocityLimit(2.0), *extra])
 
     acceleration = AccelerationLimit(20.0)
     problem, twin = problem_with(acceleration), problem_with(AccelerationLimit(20.0))
@@ -714,7 +716,7 @@ def test_solve_leaves_acceleration_limits_out_and_their_motion_alone(panda):
     # …does not touch the motion (the next step continues it), and needs no dt for it.
     np.testing.assert_array_equal(acceleration.velocity, velocity)
     alone = Problem(
-        panda, [FrameTask("ee", target=target)], [PositionLimit(), AccelerationLimit(20.0)]
+        panda, [FrameTask("ee", target=target)], [ConfigurationLimit(), AccelerationLimit(20.0)]
     )
     assert alone.solve(panda.home).success
     np.testing.assert_allclose(problem.step(q, 0.01), twin.step(q, 0.01), rtol=0.0, atol=1e-12)

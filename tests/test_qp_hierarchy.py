@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import redik
-from redik.limits import PositionLimit
+from redik.limits import ConfigurationLimit
 from redik.qp import QP, make_backend, solve_lexicographic
 from redik.qp.hierarchy import SLACK_DAMPING, free_directions
 from redik.solvers.problem import Problem
@@ -67,7 +67,7 @@ def test_lower_level_is_optimal_within_the_higher_optimal_set(rng):
         problem = Problem(
             robot,
             [FrameTask("ee", target=T), PostureTask(q_nominal, priority=1)],
-            [PositionLimit()],
+            [ConfigurationLimit()],
         )
         dq = problem.step(q)
         # Stage 1 then stage 2 in cvxpy, the box as given to the solver.

@@ -23,7 +23,7 @@ from redik.apps.sim import (
     simulate,
 )
 from redik.apps.trajectory import CircularPath
-from redik.limits import PositionLimit, VelocityLimit
+from redik.limits import ConfigurationLimit, VelocityLimit
 from redik.solvers.problem import Problem
 from redik.tasks import FrameTask, PostureTask
 
@@ -34,7 +34,7 @@ def tracking_problem(robot, q0=None):
     q0 = robot.home if q0 is None else q0
     task = FrameTask(robot.ee.name, target=robot.fk(q0))
     posture = PostureTask(q0, cost=0.1, priority=1)
-    limits = [PositionLimit(), VelocityLimit(2.0)]
+    limits = [ConfigurationLimit(), VelocityLimit(2.0)]
     return Problem(robot, [task, posture], limits=limits), task
 
 
@@ -214,7 +214,7 @@ def test_exceeding_the_bound_warns_and_says_why():
 def test_a_reference_the_ik_cannot_follow_is_blamed_on_the_ik():
     robot = menagerie_like_iiwa14()
     task = FrameTask(robot.ee.name, target=robot.fk(robot.home))
-    slow = Problem(robot, [task], limits=[PositionLimit(), VelocityLimit(0.05)])
+    slow = Problem(robot, [task], limits=[ConfigurationLimit(), VelocityLimit(0.05)])
     with pytest.warns(TrackingWarning, match="The IK reference itself leaves the path"):
         result = simulate(robot, slow, task, circle(robot, robot.home, duration=1.0))
     assert result.reference_position_error.max() > 0.5 * result.max_position_error
@@ -334,7 +334,7 @@ def test_the_same_problem_simulated_twice_runs_the_same_both_times():
     task = FrameTask("ee", target=path.pose(0.0))
     acceleration = AccelerationLimit(20.0)
     posture = PostureTask(robot.home, cost=0.1, priority=1)
-    limits = [PositionLimit(), VelocityLimit(2.0), acceleration]
+    limits = [ConfigurationLimit(), VelocityLimit(2.0), acceleration]
     problem = Problem(robot, [task, posture], limits)
     first = simulate(robot, problem, task, path, 1.0, control_rate=100.0)
     assert np.abs(acceleration.velocity).max() > 0.1  # still moving when the run ends

@@ -72,7 +72,9 @@ def test_baxter_two_priority_stack_and_two_hand_stack(baxter):
         redik.FrameTask("right_gripper", target=T_right),
         redik.PostureTask(priority=1),
     ]
-    result = redik.Problem(baxter, tasks, [redik.PositionLimit(), collisions]).solve(baxter.home)
+    result = redik.Problem(baxter, tasks, [redik.ConfigurationLimit(), collisions]).solve(
+        baxter.home
+    )
     assert result.success, result.message
     for frame, T in (("left_gripper", T_left), ("right_gripper", T_right)):
         p_err, r_err = pose_errors(baxter.fk(result.q, frame), T)
@@ -89,7 +91,7 @@ def test_baxter_collision_limit_binds_where_the_free_solution_collides(baxter):
     checker = _arm_collisions().bind(baxter)
     free = redik.Problem(baxter, tasks).solve(baxter.home)
     assert checker.minimum_distance_at(free.q)[0] < 0.0
-    guarded = redik.Problem(baxter, tasks, [redik.PositionLimit(), _arm_collisions()])
+    guarded = redik.Problem(baxter, tasks, [redik.ConfigurationLimit(), _arm_collisions()])
     result = guarded.solve(baxter.home)
     assert min(checker.minimum_distance_at(q)[0] for q in result.history) >= 0.01 - 1e-6
 
@@ -104,7 +106,7 @@ def test_baxter_carries_a_box_along_a_path(baxter):
     problem = redik.Problem(
         baxter,
         [left, right, redik.PostureTask(priority=1)],
-        [redik.PositionLimit(), _arm_collisions()],
+        [redik.ConfigurationLimit(), _arm_collisions()],
     )
 
     def solver(T, q):
@@ -163,7 +165,7 @@ def test_g1_two_hands_with_feet_held_and_no_collision(g1):
     )
     tasks = [redik.FrameTask(f, target=T) for f, T in targets.items()]
     problem = redik.Problem(
-        g1, [*tasks, redik.PostureTask(priority=1)], [redik.PositionLimit(), collisions]
+        g1, [*tasks, redik.PostureTask(priority=1)], [redik.ConfigurationLimit(), collisions]
     )
     result = problem.solve(g1.home, max_iter=200)
     assert result.success, result.message

@@ -164,7 +164,7 @@ def test_a_qp_stack_follows_the_path_alike_after_a_simulation():
     import warnings
 
     from redik.apps.sim import TrackingWarning, simulate
-    from redik.limits import AccelerationLimit, PositionLimit, VelocityLimit
+    from redik.limits import AccelerationLimit, ConfigurationLimit, VelocityLimit
     from redik.solvers.problem import Problem
     from redik.tasks import FrameTask, PostureTask
 
@@ -177,7 +177,7 @@ def test_a_qp_stack_follows_the_path_alike_after_a_simulation():
     def stack(*extra):
         task = FrameTask("ee", target=T0)
         posture = PostureTask(robot.home, cost=1e-2, priority=1)
-        limits = [PositionLimit(), VelocityLimit(2.0), *extra]
+        limits = [ConfigurationLimit(), VelocityLimit(2.0), *extra]
         problem = Problem(robot, [task, posture], limits)
         return problem, task, lambda T, q: (task.set_target(T), problem.solve(q, dt=0.01))[1]
 

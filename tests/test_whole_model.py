@@ -258,11 +258,14 @@ def test_ball_joint_limit_keeps_every_iterate_inside_the_cone(whole):
     def _neck_angle(q):
         return float(limit.angles_at(q)[0])
 
-    free = redik.Problem(whole, posture, [redik.PositionLimit()]).solve(whole.home)
+    free = redik.Problem(whole, posture, [redik.ConfigurationLimit()]).solve(whole.home)
     assert _neck_angle(free.q) == pytest.approx(1.5)
     # The default limits hold the cone (no margin): a box alone would not.
     default = redik.Problem(whole, posture)
-    assert [type(limit).__name__ for limit in default.limits] == ["PositionLimit", "BallJointLimit"]
+    assert [type(limit).__name__ for limit in default.limits] == [
+        "ConfigurationLimit",
+        "BallJointLimit",
+    ]
     held = default.solve(whole.home)
     assert _neck_angle(held.q) == pytest.approx(1.2, abs=1e-6)
     assert max(_neck_angle(q) for q in held.history) <= 1.2
@@ -270,10 +273,10 @@ def test_ball_joint_limit_keeps_every_iterate_inside_the_cone(whole):
     # mink's ConfigurationLimit has the same row but none at the identity: its first step
     # leaves the cone.
     theirs = redik.Problem(
-        whole, posture, [redik.PositionLimit(), mink.ConfigurationLimit(whole.model, gain=1.0)]
+        whole, posture, [redik.ConfigurationLimit(), mink.ConfigurationLimit(whole.model, gain=1.0)]
     )
     assert max(_neck_angle(q) for q in theirs.solve(whole.home).history) > 1.4
-    result = redik.Problem(whole, posture, [redik.PositionLimit(), limit]).solve(whole.home)
+    result = redik.Problem(whole, posture, [redik.ConfigurationLimit(), limit]).solve(whole.home)
     assert limit.joint_names == ("neck",)
     assert _neck_angle(result.q) == pytest.approx(1.15, abs=1e-6)
     assert max(_neck_angle(q) for q in result.history) <= 1.15 + 1e-9
@@ -369,7 +372,7 @@ def _collision_problem(model, with_limit: bool, minimum_distance: float = 0.01):
     arm = redik.Robot(model, joints=["left_*"], fixed=["*finger*"])
     # The hand is asked to a point inside the table: only the limit stops it.
     target = redik.PositionTask("left_ee", target=[0.4, 0.25, 0.95], priority=0)
-    limits = [redik.PositionLimit()]
+    limits = [redik.ConfigurationLimit()]
     if with_limit:
         limits.append(
             redik.CollisionAvoidanceLimit(
@@ -625,7 +628,7 @@ def test_online_control_of_a_floating_robot_respects_velocity_and_position_limit
         redik.PostureTask(priority=1),
     ]
     dt, speed = 0.01, 2.0
-    problem = redik.Problem(whole, tasks, [redik.PositionLimit(), redik.VelocityLimit(speed)])
+    problem = redik.Problem(whole, tasks, [redik.ConfigurationLimit(), redik.VelocityLimit(speed)])
     q = whole.home.copy()
     for _ in range(400):
         dq = problem.step(q, dt)

@@ -3,9 +3,9 @@
 from redik.limits.acceleration_limit import AccelerationLimit
 from redik.limits.ball_joint_limit import BallJointLimit
 from redik.limits.collision_avoidance_limit import CollisionAvoidanceLimit
+from redik.limits.configuration_limit import ConfigurationLimit
 from redik.limits.limit import BoxLimit, InequalityLimit, Limit
 from redik.limits.mink_limit import MinkLimit
-from redik.limits.position_limit import PositionLimit
 from redik.limits.velocity_limit import VelocityLimit
 
 __all__ = [
@@ -13,9 +13,9 @@ __all__ = [
     "BallJointLimit",
     "BoxLimit",
     "CollisionAvoidanceLimit",
+    "ConfigurationLimit",
     "InequalityLimit",
     "Limit",
     "MinkLimit",
-    "PositionLimit",
     "VelocityLimit",
 ]

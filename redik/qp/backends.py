@@ -29,7 +29,7 @@ default settings below, both the largest constraint violation of its ``x`` and t
 ∞-norm distance of ``x`` to the exact minimiser stay below it
 (``tests/test_qp_backends.py`` checks this for every installed back-end against an
 active-set reference whose KKT conditions it verifies). The position box is shrunk by it
-(:mod:`redik.limits.position_limit`). The distance of a tolerance-based solver (interior
+(:mod:`redik.limits.configuration_limit`). The distance of a tolerance-based solver (interior
 point, ADMM, proximal) grows like :math:`\sqrt{\text{gap}/λ_{min}}` as the Hessian's
 smallest eigenvalue :math:`λ_{min}` falls; active-set solvers (daqp, quadprog, highs) are
 exact up to round-off. Settings passed to :func:`make_backend` replace the defaults, and

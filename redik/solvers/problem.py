@@ -9,9 +9,9 @@ lexicographically (:mod:`redik.qp.hierarchy`) with the chosen back-end
 
 **Limits are never left.** The position box is shrunk by the back-end's tolerance and
 :math:`q + Δq` is then clipped into the joint limits, so every configuration ``step`` leads
-to and ``solve`` returns lies within them (:mod:`redik.limits.position_limit`). The default
+to and ``solve`` returns lies within them (:mod:`redik.limits.configuration_limit`). The default
 limits also hold every limited ball joint in its cone (:mod:`redik.limits.ball_joint_limit`).
-A ``PositionLimit(periodic=True)`` leaves joints whose range spans a full turn unboxed and
+A ``ConfigurationLimit(periodic=True)`` leaves joints whose range spans a full turn unboxed and
 ``solve`` turns each iterate back into their range by multiples of 2π (same pose).
 
 **Whole models.** On a robot with ball or free joints (a floating base), ``q`` has
@@ -44,10 +44,10 @@ from redik.limits import (
     AccelerationLimit,
     BallJointLimit,
     BoxLimit,
+    ConfigurationLimit,
     InequalityLimit,
     Limit,
     MinkLimit,
-    PositionLimit,
 )
 from redik.limits.ball_joint_limit import limited_ball_joints
 from redik.qp.assembly import Assembly
@@ -127,7 +127,7 @@ class Problem:
         tasks: redik tasks and/or mink tasks (``mink.FrameTask``, ``mink.ComTask``…). Tasks
             of equal ``priority`` are weighted and summed; priorities are strict. A single
             task is accepted as the list of it, ``Problem(robot, FrameTask("ee", target=T))``.
-        limits: redik or mink limits; None is the robot's own ranges, ``[PositionLimit()]``
+        limits: redik or mink limits; None is the robot's own ranges, ``[ConfigurationLimit()]``
             plus a :class:`~redik.limits.BallJointLimit` when it moves limited ball joints
             (whose cones no box holds); ``[]`` is none; a single limit is the list of it.
             A limit is hard at every level unless given ``priority=k``: it then ranks just
@@ -202,7 +202,9 @@ class Problem:
         tolerance = max(b.tolerance for b in self.backends)
 
         if limits is None:
-            limits = [PositionLimit()] + ([BallJointLimit()] if limited_ball_joints(robot) else [])
+            limits = [ConfigurationLimit()] + (
+                [BallJointLimit()] if limited_ball_joints(robot) else []
+            )
         else:
             limits = _as_list(limits, "limits", "compute_qp_inequalities")
         self.limits: list[Limit] = []
@@ -224,7 +226,7 @@ class Problem:
             limit for limit in self._boxes if not isinstance(limit, AccelerationLimit)
         ]
         self._rows = [limit for limit in hard if isinstance(limit, InequalityLimit)]
-        self._clip = any(isinstance(limit, PositionLimit) for limit in hard)
+        self._clip = any(isinstance(limit, ConfigurationLimit) for limit in hard)
         # Ranked limits (priority=k): one slack level per priority, just above the tasks of
         # that priority (redik.limits.limit); (priority, index of the first task level at or
         # below it, its limits, its back-end).
@@ -257,7 +259,7 @@ class Problem:
         self._wraps = [
             limit
             for limit in self.limits
-            if isinstance(limit, PositionLimit) and limit.turning.any()
+            if isinstance(limit, ConfigurationLimit) and limit.turning.any()
         ]
 
         self.stats: dict[str, int] = {}

@@ -43,7 +43,7 @@ import numpy as np
 from redik import lie
 from redik.core.exceptions import BackendError, InfeasibleProblem
 from redik.kinematics.robot import load
-from redik.limits import PositionLimit
+from redik.limits import ConfigurationLimit
 from redik.qp.backends import QPSOLVERS_SETTINGS, available_backends
 from redik.solvers.problem import Problem
 from redik.tasks import FrameTask, JointLimitAvoidanceTask, PostureTask
@@ -116,7 +116,7 @@ def _redik_problem(robot, cost: float, backend: str, strict: bool) -> Problem:
         JointLimitAvoidanceTask(cost, priority=priority),
         PostureTask(cost=cost, priority=priority),
     ]
-    return Problem(robot, tasks, [PositionLimit()], backend=backend, damping=1e-6)
+    return Problem(robot, tasks, [ConfigurationLimit()], backend=backend, damping=1e-6)
 
 
 def _time_steps(robot, backend: str, solver: str | None, args, targets) -> tuple:

@@ -14,7 +14,7 @@ attempt also has its own budget, ``max_iter``.
 
 **A turn is free.** A revolute joint whose range spans a full turn or more (the UR arms'
 ±2π) is periodic for this solver: it is not boxed, and each iterate is turned back into its
-range (:class:`~redik.limits.PositionLimit` with ``periodic=True``; ``"dls"`` wraps such
+range (:class:`~redik.limits.ConfigurationLimit` with ``periodic=True``; ``"dls"`` wraps such
 joints the same way, :mod:`redik.kinematics.dls`): a bound the pose does not need never
 stops it. With extra ``tasks`` (a posture measures a turned joint differently) the box
 stays, and an attempt that stalls with such a joint against a bound restarts from the same
@@ -39,7 +39,7 @@ from redik.core.result import IKResult
 from redik.kinematics.chain import Chain
 from redik.kinematics.compiled import COMPILE, chain_kinematics
 from redik.kinematics.robot import Robot
-from redik.limits import BallJointLimit, PositionLimit
+from redik.limits import BallJointLimit, ConfigurationLimit
 from redik.limits.ball_joint_limit import limited_ball_joints
 from redik.solvers.pose.cache import PoseCache
 from redik.solvers.problem import Problem
@@ -228,7 +228,7 @@ def _problem(robot: Robot, T_target, frame, respect_limits: bool, options: dict)
 def _limits(robot: Robot, periodic: bool) -> list:
     """The robot's own ranges (:class:`redik.Problem`'s default limits), full-turn joints
     periodic when ``periodic`` (module docstring)."""
-    limits = [PositionLimit(periodic=periodic)]
+    limits = [ConfigurationLimit(periodic=periodic)]
     if limited_ball_joints(robot):
         limits.append(BallJointLimit())
     return limits

@@ -1,4 +1,5 @@
-r"""The joint position box: keep :math:`q + Δq` inside :math:`[q_{min}, q_{max}]`.
+r"""The configuration limit (mink's and pink's name), the joint position box: keep
+:math:`q + Δq` inside :math:`[q_{min}, q_{max}]`.
 
 .. math::
 
@@ -9,9 +10,9 @@ step inside it lands inside the limits. The box is shrunk by the user's ``margin
 the back-end's feasibility tolerance :math:`τ` (an interior-point or ADMM solver returns
 bounds satisfied only to :math:`τ`), never by more than a quarter of a joint's range.
 :class:`redik.Problem` additionally clips :math:`q + Δq` into the true limits, so the
-configuration it returns never leaves them — mink's ``ConfigurationLimit`` does neither,
-and its steps overshoot by up to the solver tolerance (≈5e-5 rad with proxqp, 5e-3 rad
-with osqp). A joint outside its limits is pulled back inside by the box.
+configuration it returns never leaves them — mink's ``ConfigurationLimit`` (the same box)
+does neither, and its steps overshoot by up to the solver tolerance (≈5e-5 rad with proxqp,
+5e-3 rad with osqp). A joint outside its limits is pulled back inside by the box.
 
 **Full turns, for IK.** With ``periodic=True`` a revolute joint whose range spans a full
 turn or more (the UR arms' ±2π) gets no box: every angle has a representative in its range,
@@ -33,7 +34,7 @@ from redik.lie import periodic_coordinates, wrap_into_range
 from redik.limits.limit import BoxLimit
 
 
-class PositionLimit(BoxLimit):
+class ConfigurationLimit(BoxLimit):
     """Box the step so that the hinge and slide joints stay within their limits.
 
     Args:
@@ -66,7 +67,7 @@ class PositionLimit(BoxLimit):
         self.turning = np.zeros(0, dtype=bool)
         self._range_lower = self._range_upper = np.empty(0)
 
-    def bind(self, robot: Robot, tolerance: float = 0.0) -> PositionLimit:
+    def bind(self, robot: Robot, tolerance: float = 0.0) -> ConfigurationLimit:
         span = robot.upper - robot.lower
         shrink = np.minimum(self.margin + tolerance, np.where(np.isfinite(span), span / 4, 0.0))
         self.lower = robot.lower + shrink
