@@ -33,7 +33,7 @@ collisions = redik.CollisionAvoidanceLimit(
 )
 problem = redik.Problem(robot, tasks, [redik.ConfigurationLimit(), collisions])
 
-result = problem.solve(robot.home, max_iter=200)
+result = problem.solve(robot.home, max_iterations=200)
 print(result.summary())
 for frame, T in targets.items():
     p_err, r_err = pose_errors(robot.fk(result.q, frame), T)

@@ -60,7 +60,7 @@ for priority in ("absent", None, 1, 2):
             )
         )
     tasks = [PositionTask("tip", target=[1.6, 1.2, 0.0]), PostureTask(priority=1)]
-    result = Problem(robot, tasks, limits).solve(robot.home, max_iter=200)
+    result = Problem(robot, tasks, limits).solve(robot.home, max_iterations=200)
     label = "no collision limit" if priority == "absent" else f"priority={priority}"
     print(
         f"{label:>18}: {result.status:>9}, tip {result.position_error * 1000:6.1f} mm from "

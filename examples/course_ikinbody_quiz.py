@@ -19,7 +19,7 @@ from redik.lie import inverse, se3_log
 
 # 1. Two Newton iterations on a user's function, every iteration kept (tol=0).
 root = redik.solve_equations(lambda x: np.array([x[0] ** 2 - 9, x[1] ** 2 - 4]), [0, 0], [1, 1],
-                             method="newton", tol=0, max_iter=2)  # fmt: skip
+                             method="newton", tol=0, max_iterations=2)  # fmt: skip
 print("Newton on (x² − 9, y² − 4) from (1, 1):")
 for i, x in enumerate(root.history):
     print(f"  x^{i} = ({x[0]:.4g}, {x[1]:.4g})")

@@ -24,8 +24,8 @@ x_d = tip(np.array([0.4, 1.1]))
 q0 = np.array([0.2, 1.6])
 results = [
     newton_raphson(tip, x_d, q0, tol=1e-10),
-    gradient_descent(tip, x_d, q0, step="armijo", tol=1e-10, max_iter=500),
-    gradient_descent(tip, x_d, q0, step=0.3, tol=1e-10, max_iter=500),
+    gradient_descent(tip, x_d, q0, step="armijo", tol=1e-10, max_iterations=500),
+    gradient_descent(tip, x_d, q0, step=0.3, tol=1e-10, max_iterations=500),
 ]
 labels = ["Newton (J⁻¹)", "gradient, Armijo", "gradient, α = 0.3"]
 for label, result in zip(labels, results, strict=True):

@@ -27,8 +27,8 @@ def posture_cost(q: np.ndarray) -> float:
     return 0.5 * float(np.sum((q - q_nominal) ** 2))
 
 
-early = problem.solve(q0, max_iter=300, stationarity_tol=None)  # stop when the pose converges
-result = problem.solve(q0, max_iter=300)  # ... and finish the posture level
+early = problem.solve(q0, max_iterations=300, stationarity_tol=None)  # stop when the pose converges
+result = problem.solve(q0, max_iterations=300)  # ... and finish the posture level
 for name, r in (("stop at pose convergence", early), ("finish the lower level", result)):
     stationarity = problem.stationarity(r.q)[0]
     print(

@@ -17,7 +17,7 @@ T_target = robot.fk(robot.random_q(np.random.default_rng(4)))
 frame = mink.FrameTask("ee", "site", position_cost=1.0, orientation_cost=1.0)
 frame.set_target(mink.SE3.from_matrix(T_target))
 problem = Problem(robot, [frame, JointLimitAvoidanceTask(priority=1)])
-print("redik Problem with a mink task:", problem.solve(robot.home, max_iter=200).summary())
+print("redik Problem with a mink task:", problem.solve(robot.home, max_iterations=200).summary())
 
 # The other way round: a redik task, bound to the robot, inside mink.solve_ik.
 configuration = mink.Configuration(robot.model, robot.full_qpos(robot.home))

@@ -145,7 +145,7 @@ def test_batch_statuses_are_redik_statuses():
     codes = {
         Status.CONVERGED: dls.CONVERGED,
         Status.STALLED: dls.STALLED,
-        Status.MAX_ITERATIONS: dls.MAX_ITERATIONS,
+        Status.MAX_ITERATIONS: dls.EXHAUSTED,
         Status.INVALID: dls.INVALID,
         Status.DIVERGED: dls.DIVERGED,
     }

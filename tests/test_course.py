@@ -85,9 +85,9 @@ def test_ikinbody_example_6_1_iterate_table():
 
 def test_newton_root_quiz_two_iterations_with_tol_zero():
     """Newton–Raphson on f(x, y) = (x² − 9, y² − 4) from (1, 1): (5, 2.5), then (3.4, 2.05).
-    ``tol=0`` runs exactly ``max_iter`` iterations, the table the quiz asks for."""
+    ``tol=0`` runs exactly ``max_iterations`` iterations, the table the quiz asks for."""
     result = newton_raphson(lambda x: np.array([x[0] ** 2 - 9.0, x[1] ** 2 - 4.0]),
-                            [0.0, 0.0], [1.0, 1.0], tol=0, max_iter=2)  # fmt: skip
+                            [0.0, 0.0], [1.0, 1.0], tol=0, max_iterations=2)  # fmt: skip
     assert result.iterations == 2 and result.status == "max_iterations"
     np.testing.assert_allclose(result.history, [[1.0, 1.0], [5.0, 2.5], [3.4, 2.05]], atol=1e-12)
 
@@ -107,7 +107,7 @@ def test_forward_difference_jacobian_with_the_courses_delta():
     # The same Jacobian drives a Newton step when the course picks δ = 0.1 in the solver.
     x_d = np.array([6.0, 20.0])
     result = newton_raphson(course_fd_function, x_d, x, fd_step=0.1, fd_scheme="forward", tol=0,
-                            max_iter=1)  # fmt: skip
+                            max_iterations=1)  # fmt: skip
     np.testing.assert_allclose(
         result.history[1], x + np.linalg.solve(J, x_d - course_fd_function(x)), atol=1e-12
     )

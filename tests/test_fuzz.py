@@ -341,7 +341,7 @@ def test_solve_pose(panda, method, data):
     q0 = data.draw(st.one_of(st.none(), configurations(panda)))
     strict = data.draw(st.booleans())
     kwargs = data.draw(mostly(st.just({}), options()))
-    kwargs["max_iter"] = data.draw(mostly(st.just(15), st.integers(-1, 3), number, junk()))
+    kwargs["max_iterations"] = data.draw(mostly(st.just(15), st.integers(-1, 3), number, junk()))
     kwargs["restarts"] = data.draw(mostly(st.just(1), st.integers(-1, 2), number, junk()))
     limited = kwargs.get("respect_limits", True) is not False
     holds(
@@ -358,7 +358,7 @@ def test_solve_all(panda, data, n_starts):
     cluster_tol = data.draw(mostly(st.just(1e-3), number, junk()))
     holds(
         lambda: redik.solve_all(
-            panda, T, n_starts=n_starts, seed=0, max_iter=10, cluster_tol=cluster_tol
+            panda, T, n_starts=n_starts, seed=0, max_iterations=10, cluster_tol=cluster_tol
         ),
         panda,
     )
@@ -378,7 +378,9 @@ def test_newton_and_gradient(x_d, q0, step, tol):
     holds(
         lambda: redik.solve_equations(f, x_d, q0, step=step if step != "armijo" else 1.0, tol=tol)
     )
-    holds(lambda: redik.solve_equations(f, x_d, q0, "gradient", step=step, tol=tol, max_iter=20))
+    holds(
+        lambda: redik.solve_equations(f, x_d, q0, "gradient", step=step, tol=tol, max_iterations=20)
+    )
 
 
 # --------------------------------------------------------------------------------------
@@ -395,7 +397,7 @@ def test_problem_and_task_targets(panda, data):
     holds(lambda: orientation.set_target(data.draw(st.one_of(rotations(), junk()))))
     holds(lambda: redik.PositionTask("ee", target=data.draw(st.one_of(junk(), poses()))))
     q = data.draw(configurations(panda))
-    holds(lambda: problem.solve(q, max_iter=5), panda)
+    holds(lambda: problem.solve(q, max_iterations=5), panda)
     holds(lambda: problem.step(q))
     cost = data.draw(mostly(st.just(1.0), number, junk()))
     gain = data.draw(mostly(st.just(0.5), number, junk()))
@@ -421,7 +423,9 @@ def test_problem_and_task_targets(panda, data):
             data.draw(mostly(st.none(), st.just([]), junk())),
             data.draw(mostly(st.sampled_from(["daqp", "quadprog"]), junk())),
             damping=data.draw(mostly(st.just(1e-6), number, junk())),
-        ).solve(panda.home, max_iter=data.draw(mostly(st.just(3), st.integers(-1, 2), junk()))),
+        ).solve(
+            panda.home, max_iterations=data.draw(mostly(st.just(3), st.integers(-1, 2), junk()))
+        ),
         panda,
     )
 
@@ -578,7 +582,7 @@ def test_pose_translation_beyond_mjmaxval_is_refused_everywhere(panda, ur5e):
     T[2, 3] = 1e9  # far, but a number MuJoCo and the QP handle: an explicit status
     task = redik.FrameTask("ee", target=T)
     problem = redik.Problem(panda, [task])
-    assert problem.solve(panda.home, max_iter=3).status in ("max_iterations", "stalled")
+    assert problem.solve(panda.home, max_iterations=3).status in ("max_iterations", "stalled")
 
 
 @pytest.mark.parametrize("q", [np.zeros(7) + 1j, np.array([""] * 7), np.full(7, 1e11)])
@@ -606,7 +610,7 @@ def test_newton_and_gradient_refuse_junk_and_overflowing_input():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         result = redik.solve_equations(
-            lambda q: 1e140 * q**3, [0.0], [1.0], "gradient", step="armijo", max_iter=5
+            lambda q: 1e140 * q**3, [0.0], [1.0], "gradient", step="armijo", max_iterations=5
         )
     assert np.isfinite(result.q).all() and np.isfinite(result.error)
 
@@ -686,7 +690,7 @@ def test_solve_pose_refuses_a_non_bool_respect_limits_and_junk_seeds(panda):
 def test_problem_and_tasks_refuse_junk_arguments(panda):
     # Found by test_problem_and_task_targets: tasks=1.0 / None raised "not iterable",
     # backend=None a TypeError inside make_backend, damping="" a numpy TypeError,
-    # max_iter=None a comparison TypeError, gain/priority junk raw ValueErrors.
+    # max_iterations=None a comparison TypeError, gain/priority junk raw ValueErrors.
     task = redik.FrameTask("ee", target=panda.fk(panda.home))
     for tasks in (1.0, None, np.array(0.0)):
         with pytest.raises(redik.InvalidInput, match="tasks must be a list"):
@@ -697,8 +701,8 @@ def test_problem_and_tasks_refuse_junk_arguments(panda):
     with pytest.raises(redik.InvalidInput, match="damping"):
         redik.Problem(panda, [task], damping="")  # type: ignore[arg-type]
     problem = redik.Problem(panda, [task])
-    with pytest.raises(redik.InvalidInput, match="max_iter"):
-        problem.solve(panda.home, max_iter=None)  # type: ignore[arg-type]
+    with pytest.raises(redik.InvalidInput, match="max_iterations"):
+        problem.solve(panda.home, max_iterations=None)  # type: ignore[arg-type]
     with pytest.raises(redik.InvalidInput, match="pos_tol"):
         problem.solve(panda.home, pos_tol=math.nan)
     with pytest.raises(redik.InvalidInput, match="gain"):

@@ -64,7 +64,7 @@ def test_newton_converges_quadratically_on_a_2r_arm(jac):
 
 def test_gradient_with_armijo_never_increases_the_error():
     result = gradient_descent(two_link, X_D, [0.2, 1.4], jac=two_link_jacobian, step="armijo",
-                              tol=1e-8, max_iter=5000)  # fmt: skip
+                              tol=1e-8, max_iterations=5000)  # fmt: skip
     assert result.status == "converged"
     assert np.all(np.diff(result.error_history) <= 0.0)
     # Linear, not quadratic: many more iterations than Newton needs.
@@ -73,7 +73,7 @@ def test_gradient_with_armijo_never_increases_the_error():
 
 def test_gradient_with_a_too_large_constant_step_can_increase_the_error():
     result = gradient_descent(
-        two_link, X_D, [0.2, 1.4], jac=two_link_jacobian, step=2.5, max_iter=20
+        two_link, X_D, [0.2, 1.4], jac=two_link_jacobian, step=2.5, max_iterations=20
     )
     assert np.any(np.diff(result.error_history) > 0.0)
     assert np.all(np.isfinite(result.q))
@@ -93,7 +93,7 @@ def test_tall_jacobian_converges_to_the_least_squares_point():
     """r = 3 > n = 1 with an inconsistent target: Newton (J⁺) lands on the least-squares q."""
     b = np.array([1.0, 2.0, 2.0])
     x_d = np.array([1.0, 1.0, 5.0])
-    result = newton_raphson(lambda q: b * q[0], x_d, [0.0], q_tol=1e-12, max_iter=10)
+    result = newton_raphson(lambda q: b * q[0], x_d, [0.0], q_tol=1e-12, max_iterations=10)
     assert not result.success
     assert result.status == "stalled"
     np.testing.assert_allclose(result.q, [b @ x_d / (b @ b)], atol=1e-12)
@@ -128,7 +128,7 @@ def test_error_in_the_kernel_of_the_transpose_stalls():
 
 
 def test_max_iterations_status():
-    result = gradient_descent(two_link, X_D, [0.2, 1.4], step=0.01, max_iter=3)
+    result = gradient_descent(two_link, X_D, [0.2, 1.4], step=0.01, max_iterations=3)
     assert result.status == "max_iterations" and result.iterations == 3
 
 
@@ -164,7 +164,7 @@ def test_non_finite_values_never_leave_the_solver():
         {"step": np.inf},
         {"fd_step": np.inf},
         {"fd_step": "0.1"},
-        {"max_iter": -1},
+        {"max_iterations": -1},
         {"jac": lambda q: np.eye(3)},
         {"f": "not callable"},
     ],
@@ -210,7 +210,7 @@ def test_singular_start_without_the_check_ends_as_diverged(q0, jac):
     """J singular up to rounding (sin π ≈ 1e-16; a finite-difference J of the outstretched
     arm): J⁻¹e is ~1e16 — finite, but nonsense. Before the blow-up bound this ran on to
     ``max_iterations`` with q ≈ 1e10."""
-    result = newton_raphson(two_link, X_D, q0, jac=jac, max_iter=10)
+    result = newton_raphson(two_link, X_D, q0, jac=jac, max_iterations=10)
     assert result.status == "diverged" and "blew up" in result.message
     np.testing.assert_array_equal(result.q, q0)  # the last sane iterate
     assert np.all(np.abs(result.history) < 1e3)
@@ -218,7 +218,7 @@ def test_singular_start_without_the_check_ends_as_diverged(q0, jac):
 
 def test_max_growth_bounds_the_error_too():
     # f = q³ from a far start: Newton is fine, but a huge constant gradient step explodes e.
-    result = gradient_descent(lambda q: q**3, [1.0], [2.0], step=50.0, max_iter=20)
+    result = gradient_descent(lambda q: q**3, [1.0], [2.0], step=50.0, max_iterations=20)
     assert result.status == "diverged"
     assert np.all(np.abs(result.error_history) <= 1e8 * max(1.0, result.error_history[0]))
 
@@ -227,7 +227,7 @@ def test_newton_armijo_step_never_increases_the_error_and_ends_quadratic():
     """From an arm folded back, full Newton steps overshoot; λ^k from backtracking does not,
     and λ = 1 is accepted near the root (quadratic terminal rate)."""
     q0 = [0.2, 2.9]
-    full = newton_raphson(two_link, X_D, q0, jac=two_link_jacobian, tol=1e-12, max_iter=100)
+    full = newton_raphson(two_link, X_D, q0, jac=two_link_jacobian, tol=1e-12, max_iterations=100)
     assert np.any(np.diff(full.error_history) > 0.0)
     adaptive = newton_raphson(two_link, X_D, q0, jac=two_link_jacobian, step="armijo", tol=1e-12)
     assert adaptive.status == "converged"
@@ -241,17 +241,19 @@ def test_gain_matrix_weighs_the_transpose_step():
     K = np.diag([4.0, 0.5])
     q0 = np.array([0.2, 1.4])
     result = gradient_descent(two_link, X_D, q0, jac=two_link_jacobian, step=0.1, gain=K,
-                              max_iter=1, tol=0)  # fmt: skip
+                              max_iterations=1, tol=0)  # fmt: skip
     J, e = two_link_jacobian(q0), X_D - two_link(q0)
     np.testing.assert_allclose(result.history[1], q0 + 0.1 * J.T @ K @ e, atol=1e-15)
     # A vector is the diagonal, a number k is k I.
-    as_vector = gradient_descent(two_link, X_D, q0, step=0.1, gain=[4.0, 0.5], max_iter=1, tol=0)
+    as_vector = gradient_descent(
+        two_link, X_D, q0, step=0.1, gain=[4.0, 0.5], max_iterations=1, tol=0
+    )
     np.testing.assert_allclose(as_vector.history[1], result.history[1], atol=1e-9)
     scalar = gradient_descent(two_link, X_D, q0, jac=two_link_jacobian, step=0.1, gain=2.0,
-                              max_iter=1, tol=0)  # fmt: skip
+                              max_iterations=1, tol=0)  # fmt: skip
     np.testing.assert_allclose(scalar.history[1], q0 + 0.2 * J.T @ e, atol=1e-15)
     weighted = gradient_descent(two_link, X_D, q0, jac=two_link_jacobian, step="armijo", gain=K,
-                                tol=1e-8, max_iter=5000)  # fmt: skip
+                                tol=1e-8, max_iterations=5000)  # fmt: skip
     assert weighted.status == "converged"
     merit = [0.5 * (X_D - two_link(q)) @ K @ (X_D - two_link(q)) for q in weighted.history]
     assert np.all(np.diff(merit) <= 0.0)
@@ -285,7 +287,7 @@ def test_hybrid_uses_the_gradient_far_away_and_newton_near():
     near = [(a, b) for a, b in itertools.pairwise(e) if 1e-9 < a < 1e-2]
     assert near and all(b <= 10.0 * a**2 for a, b in near)  # Newton phase: quadratic
     slow = gradient_descent(two_link, X_D, q0, jac=two_link_jacobian, step="armijo", tol=1e-12,
-                            max_iter=5000)  # fmt: skip
+                            max_iterations=5000)  # fmt: skip
     assert result.iterations < slow.iterations
 
 
@@ -333,7 +335,7 @@ def test_separate_position_and_orientation_tolerances():
     q0 = [0.5, 0.5, 0.5]
     K = np.diag([1.0, 1.0, 1.0, 1.0, 1.0, 0.05])
     result = gradient_descent(planar_3r_pose, x_d, q0, step="armijo", gain=K, tol=(1e-3, 2e-2),
-                              max_iter=5000)  # fmt: skip
+                              max_iterations=5000)  # fmt: skip
     assert result.status == "converged"
     assert result.position_error <= 1e-3 and result.rotation_error <= 2e-2
     halves = [(np.linalg.norm(e[:3]), np.linalg.norm(e[3:]))
@@ -342,7 +344,7 @@ def test_separate_position_and_orientation_tolerances():
     assert met.index(True) == len(met) - 1  # the first iterate that meets both
     assert result.error > 1e-3  # one bound on ‖e‖ = 1e-3 would have gone on
     single = gradient_descent(
-        planar_3r_pose, x_d, q0, step="armijo", gain=K, tol=1e-3, max_iter=5000
+        planar_3r_pose, x_d, q0, step="armijo", gain=K, tol=1e-3, max_iterations=5000
     )
     assert single.iterations > result.iterations
 
@@ -351,28 +353,32 @@ def test_relative_change_stop():
     """Beyond reach (‖x_d‖ > 1.8): the gradient settles at the closest point; the relative
     change stop ends it there as "stalled" (no root), and as "converged" when tol is met."""
     far = gradient_descent(two_link, np.array([3.0, 0.5]), [0.2, 0.4], step="armijo", rel_tol=1e-6,
-                           max_iter=1000)  # fmt: skip
+                           max_iterations=1000)  # fmt: skip
     assert far.status == "stalled" and "relative change" in far.message
     assert far.iterations < 1000
     e = np.array([3.0, 0.5]) - np.array([two_link(q) for q in far.history[-2:]])
     assert np.linalg.norm(e[1] - e[0]) / np.linalg.norm(e[0]) <= 1e-6
-    near = newton_raphson(two_link, X_D, [0.2, 1.4], rel_tol=0.5, tol=1e-1, max_iter=100)
+    near = newton_raphson(two_link, X_D, [0.2, 1.4], rel_tol=0.5, tol=1e-1, max_iterations=100)
     assert near.status == "converged"
     # tol = 0 on a linear f: Newton lands exactly on the root, where ‖e_k‖ = 0 and the
     # relative change is 0/0; the iterate is a root, so the run ends "converged".
-    exact = newton_raphson(lambda q: q, [1.0], [0.0], tol=0, rel_tol=1e-3, max_iter=5)
+    exact = newton_raphson(lambda q: q, [1.0], [0.0], tol=0, rel_tol=1e-3, max_iterations=5)
     assert exact.status == "converged" and exact.error == 0.0 and exact.iterations == 2
 
 
 def test_tol_zero_runs_every_iteration():
-    result = newton_raphson(two_link, X_D, [0.2, 1.4], jac=two_link_jacobian, tol=0, max_iter=12)
+    result = newton_raphson(
+        two_link, X_D, [0.2, 1.4], jac=two_link_jacobian, tol=0, max_iterations=12
+    )
     assert result.iterations == 12 and result.history.shape == (13, 2)
     assert result.error < 1e-14  # converged long before; the table still has 12 rows
     assert result.status == ("converged" if result.error == 0.0 else "max_iterations")
-    early = newton_raphson(two_link, X_D, [0.2, 1.4], jac=two_link_jacobian, tol=0, max_iter=2)
+    early = newton_raphson(
+        two_link, X_D, [0.2, 1.4], jac=two_link_jacobian, tol=0, max_iterations=2
+    )
     assert early.iterations == 2 and early.status == "max_iterations" and not early.success
     exact = newton_raphson(
-        lambda q: 2.0 * q, [4.0], [0.0], tol=0, max_iter=10
+        lambda q: 2.0 * q, [4.0], [0.0], tol=0, max_iterations=10
     )  # linear: exact in 1
     assert exact.status == "converged" and exact.iterations == 10 and exact.error == 0.0
     np.testing.assert_array_equal(exact.history[1:], 2.0)

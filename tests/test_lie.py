@@ -280,7 +280,7 @@ def _families(strict: bool):
             T[None], *redik.solvers.analytic.UR5E, strict=strict
         ),
         "solve_pose": lambda T: redik.solve_pose(
-            robot, T, method="newton", max_iter=1, restarts=0, strict=strict
+            robot, T, method="newton", max_iterations=1, restarts=0, strict=strict
         ),
         "FrameTask": lambda T: redik.FrameTask("ee", target=T, strict=strict),
         "FrameTask.set_target": lambda T: redik.FrameTask("ee", target=np.eye(4)).set_target(

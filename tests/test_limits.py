@@ -105,7 +105,7 @@ def test_returned_q_never_leaves_the_limits(backend, rng):
     problem = Problem(robot, [PositionTask("ee", target=[2.0, 0.0, 0.5]), posture], backend=backend)
     for _ in range(2):
         problem.tasks[0].set_target(rng.normal(size=3) * 2.0)
-        result = problem.solve(robot.random_q(rng), max_iter=15)
+        result = problem.solve(robot.random_q(rng), max_iterations=15)
         assert np.all(result.history >= lower) and np.all(result.history <= upper)
         q = robot.random_q(rng)
         for _ in range(5):
@@ -158,7 +158,7 @@ def test_no_iterate_leaves_the_limits_on_any_backend(backend):
         joints = rng.choice(robot.dof, size=2, replace=False)  # two joints at a limit
         q_target[joints] = np.where(rng.random(2) < 0.5, robot.lower[joints], robot.upper[joints])
         problem.tasks[0].set_target(robot.fk(q_target))
-        result = problem.solve(robot.random_q(rng), max_iter=30)
+        result = problem.solve(robot.random_q(rng), max_iterations=30)
         assert np.all(result.history >= robot.lower) and np.all(result.history <= robot.upper)
 
 
@@ -230,7 +230,7 @@ def _solve_with_collision_priority(robot, priority):
             )
         )
     tasks = [PositionTask("tip", target=[1.6, 1.2, 0.0]), PostureTask(priority=1)]
-    return Problem(robot, tasks, limits).solve(robot.home, max_iter=200)
+    return Problem(robot, tasks, limits).solve(robot.home, max_iterations=200)
 
 
 def test_a_collision_limit_at_a_priority_yields_to_the_levels_above_only(planar_obstacles):

@@ -93,7 +93,7 @@ def test_mink_tasks_and_limits_inside_a_redik_problem_on_an_off_chain_model(arm,
         assert mixed.step(q).shape == (arm.dof,)
     com = mink.ComTask(cost=1.0)
     com.set_target(np.array([0.3, -0.1, 0.4]))
-    result = Problem(arm, [com, PostureTask()]).solve(arm.home, pos_tol=1e-3, max_iter=50)
+    result = Problem(arm, [com, PostureTask()]).solve(arm.home, pos_tol=1e-3, max_iterations=50)
     assert result.q.shape == (arm.dof,)
 
 

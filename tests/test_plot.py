@@ -19,7 +19,7 @@ def square(q: np.ndarray) -> np.ndarray:
 def test_convergence_draws_one_curve_per_result_and_saves_a_png(tmp_path):
     results = [
         newton_raphson(square, [2.0, 1.0], [1.0, 0.5], tol=1e-12),
-        gradient_descent(square, [2.0, 1.0], [1.0, 0.5], step="armijo", max_iter=50),
+        gradient_descent(square, [2.0, 1.0], [1.0, 0.5], step="armijo", max_iterations=50),
     ]
     path = tmp_path / "sub" / "convergence.png"
     ax = plot.convergence(results, ["Newton", "gradient"], path=path)

@@ -93,7 +93,7 @@ def test_transpose_with_armijo_decreases_monotonically():
     robot = redik.load("planar_3r")
     T_target = robot.fk(np.array([0.3, 0.5, -0.4]))
     result = solve_pose(robot, T_target, np.array([0.1, 0.2, 0.1]), method="transpose",
-                        restarts=0, max_iter=3000)  # fmt: skip
+                        restarts=0, max_iterations=3000)  # fmt: skip
     assert np.all(np.diff(result.error_history) <= 0.0)
     assert result.success, result.message
 
@@ -142,8 +142,8 @@ def test_reproducible_with_a_seed():
     robot = redik.load("panda")
     T_target = robot.fk(robot.random_q(np.random.default_rng(5)))
     q0 = robot.lower + 0.01  # a poor start, so restarts are likely used
-    first = solve_pose(robot, T_target, q0, seed=42, max_iter=5)
-    second = solve_pose(robot, T_target, q0, seed=42, max_iter=5)
+    first = solve_pose(robot, T_target, q0, seed=42, max_iterations=5)
+    second = solve_pose(robot, T_target, q0, seed=42, max_iterations=5)
     np.testing.assert_array_equal(first.q, second.q)
     assert first.restarts == second.restarts and first.restarts > 0
 
@@ -152,7 +152,7 @@ def test_target_outside_the_workspace_is_unreachable_and_finite():
     robot = redik.load("ur5e")
     T_target = lie.make_pose(np.eye(3), np.array([3.0, 0.0, 0.5]))
     for method in ("dls", "newton", "hybrid"):
-        result = solve_pose(robot, T_target, method=method, seed=0, max_iter=50)
+        result = solve_pose(robot, T_target, method=method, seed=0, max_iterations=50)
         assert not result.success
         assert result.status in ("unreachable", "max_iterations")
         assert result.status == "unreachable"  # 3 m is beyond the ~1 m arm: we can tell
@@ -220,7 +220,7 @@ def test_the_limits_diagnosis_runs_on_failures_within_reach_only(monkeypatch):
     beyond = lie.make_pose(np.eye(3), np.array([3.0, 0.0, 0.0]))
     assert solve_pose(robot, beyond, seed=0).status == "unreachable"
     outside = robot.fk(np.array([0.3, 2.9]))
-    assert not solve_pose(robot, outside, seed=0, max_iter=1, respect_limits=False).success
+    assert not solve_pose(robot, outside, seed=0, max_iterations=1, respect_limits=False).success
     assert calls == []
     for _ in range(2):
         assert solve_pose(robot, outside, seed=0).status == "limits"
@@ -300,7 +300,7 @@ def test_a_frame_some_joints_move_is_solved_with_those_joints():
         {"method": "secant"},
         {"pos_tol": 0.0},
         {"rot_tol": -1.0},
-        {"max_iter": 0},
+        {"max_iterations": 0},
         {"restarts": -1},
         {"q0": np.zeros(3)},
         {"q0": np.full(7, np.nan)},

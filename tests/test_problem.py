@@ -58,10 +58,10 @@ def test_solve_reports_the_budget_and_stalls_as_failures(panda):
     far = np.eye(4)
     far[:3, 3] = (3.0, 0.0, 0.0)  # out of reach
     problem = Problem(panda, [FrameTask("ee", target=far)])
-    result = problem.solve(panda.home, max_iter=5)
+    result = problem.solve(panda.home, max_iterations=5)
     assert not result.success and result.status == "max_iterations" and result.iterations == 5
     assert "position error" in result.message
-    result = problem.solve(panda.home, max_iter=500, q_tol=1e-6)
+    result = problem.solve(panda.home, max_iterations=500, q_tol=1e-6)
     assert result.status == "stalled" and not result.success
 
 
@@ -107,13 +107,13 @@ def test_problem_on_a_model_with_off_chain_joints(arm, rng):
     problem = Problem(arm, [FrameTask("ee", target=np.eye(4)), PostureTask()])
     for q0, T in nearby_targets(arm, rng, 4, spread=0.2):
         problem.tasks[0].set_target(T)
-        result = problem.solve(q0, max_iter=100)
+        result = problem.solve(q0, max_iterations=100)
         assert result.success, result.summary()
 
 
 def test_solve_pose_qp_is_the_solve_pose_entry_point(panda, rng):
     q0, T = nearby_targets(panda, rng, 1)[0]
-    options = {"pos_tol": 1e-7, "rot_tol": 1e-7, "max_iter": 50, "respect_limits": True}
+    options = {"pos_tol": 1e-7, "rot_tol": 1e-7, "max_iterations": 50, "respect_limits": True}
     result = solve_pose_qp(panda, T, q0, frame=None, backend=["daqp", "proxsuite"], **options)
     assert result.success and result.position_error <= 1e-7
     extra = [PostureTask(priority=1)]
@@ -140,10 +140,10 @@ def test_solve_never_increases_the_level0_error_and_does_not_cycle(panda):
     """From home, this target made the plain iteration cycle between two points at 0.55 m."""
     target = panda.fk(panda.random_q(1))
     problem = Problem(panda, [FrameTask("ee", target=target)])
-    result = problem.solve(panda.home, max_iter=200)
+    result = problem.solve(panda.home, max_iterations=200)
     assert result.success and panda.within_limits(result.q)
     assert np.all(np.diff(result.error_history) <= 0.0)
-    plain = problem.solve(panda.home, max_iter=200, lm_damping=0.0)
+    plain = problem.solve(panda.home, max_iterations=200, lm_damping=0.0)
     assert np.all(np.diff(plain.error_history) <= 0.0)  # backtracking alone: no cycle
     assert not plain.success and plain.status == "stalled"  # but a stationary point
 
@@ -208,8 +208,8 @@ def test_unknown_or_malformed_backend_is_a_backend_error(panda):
         ({"pos_tol": -1.0}, InvalidInput, "pos_tol"),
         ({"rot_tol": float("nan")}, InvalidInput, "rot_tol"),
         ({"q_tol": "0"}, InvalidInput, "q_tol"),
-        ({"max_iter": 2.5}, InvalidInput, "max_iter"),
-        ({"max_iter": -1}, InvalidInput, "max_iter"),
+        ({"max_iterations": 2.5}, InvalidInput, "max_iterations"),
+        ({"max_iterations": -1}, InvalidInput, "max_iterations"),
         ({"max_step": 0.0}, InvalidInput, "max_step"),
         ({"max_step": float("nan")}, InvalidInput, "max_step"),
         ({"lm_damping": "0.1"}, InvalidInput, "lm_damping"),
@@ -246,8 +246,8 @@ def test_solve_finishes_the_lower_level_at_the_constrained_optimum(panda, rng):
         problem = Problem(
             panda, [FrameTask("ee", target=T), PostureTask(q_nominal, gain=0.2, priority=1)]
         )
-        result = problem.solve(q0, max_iter=300)
-        early = problem.solve(q0, max_iter=300, stationarity_tol=None)
+        result = problem.solve(q0, max_iterations=300)
+        early = problem.solve(q0, max_iterations=300, stationarity_tol=None)
         assert result.success and result.stationary and len(result.stationarity) == 1
         assert result.stationarity[0] <= 1e-8
         assert problem.stationarity(result.q)[0] == pytest.approx(result.stationarity[0])
@@ -329,7 +329,7 @@ def test_stationarity_is_reported_as_unmet_when_the_budget_runs_out(panda, rng):
         panda, [FrameTask("ee", target=T), PostureTask(panda.home, gain=0.05, priority=1)]
     )
     early = problem.solve(q0, stationarity_tol=None)
-    result = problem.solve(q0, max_iter=early.iterations + 2)
+    result = problem.solve(q0, max_iterations=early.iterations + 2)
     assert result.success and result.status == "converged"
     assert not result.stationary and result.stationarity[0] > 1e-8
     assert "not stationary" in result.message
@@ -343,14 +343,14 @@ def test_patience_ends_an_attempt_that_stops_making_progress(panda):
     far = np.eye(4)
     far[:3, 3] = (3.0, 0.0, 0.0)  # out of reach: the error plateaus
     problem = Problem(panda, [FrameTask("ee", target=far)])
-    patient = problem.solve(panda.home, max_iter=200, patience=5)
+    patient = problem.solve(panda.home, max_iterations=200, patience=5)
     assert patient.status == "stalled" and patient.iterations < 60
     squared = patient.error_history**2
     # It stopped at the first iteration where ‖e‖² was not halved over the last 5...
     assert squared[-1] > 0.5 * squared[-6]
     # ... and not before.
     assert all(squared[k] <= 0.5 * squared[k - 5] for k in range(5, len(squared) - 1))
-    assert problem.solve(panda.home, max_iter=60).iterations > patient.iterations
+    assert problem.solve(panda.home, max_iterations=60).iterations > patient.iterations
     for patience in (0, 2.5, True):
         with pytest.raises(InvalidInput, match="patience"):
             problem.solve(panda.home, patience=patience)
@@ -363,8 +363,8 @@ def test_plateau_ends_an_attempt_at_the_first_flat_step(panda):
     far = np.eye(4)
     far[:3, 3] = (3.0, 0.0, 0.0)  # out of reach: the error plateaus
     problem = Problem(panda, [FrameTask("ee", target=far)])
-    flat = problem.solve(panda.home, max_iter=200, plateau=0.01)
-    patient = problem.solve(panda.home, max_iter=200, patience=5)
+    flat = problem.solve(panda.home, max_iterations=200, plateau=0.01)
+    patient = problem.solve(panda.home, max_iterations=200, patience=5)
     assert flat.status == "stalled" and flat.iterations < patient.iterations
     squared = flat.error_history**2
     assert squared[-1] > 0.99 * squared[-2]  # it stopped at a step that gained < 1 %...
@@ -469,7 +469,7 @@ def test_solve_pose_qp_keeps_a_bounded_number_of_problems(rng):
     robot = redik.load("panda")
     T = robot.fk(robot.random_q(rng))
     for gain in np.linspace(0.5, 1.0, 3 * _PROBLEMS_KEPT):
-        assert solve_pose_qp(robot, T, robot.home, gain=float(gain), max_iter=2).iterations
+        assert solve_pose_qp(robot, T, robot.home, gain=float(gain), max_iterations=2).iterations
     assert 1 <= len(PoseCache.of(robot).qp_problems) <= _PROBLEMS_KEPT
 
 
@@ -509,7 +509,7 @@ def test_the_stationarity_test_accounts_for_active_limits(panda):
         tasks = [FrameTask("ee", target=T), PostureTask(q_star + offset, priority=1)]
         start = q_star.copy()
         start[joint] -= 0.05
-        result = Problem(panda, tasks).solve(start, max_iter=300)
+        result = Problem(panda, tasks).solve(start, max_iterations=300)
         # Zero up to rounding: the NNLS projection gave exactly 0 in one tree and 2.8e-17 in
         # another (same code, its own numba cache), against > 1e-3 without the limits.
         assert result.success and result.stationary and result.stationarity[0] <= 1e-12

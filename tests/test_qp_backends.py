@@ -120,7 +120,7 @@ def test_unknown_backend_lists_the_available_ones():
 def test_a_failure_names_the_backend_and_the_problem_size(rng):
     qp = random_ik_qps(rng, 1)[0]
     with pytest.raises(BackendError, match=r"'osqp'.*n=7 variables, 7 bounds"):
-        make_backend("osqp", max_iter=1, polishing=False).solve(qp)
+        make_backend("osqp", max_iterations=1, polishing=False).solve(qp)
 
 
 class Failing(Backend):

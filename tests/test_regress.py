@@ -18,7 +18,7 @@ SPEC = '''
 import numpy as np
 
 STEP = 1.0          # Newton step length on x² = 2: 1.0 converges quadratically
-MAX_ITER = 50
+MAX_ITERATIONS = 50
 CRITERIA = {"success_rate": ">= 0.5"}
 
 
@@ -27,7 +27,7 @@ def run(ctx):
     iterations, errors, solved = [], [], []
     for target in targets:
         x = 1.0
-        for k in range(MAX_ITER):
+        for k in range(MAX_ITERATIONS):
             if abs(x * x - target) <= 1e-12:
                 break
             x += STEP * (target - x * x) / (2.0 * x)
@@ -74,7 +74,11 @@ def test_update_writes_baselines_and_an_unchanged_rerun_passes(tmp_path):
     ("old", "new", "metric"),
     [
         ("STEP = 1.0 ", "STEP = 0.5 ", "mean_iterations"),  # linear instead of quadratic
-        ("MAX_ITER = 50", "MAX_ITER = 4", "success_rate"),  # budget too small for some targets
+        (
+            "MAX_ITERATIONS = 50",
+            "MAX_ITERATIONS = 4",
+            "success_rate",
+        ),  # budget too small for some targets
     ],
 )
 def test_injected_degradation_is_caught(tmp_path, capsys, old, new, metric):

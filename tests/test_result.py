@@ -109,12 +109,12 @@ def test_root_finders_report_every_status_of_theirs():
         return np.array([np.cos(q[0]) + np.cos(q[0] + q[1]), np.sin(q[0]) + np.sin(q[0] + q[1])])
 
     produced(redik.solve_equations(tip, [1.2, 0.5], [0.2, 1.4]), "converged")
-    produced(redik.solve_equations(tip, [1.2, 0.5], [0.2, 1.4], max_iter=1), "max_iterations")
+    produced(redik.solve_equations(tip, [1.2, 0.5], [0.2, 1.4], max_iterations=1), "max_iterations")
     # Outstretched (q2 = 0): J is singular.
     produced(redik.solve_equations(tip, [1.2, 0.5], [0.3, 0.0], singular_tol=1e-6), "singular")
     # Beyond reach: the gradient settles at the closest point, no root.
     far = redik.solve_equations(tip, [3.0, 0.5], [0.2, 0.4], "gradient", step="armijo",
-                                rel_tol=1e-6, max_iter=1000)  # fmt: skip
+                                rel_tol=1e-6, max_iterations=1000)  # fmt: skip
     produced(far, "stalled")
     # Newton on arctan from |x0| > 1.39 overshoots further every step (a classic).
     produced(redik.solve_equations(lambda q: np.arctan(q), [0.0], [3.0]), "diverged")
@@ -126,7 +126,7 @@ def test_solve_pose_reports_converged_unreachable_max_iterations_and_limits(plan
     T = planar.fk(np.array([0.4, 1.1]))
     produced(redik.solve_pose(planar, T, seed=0), "converged")
     produced(redik.solve_pose(planar, out_of_reach(planar), seed=0), "unreachable")
-    tight = redik.solve_pose(planar, T, planar.home, method="newton", max_iter=1, restarts=0)
+    tight = redik.solve_pose(planar, T, planar.home, method="newton", max_iterations=1, restarts=0)
     produced(tight, "max_iterations")
     for solution in redik.solve_all(planar, T, n_starts=4, seed=0):
         produced(solution, "converged")
@@ -148,8 +148,8 @@ def test_problem_reports_converged_max_iterations_and_stalled(planar):
     far = redik.Problem(
         planar, [redik.FrameTask("ee", target=out_of_reach(planar), orientation_cost=0.0)]
     )
-    produced(far.solve(planar.home, max_iter=2), "max_iterations")
-    produced(far.solve(planar.home, max_iter=500, q_tol=1e-6), "stalled")
+    produced(far.solve(planar.home, max_iterations=2), "max_iterations")
+    produced(far.solve(planar.home, max_iterations=500, q_tol=1e-6), "stalled")
 
 
 def test_solve_batch_reports_converged_stalled_and_invalid_per_target(planar):

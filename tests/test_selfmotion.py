@@ -388,7 +388,7 @@ def test_the_corrector_takes_the_ikinbody_newton_steps_of_solve_pose(panda, rng)
     T = panda.fk(panda.random_q(rng))
     q = panda.random_q(rng)
     newton = redik.solve_pose(
-        panda, T, q, method="newton", respect_limits=False, restarts=0, max_iter=3
+        panda, T, q, method="newton", respect_limits=False, restarts=0, max_iterations=3
     )
     corrector = Corrector(panda, T, panda.ee)
     for iterate in newton.history[1:]:

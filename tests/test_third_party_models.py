@@ -167,7 +167,7 @@ def test_g1_two_hands_with_feet_held_and_no_collision(g1):
     problem = redik.Problem(
         g1, [*tasks, redik.PostureTask(priority=1)], [redik.ConfigurationLimit(), collisions]
     )
-    result = problem.solve(g1.home, max_iter=200)
+    result = problem.solve(g1.home, max_iterations=200)
     assert result.success, result.message
     for frame, T in targets.items():
         p_err, r_err = pose_errors(g1.fk(result.q, frame), T)
@@ -274,7 +274,7 @@ def test_third_party_model_stack_and_chain(spec):
     targets = {frame: robot.fk(q_target, frame) for frame in frames}
     tasks = [redik.FrameTask(frame, target=T) for frame, T in targets.items()]
     result = redik.Problem(robot, [*tasks, redik.PostureTask(priority=1)]).solve(
-        robot.home, max_iter=200
+        robot.home, max_iterations=200
     )
     assert result.success, result.message
     assert robot.within_limits(result.q)

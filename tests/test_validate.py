@@ -25,7 +25,7 @@ def test_every_count_option_uses_the_one_check():
     planar = redik.load("planar_2r")
     T = planar.fk(planar.home)
     calls = {
-        "max_iter": lambda v: redik.solve_pose(planar, T, max_iter=v),
+        "max_iterations": lambda v: redik.solve_pose(planar, T, max_iterations=v),
         "restarts": lambda v: redik.solve_pose(planar, T, restarts=v),
         "n_starts": lambda v: redik.solve_all(planar, T, n_starts=v),
         "candidates": lambda v: redik.solve_pose(planar, T, method="qp", candidates=v),
@@ -41,8 +41,8 @@ def test_every_count_option_uses_the_one_check():
         for bad in (2.0, True, "2"):
             with pytest.raises(redik.InvalidInput, match=f"{name}.* must be an integer ≥"):
                 call(bad)
-    with pytest.raises(redik.InvalidInput, match="max_iter must be an integer ≥ 0"):
-        redik.solve_equations(lambda q: q, [1.0], [0.0], max_iter=-1)
+    with pytest.raises(redik.InvalidInput, match="max_iterations must be an integer ≥ 0"):
+        redik.solve_equations(lambda q: q, [1.0], [0.0], max_iterations=-1)
 
 
 def test_a_numpy_integer_is_a_count_everywhere():

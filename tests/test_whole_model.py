@@ -179,7 +179,7 @@ def test_two_hands_at_priority_0_posture_at_priority_1(whole):
         redik.FrameTask("right_ee", target=T_right, priority=0),
         redik.PostureTask(priority=1),
     ]
-    result = redik.Problem(whole, tasks).solve(whole.home, max_iter=200)
+    result = redik.Problem(whole, tasks).solve(whole.home, max_iterations=200)
     assert result.success, result.message
     assert result.q.shape == (whole.nq,)
     for frame, T in (("left_ee", T_left), ("right_ee", T_right)):
@@ -193,7 +193,7 @@ def test_posture_reaches_a_floating_configuration(whole):
     """The posture error across the free and ball joints is mj_differentiatePos's."""
     q_nominal = whole.clip(whole.integrate(whole.home, 0.3 * np.ones(whole.dof)))
     problem = redik.Problem(whole, [redik.PostureTask(q_nominal, priority=0)])
-    result = problem.solve(whole.home, max_iter=50)
+    result = problem.solve(whole.home, max_iterations=50)
     assert result.success
     np.testing.assert_allclose(whole.difference(q_nominal, result.q), 0.0, atol=1e-8)
 
@@ -390,9 +390,9 @@ def test_collision_limit_keeps_the_margin_the_unconstrained_solution_violates(mo
     _, guarded = _collision_problem(model, with_limit=True)
     checker = redik.CollisionAvoidanceLimit([(["left_hand", "left_fore", "left_upper"], ["table"])])
     checker.bind(arm)
-    unconstrained = free.solve(arm.home, max_iter=100)
+    unconstrained = free.solve(arm.home, max_iterations=100)
     assert checker.minimum_distance_at(unconstrained.q)[0] < 0.0  # it collides
-    constrained = guarded.solve(arm.home, max_iter=100)
+    constrained = guarded.solve(arm.home, max_iterations=100)
     distance, pair = checker.minimum_distance_at(constrained.q)
     assert distance >= 0.01 - 1e-3, pair
     assert not constrained.success  # the target is inside the table
@@ -471,7 +471,7 @@ def test_mink_tasks_and_mink_interop_on_a_floating_base(whole):
     left = mink.FrameTask("left_ee", "site", position_cost=1.0, orientation_cost=1.0)
     left.set_target(mink.SE3.from_matrix(T_left))
     tasks = [left, redik.FrameTask("right_ee", target=T_right), redik.PostureTask(priority=1)]
-    result = redik.Problem(whole, tasks).solve(whole.home, max_iter=200)
+    result = redik.Problem(whole, tasks).solve(whole.home, max_iterations=200)
     assert result.success, result.message
     assert pose_errors(whole.fk(result.q, "left_ee"), T_left)[0] < 1e-6
 

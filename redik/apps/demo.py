@@ -85,7 +85,7 @@ def run_demo(
         ],
     )
     started = time.perf_counter()
-    solution = problem.solve(robot.home, max_iter=200)
+    solution = problem.solve(robot.home, max_iterations=200)
     solve_seconds = time.perf_counter() - started
     position_error, rotation_error = pose_errors(robot.fk(solution.q), target)
 

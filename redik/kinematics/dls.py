@@ -28,7 +28,7 @@ the others re-solve for the rest of the error (the clamping loop of Chan & Dubey
 damping); a limited hinge whose range spans a full turn is wrapped by 2π instead. An attempt
 ends converged (``‖p_d − p‖ ≤`` ``pos_tol`` and ``angle ≤ rot_tol``), stalled (``λ`` past
 ``λ_max``, or ``‖e‖`` not cut to ``required`` times its value ``patience`` iterations
-earlier), diverged (a non-finite step) or at ``max_iter``. A target that failed restarts from
+earlier), diverged (a non-finite step) or at ``max_iterations``. A target that failed restarts from
 random configurations drawn uniformly within the sampling bounds by its own generator
 (splitmix64 seeded from the key and the target's index), so a result does not depend on
 chunking, threads or processes. The best attempt wins: a converged one, else the smallest
@@ -56,12 +56,13 @@ from redik.kinematics.compiled import (
 )
 from redik.lie import MAX_COORDINATE, ROTATION_TOLERANCE
 
-CONVERGED, STALLED, MAX_ITERATIONS, INVALID, DIVERGED = range(5)
-"""Status codes, shared with :data:`redik.solvers.batch.solve.BATCH_STATUSES`."""
+CONVERGED, STALLED, EXHAUSTED, INVALID, DIVERGED = range(5)
+"""Status codes, shared with :data:`redik.solvers.batch.solve.BATCH_STATUSES` (``EXHAUSTED`` is
+``"max_iterations"``: the iteration budget ran out)."""
 
 # Indices into the float and integer settings arrays (few arguments keep the call cheap).
 POS_TOL, ROT_TOL, DAMPING, MIN_DAMPING, MAX_DAMPING, REQUIRED, REACH, TARGET_TOL = range(8)
-MAX_ITER, RESTARTS, PATIENCE, BOUNDED, CANDIDATES = range(5)
+MAX_ITERATIONS, RESTARTS, PATIENCE, BOUNDED, CANDIDATES = range(5)
 
 _BLOCK = 16
 """Targets per parallel work item: small enough to balance the threads on hard tails."""
@@ -291,7 +292,7 @@ class BatchOptions:
         settings[TARGET_TOL] = ROTATION_TOLERANCE
         counts = np.empty(5, dtype=np.int64)
         counts[CANDIDATES] = self.candidates
-        counts[MAX_ITER] = self.max_iterations
+        counts[MAX_ITERATIONS] = self.max_iterations
         counts[RESTARTS] = self.restarts
         counts[PATIENCE] = self.patience
         counts[BOUNDED] = int(bounded)
@@ -335,7 +336,11 @@ def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
     pos_tol, rot_tol = settings[POS_TOL], settings[ROT_TOL]
     lambda_min, lambda_max = settings[MIN_DAMPING], settings[MAX_DAMPING]
     required = settings[REQUIRED]
-    max_iter, patience, bounded = counts[MAX_ITER], counts[PATIENCE], counts[BOUNDED] != 0
+    max_iterations, patience, bounded = (
+        counts[MAX_ITERATIONS],
+        counts[PATIENCE],
+        counts[BOUNDED] != 0,
+    )
 
     swapped = False
     chain_kinematics(base, links, revolute, qc, Rc, pc, ac, oc)
@@ -349,10 +354,10 @@ def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
     if record:
         history[0] = qc
     mu = settings[DAMPING]
-    status = MAX_ITERATIONS
+    status = EXHAUSTED
     iterations = 0
     ended = False
-    while iterations < max_iter:
+    while iterations < max_iterations:
         if position <= pos_tol and angle <= rot_tol:
             status = CONVERGED
             ended = True
@@ -540,7 +545,7 @@ def solve_one(chain, columns, reach, T, q0, key, settings, counts, out, history,
     target beyond it gets at most two restarts (:func:`_solve_target`).
 
     :func:`_solve_target` records the best attempt's history into ``history[1]`` and
-    ``errors[1]`` (``history`` is 2 × (at least max_iter + 1) × n). A fresh FK of the
+    ``errors[1]`` (``history`` is 2 × (at least max_iterations + 1) × n). A fresh FK of the
     returned ``q`` (``out``) fills ``e`` with the world error there. Returns ``(status,
     iterations, restarts, history length, summary)``; the summary is that of
     :func:`_solve_target` followed by the position and rotation errors at ``q``, whether
@@ -591,7 +596,7 @@ def _solve_range(chain, T, q0, first, key, settings, counts, start, stop, result
     n = revolute.shape[0]
     ws = _workspace(n)
     state = np.empty(1, dtype=np.uint64)
-    errors = np.empty((2, counts[MAX_ITER] + 1))
+    errors = np.empty((2, counts[MAX_ITERATIONS] + 1))
     history = np.empty((2, 1, n))  # not recorded
     R, p = np.empty((3, 3)), np.empty(3)
     axes, origins = np.empty((n, 3)), np.empty((n, 3))
@@ -619,7 +624,7 @@ def _solve_range(chain, T, q0, first, key, settings, counts, start, stop, result
         if solved:
             code = CONVERGED
         elif code == CONVERGED:
-            code = MAX_ITERATIONS
+            code = EXHAUSTED
         status[t], iterations[t], restarts[t] = code, count, used
         position_error[t], rotation_error[t] = position, angle
 

@@ -53,7 +53,7 @@ Stopping rules, each with its own ``status``
       residual ``e = (e_p, e_R)`` of length 6, ordered (position, orientation) as twists are
       in :mod:`redik.core.conventions`: converged when ``‖e_p‖ ≤ ε_p`` and ``‖e_R‖ ≤ ε_R``
       (metres and radians are not comparable, so one norm would mix units). ``tol = 0``
-      never stops on the error: all ``max_iter`` iterations run (to reproduce an iterate
+      never stops on the error: all ``max_iterations`` iterations run (to reproduce an iterate
       table); the status is then ``"max_iterations"``, or ``"converged"`` when ``e`` ended
       exactly 0.
     - ``rel_tol``: the relative change :math:`‖f(q_{k+1}) − f(q_k)‖ / ‖e(q_k)‖ ≤ ε`
@@ -204,7 +204,7 @@ def newton_raphson(
     step: float | str = 1.0,
     tol: Tolerance = 1e-6,
     q_tol: float | None = None,
-    max_iter: int = 100,
+    max_iterations: int = 100,
     singular_tol: float | None = None,
     *,
     rel_tol: float | None = None,
@@ -222,9 +222,9 @@ def newton_raphson(
         step: The step scale ``λ`` (1 is the full Newton step), or ``"armijo"`` for the
             adaptive ``λ^k`` of the module docstring.
         tol: ``‖e‖ ≤ tol`` → ``"converged"``; ``(ε_p, ε_R)`` for a 6-vector pose residual;
-            0 runs all ``max_iter`` iterations (module docstring).
+            0 runs all ``max_iterations`` iterations (module docstring).
         q_tol: Stop with ``"stalled"`` when ``‖Δq‖ ≤ q_tol`` and ``‖e‖ > tol``.
-        max_iter: Iteration budget.
+        max_iterations: Iteration budget.
         singular_tol: Stop with ``"singular"`` when ``σ_min(J) ≤ singular_tol`` (the smallest
             of the ``min(r, n)`` singular values), before taking the step.
         rel_tol: Stop when ``‖e_{k+1} − e_k‖ / ‖e_k‖ ≤ rel_tol`` (module docstring).
@@ -238,7 +238,7 @@ def newton_raphson(
         InvalidInput: a shape mismatch, a non-finite ``x_d``/``q0``, or a bad option.
     """
     step = _step_option(step, "step")
-    options = _Options.checked(tol, q_tol, max_iter, singular_tol, rel_tol, max_growth)
+    options = _Options.checked(tol, q_tol, max_iterations, singular_tol, rel_tol, max_growth)
     run = _Run(f, x_d, q0, jac, "newton", options, fd_step, fd_scheme, None)
     return _iterate(run, options, lambda J, e: (_newton_step(J, e), step))
 
@@ -251,7 +251,7 @@ def gradient_descent(
     step: float | str = 0.5,
     tol: Tolerance = 1e-6,
     q_tol: float | None = None,
-    max_iter: int = 100,
+    max_iterations: int = 100,
     singular_tol: float | None = None,
     *,
     gain: np.ndarray | float | None = None,
@@ -263,7 +263,7 @@ def gradient_descent(
     r"""Jacobian transpose / gradient descent on ``½ eᵀKe``: ``q ← q + α Jᵀ K e``.
 
     Args:
-        f, x_d, q0, jac, tol, q_tol, max_iter, rel_tol, fd_step, fd_scheme, max_growth:
+        f, x_d, q0, jac, tol, q_tol, max_iterations, rel_tol, fd_step, fd_scheme, max_growth:
             As for :func:`newton_raphson`.
         step: A constant ``α > 0``, or ``"armijo"`` for a backtracking line search that never
             lets ``eᵀKe`` increase (when no trial decreases it, the search stops with
@@ -278,7 +278,7 @@ def gradient_descent(
         An :class:`~redik.core.result.IKResult` (method ``"gradient"``).
     """
     step = _step_option(step, "step")
-    options = _Options.checked(tol, q_tol, max_iter, singular_tol, rel_tol, max_growth)
+    options = _Options.checked(tol, q_tol, max_iterations, singular_tol, rel_tol, max_growth)
     run = _Run(f, x_d, q0, jac, "gradient", options, fd_step, fd_scheme, gain)
     return _iterate(run, options, lambda J, e: (J.T @ (run.K @ e), step))
 
@@ -293,7 +293,7 @@ def gradient_then_newton(
     newton_step: float | str = 1.0,
     tol: Tolerance = 1e-6,
     q_tol: float | None = None,
-    max_iter: int = 100,
+    max_iterations: int = 100,
     singular_tol: float | None = None,
     *,
     gain: np.ndarray | float | None = None,
@@ -313,7 +313,7 @@ def gradient_then_newton(
         newton_step: ``λ`` of the Newton phase, as ``step`` of :func:`newton_raphson`.
         singular_tol: Checked before each Newton step (the gradient phase is exactly what
             is used where ``J`` is ill-conditioned).
-        f, x_d, q0, jac, tol, q_tol, max_iter, gain, rel_tol, fd_step, fd_scheme,
+        f, x_d, q0, jac, tol, q_tol, max_iterations, gain, rel_tol, fd_step, fd_scheme,
         max_growth: As for :func:`gradient_descent`.
 
     Returns:
@@ -324,7 +324,7 @@ def gradient_then_newton(
     newton_step = _step_option(newton_step, "newton_step")
     if singular_tol is not None:  # checked by the Newton phase only, not by _iterate
         singular_tol = non_negative(singular_tol, "singular_tol")
-    options = _Options.checked(tol, q_tol, max_iter, None, rel_tol, max_growth)
+    options = _Options.checked(tol, q_tol, max_iterations, None, rel_tol, max_growth)
     run = _Run(f, x_d, q0, jac, "hybrid", options, fd_step, fd_scheme, gain)
 
     def direction(J: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, float | str] | IKResult:
@@ -361,7 +361,7 @@ def solve_equations(
     a robot's pose: ``method`` picks :func:`newton_raphson` (``"newton"``),
     :func:`gradient_descent` (``"gradient"``) or :func:`gradient_then_newton`
     (``"hybrid"``), and ``options`` are that function's keywords (``step``, ``tol``,
-    ``max_iter``, ``gain``, ``switch_error``…).
+    ``max_iterations``, ``gain``, ``switch_error``…).
 
     Returns:
         The method's :class:`~redik.core.result.IKResult`.
@@ -391,7 +391,7 @@ class _Options:
     tol: float
     pose_tol: tuple[float, float] | None
     q_tol: float | None
-    max_iter: int
+    max_iterations: int
     singular_tol: float | None
     rel_tol: float | None
     max_growth: float
@@ -401,7 +401,7 @@ class _Options:
         cls,
         tol: object,
         q_tol: object,
-        max_iter: object,
+        max_iterations: object,
         singular_tol: object,
         rel_tol: object,
         max_growth: object,
@@ -418,7 +418,7 @@ class _Options:
             tol=tol,
             pose_tol=pose_tol,
             q_tol=None if q_tol is None else non_negative(q_tol, "q_tol"),
-            max_iter=integer(max_iter, "max_iter"),
+            max_iterations=integer(max_iterations, "max_iterations"),
             singular_tol=None
             if singular_tol is None
             else non_negative(singular_tol, "singular_tol"),
@@ -562,7 +562,7 @@ def _iterate(run: _Run, options: _Options, direction: Direction) -> IKResult:
     """The loop shared by every method: Jacobian, checks, one (line-searched) step, stops."""
     if run.done():
         return run.result(Status.CONVERGED)
-    for _ in range(options.max_iter):
+    for _ in range(options.max_iterations):
         J = run.jacobian()
         if J is None:
             return run.result(Status.DIVERGED, "the Jacobian holds NaN or inf")

@@ -556,7 +556,7 @@ class Problem:
         q0: np.ndarray,
         pos_tol: float = 1e-6,
         rot_tol: float = 1e-5,
-        max_iter: int = 100,
+        max_iterations: int = 100,
         *,
         q_tol: float = 1e-12,
         max_step: float | None = None,
@@ -632,7 +632,7 @@ class Problem:
         Args:
             q0: Initial chain configuration.
             pos_tol, rot_tol: Tolerances.
-            max_iter: Iteration budget.
+            max_iterations: Iteration budget.
             q_tol: Stop as ``"stalled"`` when the step taken, ``‖αΔq‖``, falls below it
                 before converging.
             max_step: Optional trust region, ``|Δq_i| ≤ max_step`` per iteration.
@@ -662,7 +662,7 @@ class Problem:
             non_negative(value, name)
         if stationarity_tol is not None:
             positive(stationarity_tol, "stationarity_tol")
-        integer(max_iter, "max_iter")
+        integer(max_iterations, "max_iterations")
         _check_dt(dt)
         if max_step is not None:
             positive(max_step, "max_step", allow_inf=True)
@@ -700,7 +700,7 @@ class Problem:
                 if max(stationarity) <= stationarity_tol:
                     status = Status.CONVERGED
                     break
-            if iterations >= max_iter:
+            if iterations >= max_iterations:
                 status = Status.CONVERGED if converged and self._targets else Status.MAX_ITERATIONS
                 break
             dq = self._step(

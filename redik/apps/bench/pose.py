@@ -47,7 +47,7 @@ POS_TOL = 1e-6
 ROT_TOL = 1e-5
 RTB_TOL = 5e-13
 """Robotics Toolbox's tolerance on ``E = ½‖e‖²``: ``‖e‖ ≤ 1e-6`` (issue 14)."""
-MINK_MAX_ITER = 500
+MINK_MAX_ITERATIONS = 500
 MINK_SETTINGS = {"mink": (0.95, 1e-12), "mink tuned": (0.2, 1e-6)}
 """``(ConfigurationLimit gain, solve_ik damping)``: mink's defaults, and its best setting."""
 SEED_MODES = ("middle", "random")
@@ -252,7 +252,7 @@ def _mink_solver(robot: Robot, limit_gain: float, damping: float) -> Solver | No
     def solve(T_target: np.ndarray, q0: np.ndarray, index: int) -> np.ndarray:
         configuration.update(robot.full_qpos(q0))
         task.set_target(mink.SE3.from_matrix(T_target))
-        for _ in range(MINK_MAX_ITER):
+        for _ in range(MINK_MAX_ITERATIONS):
             if (
                 math.dist(T_target[:3, 3], position) <= POS_TOL
                 and lie.rotation_angle(rotation.reshape(3, 3), T_target[:3, :3]) <= ROT_TOL

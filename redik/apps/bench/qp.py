@@ -58,7 +58,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--steps", type=int, default=400, help="timed steps per back-end")
     parser.add_argument("--targets", type=int, default=500, help="FK targets for part 2")
     parser.add_argument("--converge-backends", nargs="*", default=["daqp", "proxsuite", "quadprog"])
-    parser.add_argument("--max-iter", type=int, default=200)
+    parser.add_argument("--max-iterations", type=int, default=200)
     parser.add_argument("--pos-tol", type=float, default=1e-6)
     parser.add_argument("--rot-tol", type=float, default=1e-5)
     parser.add_argument("--cost", type=float, default=1e-2, help="posture/limit cost, part 1")
@@ -175,7 +175,7 @@ def _converge_redik(robot, backend, args, targets, strict: bool) -> dict:
     for T in targets:
         problem.tasks[0].set_target(T)
         start = time.perf_counter()
-        result = problem.solve(robot.home, args.pos_tol, args.rot_tol, args.max_iter)
+        result = problem.solve(robot.home, args.pos_tol, args.rot_tol, args.max_iterations)
         elapsed = time.perf_counter() - start
         results.append((result.success, result.iterations, elapsed))
         over = np.maximum(robot.lower - result.history, result.history - robot.upper)
@@ -205,7 +205,7 @@ def _converge_mink(robot, solver, args, targets) -> dict:
             if position_error <= args.pos_tol and lie.rotation_angle(R, T[:3, :3]) <= args.rot_tol:
                 success = True
                 break
-            if iterations >= args.max_iter:
+            if iterations >= args.max_iterations:
                 break
             try:
                 velocity = stack.solve()
@@ -321,7 +321,7 @@ def _run(args: argparse.Namespace) -> int:
 
     print(
         f"\n{len(targets)} FK targets from home, pos_tol {args.pos_tol:g} m, rot_tol "
-        f"{args.rot_tol:g} rad, max_iter {args.max_iter}"
+        f"{args.rot_tol:g} rad, max_iterations {args.max_iterations}"
     )
     header = f"{'loop':<34}{'success':>9}{'iters':>7}{'ms/solve':>10}{'overshoot':>11}"
     print(header)

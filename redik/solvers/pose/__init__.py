@@ -101,7 +101,7 @@ Success
     solve is paid on failure only (``diagnose_limits=False`` skips it).
 """
 
-from redik.solvers.pose.options import MAX_ITER, METHODS, RESTARTS
+from redik.solvers.pose.options import MAX_ITERATIONS, METHODS, RESTARTS
 from redik.solvers.pose.solve import solve_all, solve_pose
 
-__all__ = ["MAX_ITER", "METHODS", "RESTARTS", "solve_all", "solve_pose"]
+__all__ = ["MAX_ITERATIONS", "METHODS", "RESTARTS", "solve_all", "solve_pose"]

@@ -80,4 +80,4 @@ class Attempt:
 
 
 Iteration = Callable[[PoseProblem, np.ndarray, int], Attempt]
-"""``iterate(problem, q_start, max_iter) -> Attempt``: one attempt of a Python driver."""
+"""``iterate(problem, q_start, max_iterations) -> Attempt``: one attempt of a Python driver."""

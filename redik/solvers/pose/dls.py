@@ -74,13 +74,13 @@ class DLSSolver:
         arguments: tuple,
         pos_tol: float,
         rot_tol: float,
-        max_iter: int,
+        max_iterations: int,
         restarts: int,
         respect_limits: bool,
         options: dict,
     ) -> tuple:
         """Keep the kernel's settings for these validated values, and the history length
-        ``max_iter`` needs, under the caller's ``arguments`` (the values as given, and their
+        ``max_iterations`` needs, under the caller's ``arguments`` (the values as given, and their
         types), and return them: another thread may evict them before a look-up finds them.
 
         Raises:
@@ -93,12 +93,12 @@ class DLSSolver:
         except TypeError:  # an unhashable option value: BatchOptions names it below
             pass
         floats, counts = BatchOptions(
-            pos_tol=pos_tol, rot_tol=rot_tol, max_iterations=max_iter, restarts=restarts,
+            pos_tol=pos_tol, rot_tol=rot_tol, max_iterations=max_iterations, restarts=restarts,
             **{**DLS_OPTIONS, **options},
         ).kernel_settings(respect_limits)  # fmt: skip
         if len(self.settings) >= _SETTINGS_KEPT:
             self.settings.clear()
-        settings = (floats, counts, pos_tol, rot_tol, respect_limits, max_iter + 1)
+        settings = (floats, counts, pos_tol, rot_tol, respect_limits, max_iterations + 1)
         self.settings[arguments] = settings
         return settings
 

@@ -71,8 +71,8 @@ def transpose(options: dict) -> Iteration:
     if step != "armijo":
         step = positive(step, "step")
 
-    def iterate(problem: PoseProblem, q: np.ndarray, max_iter: int) -> Attempt:
-        return gradient_then_newton(problem, q, max_iter, step, switch_error=0.0)
+    def iterate(problem: PoseProblem, q: np.ndarray, max_iterations: int) -> Attempt:
+        return gradient_then_newton(problem, q, max_iterations, step, switch_error=0.0)
 
     return iterate
 
@@ -81,14 +81,14 @@ def hybrid(options: dict) -> Iteration:
     """The ``"hybrid"`` attempt for ``options["switch_error"]`` (a positive ``‖e‖``)."""
     switch_error = positive(options["switch_error"], "switch_error")
 
-    def iterate(problem: PoseProblem, q: np.ndarray, max_iter: int) -> Attempt:
-        return gradient_then_newton(problem, q, max_iter, "armijo", switch_error)
+    def iterate(problem: PoseProblem, q: np.ndarray, max_iterations: int) -> Attempt:
+        return gradient_then_newton(problem, q, max_iterations, "armijo", switch_error)
 
     return iterate
 
 
 def gradient_then_newton(
-    problem: PoseProblem, q: np.ndarray, max_iter: int, step: float | str, switch_error: float
+    problem: PoseProblem, q: np.ndarray, max_iterations: int, step: float | str, switch_error: float
 ) -> Attempt:
     """Gradient steps while ``‖e‖ > switch_error``, Newton steps ``J⁺e`` below it."""
     robot, frame, n = problem.robot, problem.frame, problem.n
@@ -99,7 +99,7 @@ def gradient_then_newton(
     E = float(e @ e)
     history, errors = [q.copy()], [math.sqrt(E)]
     status = Status.MAX_ITERATIONS
-    for _ in range(max_iter):
+    for _ in range(max_iterations):
         if problem.within(*errors_now):
             status = Status.CONVERGED
             break

@@ -42,14 +42,14 @@ def newton(options: dict) -> Iteration:
             return problem.within(float(np.linalg.norm(V[:3])), float(np.linalg.norm(V[3:])))
         return problem.within(*pose_errors(T, problem.T_target))
 
-    def iterate(problem: PoseProblem, q: np.ndarray, max_iter: int) -> Attempt:
+    def iterate(problem: PoseProblem, q: np.ndarray, max_iterations: int) -> Attempt:
         robot, frame, n = problem.robot, problem.frame, problem.n
         T, J, e = np.eye(4), np.empty((6, n)), np.empty(6)
         robot.kinematics(q, frame, T, J)
         V, J_form = twist_and_jacobian(T, J, problem.T_target)
         history, errors = [q.copy()], [float(np.linalg.norm(V))]
         status = Status.MAX_ITERATIONS
-        for _ in range(max_iter):
+        for _ in range(max_iterations):
             if done(problem, T, V):
                 status = Status.CONVERGED
                 break

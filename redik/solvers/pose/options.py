@@ -16,7 +16,7 @@ from redik.kinematics.dls import BatchOptions
 METHODS = ("newton", "transpose", "hybrid", "dls", "qp")
 """The methods of :func:`~redik.solvers.pose.solve_pose`."""
 
-MAX_ITER = {"newton": 100, "transpose": 2000, "hybrid": 200, "dls": 60, "qp": 200}
+MAX_ITERATIONS = {"newton": 100, "transpose": 2000, "hybrid": 200, "dls": 60, "qp": 200}
 """Default iteration budget per attempt, by method."""
 
 RESTARTS = {"newton": 20, "transpose": 5, "hybrid": 20, "dls": 200, "qp": 20}

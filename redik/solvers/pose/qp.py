@@ -10,7 +10,7 @@ against a limit — ends early, and a restart takes over from the nearest in pos
 ``candidates`` random configurations, by the distance
 ``‖p − p_d‖² + w²‖R − R_d‖²_F / 2 ≈ ‖p − p_d‖² + (w θ)²`` with ``w`` = 0.5 m per rad (as
 :mod:`redik.solvers.batch`'s restarts), so few iterations are spent on hopeless starts. Each
-attempt also has its own budget, ``max_iter``.
+attempt also has its own budget, ``max_iterations``.
 
 **A turn is free.** A revolute joint whose range spans a full turn or more (the UR arms'
 ±2π) is periodic for this solver: it is not boxed, and each iterate is turned back into its
@@ -75,7 +75,7 @@ def solve_pose_qp(
     *,
     pos_tol: float = 1e-6,
     rot_tol: float = 1e-5,
-    max_iter: int = 100,
+    max_iterations: int = 100,
     respect_limits: bool = True,
     frame: str | None = None,
     restarts: int = 0,
@@ -94,7 +94,7 @@ def solve_pose_qp(
     gradient, :meth:`redik.Problem.solve`; default 1e-8), ``patience`` and ``progress``
     (an attempt whose ``‖e‖²`` fell by less than the fraction ``progress`` in ``patience``
     iterations ends as stalled; defaults 5 and 0.5; ``patience=None`` waits for
-    ``max_iter``), ``plateau`` (an attempt whose ``‖e‖²`` fell by less than this fraction in
+    ``max_iterations``), ``plateau`` (an attempt whose ``‖e‖²`` fell by less than this fraction in
     one iteration ends as stalled: a plateau against a limit; default 0.01, None to wait),
     ``candidates`` (each restart starts from the nearest in pose of this
     many random configurations; default 16), ``backend_options``. The defaults are those
@@ -134,7 +134,7 @@ def solve_pose_qp(
             start,
             pos_tol=pos_tol,
             rot_tol=rot_tol,
-            max_iter=max_iter,
+            max_iterations=max_iterations,
             q_tol=options.get("q_tol", 1e-12),
             max_step=options.get("max_step", 1.0),
             stationarity_tol=options.get("stationarity_tol", 1e-8),

@@ -27,7 +27,7 @@ from redik.solvers.pose.frame import PoseFrame
 from redik.solvers.pose.gradient import hybrid, transpose
 from redik.solvers.pose.newton import newton
 from redik.solvers.pose.options import (
-    MAX_ITER,
+    MAX_ITERATIONS,
     OPTIONS,
     RESTARTS,
     check_flag,
@@ -51,7 +51,7 @@ def solve_pose(
     method: str = "dls",
     pos_tol: float = 1e-6,
     rot_tol: float = 1e-5,
-    max_iter: int | None = None,
+    max_iterations: int | None = None,
     restarts: int | None = None,
     respect_limits: bool = True,
     seed: int | np.random.Generator | None = None,
@@ -71,8 +71,8 @@ def solve_pose(
         method: One of :data:`~redik.solvers.pose.options.METHODS`.
         pos_tol: Position tolerance (m) on ``‖p_d − p‖``.
         rot_tol: Rotation tolerance (rad) on ``angle(Rᵀ R_d)``.
-        max_iter: Iterations per attempt; default
-            :data:`~redik.solvers.pose.options.MAX_ITER` for the method.
+        max_iterations: Iterations per attempt; default
+            :data:`~redik.solvers.pose.options.MAX_ITERATIONS` for the method.
         restarts: Random restarts after the first attempt; default
             :data:`~redik.solvers.pose.options.RESTARTS`.
         respect_limits: Keep every iterate inside the joint limits (see
@@ -112,8 +112,8 @@ def solve_pose(
     # checked by the compiled call itself. Anything else, or a refusal there, takes the full
     # validation below, which names the fault.
     arguments = (
-        pos_tol, rot_tol, max_iter, restarts, respect_limits,
-        type(pos_tol), type(rot_tol), type(max_iter), type(restarts), type(respect_limits),
+        pos_tol, rot_tol, max_iterations, restarts, respect_limits,
+        type(pos_tol), type(rot_tol), type(max_iterations), type(restarts), type(respect_limits),
     )  # fmt: skip
     if (
         type(method) is str
@@ -129,15 +129,15 @@ def solve_pose(
                 if result.success or not respect_limits or not diagnose_limits:
                     return result
                 return _diagnose_limits(
-                    result, robot, T_target, q0, "dls", pos_tol, rot_tol, max_iter, restarts,
+                    result, robot, T_target, q0, "dls", pos_tol, rot_tol, max_iterations, restarts,
                     seed, frame, {},
                 )  # fmt: skip
     T_target = as_pose(T_target, "T_target", strict=strict)
     if not robot.is_chain:
         return _solve_on_chain(
             robot, T_target, q0, method=method, pos_tol=pos_tol, rot_tol=rot_tol,
-            max_iter=max_iter, restarts=restarts, respect_limits=respect_limits, seed=seed,
-            frame=frame, diagnose_limits=diagnose_limits, **method_options,
+            max_iterations=max_iterations, restarts=restarts, respect_limits=respect_limits,
+            seed=seed, frame=frame, diagnose_limits=diagnose_limits, **method_options,
         )  # fmt: skip
     q_start = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
     method = check_method(method)
@@ -148,7 +148,9 @@ def solve_pose(
         positive(pos_tol, "pos_tol", unit="m"),
         positive(rot_tol, "rot_tol", unit="rad"),
     )
-    max_iter = integer(MAX_ITER[method] if max_iter is None else max_iter, "max_iter", 1)
+    max_iterations = integer(
+        MAX_ITERATIONS[method] if max_iterations is None else max_iterations, "max_iterations", 1
+    )
     restarts = integer(RESTARTS[method] if restarts is None else restarts, "restarts", 0)
     resolved = robot.frame(frame)
     cache = PoseCache.of(robot)
@@ -158,20 +160,20 @@ def solve_pose(
         from redik.solvers.pose.qp import solve_pose_qp  # on use: the others need no QP stack
 
         result = solve_pose_qp(
-            robot, T_target, q_start, pos_tol=pos_tol, rot_tol=rot_tol, max_iter=max_iter,
-            respect_limits=respect_limits, frame=frame, restarts=restarts, seed=seed,
-            **method_options,
+            robot, T_target, q_start, pos_tol=pos_tol, rot_tol=rot_tol,
+            max_iterations=max_iterations, respect_limits=respect_limits, frame=frame,
+            restarts=restarts, seed=seed, **method_options,
         )  # fmt: skip
     else:
         result = _solve_chain(
-            robot, T_target, q_start, method, pos_tol, rot_tol, max_iter, restarts,
+            robot, T_target, q_start, method, pos_tol, rot_tol, max_iterations, restarts,
             respect_limits, seed, frame, resolved, cache, pose_frame, arguments, method_options,
         )  # fmt: skip
     if result.success or not respect_limits or not diagnose_limits:
         return result
     return _diagnose_limits(
-        result, robot, T_target, q0, method, pos_tol, rot_tol, max_iter, restarts, seed, frame,
-        method_options,
+        result, robot, T_target, q0, method, pos_tol, rot_tol, max_iterations, restarts, seed,
+        frame, method_options,
     )  # fmt: skip
 
 
@@ -182,7 +184,7 @@ def _solve_chain(
     method: str,
     pos_tol: float,
     rot_tol: float,
-    max_iter: int,
+    max_iterations: int,
     restarts: int,
     respect_limits: bool,
     seed: int | np.random.Generator | None,
@@ -203,7 +205,7 @@ def _solve_chain(
             sorted((name, value, type(value)) for name, value in method_options.items())
         )
         settings = solver.prepare(
-            arguments, pos_tol, rot_tol, max_iter, restarts, respect_limits, method_options
+            arguments, pos_tol, rot_tol, max_iterations, restarts, respect_limits, method_options
         )
         result = solver.solve(
             np.array(T_target, order="C"), q_start, kernel_key(seed), arguments, settings
@@ -215,7 +217,7 @@ def _solve_chain(
     problem = PoseProblem(robot, resolved, T_target, pos_tol, rot_tol, respect_limits)
     q_start = problem.project(q_start)
     iterate = ITERATIONS[method](options)
-    attempts = [iterate(problem, q_start, max_iter)]
+    attempts = [iterate(problem, q_start, max_iterations)]
     reach = 0.0
     if attempts[0].status != Status.CONVERGED:
         reach = pose_frame.reach_excess(problem.p_d)
@@ -223,7 +225,7 @@ def _solve_chain(
             restarts = min(restarts, 2)  # a closest q is all there is to find
         rng = np.random.default_rng(seed)
         for _ in range(restarts):
-            attempts.append(iterate(problem, problem.project(robot.random_q(rng)), max_iter))
+            attempts.append(iterate(problem, problem.project(robot.random_q(rng)), max_iterations))
             if attempts[-1].status == Status.CONVERGED:
                 break
     return finish(problem, Outcome.of(attempts, robot.lower, robot.upper), method, reach)
@@ -241,7 +243,7 @@ def _diagnose_limits(
     method: str,
     pos_tol: float,
     rot_tol: float,
-    max_iter: int | None,
+    max_iterations: int | None,
     restarts: int | None,
     seed: int | np.random.Generator | None,
     frame: str | Frame | None,
@@ -266,7 +268,7 @@ def _diagnose_limits(
     budget = RESTARTS[method] if restarts is None else restarts
     free = solve_pose(
         robot, T_target, q0, method=method, pos_tol=pos_tol, rot_tol=rot_tol,
-        max_iter=max_iter, restarts=min(budget, LIMITS_RESTARTS), respect_limits=False,
+        max_iterations=max_iterations, restarts=min(budget, LIMITS_RESTARTS), respect_limits=False,
         seed=seed, frame=frame, **method_options,
     )  # fmt: skip
     if not free.success or robot.within_limits(free.q):
@@ -296,7 +298,7 @@ def solve_all(
     method: str = "dls",
     pos_tol: float = 1e-6,
     rot_tol: float = 1e-5,
-    max_iter: int | None = None,
+    max_iterations: int | None = None,
     respect_limits: bool = True,
     frame: str | Frame | None = None,
     cluster_tol: float = 1e-3,
@@ -331,7 +333,7 @@ def solve_all(
         q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
         chain, q_chain = PoseCache.of(robot).chain(robot.frame(frame), q_whole)
         results = solve_all(
-            chain, T_target, n_starts, seed, method, pos_tol, rot_tol, max_iter,
+            chain, T_target, n_starts, seed, method, pos_tol, rot_tol, max_iterations,
             respect_limits, None, cluster_tol, strict,
             None if q0 is None else q_chain, **method_options,
         )  # fmt: skip
@@ -350,8 +352,8 @@ def solve_all(
     for start in range(n_starts):
         q_start = first if start == 0 and first is not None else robot.random_q(rng)
         result = solve_pose(
-            robot, T_target, q_start, method=method, pos_tol=pos_tol,
-            rot_tol=rot_tol, max_iter=max_iter, restarts=0, respect_limits=respect_limits,
+            robot, T_target, q_start, method=method, pos_tol=pos_tol, rot_tol=rot_tol,
+            max_iterations=max_iterations, restarts=0, respect_limits=respect_limits,
             frame=frame, diagnose_limits=False, **method_options,
         )  # fmt: skip
         if not result.success:
