@@ -59,7 +59,7 @@ def test_kernel_pose_error_matches_the_batched_rotation_log(rng):
     from redik.apps.workspace import random_rotations
     from redik.lie import rotation_log
 
-    Rd, R = random_rotations(50, seed=3), random_rotations(50, seed=4)
+    Rd, R = random_rotations(50, rng=3), random_rotations(50, rng=4)
     axis = np.array([0.0, 0.6, 0.8])
     Rd[0] = R[0] @ redik.lie.so3_exp(axis * (np.pi - 1e-9))  # near θ = π
     Rd[1] = redik.lie.so3_exp(axis * 1e-9) @ R[1]  # near θ = 0

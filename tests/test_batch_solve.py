@@ -156,14 +156,14 @@ def test_rotation_log_matches_lie_at_every_angle(rng):
     from redik.apps.workspace import random_rotations
     from redik.lie import rotation_log
 
-    R = random_rotations(200, seed=1)
+    R = random_rotations(200, rng=1)
     axes = rng.standard_normal((40, 3))
     axes /= np.linalg.norm(axes, axis=1, keepdims=True)
     near_pi = [
         redik.lie.so3_exp(a * (np.pi - d))
         for a, d in zip(axes, np.logspace(-12, -2, 40), strict=True)
     ]
-    Rd = np.concatenate([random_rotations(200, seed=2), R[:40] @ np.array(near_pi)])
+    Rd = np.concatenate([random_rotations(200, rng=2), R[:40] @ np.array(near_pi)])
     R_all = np.concatenate([R, R[:40]])
     omega = np.empty((3, len(R_all)))
     angle = rotation_log(Rd.transpose(1, 2, 0).copy(), R_all.transpose(1, 2, 0).copy(), omega)

@@ -122,7 +122,7 @@ def test_independent_ik_solutions_lie_on_the_explored_manifold(scene, pose_seed)
     motion = explore_self_motion(robot, T, seed=pose_seed)
     solutions = []
     for q0 in robot.random_q(rng, size=30):
-        result = solve_pose(robot, T, q0, respect_limits=True, seed=rng)
+        result = solve_pose(robot, T, q0, respect_limits=True, seed=int(rng.integers(2**63)))
         if result.success:
             solutions.append(result.q)
     assert len(solutions) >= 20
@@ -164,7 +164,7 @@ def test_dexter8r_independent_ik_solutions_lie_on_the_explored_surface():
     assert motion.n_components > 1  # the limits cut this surface into several patches
     solutions = []
     for q0 in robot.random_q(rng, size=100):
-        result = solve_pose(robot, T, q0, respect_limits=True, seed=rng)
+        result = solve_pose(robot, T, q0, respect_limits=True, seed=int(rng.integers(2**63)))
         if result.success:
             solutions.append(result.q)
     assert len(solutions) >= 80

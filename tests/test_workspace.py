@@ -16,7 +16,7 @@ def panda() -> redik.Robot:
 
 
 def test_random_rotations_are_rotations():
-    R = workspace.random_rotations(50, seed=0)
+    R = workspace.random_rotations(50, rng=0)
     assert R.shape == (50, 3, 3)
     np.testing.assert_allclose(
         R @ R.transpose(0, 2, 1), np.broadcast_to(np.eye(3), R.shape), atol=1e-12
@@ -32,7 +32,7 @@ def test_reachability_scores_known_points(panda):
     far = centre + np.array([[radius + 0.5, 0, 0], [0, 0, -(radius + 2.0)]])
     grid = np.concatenate([T[:, :3, 3], far])
     # The FK orientation of each reachable point is among those tried there: it is reachable.
-    orientations = np.concatenate([T[:, :3, :3], workspace.random_rotations(2, seed=1)])
+    orientations = np.concatenate([T[:, :3, :3], workspace.random_rotations(2, rng=1)])
     reach = workspace.reachability(panda, grid, orientations=orientations, seed=0, engine="local")
     assert reach.score.shape == (6,) and reach.solved.shape == (6, 6)
     assert np.all((reach.score >= 0) & (reach.score <= 1))

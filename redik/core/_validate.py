@@ -63,22 +63,23 @@ def integer(value: object, name: str, minimum: int = 0, *, allow_none: bool = Fa
     return int(value)
 
 
-def seed(value: object, name: str = "seed", *, generator: bool = True) -> object:
-    """``value`` when it is a seed of random choices: None (fresh entropy), an integer ``≥ 0``
-    (an ``int`` or numpy integer, returned as ``int``), a :class:`numpy.random.SeedSequence`,
-    or — when ``generator`` — a :class:`numpy.random.Generator` (used as is, so its stream
-    carries on). A bool is refused like for :func:`integer` (``seed=True`` is no seed 1), and
-    so are floats, strings and negative integers. ``generator=False`` for the callers that
-    split one root into independent streams (:func:`redik.solvers.batch.solve_batch`), which
-    need a SeedSequence rather than a stream already drawn from."""
-    if value is None or isinstance(value, np.random.SeedSequence):
-        return value
-    if generator and isinstance(value, np.random.Generator):
-        return value
+def seed(value: object, name: str = "seed") -> int | None:
+    """``value`` when it is a seed of random choices, ``int | None``: an integer ``≥ 0`` (an
+    ``int`` or numpy integer, returned as ``int``) for reproducible choices, or None for
+    fresh entropy. The callee makes its own ``np.random.default_rng(seed)`` or
+    ``np.random.SeedSequence(seed)`` from it. A bool is refused like for :func:`integer`
+    (``seed=True`` is no seed 1), and so are floats, strings, negative integers and numpy
+    ``Generator``/``SeedSequence`` objects (the message says to pass an int)."""
+    if value is None:
+        return None
     if not isinstance(value, bool) and isinstance(value, (int, np.integer)) and value >= 0:
         return int(value)
-    kinds = "a numpy Generator or SeedSequence" if generator else "a numpy SeedSequence"
-    raise InvalidInput(f"{name} must be None, an integer ≥ 0 or {kinds}, got {value!r}")
+    if isinstance(value, np.random.Generator | np.random.SeedSequence | np.random.BitGenerator):
+        raise InvalidInput(
+            f"{name} must be None or an integer ≥ 0, got a numpy {type(value).__name__}: pass "
+            "an int (e.g. int(rng.integers(2**63)) to derive one from a generator)"
+        )
+    raise InvalidInput(f"{name} must be None or an integer ≥ 0, got {value!r}")
 
 
 def flag(value: object, name: str) -> bool:

@@ -44,7 +44,7 @@ def completeness(
     rng = np.random.default_rng([seed, 1])  # independent of the exploration's starts
     solutions = []
     for q0 in robot.random_q(rng, size=starts):
-        result = solve_pose(robot, T_target, q0, respect_limits=True, seed=rng)
+        result = solve_pose(robot, T_target, q0, respect_limits=True, seed=int(rng.integers(2**63)))
         if result.success:
             solutions.append(result.q)
     distances = motion.distance_to(np.array(solutions)) if solutions else np.empty(0)

@@ -241,7 +241,7 @@ def solve_batch(
     pos_tol: float = 1e-6,
     rot_tol: float = 1e-5,
     restarts: int = 100,
-    seed: int | np.random.SeedSequence | None = None,
+    seed: int | None = None,
     engine: str | Engine = "local",
     workers: int | None = None,
     address: str | None = None,
@@ -293,7 +293,7 @@ def solve_batch(
     chunk_size = integer(chunk_size, "chunk_size", 1, allow_none=True)
     workers = integer(workers, "workers", 1, allow_none=True)
     runner = as_engine(engine, workers, address)
-    seed = check_seed(seed, generator=False)
+    seed = check_seed(seed)
     chain = robot if isinstance(robot, Chain) else Chain.from_robot(robot)
     options = BatchOptions(
         pos_tol=pos_tol, rot_tol=rot_tol, restarts=restarts, max_iterations=max_iterations
@@ -306,7 +306,7 @@ def solve_batch(
     if chunk_size is None:
         chunk_size = int(np.clip(-(-size // 4), *CHUNK_SIZE_RANGE))
     starts = range(0, max(size, 1), chunk_size)  # an empty batch is one empty chunk
-    root = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
+    root = np.random.SeedSequence(seed)
     key = int(root.generate_state(1, np.uint64)[0])
     chunks = (
         (T[start : start + chunk_size], seeds[start : start + chunk_size], start)

@@ -227,14 +227,12 @@ def kernel_copy(value: object, shape: tuple[int, ...]) -> np.ndarray | None:
     return np.array(value, order="C")
 
 
-def kernel_key(seed: int | np.random.Generator | None) -> np.uint64:
+def kernel_key(seed: int | None) -> np.uint64:
     """The kernel generator's 64-bit state from a validated ``seed`` (reproducible for an
     int; a fresh random one for None)."""
-    if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
-        return np.uint64(int(seed) % _TWO_TO_64)
     if seed is None:
         return np.uint64(secrets.randbits(64))
-    return np.uint64(np.random.default_rng(seed).integers(2**63))
+    return np.uint64(seed % _TWO_TO_64)
 
 
 def fast_kernel_key(seed: object) -> np.uint64 | None:

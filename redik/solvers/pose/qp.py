@@ -79,7 +79,7 @@ def solve_pose_qp(
     respect_limits: bool = True,
     frame: str | None = None,
     restarts: int = 0,
-    seed: int | np.random.Generator | None = None,
+    seed: int | None = None,
     **options,
 ) -> IKResult:
     """Drive ``frame`` (default the end-effector) to ``T_target`` from ``q0``.

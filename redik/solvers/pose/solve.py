@@ -54,7 +54,7 @@ def solve_pose(
     max_iterations: int | None = None,
     restarts: int | None = None,
     respect_limits: bool = True,
-    seed: int | np.random.Generator | None = None,
+    seed: int | None = None,
     frame: str | Frame | None = None,
     strict: bool = False,
     diagnose_limits: bool = True,
@@ -77,7 +77,8 @@ def solve_pose(
             :data:`~redik.solvers.pose.options.RESTARTS`.
         respect_limits: Keep every iterate inside the joint limits (see
             :mod:`redik.solvers.pose`).
-        seed: Seed (or generator) of the random restarts, for reproducible results.
+        seed: Seed of the random restarts (an integer ≥ 0, for reproducible results), or
+            None for fresh entropy.
         frame: Site or body to place; default the end-effector.
         strict: Refuse a near-rotation target instead of projecting it onto SO(3) with a
             warning (the tolerance policy of :mod:`redik.lie`).
@@ -187,7 +188,7 @@ def _solve_chain(
     max_iterations: int,
     restarts: int,
     respect_limits: bool,
-    seed: int | np.random.Generator | None,
+    seed: int | None,
     frame: str | Frame | None,
     resolved: Frame,
     cache: PoseCache,
@@ -245,7 +246,7 @@ def _diagnose_limits(
     rot_tol: float,
     max_iterations: int | None,
     restarts: int | None,
-    seed: int | np.random.Generator | None,
+    seed: int | None,
     frame: str | Frame | None,
     method_options: dict,
 ) -> IKResult:
@@ -294,7 +295,7 @@ def solve_all(
     robot: Robot,
     T_target: np.ndarray,
     n_starts: int = 100,
-    seed: int | np.random.Generator | None = None,
+    seed: int | None = None,
     method: str = "dls",
     pos_tol: float = 1e-6,
     rot_tol: float = 1e-5,

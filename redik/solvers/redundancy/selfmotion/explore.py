@@ -42,7 +42,7 @@ def explore_self_motion(
     T_target: np.ndarray,
     frame: str | Frame | None = None,
     spacing: float | None = None,
-    seed: int | np.random.Generator | None = None,
+    seed: int | None = None,
     *,
     n_starts: int = 64,
     initial: np.ndarray | None = None,
@@ -64,7 +64,7 @@ def explore_self_motion(
         frame: Site or body to place; default the end-effector.
         spacing: Largest joint-space distance between neighbouring samples; default
             :data:`DEFAULT_SPACING` for the dimension.
-        seed: Seed (or generator) of the random starts.
+        seed: Seed of the random starts (an integer ≥ 0), or None for fresh entropy.
         n_starts: Random starts of the multi-start IK that seeds the components.
         initial: Extra seed configurations (k × n), e.g. the one ``T_target`` came from.
         max_samples: Budget of points over all components, counting those traced or
