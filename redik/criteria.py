@@ -5,7 +5,7 @@ leaving its task — the classic secondary criteria of gradient projection (Lié
 Siciliano, Sciavicco, Villani & Oriolo, *Robotics: Modelling, Planning and Control*, §3.5.1).
 The tasks (:class:`redik.JointLimitAvoidanceTask`, :class:`redik.ManipulabilityTask`), the
 null-space tools (:mod:`redik.solvers.redundancy.nullspace`) and the self-motion scores
-(:mod:`redik.solvers.redundancy.criteria`) all call these functions.
+(:mod:`redik.solvers.redundancy.scoring`) all call these functions.
 
 **Joint limits.** With the range scaling :math:`s_i = 1/(u_i - l_i)` and middle
 :math:`\bar q_i = \tfrac12 (l_i + u_i)` of each limited joint (:math:`s_i = \bar q_i = 0`

@@ -4,7 +4,7 @@
 * :mod:`.corrector` — Newton projection of configurations onto a pose (IKinBody).
 * :mod:`.gradient_projection` — :func:`gradient_projection_ik` climbs a criterion while
   holding a pose.
-* :mod:`.criteria` — joint-limit margin, manipulability, distance to a nominal posture as
+* :mod:`.scoring` — joint-limit margin, manipulability, distance to a nominal posture as
   scoring objects; their math (re-exported here) is :mod:`redik.criteria`.
 * :mod:`.selfmotion` — :func:`explore_self_motion` samples every configuration reaching a
   pose (curves for 7R arms, surfaces for 8R arms, points for 6R arms) into a
@@ -22,7 +22,14 @@ from redik.criteria import (
     manipulability_gradient,
     posture_gradient,
 )
-from redik.solvers.redundancy.criteria import (
+from redik.solvers.redundancy.gradient_projection import gradient_projection_ik
+from redik.solvers.redundancy.nullspace import (
+    nullspace_basis,
+    nullspace_projector,
+    nullspace_velocity,
+    pseudo_inverse,
+)
+from redik.solvers.redundancy.scoring import (
     Criterion,
     JointLimitMargin,
     Manipulability,
@@ -30,13 +37,6 @@ from redik.solvers.redundancy.criteria import (
     criterion_by_name,
     default_criteria,
     evaluate_criteria,
-)
-from redik.solvers.redundancy.gradient_projection import gradient_projection_ik
-from redik.solvers.redundancy.nullspace import (
-    nullspace_basis,
-    nullspace_projector,
-    nullspace_velocity,
-    pseudo_inverse,
 )
 from redik.solvers.redundancy.selfmotion import SelfMotion, explore_self_motion
 

@@ -23,7 +23,7 @@ from redik.solvers.redundancy.nullspace import pseudo_inverse
 
 if TYPE_CHECKING:
     from redik.kinematics.robot import Frame, Robot
-    from redik.solvers.redundancy.criteria import Criterion
+    from redik.solvers.redundancy.scoring import Criterion
 
 
 def gradient_projection_ik(

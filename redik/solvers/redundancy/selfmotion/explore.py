@@ -20,7 +20,7 @@ from redik.core.exceptions import InvalidInput
 from redik.core.result import Status
 from redik.lie import as_pose, real_array
 from redik.solvers.redundancy.corrector import BatchCorrector, Corrector
-from redik.solvers.redundancy.criteria import Criterion, default_criteria, evaluate_criteria
+from redik.solvers.redundancy.scoring import Criterion, default_criteria, evaluate_criteria
 from redik.solvers.redundancy.selfmotion.covering import SurfaceCovering
 from redik.solvers.redundancy.selfmotion.index import SampleIndex, distance
 from redik.solvers.redundancy.selfmotion.result import SelfMotion
@@ -71,7 +71,7 @@ def explore_self_motion(
             covered outside the limits (which are not kept as samples).
         nominal: Posture of the ``posture_distance`` criterion; default ``robot.home``.
         criteria: Criteria to score samples by; default
-            :func:`redik.solvers.redundancy.criteria.default_criteria`.
+            :func:`redik.solvers.redundancy.scoring.default_criteria`.
         exact: For a 7R arm with a spherical shoulder and wrist (iiwa type), take the curves
             from the closed-form arm-angle parameterisation
             (:func:`redik.solvers.analytic.srs.self_motion_curves`) instead of numerical tracing;

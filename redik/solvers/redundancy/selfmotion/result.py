@@ -44,7 +44,7 @@ class SelfMotion:
         position_error: ``‖p_d − p‖`` (m) of each sample.
         rotation_error: ``angle(Rᵀ R_d)`` (rad) of each sample.
         criteria: Per-sample values of each criterion, by name (see
-            :mod:`redik.solvers.redundancy.criteria`).
+            :mod:`redik.solvers.redundancy.scoring`).
         maximize: For each criterion, True when larger is better.
         closed: Per component: True for a closed loop (1-D only).
         ends: Per component, why tracing stopped at each end: ``"closed"``,

@@ -1,4 +1,5 @@
-r"""Secondary criteria: what makes one point of a self-motion manifold better than another.
+r"""Scoring objects for the secondary criteria: what makes one point of a self-motion manifold
+better than another.
 
 The math (values and gradients) is in :mod:`redik.criteria`; this module wraps it into
 scoring objects over a robot's samples.
