@@ -35,8 +35,8 @@ demo: $(STAMP)
 # ruff, and the import-layer contract (tests/test_layers.py: a module may import only from
 # its own or a lower layer; README's Architecture section lists the layers).
 lint: $(STAMP)
-	$(BIN)/ruff check redik tests examples tasks
-	$(BIN)/ruff format --check redik tests examples tasks
+	$(BIN)/ruff check redik tests examples specs
+	$(BIN)/ruff format --check redik tests examples specs
 	$(BIN)/python -m pytest -q -p no:cacheprovider tests/test_layers.py
 
 # The regression scenes run first so that pytest's summary is the last line CI reads.

@@ -14,7 +14,7 @@ higher one:
 6. **qp** — QP assembly, lexicographic hierarchy, back-ends;
 7. **solvers** — analytic, iterative, pose IK (and its QP driver), the ``Problem`` driver,
    batch IK, redundancy;
-8. **applications** — trajectories, simulation, rendering, plots, workspace, task specs,
+8. **applications** — trajectories, simulation, rendering, plots, workspace, specs,
    regression, demo, benchmarks, CLI;
 9. **package** — ``redik/__init__.py`` and ``__main__``, which re-export everything.
 

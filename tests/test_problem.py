@@ -276,7 +276,7 @@ def test_solve_finishes_the_lower_level_at_the_constrained_optimum(panda, rng):
 
 
 def test_the_lower_level_converges_fast_once_level_0_holds(panda):
-    """panda_reach's first 20 targets (tasks/panda_reach.py): with joint-limit avoidance
+    """panda_reach's first 20 targets (specs/panda_reach.py): with joint-limit avoidance
     below the pose, level 1's own Hessian ignores the curvature of the pose manifold, and
     the lower level converged linearly (ratio up to 0.89 per iteration: target 18 used all
     100 iterations and ended not stationary at 8e-8). With the curvature term each target

@@ -42,7 +42,7 @@ def run(ctx):
 '''
 
 
-def make_tasks(folder: Path) -> Path:
+def make_specs(folder: Path) -> Path:
     folder.mkdir()
     (folder / "sqrt_newton.py").write_text(textwrap.dedent(SPEC))
     return folder
@@ -56,15 +56,15 @@ def degrade(folder: Path, old: str, new: str) -> None:
 
 
 def test_update_writes_baselines_and_an_unchanged_rerun_passes(tmp_path):
-    tasks = make_tasks(tmp_path / "tasks")
-    report = run_regression(tasks, fast=True, update=True)
+    specs = make_specs(tmp_path / "specs")
+    report = run_regression(specs, fast=True, update=True)
     assert not report.regressed
-    baseline_file = tasks / "baselines" / "sqrt_newton.json"
+    baseline_file = specs / "baselines" / "sqrt_newton.json"
     assert report.updated == [baseline_file]
     stored = json.loads(baseline_file.read_text())
     assert set(stored["fast"]["metrics"]) == {"success_rate", "max_final_error", "mean_iterations"}
     assert load_baseline(baseline_file, "full") is None
-    rerun = run_regression(tasks, fast=True)
+    rerun = run_regression(specs, fast=True)
     assert not rerun.regressed, rerun.table()
     statuses = {c.metric: c.status for c in rerun.specs[0].comparisons}
     assert statuses["mean_iterations"] == "ok" and statuses["success_rate"] == "ok"
@@ -82,23 +82,23 @@ def test_update_writes_baselines_and_an_unchanged_rerun_passes(tmp_path):
     ],
 )
 def test_injected_degradation_is_caught(tmp_path, capsys, old, new, metric):
-    tasks = make_tasks(tmp_path / "tasks")
-    assert main(["regress", "--fast", "--update", "--tasks", str(tasks)]) == 0
-    assert main(["regress", "--fast", "--tasks", str(tasks)]) == 0
-    degrade(tasks, old, new)
-    assert main(["regress", "--fast", "--tasks", str(tasks)]) == 1
+    specs = make_specs(tmp_path / "specs")
+    assert main(["regress", "--fast", "--update", "--specs", str(specs)]) == 0
+    assert main(["regress", "--fast", "--specs", str(specs)]) == 0
+    degrade(specs, old, new)
+    assert main(["regress", "--fast", "--specs", str(specs)]) == 1
     printed = capsys.readouterr().out
     regressed_rows = [line for line in printed.splitlines() if "REGRESSED" in line]
     assert any(metric in line for line in regressed_rows), printed
 
 
 def test_failing_criteria_count_as_regression_and_block_update(tmp_path):
-    tasks = make_tasks(tmp_path / "tasks")
-    degrade(tasks, '">= 0.5"', '">= 2"')
+    specs = make_specs(tmp_path / "specs")
+    degrade(specs, '">= 0.5"', '">= 2"')
     baselines = tmp_path / "baselines"
     assert (
         main(
-            ["regress", "--fast", "--update", "--tasks", str(tasks), "--baselines", str(baselines)]
+            ["regress", "--fast", "--update", "--specs", str(specs), "--baselines", str(baselines)]
         )
         == 1
     )
@@ -106,9 +106,9 @@ def test_failing_criteria_count_as_regression_and_block_update(tmp_path):
 
 
 def test_a_crashing_spec_is_a_regression(tmp_path):
-    tasks = make_tasks(tmp_path / "tasks")
-    degrade(tasks, "x = 1.0\n", "x = 1.0 / 0.0\n")
-    report = run_regression(tasks, fast=True)
+    specs = make_specs(tmp_path / "specs")
+    degrade(specs, "x = 1.0\n", "x = 1.0 / 0.0\n")
+    report = run_regression(specs, fast=True)
     assert report.regressed
     assert "ZeroDivisionError" in report.table()
 
@@ -169,20 +169,20 @@ class _Terminal(io.StringIO):
 
 
 def test_progress_covers_the_warm_up_and_names_each_spec(tmp_path, monkeypatch):
-    tasks = make_tasks(tmp_path / "tasks")
+    specs = make_specs(tmp_path / "specs")
     terminal = _Terminal()
     monkeypatch.setattr(sys, "stderr", terminal)
-    run_regression(tasks, fast=True, show_progress=True)
+    run_regression(specs, fast=True, show_progress=True)
     drawn = terminal.getvalue()
     # Four steps: the warm-up, the two reference timings and the one spec.
     assert "warm-up" in drawn and "sqrt_newton" in drawn and "4/4" in drawn, drawn
 
 
 def test_regress_cli_is_quiet_with_quiet(tmp_path, monkeypatch):
-    tasks = make_tasks(tmp_path / "tasks")
+    specs = make_specs(tmp_path / "specs")
     terminal = _Terminal()
     monkeypatch.setattr(sys, "stderr", terminal)
-    assert main(["regress", "--fast", "--update", "--tasks", str(tasks), "--quiet"]) == 0
+    assert main(["regress", "--fast", "--update", "--specs", str(specs), "--quiet"]) == 0
     assert terminal.getvalue() == ""
-    assert main(["regress", "--fast", "--tasks", str(tasks)]) == 0
+    assert main(["regress", "--fast", "--specs", str(specs)]) == 0
     assert "sqrt_newton" in terminal.getvalue()

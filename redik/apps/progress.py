@@ -1,7 +1,7 @@
 """Progress bars of the long-running applications: one builder, tqdm on stderr.
 
 Every bar of redik (``redik explore``, ``redik batch``, ``redik regress``, the steps of a
-task spec) is made by :func:`progress_bar`, so they all write to stderr, keep stdout for
+spec) is made by :func:`progress_bar`, so they all write to stderr, keep stdout for
 results, and are silent when disabled. The command line draws one only for a person watching
 (:func:`wanted`: stderr is a terminal and ``--quiet`` was not given); piped or redirected
 output (CI logs, ``2> file``) stays clean.

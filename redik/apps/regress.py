@@ -1,7 +1,7 @@
-r"""Regression scenes: run every task spec and compare it with baselines stored in the repo.
+r"""Regression scenes: run every spec and compare it with baselines stored in the repo.
 
-``redik regress`` runs each spec of ``tasks/`` (:mod:`redik.apps.taskspec`), then compares its
-metrics with ``tasks/baselines/<name>.json`` (one entry per mode, ``fast`` and ``full``).
+``redik regress`` runs each spec of ``specs/`` (:mod:`redik.apps.specs`), then compares its
+metrics with ``specs/baselines/<name>.json`` (one entry per mode, ``fast`` and ``full``).
 A spec *regresses* when it crashes, fails one of its own criteria, or a metric moves past
 the tolerance of its rule below. ``--update`` rewrites the baselines from the current run.
 
@@ -44,7 +44,7 @@ import mujoco
 import numpy as np
 
 from redik.apps.progress import progress_bar
-from redik.apps.taskspec import Context, SpecOutcome, discover, format_table, format_value, run_spec
+from redik.apps.specs import Context, SpecOutcome, discover, format_table, format_value, run_spec
 from redik.core.exceptions import InvalidInput
 
 RATE_DROP = 0.02
@@ -83,7 +83,7 @@ _REFERENCE_XML = """
 def reference_seconds(repeats: int = 3, evaluations: int = 1000) -> float:
     """Median time of the reference workload: ``evaluations`` × (FK, Jacobian, lstsq).
 
-    The workload mixes what task specs spend their time on — MuJoCo calls through the
+    The workload mixes what specs spend their time on — MuJoCo calls through the
     Python bindings and small dense linear algebra — so the ratio of a spec's time to it is
     about constant across machines.
     """
@@ -241,10 +241,10 @@ class RegressionReport:
         return "\n".join([head, table, *errors, tail])
 
 
-def default_tasks_dir() -> Path:
-    """The repository's ``tasks/`` folder (next to the package), else ``./tasks``."""
-    beside_package = Path(__file__).resolve().parents[2] / "tasks"
-    return beside_package if beside_package.is_dir() else Path("tasks")
+def default_specs_dir() -> Path:
+    """The repository's ``specs/`` folder (next to the package), else ``./specs``."""
+    beside_package = Path(__file__).resolve().parents[2] / "specs"
+    return beside_package if beside_package.is_dir() else Path("specs")
 
 
 def baseline_path(baselines_dir: Path, name: str) -> Path:
@@ -310,7 +310,7 @@ def warm_up() -> None:
 
 
 def run_regression(
-    tasks_dir: str | Path | None = None,
+    specs_dir: str | Path | None = None,
     baselines_dir: str | Path | None = None,
     *,
     fast: bool = False,
@@ -319,21 +319,21 @@ def run_regression(
     out: str | Path | None = None,
     show_progress: bool = False,
 ) -> RegressionReport:
-    """Run every spec of ``tasks_dir`` and compare it with ``baselines_dir``.
+    """Run every spec of ``specs_dir`` and compare it with ``baselines_dir``.
 
     Args:
-        tasks_dir: Folder of task specs (default :func:`default_tasks_dir`).
-        baselines_dir: Folder of baseline JSON files (default ``tasks_dir/baselines``).
+        specs_dir: Folder of specs (default :func:`default_specs_dir`).
+        baselines_dir: Folder of baseline JSON files (default ``specs_dir/baselines``).
         fast: Run the specs in fast mode (and compare with the ``fast`` baselines).
         update: Rewrite the baselines of every spec that passed its own criteria.
-        seed: Passed to every spec's :class:`~redik.apps.taskspec.Context`.
+        seed: Passed to every spec's :class:`~redik.apps.specs.Context`.
         out: Folder for the specs' pictures (default: a temporary folder, discarded).
         show_progress: Draw a progress bar on stderr: the warm-up, the reference timing and
             each spec by name (and the specs' own bars, :meth:`Context.progress`).
     """
-    tasks_dir = Path(tasks_dir) if tasks_dir is not None else default_tasks_dir()
-    baselines_dir = Path(baselines_dir) if baselines_dir is not None else tasks_dir / "baselines"
-    paths = discover(tasks_dir)
+    specs_dir = Path(specs_dir) if specs_dir is not None else default_specs_dir()
+    baselines_dir = Path(baselines_dir) if baselines_dir is not None else specs_dir / "baselines"
+    paths = discover(specs_dir)
     mode = "fast" if fast else "full"
     # Steps: the warm-up, a reference timing before and after, and every spec.
     progress = progress_bar(

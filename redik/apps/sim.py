@@ -56,8 +56,8 @@ follow, near a singularity or a joint or velocity limit) and the servo error (th
 lagging ``q̂``). When the tracking error exceeds ``error_bound`` :func:`simulate` warns
 (:class:`TrackingWarning`) with that split and the saturation count.
 
-Measured (``redik run tasks/iiwa14_tracking.py --fast``, recorded in
-``tasks/baselines/iiwa14_tracking.json``; ``tests/test_sim.py`` asserts the bound):
+Measured (``redik run specs/iiwa14_tracking.py --fast``, recorded in
+``specs/baselines/iiwa14_tracking.json``; ``tests/test_sim.py`` asserts the bound):
 iiwa14 tracing a 10 cm circle in 4 s (quintic timing, peak speed 0.3 m/s) at 100 Hz with
 ``"integrate"`` stays within 1.3 mm and 3.4e-4 rad of the reference and ends within
 0.001 mm; the stated bound is 3 mm, 0.01 rad and 0.05 mm at the end. The same circle on

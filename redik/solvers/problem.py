@@ -616,7 +616,7 @@ class Problem:
         0's optimal set, :math:`N^\top(\sum_i λ_i ∇^2 r_i)N` (:meth:`_level1_curvature`:
         one forward kinematics per free direction), whenever the sum stays convex: the
         step is then sequential quadratic programming's, and the lower level converges
-        quadratically instead of linearly (``tasks/panda_reach.py``, joint-limit avoidance
+        quadratically instead of linearly (``specs/panda_reach.py``, joint-limit avoidance
         below the pose: 17.1 → 6.0 iterations per target on average, the slowest from the
         100-iteration cap, not stationary, to 10). Levels below 1 keep their own Hessians.
 

@@ -1,4 +1,4 @@
-"""``redik regress``: run every task spec and compare it with the stored baselines."""
+"""``redik regress``: run every spec and compare it with the stored baselines."""
 
 from __future__ import annotations
 
@@ -12,13 +12,13 @@ from redik.apps.regress import run_regression
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
         "regress",
-        help="run every task spec, compare with tasks/baselines/*.json, exit 1 on a regression",
+        help="run every spec, compare with specs/baselines/*.json, exit 1 on a regression",
     )
     parser.add_argument("--fast", action="store_true", help="run the specs in fast mode")
     parser.add_argument("--update", action="store_true", help="rewrite the baselines")
-    parser.add_argument("--tasks", type=Path, default=None, help="task-spec folder")
+    parser.add_argument("--specs", type=Path, default=None, help="spec folder")
     parser.add_argument(
-        "--baselines", type=Path, default=None, help="baseline folder (default TASKS/baselines)"
+        "--baselines", type=Path, default=None, help="baseline folder (default SPECS/baselines)"
     )
     parser.add_argument("--seed", type=int, default=0, help="seed passed to every spec")
     parser.add_argument("--out", type=Path, default=None, help="keep the specs' pictures here")
@@ -28,7 +28,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     report = run_regression(
-        args.tasks,
+        args.specs,
         args.baselines,
         fast=args.fast,
         update=args.update,

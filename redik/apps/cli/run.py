@@ -1,22 +1,22 @@
-"""``redik run tasks/<file>.py``: run one task spec with a progress bar and a summary table."""
+"""``redik run specs/<file>.py``: run one spec with a progress bar and a summary table."""
 
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
 
-from redik.apps.taskspec import Context, load_spec, run_spec, summary_table
+from redik.apps.specs import Context, load_spec, run_spec, summary_table
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
-        "run", help="run a task spec (tasks/<file>.py) and print its summary table"
+        "run", help="run a spec (specs/<file>.py) and print its summary table"
     )
-    parser.add_argument("spec", nargs="+", type=Path, help="task-spec file(s)")
+    parser.add_argument("spec", nargs="+", type=Path, help="spec file(s)")
     parser.add_argument("--fast", action="store_true", help="the few-seconds mode")
     parser.add_argument("--seed", type=int, default=0, help="seed of the spec's randomness")
     parser.add_argument(
-        "--out", type=Path, default=Path("out") / "tasks", help="folder for pictures and data"
+        "--out", type=Path, default=Path("out") / "specs", help="folder for pictures and data"
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)

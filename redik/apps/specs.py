@@ -1,6 +1,6 @@
-r"""Task specs: plain Python files that say what redik should do and what success means.
+r"""Specs: plain Python files that say what redik should do and what success means.
 
-A task spec is a module (``tasks/<name>.py``) with three things::
+A spec is a module (``specs/<name>.py``) with three things::
 
     '''Panda reach with joint-limit avoidance.'''     # first line: the description
 
@@ -22,7 +22,7 @@ The :class:`Context` carries what a spec may vary on: ``ctx.fast`` (a few second
 ``ctx.progress`` (a tqdm bar when the runner shows one).
 
 :func:`run_spec` runs one spec and never raises for a failing or crashing spec: the outcome
-is data (:class:`SpecOutcome`), like every redik result. ``redik run tasks/<file>.py`` is the
+is data (:class:`SpecOutcome`), like every redik result. ``redik run specs/<file>.py`` is the
 command-line front end; :mod:`redik.apps.regress` compares outcomes against stored baselines.
 """
 
@@ -94,7 +94,7 @@ class SuccessCriterion:
 
 
 @dataclasses.dataclass
-class TaskSpec:
+class Spec:
     """A runnable task: a name, a ``run(ctx) -> metrics`` callable and its criteria.
 
     Usually built by :func:`load_spec` from a file; construct one directly to run a spec
@@ -110,7 +110,7 @@ class TaskSpec:
 
     def __post_init__(self) -> None:
         if not callable(self.run):
-            raise InvalidInput(f"task spec {self.name!r}: run must be callable, got {self.run!r}")
+            raise InvalidInput(f"spec {self.name!r}: run must be callable, got {self.run!r}")
         self.parsed_criteria = [SuccessCriterion.parse(k, v) for k, v in self.criteria.items()]
 
 
@@ -127,7 +127,7 @@ class Context:
 
     fast: bool = False
     seed: int = 0
-    out: Path = dataclasses.field(default_factory=lambda: Path("out") / "tasks")
+    out: Path = dataclasses.field(default_factory=lambda: Path("out") / "specs")
     show_progress: bool = False
 
     def __post_init__(self) -> None:
@@ -188,8 +188,8 @@ class SpecOutcome:
     description: str = ""
 
 
-def load_spec(path: str | Path) -> TaskSpec:
-    """Import a task-spec file and return its :class:`TaskSpec`.
+def load_spec(path: str | Path) -> Spec:
+    """Import a spec file and return its :class:`Spec`.
 
     The module must define ``run(ctx)`` and may define ``CRITERIA`` (a dict); its name is
     the file stem and its description the first line of its docstring.
@@ -199,24 +199,24 @@ def load_spec(path: str | Path) -> TaskSpec:
     """
     path = Path(path)
     if not path.is_file():
-        raise InvalidInput(f"task spec file not found: {str(path)!r}")
+        raise InvalidInput(f"spec file not found: {str(path)!r}")
     module_name = f"redik_task_{path.stem}_{abs(hash(path.resolve()))}"
     loader_spec = importlib.util.spec_from_file_location(module_name, path)
     if loader_spec is None or loader_spec.loader is None:
-        raise InvalidInput(f"cannot import task spec {str(path)!r} (not a Python file?)")
+        raise InvalidInput(f"cannot import spec {str(path)!r} (not a Python file?)")
     module = importlib.util.module_from_spec(loader_spec)
     loader_spec.loader.exec_module(module)
     run = getattr(module, "run", None)
     if run is None:
-        raise InvalidInput(f"task spec {str(path)!r} defines no run(ctx) function")
+        raise InvalidInput(f"spec {str(path)!r} defines no run(ctx) function")
     criteria = getattr(module, "CRITERIA", {})
     if not isinstance(criteria, Mapping):
         raise InvalidInput(
-            f"task spec {str(path)!r}: CRITERIA must be a dict of metric -> '>= x', "
+            f"spec {str(path)!r}: CRITERIA must be a dict of metric -> '>= x', "
             f"got {type(criteria).__name__}"
         )
     description = (module.__doc__ or "").strip().splitlines()
-    return TaskSpec(
+    return Spec(
         name=path.stem,
         run=run,
         criteria=dict(criteria),
@@ -226,16 +226,16 @@ def load_spec(path: str | Path) -> TaskSpec:
 
 
 def discover(folder: str | Path) -> list[Path]:
-    """The task-spec files of a folder (``*.py`` not starting with ``_``), sorted."""
+    """The spec files of a folder (``*.py`` not starting with ``_``), sorted."""
     folder = Path(folder)
     if not folder.is_dir():
         raise InvalidInput(f"task folder not found: {str(folder)!r}")
     return sorted(p for p in folder.glob("*.py") if not p.name.startswith("_"))
 
 
-def run_spec(spec: TaskSpec | str | Path, context: Context | None = None) -> SpecOutcome:
+def run_spec(spec: Spec | str | Path, context: Context | None = None) -> SpecOutcome:
     """Run one spec and check its criteria; a crash becomes a failed outcome, not an error."""
-    if not isinstance(spec, TaskSpec):
+    if not isinstance(spec, Spec):
         spec = load_spec(spec)
     context = context or Context()
     start = time.perf_counter()
@@ -245,7 +245,7 @@ def run_spec(spec: TaskSpec | str | Path, context: Context | None = None) -> Spe
         returned = spec.run(context)
         if not isinstance(returned, Mapping):
             raise InvalidInput(
-                f"task spec {spec.name!r}: run must return a dict of metrics, "
+                f"spec {spec.name!r}: run must return a dict of metrics, "
                 f"got {type(returned).__name__}"
             )
         metrics = {str(k): float(v) for k, v in returned.items()}

@@ -9,7 +9,7 @@ pose to 1e-10 by forward kinematics. Independently, multi-start numeric search
 import numpy as np
 
 import redik
-from redik.apps.taskspec import sample_poses
+from redik.apps.specs import sample_poses
 from redik.lie import pose_errors, wrap_angle
 from redik.solvers.analytic import solver_for
 from redik.solvers.pose import solve_all

@@ -12,7 +12,7 @@ import time
 import numpy as np
 
 import redik
-from redik.apps.taskspec import sample_poses
+from redik.apps.specs import sample_poses
 from redik.lie import pose_errors, wrap_angle
 from redik.solvers.analytic import solver_for
 from redik.solvers.pose import solve_pose

@@ -4,7 +4,7 @@ Targets are poses around the ready posture (±20 cm, ±0.5 rad). Each is solved 
 ``home`` by the QP core: with the pose task alone, and with a joint-limit-avoidance task at
 the lower priority level, which may only use the arm's self-motion (the pose task's null
 space) and so can never cost accuracy. One start, no restarts: a few targets (1 % in the
-full run, ``tasks/baselines/panda_reach.json``) end stuck against a limit. Success: ≥ 97 %
+full run, ``specs/baselines/panda_reach.json``) end stuck against a limit. Success: ≥ 97 %
 of the targets reached within 1e-6 m and 1e-5 rad (the errors below are over those), every q
 inside the joint limits, and the limit potential φ(q) = Σ((q − q_mid)/(q_max − q_min))² no
 higher with the avoidance task than without on ≥ 95 % of them.

@@ -1,4 +1,4 @@
-"""Task specs: loading, criteria, crash handling, the summary table, and every bundled spec."""
+"""Specs: loading, criteria, crash handling, the summary table, and every bundled spec."""
 
 from __future__ import annotations
 
@@ -9,18 +9,18 @@ from pathlib import Path
 import pytest
 
 import redik
-from redik.apps.regress import default_tasks_dir
-from redik.apps.taskspec import (
+from redik.apps.regress import default_specs_dir
+from redik.apps.specs import (
     Context,
+    Spec,
     SuccessCriterion,
-    TaskSpec,
     discover,
     load_spec,
     run_spec,
     summary_table,
 )
 
-BUNDLED = discover(default_tasks_dir()) if default_tasks_dir().is_dir() else []
+BUNDLED = discover(default_specs_dir()) if default_specs_dir().is_dir() else []
 
 
 def write_spec(folder: Path, name: str, body: str) -> Path:
@@ -84,7 +84,7 @@ def test_spec_file_is_loaded_and_run(tmp_path):
 
 
 def test_failed_criterion_and_missing_metric_fail_the_spec():
-    spec = TaskSpec("bad", run=lambda ctx: {"a": 2.0}, criteria={"a": "<= 1", "b": ">= 0"})
+    spec = Spec("bad", run=lambda ctx: {"a": 2.0}, criteria={"a": "<= 1", "b": ">= 0"})
     outcome = run_spec(spec)
     assert not outcome.passed
     assert [check.passed for check in outcome.checks] == [False, False]
@@ -96,14 +96,14 @@ def test_a_crashing_spec_is_reported_not_raised():
     def run(ctx):
         raise RuntimeError("boom in the spec")
 
-    outcome = run_spec(TaskSpec("crash", run=run, criteria={}))
+    outcome = run_spec(Spec("crash", run=run, criteria={}))
     assert not outcome.passed
     assert "boom in the spec" in outcome.error
     assert outcome.metrics == {}
 
 
 def test_run_must_return_metrics():
-    outcome = run_spec(TaskSpec("none", run=lambda ctx: None))
+    outcome = run_spec(Spec("none", run=lambda ctx: None))
     assert not outcome.passed and "dict of metrics" in outcome.error
 
 
