@@ -3,20 +3,21 @@
 Layers, lowest first; a module may import from its own layer or a lower one, never from a
 higher one:
 
-1. **models** — errors, conventions, result records, model files and their loading;
+1. **core** — errors, conventions, result records, the boundary checks;
 2. **lie** — SO(3)/SE(3) group math;
-3. **kinematics** — robots (MuJoCo FK and Jacobians), DH and screw descriptions, scenes, the
-   compiled chain of :mod:`redik.solvers.batch` and its vectorised FK, and :mod:`redik.kinematics`
-   (the compiled chain FK, Jacobian and pose error, the damped least-squares step and kernel
-   that the solvers share);
-4. **criteria** — secondary criteria, value and gradient;
-5. **tasks and limits** — what a QP step should achieve and may not do;
-6. **qp** — QP assembly, lexicographic hierarchy, back-ends;
-7. **solvers** — analytic, iterative, pose IK (and its QP driver), the ``Problem`` driver,
+3. **models** — model files and their loading, third-party model packages, the bundled
+   scenes, DH tables and the MJCF builders;
+4. **kinematics** — robots (MuJoCo FK and Jacobians), the compiled chain, its vectorised and
+   compiled FK, Jacobian and pose error, and the damped least-squares step and kernel that
+   the solvers share;
+5. **criteria** — secondary criteria, value and gradient;
+6. **tasks and limits** — what a QP step should achieve and may not do;
+7. **qp** — QP assembly, lexicographic hierarchy, back-ends;
+8. **solvers** — analytic, iterative, pose IK (and its QP driver), the ``Problem`` driver,
    batch IK, redundancy;
-8. **applications** — trajectories, simulation, rendering, plots, workspace, specs,
+9. **applications** — trajectories, simulation, rendering, plots, workspace, specs,
    regression, demo, benchmarks, CLI;
-9. **package** — ``redik/__init__.py`` and ``__main__``, which re-export everything.
+10. **package** — ``redik/__init__.py`` and ``__main__``, which export the public names.
 
 Within the solvers layer the solver packages are peers: one uses another only through its
 entry points (:data:`SOLVER_ENTRY_POINTS`), not by reaching into its internals.

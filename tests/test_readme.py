@@ -1,4 +1,4 @@
-"""The README's Python examples run as written."""
+"""The README's Python examples run as written, and its names hold across the repository."""
 
 from __future__ import annotations
 
@@ -62,3 +62,38 @@ def test_the_one_home_table_names_functions_and_tests_that_exist():
         for file, test in re.findall(r"`(test_\w+\.py)::(test_\w+)`", pinned):
             source = (tests / file).read_text()
             assert f"def {test}(" in source, f"README names {file}::{test}, which does not exist"
+
+
+ROOT = README.parent
+RETIRED = {
+    r"\bPoseTask\b": "FrameTask",
+    r"\bFrameTargetTask\b": "SingleFrameTask",
+    r"\bPositionLimit\b": "ConfigurationLimit",
+    r"(?<!\w)weight=": "cost=",
+    r"\bset_weights?\b": "set_cost",
+    r"\bmax_iter\b": "max_iterations",
+    r"\bMAX_ITER\b": "MAX_ITERATIONS",
+    r"\btaskspec\b": "specs",
+    r"\b_compat\b": "nothing: no shims before the first release",
+}
+"""Names that left, as patterns, and the one word that replaced each (README, *Names*)."""
+
+THIRD_PARTY = ('"max_iter": 400000',)
+"""Lines where another library's own option keeps its name (osqp's ``max_iter``)."""
+
+
+def test_one_word_per_idea_across_the_repository():
+    files = [ROOT / "README.md", ROOT / "CHANGELOG.md", ROOT / "Makefile", ROOT / "pyproject.toml"]
+    for folder in ("redik", "tests", "examples", "specs"):
+        files += sorted((ROOT / folder).rglob("*.py"))
+    found = []
+    for path in files:
+        if path == Path(__file__).resolve():
+            continue
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            if any(kept in line for kept in THIRD_PARTY):
+                continue
+            for pattern, word in RETIRED.items():
+                if re.search(pattern, line):
+                    found.append(f"{path.relative_to(ROOT)}:{number}: use {word}: {line.strip()}")
+    assert not found, "\n".join(found)
