@@ -792,7 +792,7 @@ def wrap_into_range(angle: np.ndarray | float, lower: np.ndarray | float) -> np.
 
     The representative a periodic joint (:func:`periodic_coordinates`) takes when a step
     carries it out of its range; the compiled DLS kernel writes the same expression inline
-    (:mod:`redik.kinematics.dls`). :func:`wrap_angle` is the symmetric case, into (−π, π].
+    (:mod:`redik.solvers.dls`). :func:`wrap_angle` is the symmetric case, into (−π, π].
     """
     return lower + np.mod(np.subtract(angle, lower), _TWO_PI)
 

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 import redik
-from redik.kinematics import compiled, dls
+from redik.kinematics import compiled
+from redik.solvers import dls
 from redik.solvers.batch import Chain, forward_kinematics, solve_batch
 from redik.solvers.pose import solve_pose
 

@@ -7,7 +7,7 @@ import pytest
 
 import redik
 from redik.core.result import Status
-from redik.kinematics import dls
+from redik.solvers import dls
 from redik.solvers.batch import BATCH_STATUSES, Chain, forward_kinematics, solve_batch
 from redik.solvers.pose import solve_pose
 
@@ -140,7 +140,7 @@ def test_empty_batch(panda):
 
 
 def test_batch_statuses_are_redik_statuses():
-    # The kernel's integer codes (redik.kinematics.dls) name Status members, in code order.
+    # The kernel's integer codes (redik.solvers.dls) name Status members, in code order.
     assert all(isinstance(status, Status) for status in BATCH_STATUSES)
     codes = {
         Status.CONVERGED: dls.CONVERGED,
@@ -176,7 +176,7 @@ def test_rotation_log_matches_lie_at_every_angle(rng):
 
 @pytest.mark.parametrize("size", [10, 1000])  # the LAPACK path and the batched Cholesky
 def test_damped_step_solves_the_damped_normal_equations(size, rng):
-    from redik.kinematics.dls import damped_step
+    from redik.solvers.dls import damped_step
 
     J = rng.standard_normal((6, 7, size))
     e = rng.standard_normal((6, size))

@@ -8,13 +8,12 @@ higher one:
 3. **models** — model files and their loading, third-party model packages, the bundled
    scenes, DH tables and the MJCF builders;
 4. **kinematics** — robots (MuJoCo FK and Jacobians), the compiled chain, its vectorised and
-   compiled FK, Jacobian and pose error, and the damped least-squares step and kernel that
-   the solvers share;
+   compiled FK, Jacobian and pose error;
 5. **criteria** — secondary criteria, value and gradient;
 6. **tasks and limits** — what a QP step should achieve and may not do;
 7. **qp** — QP assembly, lexicographic hierarchy, back-ends;
-8. **solvers** — analytic, iterative, pose IK (and its QP driver), the ``Problem`` driver,
-   batch IK, redundancy;
+8. **solvers** — analytic, iterative, damped least squares, pose IK (and its QP driver), the
+   ``Problem`` driver, batch IK, redundancy;
 9. **applications** — trajectories, simulation, rendering, plots, workspace, specs,
    regression, demo, benchmarks, CLI;
 10. **package** — ``redik/__init__.py`` and ``__main__``, which export the public names.
@@ -56,12 +55,13 @@ everything in it; the most specific entry wins)."""
 
 SOLVER_PACKAGES = tuple(
     f"solvers.{name}"
-    for name in ("analytic", "iterative", "pose", "problem", "batch", "redundancy")
+    for name in ("analytic", "iterative", "dls", "pose", "problem", "batch", "redundancy")
 )
 
 SOLVER_ENTRY_POINTS = {
     "solvers.analytic": ("solvers.analytic", "solvers.analytic.srs"),
     "solvers.batch": ("solvers.batch",),
+    "solvers.dls": ("solvers.dls",),
     "solvers.iterative": ("solvers.iterative",),
     "solvers.pose": ("solvers.pose", "solvers.pose.qp"),
     "solvers.problem": ("solvers.problem",),

@@ -192,8 +192,8 @@ def test_nullspace_basis_of_a_stack_is_each_basis(rng):
 
 
 def test_damped_pseudo_inverse_is_the_damped_least_squares_step(panda, rng):
-    # One formula, Jᵀ(JJᵀ + λ²I)⁻¹: as a matrix here, as a step in kinematics.dls.
-    from redik.kinematics.dls import damped_step
+    # One formula, Jᵀ(JJᵀ + λ²I)⁻¹: as a matrix here, as a step in solvers.dls.
+    from redik.solvers.dls import damped_step
 
     J = panda.jacobian(panda.random_q(rng))
     e = rng.standard_normal(6)

@@ -17,7 +17,7 @@ from redik.core.exceptions import (
     RedikError,
 )
 from redik.core.result import IKResult
-from redik.kinematics.dls import BatchOptions
+from redik.solvers.dls import DLSOptions
 from redik.solvers.pose import solve_all, solve_pose
 from redik.solvers.pose.attempt import PoseProblem
 from redik.solvers.pose.result import body_twist_norm
@@ -452,7 +452,7 @@ def test_progress_is_one_rule_for_dls_and_qp():
             with pytest.raises(InvalidInput, match=r"progress must be a number in \(0, 1\)"):
                 solve_pose(robot, T, method=method, seed=0, progress=bad)
     with pytest.raises(InvalidInput, match=r"progress must be a number in \(0, 1\)"):
-        BatchOptions(progress=1.0)  # the compiled kernel's options, as "dls" passes them
+        DLSOptions(progress=1.0)  # the compiled kernel's options, as "dls" passes them
 
 
 def test_a_dls_option_of_a_refused_type_is_refused_after_an_equal_accepted_one():
@@ -538,7 +538,7 @@ def test_dls_settings_evicted_by_another_thread_between_prepare_and_solve(monkey
     ``prepare`` clears the kept settings, and another that had just prepared its own found
     none: a raw RuntimeError (4 threads × 3000 solves, 200 tolerances, switch interval
     1 µs). Here the eviction is placed in that window deterministically."""
-    from redik.solvers.pose.dls import DLSSolver
+    from redik.solvers.pose.dls_solver import DLSSolver
 
     prepare = DLSSolver.prepare
 

@@ -12,7 +12,7 @@ import pytest
 import redik
 from redik import lie
 from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
-from redik.kinematics import dls
+from redik.solvers import dls
 
 from .conftest import ARM_XML
 

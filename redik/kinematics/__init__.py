@@ -12,18 +12,9 @@
 * :mod:`~redik.kinematics.compiled` — FK, world Jacobian and pose error of one target,
   compiled (``tests/test_batch_kernel.py``: equal to MuJoCo's and to
   :func:`redik.lie.rotation_log`).
-* :mod:`~redik.kinematics.dls` — damped least squares: the step batched in numpy
-  (:func:`~redik.kinematics.dls.damped_step`) and compiled
-  (:func:`~redik.kinematics.dls.damped_solve`, tested equal), and the Levenberg–Marquardt
-  kernel that :func:`redik.solvers.batch.solve_batch` and :func:`redik.solve_pose`
-  (``method="dls"``) run, with its settings :class:`~redik.kinematics.dls.BatchOptions`.
 
 A DH table's own FK, :func:`redik.models.dh.forward`, is the reference the MJCF built from the
 table is tested against (``tests/test_model_builder.py``). Frames, twists and units follow
 :mod:`redik.core.conventions`. The layer sits below the solvers (README, Architecture) so that
-every solver can use it.
+every solver can use it; it computes kinematics only.
 """
-
-from redik.kinematics.dls import BatchOptions
-
-__all__ = ["BatchOptions"]

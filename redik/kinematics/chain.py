@@ -82,7 +82,7 @@ class Chain:
         return self.base[:3, 3].copy(), radius
 
     def kernel_arrays(self) -> tuple[np.ndarray, ...]:
-        """The arrays :mod:`redik.kinematics.dls` takes, in its order; the last marks limited
+        """The arrays :mod:`redik.solvers.dls` takes, in its order; the last marks limited
         hinges whose range spans a full turn (:func:`redik.lie.periodic_coordinates`; the
         kernel wraps them by 2π, an unlimited one never leaves its range)."""
         periodic = periodic_coordinates(self.revolute, self.lower, self.upper)

@@ -1,6 +1,6 @@
 r"""Compiled kinematics of a :class:`~redik.kinematics.chain.Chain`: FK, world Jacobian, pose error.
 
-The scalar building blocks of every compiled pose solver (:mod:`redik.kinematics.dls`, which
+The scalar building blocks of every compiled pose solver (:mod:`redik.solvers.dls`, which
 :func:`redik.solvers.batch.solve_batch` and :func:`redik.solve_pose` with ``method="dls"``
 run) and of :class:`redik.tasks.frame_task.FrameTask`'s residual, compiled by numba
 (``cache=True``).

@@ -2,7 +2,7 @@
 
 - :mod:`~redik.kinematics.chain` compiles a robot's MuJoCo chain once into arrays;
 - :mod:`~redik.kinematics.batched` evaluates FK and Jacobians over a whole batch;
-- :mod:`redik.kinematics.dls` is the compiled (numba) damped least-squares solve of one
+- :mod:`redik.solvers.dls` is the compiled (numba) damped least-squares solve of one
   target, shared with :func:`redik.solve_pose`;
 - :mod:`~redik.solvers.batch.solve` runs it on a batch (:func:`solve_batch`);
 - :mod:`~redik.solvers.batch.engines` spreads chunks over this process, a process pool or Ray

@@ -2,7 +2,7 @@ r"""Damped least squares over a batch of pose targets: :func:`solve_batch`.
 
 Every target runs its own Levenberg–Marquardt solve (Nocedal & Wright §10.3; Buss,
 *Introduction to inverse kinematics with Jacobian transpose, pseudoinverse and damped least
-squares methods*, 2004) in the compiled kernel of :mod:`redik.kinematics.dls`, which states
+squares methods*, 2004) in the compiled kernel of :mod:`redik.solvers.dls`, which states
 the iteration, the joint-limit handling and the restarts:
 
 .. math::
@@ -33,10 +33,10 @@ from redik.core._validate import integer
 from redik.core._validate import seed as check_seed
 from redik.core.exceptions import InvalidInput
 from redik.core.result import Status
-from redik.kinematics import dls
+from redik.solvers import dls
 from redik.kinematics.chain import Chain
 from redik.kinematics.compiled import valid_targets
-from redik.kinematics.dls import BatchOptions
+from redik.solvers.dls import DLSOptions
 from redik.kinematics.robot import Robot
 from redik.lie import MAX_COORDINATE, ROTATION_TOLERANCE, check_rotations, real_array
 from redik.solvers.batch.engines import ENGINES, Engine, as_engine
@@ -48,7 +48,7 @@ BATCH_STATUSES = (
     Status.INVALID,
     Status.DIVERGED,
 )
-"""The :class:`~redik.core.result.Status` of each code of :mod:`redik.kinematics.dls` (the
+"""The :class:`~redik.core.result.Status` of each code of :mod:`redik.solvers.dls` (the
 compiled kernel reports integers); ``INVALID`` marks a target that is not a finite rigid
 transform (it is not solved)."""
 
@@ -192,7 +192,7 @@ def solve_chunk(
     chain: Chain,
     T_targets: np.ndarray,
     q0: np.ndarray,
-    options: BatchOptions,
+    options: DLSOptions,
     key: int,
     first: int = 0,
     parallel: bool = False,
@@ -295,7 +295,7 @@ def solve_batch(
     runner = as_engine(engine, workers, address)
     seed = check_seed(seed)
     chain = robot if isinstance(robot, Chain) else Chain.from_robot(robot)
-    options = BatchOptions(
+    options = DLSOptions(
         pos_tol=pos_tol, rot_tol=rot_tol, restarts=restarts, max_iterations=max_iterations
     )
     T, valid = check_targets(T_targets, strict)  # once here: one warning, not one per chunk
@@ -330,7 +330,7 @@ def solve_batch(
 
 
 def _solve_chunk_task(
-    shared: tuple[Chain, BatchOptions, int, bool],
+    shared: tuple[Chain, DLSOptions, int, bool],
     T_targets: np.ndarray,
     q0: np.ndarray,
     first: int,

@@ -5,7 +5,7 @@ One idea per module:
 - :mod:`~redik.solvers.pose.solve`: the entry points :func:`solve_pose` and :func:`solve_all`
   (validation, dispatch, restarts, whole-model robots);
 - :mod:`~redik.solvers.pose.options`: the methods, their defaults and option checks;
-- :mod:`~redik.solvers.pose.dls`: the ``"dls"`` driver around the compiled kernel;
+- :mod:`~redik.solvers.pose.dls_solver`: the ``"dls"`` driver around the compiled kernel;
 - :mod:`~redik.solvers.pose.newton`, :mod:`~redik.solvers.pose.gradient`: the Python
   drivers (``"newton"``; ``"transpose"`` and ``"hybrid"``) on a
   :class:`~redik.solvers.pose.attempt.PoseProblem`;
@@ -64,7 +64,7 @@ Methods
         ``‖e‖`` (then ``μ`` shrinks), otherwise it is rejected and ``μ`` grows; an attempt
         that stops making progress ends early and a restart takes over, from the nearest
         in pose of ``candidates`` random configurations. The attempts and restarts run in
-        the compiled kernel of :mod:`redik.kinematics.dls` — the same code as
+        the compiled kernel of :mod:`redik.solvers.dls` — the same code as
         :func:`redik.solvers.batch.solve_batch` — on the robot's chain compiled once per frame.
     ``"qp"``
         Dispatched to :func:`redik.solvers.pose.qp.solve_pose_qp` (the QP core).

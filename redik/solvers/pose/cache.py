@@ -3,7 +3,7 @@
 One :class:`PoseCache` per robot, in its :attr:`redik.Robot.solver_cache` (so it lives and
 dies with the robot, and two robots never share one): per frame its
 :class:`~redik.solvers.pose.frame.PoseFrame` and, once ``"dls"`` has run, its compiled
-:class:`~redik.solvers.pose.dls.DLSSolver`; on a whole-model robot, the chain to each frame;
+:class:`~redik.solvers.pose.dls_solver.DLSSolver`; on a whole-model robot, the chain to each frame;
 the :class:`~redik.solvers.problem.Problem` of ``"qp"`` per frame and settings
 (:func:`redik.solvers.pose.qp.solve_pose_qp`). Threads solving on one robot share the cache:
 each entry is built once, under the cache's lock, and read without one (what ``"dls"``
@@ -26,7 +26,7 @@ import threading
 import numpy as np
 
 from redik.kinematics.robot import Frame, Robot
-from redik.solvers.pose.dls import DLSSolver
+from redik.solvers.pose.dls_solver import DLSSolver
 from redik.solvers.pose.frame import PoseFrame
 
 _KEY = "pose"

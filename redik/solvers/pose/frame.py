@@ -38,7 +38,7 @@ class PoseFrame:
     def reach_excess(self, p_d: np.ndarray) -> float:
         """How far (m) ``p_d`` lies beyond the chain's reach (0 inside; see
         :func:`reach_bound`). The compiled ``"dls"`` kernel computes the same
-        (:func:`redik.kinematics.dls.solve_one`)."""
+        (:func:`redik.solvers.dls.solve_one`)."""
         if not math.isfinite(self.reach):
             return 0.0
         excess = math.dist(p_d.tolist(), self.origin) - self.reach

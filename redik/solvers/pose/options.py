@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
-from redik.kinematics.dls import BatchOptions
+from redik.solvers.dls import DLSOptions
 
 METHODS = ("newton", "transpose", "hybrid", "dls", "qp")
 """The methods of :func:`~redik.solvers.pose.solve_pose`."""
@@ -23,11 +23,11 @@ RESTARTS = {"newton": 20, "transpose": 5, "hybrid": 20, "dls": 200, "qp": 20}
 """Default number of random restarts after the first attempt, by method."""
 
 DLS_OPTIONS = {
-    name: getattr(BatchOptions, name)
+    name: getattr(DLSOptions, name)
     for name in ("damping", "min_damping", "max_damping", "patience", "progress", "candidates")
 }
 """The options of ``"dls"`` and their defaults: those of the compiled kernel's
-:class:`~redik.kinematics.dls.BatchOptions`, which validates them."""
+:class:`~redik.solvers.dls.DLSOptions`, which validates them."""
 
 OPTIONS = {
     "dls": DLS_OPTIONS,

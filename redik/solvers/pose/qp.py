@@ -15,7 +15,7 @@ attempt also has its own budget, ``max_iterations``.
 **A turn is free.** A revolute joint whose range spans a full turn or more (the UR arms'
 ±2π) is periodic for this solver: it is not boxed, and each iterate is turned back into its
 range (:class:`~redik.limits.ConfigurationLimit` with ``periodic=True``; ``"dls"`` wraps such
-joints the same way, :mod:`redik.kinematics.dls`): a bound the pose does not need never
+joints the same way, :mod:`redik.solvers.dls`): a bound the pose does not need never
 stops it. With extra ``tasks`` (a posture measures a turned joint differently) the box
 stays, and an attempt that stalls with such a joint against a bound restarts from the same
 configuration turned by 2π — the same pose, unblocked — before any random restart.

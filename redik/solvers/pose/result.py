@@ -7,7 +7,7 @@ Success is decided from the pose of the returned ``q``: ``‖p_d − p‖ ≤ po
 that brings it inside, if one does (:func:`shift_into_limits`; the pose is unchanged).
 ``result.error`` is always the body error ``‖log(T⁻¹ T_d)‖`` (:func:`body_twist_norm`).
 
-The compiled ``"dls"`` driver (:mod:`~redik.solvers.pose.dls`) computes the summary of its
+The compiled ``"dls"`` driver (:mod:`~redik.solvers.pose.dls_solver`) computes the summary of its
 attempts in the kernel; the Python drivers' attempts are summarised by :class:`Outcome`.
 """
 
@@ -152,7 +152,7 @@ def body_twist_norm(e: np.ndarray) -> float:
     The body twist is ``ω_b = Rᵀ w`` and ``v_b = V(ω_b)⁻¹ Rᵀ d = Rᵀ V(w)⁻¹ d`` (``V`` is
     equivariant under rotation), so ``‖ξ_b‖² = ‖V(w)⁻¹ d‖² + ‖w‖²`` with
     ``V⁻¹`` of :func:`redik.lie.apply_inverse_v`. The compiled ``"dls"`` kernel computes the
-    same from the same source (:func:`redik.kinematics.dls.solve_one`).
+    same from the same source (:func:`redik.solvers.dls.solve_one`).
     """
     dx, dy, dz, wx, wy, wz = e.tolist()
     vx, vy, vz = apply_inverse_v(wx, wy, wz, dx, dy, dz)

@@ -2,7 +2,7 @@
 dispatch to a method's driver, restarts, and whole-model robots solved on their chains.
 
 The methods and their options are described in :mod:`redik.solvers.pose`. ``"dls"`` runs in
-:mod:`~redik.solvers.pose.dls` (a call whose scalar arguments were seen before skips the
+:mod:`~redik.solvers.pose.dls_solver` (a call whose scalar arguments were seen before skips the
 validation here: the compiled kernel checks the target and ``q0``), ``"newton"`` in
 :mod:`~redik.solvers.pose.newton`, ``"transpose"`` and ``"hybrid"`` in
 :mod:`~redik.solvers.pose.gradient`, ``"qp"`` in :mod:`~redik.solvers.pose.qp`.
@@ -22,7 +22,7 @@ from redik.lie import as_pose, wrap_angle
 from redik.solvers.pose.attempt import Iteration, PoseProblem
 from redik.solvers.pose.cache import PoseCache
 from redik.solvers.pose.closed_form import closed_form_solutions
-from redik.solvers.pose.dls import fast_kernel_key, kernel_key
+from redik.solvers.pose.dls_solver import fast_kernel_key, kernel_key
 from redik.solvers.pose.frame import PoseFrame
 from redik.solvers.pose.gradient import hybrid, transpose
 from redik.solvers.pose.newton import newton

@@ -29,7 +29,7 @@ import numpy as np
 
 from redik.kinematics.batched import chain_poses, world_jacobian
 from redik.kinematics.chain import Chain
-from redik.kinematics.dls import damped_step
+from redik.solvers.dls import damped_step
 from redik.lie import (
     exp_coordinate_difference,
     pose_errors,

@@ -1,0 +1,487 @@
+r"""The compiled Levenberg–Marquardt kernel: attempts, joint limits and restarts per target.
+
+Per target it is scalar code on a handful of 3-vectors and one small matrix, which numpy
+cannot vectorise well across a shrinking set of unsolved targets; targets are independent,
+so the batch entry points spread them over threads with ``numba.prange``. The chain is that
+of :class:`~redik.kinematics.chain.Chain`; its FK, world Jacobian and pose error are those of
+:mod:`redik.kinematics.compiled`, the step that of :mod:`redik.solvers.dls.damped`.
+
+Each attempt iterates (Wampler 1986; Nakamura & Hanafusa 1986; damping after Sugihara 2011)
+
+.. math::
+
+    Δq = J^\top (J J^\top + λ I_6)^{-1} e, \qquad λ = μ\,‖e‖^2 + λ_{min}, \qquad
+    e = \begin{pmatrix} p_d − p \\ \log(R_d R^\top)^\vee \end{pmatrix},
+
+with ``(JᵀJ + λI)⁻¹Jᵀe`` when ``n < 6``. A trial is accepted only when it lowers ``‖e‖``
+(then ``μ`` halves), otherwise ``μ`` grows eightfold and ``q`` stays. With limits respected,
+a joint that the step would carry out of its range stops at the limit and the others
+re-solve for the rest of the error (the clamping loop of Chan & Dubey 1995, with damping); a
+limited hinge whose range spans a full turn is wrapped by 2π instead. An attempt ends
+converged (``‖p_d − p‖ ≤ pos_tol`` and ``angle ≤ rot_tol``), stalled (``λ`` past
+``λ_max``, or ``‖e‖`` not cut to ``required`` times its value ``patience`` iterations
+earlier), diverged (a non-finite step) or at ``max_iterations``. A target that failed
+restarts from random configurations drawn uniformly within the sampling bounds by its own
+generator (splitmix64 seeded from the key and the target's index), so a result does not
+depend on chunking, threads or processes. The best attempt wins: a converged one, else the
+smallest ``‖e‖``. The batch entry points finally check each target strictly by a fresh FK of
+its returned ``q``.
+
+The settings arrive as two arrays indexed by the constants of
+:mod:`redik.solvers.dls.options`; the work buffers are those of :func:`_workspace`, the
+current iterate and the trial in the two rows of each (an accepted trial swaps the rows).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from redik.kinematics.compiled import (
+    COMPILE,
+    apply_inverse_v,
+    chain_kinematics,
+    pose_error,
+    valid_target,
+    world_jacobian,
+)
+from redik.lie import MAX_COORDINATE
+from redik.solvers.dls.damped import damped_solve_gram, gram
+from redik.solvers.dls.options import (
+    BOUNDED,
+    CANDIDATES,
+    DAMPING,
+    MAX_DAMPING,
+    MAX_ITERATIONS,
+    MIN_DAMPING,
+    PATIENCE,
+    POS_TOL,
+    REACH,
+    REQUIRED,
+    RESTARTS,
+    ROT_TOL,
+    TARGET_TOL,
+)
+
+CONVERGED, STALLED, EXHAUSTED, INVALID, DIVERGED = range(5)
+"""Status codes, shared with :data:`redik.solvers.batch.solve.BATCH_STATUSES` (``EXHAUSTED`` is
+``"max_iterations"``: the iteration budget ran out)."""
+
+_BLOCK = 16
+"""Targets per parallel work item: small enough to balance the threads on hard tails."""
+
+_GAMMA = np.uint64(0x9E3779B97F4A7C15)
+_MIX1 = np.uint64(0xBF58476D1CE4E5B9)
+_MIX2 = np.uint64(0x94D049BB133111EB)
+_STREAM = np.uint64(0xD1B54A32D192ED03)
+_TWO_TO_MINUS_53 = 2.0**-53
+
+# The work buffers of one target (:func:`_workspace`), by index.
+_R, _P, _AXES, _ORIGINS, _J, _E, _Q, _A, _Y, _DQ, _RHS, _FREE, _LIMIT, _G = range(14)
+
+
+@numba.njit(**COMPILE)
+def _next_uniform(state: np.ndarray) -> float:
+    """A double in [0, 1) from the splitmix64 generator whose state is ``state[0]``."""
+    state[0] += _GAMMA
+    z = state[0]
+    z = (z ^ (z >> np.uint64(30))) * _MIX1
+    z = (z ^ (z >> np.uint64(27))) * _MIX2
+    z = z ^ (z >> np.uint64(31))
+    return float(z >> np.uint64(11)) * _TWO_TO_MINUS_53
+
+
+@numba.njit(**COMPILE)
+def _workspace(n):
+    """The buffers of one target, by the indices ``_R`` … ``_G``.
+
+    Rows 0 and 1 of the first seven are the current iterate and the trial.
+    """
+    m = 6 if n >= 6 else n
+    return (
+        np.empty((2, 3, 3)),  # R
+        np.empty((2, 3)),  # p
+        np.empty((2, n, 3)),  # joint axes
+        np.empty((2, n, 3)),  # joint origins
+        np.empty((1, 6, n)),  # J of the current iterate
+        np.empty((2, 6)),  # e
+        np.empty((2, n)),  # q
+        np.empty((m, m)),  # A, the factored system
+        np.empty(m),  # y
+        np.empty(n),  # dq
+        np.empty(6),  # right-hand side of the clamping loop
+        np.empty(n, dtype=np.bool_),  # free joints
+        np.empty(n),  # limit values of the clamping loop
+        np.empty((m, m)),  # G, the Gram matrix of J
+    )
+
+
+@numba.njit(**COMPILE)
+def _squared_norm(x):
+    total = 0.0
+    for k in range(x.shape[0]):
+        total += x[k] * x[k]
+    return total
+
+
+@numba.njit(**COMPILE)
+def _evaluate(chain, Rd, pd, ws, row):
+    """FK of ``q[row]`` into the buffers' ``row`` and its pose error into ``e[row]``.
+
+    Returns:
+        ``(‖p_d − p‖, rotation angle, ‖e‖²)``.
+    """
+    base, links, revolute = chain[0], chain[1], chain[2]
+    R, p, axes, origins = ws[_R][row], ws[_P][row], ws[_AXES][row], ws[_ORIGINS][row]
+    chain_kinematics(base, links, revolute, ws[_Q][row], R, p, axes, origins)
+    position, angle = pose_error(Rd, pd, R, p, ws[_E][row])
+    return position, angle, _squared_norm(ws[_E][row])
+
+
+@numba.njit(**COMPILE)
+def _linearise(chain, ws, row):
+    """The world Jacobian at the buffers' ``row`` into ``J``, and its Gram matrix into ``G``."""
+    J = ws[_J][0]
+    world_jacobian(chain[2], ws[_P][row], ws[_AXES][row], ws[_ORIGINS][row], J)
+    gram(J, ws[_G])
+
+
+@numba.njit(**COMPILE)
+def _propose(chain, ws, row, damping, bounded):
+    """The damped step from ``q[row]`` into the other row, within the limits if ``bounded``."""
+    lower, upper, periodic = chain[3], chain[4], chain[7]
+    J, e, dq, free = ws[_J][0], ws[_E][row], ws[_DQ], ws[_FREE]
+    q, trial = ws[_Q][row], ws[_Q][1 - row]
+    free[:] = True
+    damped_solve_gram(J, ws[_G], free, e, damping, ws[_A], ws[_Y], dq)
+    outside = False
+    for j in range(q.shape[0]):
+        trial[j] = q[j] + dq[j]
+        outside = outside or trial[j] < lower[j] or trial[j] > upper[j]
+    if bounded and outside:
+        for j in range(q.shape[0]):
+            if periodic[j] and (trial[j] < lower[j] or trial[j] > upper[j]):
+                # A turn of 2π is the same pose: wrap instead of stopping.
+                trial[j] = lower[j] + np.mod(trial[j] - lower[j], 2.0 * np.pi)
+        _clamp(J, e, damping, q, trial, lower, upper, ws)
+
+
+@numba.njit(**COMPILE)
+def _saturate(trial, lower, upper, free, limit_value):
+    """Mark the joints of ``trial`` outside their range as not free, at their nearer limit.
+
+    Returns:
+        Whether any joint was outside.
+    """
+    over = False
+    for j in range(trial.shape[0]):
+        if trial[j] < lower[j] or trial[j] > upper[j]:
+            limit_value[j] = min(max(trial[j], lower[j]), upper[j])
+            free[j] = False
+            over = True
+    return over
+
+
+@numba.njit(**COMPILE)
+def _remaining_error(J, e, q, free, limit_value, rhs):
+    """``rhs = e − J (q_lim − q)`` over the saturated columns: what the free joints must do."""
+    for k in range(6):
+        value = e[k]
+        for j in range(q.shape[0]):
+            if not free[j]:
+                value -= J[k, j] * (limit_value[j] - q[j])
+        rhs[k] = value
+
+
+@numba.njit(**COMPILE)
+def _clamp(J, e, damping, q, trial, lower, upper, ws):
+    """Joints that would leave their range stop at the limit; the others re-solve.
+
+    Clipping alone bends the step away from the Gauss–Newton direction and parks the arm on
+    its limits; instead each saturated joint's share of the error is handed to the joints
+    still free: ``J_f Δq_f = e − J (q_lim − q)`` over the saturated columns.
+    """
+    dq, rhs, free, limit_value = ws[_DQ], ws[_RHS], ws[_FREE], ws[_LIMIT]
+    free[:] = True
+    for _ in range(q.shape[0]):
+        if not _saturate(trial, lower, upper, free, limit_value):
+            return
+        _remaining_error(J, e, q, free, limit_value, rhs)
+        damped_solve_gram(J, ws[_G], free, rhs, damping, ws[_A], ws[_Y], dq)
+        for j in range(q.shape[0]):
+            trial[j] = q[j] + dq[j] if free[j] else limit_value[j]
+
+
+@numba.njit(**COMPILE)
+def _limit_gradient(J, e, q, lower, upper):
+    """``‖Jᵀe‖`` without the components that push against an active joint limit."""
+    gradient = 0.0
+    for j in range(q.shape[0]):
+        g = 0.0
+        for k in range(6):
+            g += J[k, j] * e[k]
+        if (q[j] <= lower[j] and g < 0.0) or (q[j] >= upper[j] and g > 0.0):
+            g = 0.0
+        gradient += g * g
+    return math.sqrt(gradient)
+
+
+@numba.njit(**COMPILE)
+def _stalled(errors, iterations, patience, required, damping, max_damping):
+    """``λ`` past ``λ_max``, or ``‖e‖`` above ``required`` times its ``patience`` iterations ago."""
+    return damping > max_damping or (
+        iterations >= patience and errors[iterations] > required * errors[iterations - patience]
+    )
+
+
+@numba.njit(**COMPILE)
+def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
+    """One attempt from ``q[0]`` of the workspace, which ends holding the attempt's ``q``.
+
+    ``errors[k]`` is ``‖e‖`` after iteration ``k`` and, when ``record``, ``history[k]`` the
+    iterate.
+
+    Returns:
+        ``(status, iterations, ‖e‖², ‖Jᵀe‖ at the end without the components that push
+        against a limit)``.
+    """
+    pos_tol, rot_tol = settings[POS_TOL], settings[ROT_TOL]
+    row = 0  # of the current iterate; the trial is in the other
+    position, angle, E = _evaluate(chain, Rd, pd, ws, row)
+    _linearise(chain, ws, row)
+    errors[0] = math.sqrt(E)
+    if record:
+        history[0] = ws[_Q][row]
+    mu = settings[DAMPING]
+    status = EXHAUSTED
+    iterations = 0
+    while iterations < counts[MAX_ITERATIONS]:
+        if position <= pos_tol and angle <= rot_tol:
+            status = CONVERGED
+            break
+        damping = mu * E + settings[MIN_DAMPING]
+        _propose(chain, ws, row, damping, counts[BOUNDED] != 0)
+        trial_position, trial_angle, trial_E = _evaluate(chain, Rd, pd, ws, 1 - row)
+        if trial_E < E:  # accept, and trust the Gauss–Newton model more
+            row = 1 - row
+            position, angle, E = trial_position, trial_angle, trial_E
+            _linearise(chain, ws, row)
+            mu = max(0.5 * mu, 1e-12)
+        elif not math.isfinite(_squared_norm(ws[_DQ])):
+            status = DIVERGED
+            break
+        else:
+            mu *= 8.0  # reject, and lean towards the gradient
+        iterations += 1
+        errors[iterations] = math.sqrt(E)
+        if record:
+            history[iterations] = ws[_Q][row]
+        if _stalled(
+            errors, iterations, counts[PATIENCE], settings[REQUIRED], damping,
+            settings[MAX_DAMPING],
+        ):  # fmt: skip
+            status = STALLED
+            break
+    if status == EXHAUSTED and position <= pos_tol and angle <= rot_tol:
+        status = CONVERGED
+    if row == 1:
+        ws[_Q][0] = ws[_Q][1]  # the caller reads the result from the first row
+    gradient = _limit_gradient(ws[_J][0], ws[_E][row], ws[_Q][0], chain[3], chain[4])
+    return status, iterations, E, gradient
+
+
+@numba.njit(**COMPILE)
+def _restart_seed(chain, Rd, pd, state, candidates, bounded, ws):
+    """Into ``ws`` q[0]: the nearest in pose of ``candidates`` random configurations.
+
+    Distance ``‖p − p_d‖² + (w ‖R − R_d‖_F)²`` with ``w`` = 0.5 m, a reach-sized weight that
+    puts radians on the scale of metres: a start near the target converges more often than
+    a uniform one, at the price of a few FKs (a fraction of one iteration each).
+    """
+    base, links, revolute, lower, upper, sampling_lower, sampling_upper, _ = chain
+    R, p, axes, origins, q = ws[_R][1], ws[_P][1], ws[_AXES][1], ws[_ORIGINS][1], ws[_Q]
+    n = revolute.shape[0]
+    best = np.inf
+    for _ in range(candidates):
+        for j in range(n):
+            value = sampling_lower[j] + (sampling_upper[j] - sampling_lower[j]) * (
+                _next_uniform(state)
+            )
+            q[1, j] = min(max(value, lower[j]), upper[j]) if bounded else value
+        if candidates == 1:
+            q[0] = q[1]
+            return
+        chain_kinematics(base, links, revolute, q[1], R, p, axes, origins)
+        distance = 0.0
+        for a in range(3):
+            distance += (p[a] - pd[a]) ** 2
+            for b in range(3):
+                distance += 0.25 * (R[a, b] - Rd[a, b]) ** 2
+        if distance < best:
+            best = distance
+            q[0] = q[1]
+
+
+@numba.njit(**COMPILE)
+def _solve_target(chain, Rd, pd, q0, state, settings, counts, ws, out, history, errors, record):
+    """Attempts from ``q0`` then from random configurations until one converges.
+
+    ``out`` receives the best attempt's ``q``; returns ``(status, iterations, restarts,
+    history length, summary)`` with ``summary = (min ‖e‖, max ‖e‖, every ‖Jᵀe‖ ≤ 1e-4 ‖e‖,
+    every attempt diverged)`` over the attempts, for the caller's unreachable diagnosis.
+    """
+    q = ws[_Q]
+    bounded = counts[BOUNDED] != 0
+    restarts = counts[RESTARTS]
+    best_status, best_E, best_length = DIVERGED, np.inf, 0
+    total, attempts = 0, 0
+    error_min, error_max = np.inf, 0.0
+    all_stationary, all_diverged = True, True
+    work_history, work_errors = history[0], errors[0]
+    while attempts <= restarts:
+        if attempts == 0:
+            q[0] = q0
+        else:
+            _restart_seed(chain, Rd, pd, state, counts[CANDIDATES], bounded, ws)
+        status, iterations, E, gradient = _attempt(
+            chain, Rd, pd, settings, counts, ws, work_errors, work_history, record
+        )
+        attempts += 1
+        total += iterations
+        error = math.sqrt(E)
+        error_min, error_max = min(error_min, error), max(error_max, error)
+        all_stationary = all_stationary and gradient <= 1e-4 * error
+        all_diverged = all_diverged and status == DIVERGED
+        if attempts == 1 or status == CONVERGED or E < best_E:
+            best_status, best_E, best_length = status, E, iterations + 1
+            out[:] = q[0]
+            if record:
+                history[1, : iterations + 1] = work_history[: iterations + 1]
+                errors[1, : iterations + 1] = work_errors[: iterations + 1]
+        if status == CONVERGED:
+            break
+        if attempts == 1 and settings[REACH] > 0.0:
+            restarts = min(restarts, 2)  # beyond reach: a closest q is all there is to find
+    summary = (error_min, error_max, all_stationary, all_diverged)
+    return best_status, total, attempts - 1, best_length, summary
+
+
+@numba.njit(**COMPILE)
+def solve_one(chain, columns, reach, T, q0, key, settings, counts, out, history, errors, e):
+    """One pose target, validated and solved in one compiled call (:func:`redik.solve_pose`).
+
+    ``T`` (4 × 4) must be a rigid transform within ``settings[TARGET_TOL]``
+    (:func:`~redik.kinematics.compiled.valid_target`, the exact case of
+    :func:`redik.lie.as_pose`) and ``q0`` (the robot's ``q``) finite within
+    ``±MAX_COORDINATE`` (as :meth:`redik.Robot.check_q`); otherwise nothing is solved and the
+    status is :data:`INVALID`, so that the caller's full validation names the fault. The
+    chain's joints are ``q0[columns]``, clipped into the limits when they are respected.
+    ``reach = (a_x, a_y, a_z, r)``: no ``q`` puts the frame farther than ``r`` from ``a``; a
+    target beyond it gets at most two restarts (:func:`_solve_target`).
+
+    :func:`_solve_target` records the best attempt's history into ``history[1]`` and
+    ``errors[1]`` (``history`` is 2 × (at least max_iterations + 1) × n). A fresh FK of the
+    returned ``q`` (``out``) fills ``e`` with the world error there. Returns ``(status,
+    iterations, restarts, history length, summary)``; the summary is that of
+    :func:`_solve_target` followed by the position and rotation errors at ``q``, whether
+    ``q`` is inside the limits, the body error ``‖log(T⁻¹ T_d)‖`` and the reach excess.
+    """
+    base, links, revolute, lower, upper = chain[0], chain[1], chain[2], chain[3], chain[4]
+    n = revolute.shape[0]
+    no_summary = (np.inf, 0.0, False, False, np.inf, np.inf, False, np.inf, 0.0)
+    if not valid_target(T, settings[TARGET_TOL]):
+        return INVALID, 0, 0, 0, no_summary
+    for j in range(q0.shape[0]):
+        if not abs(q0[j]) <= MAX_COORDINATE:  # also refuses NaN
+            return INVALID, 0, 0, 0, no_summary
+    Rd, pd = T[:3, :3], T[:3, 3]
+    excess = 0.0
+    if math.isfinite(reach[3]):
+        dx, dy, dz = pd[0] - reach[0], pd[1] - reach[1], pd[2] - reach[2]
+        distance = math.sqrt(dx * dx + dy * dy + dz * dz)
+        if distance - reach[3] > 1e-9 * max(1.0, reach[3]):
+            excess = distance - reach[3]
+    local = settings.copy()
+    local[REACH] = excess
+    ws = _workspace(n)
+    state = np.empty(1, dtype=np.uint64)
+    state[0] = key
+    start = np.empty(n)
+    for j in range(n):
+        value = q0[columns[j]]
+        start[j] = min(max(value, lower[j]), upper[j]) if counts[BOUNDED] != 0 else value
+    status, total, used, length, summary = _solve_target(
+        chain, Rd, pd, start, state, local, counts, ws, out, history, errors, True
+    )
+    R, p, axes, origins = ws[_R][0], ws[_P][0], ws[_AXES][0], ws[_ORIGINS][0]
+    chain_kinematics(base, links, revolute, out, R, p, axes, origins)
+    position, angle = pose_error(Rd, pd, R, p, e)
+    inside = True
+    for j in range(n):
+        inside = inside and lower[j] <= out[j] <= upper[j]
+    vx, vy, vz = apply_inverse_v(e[3], e[4], e[5], e[0], e[1], e[2])
+    body_error = math.sqrt(vx * vx + vy * vy + vz * vz + e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
+    return status, total, used, length, (*summary, position, angle, inside, body_error, excess)
+
+
+@numba.njit(**COMPILE)
+def _solve_range(chain, T, q0, first, key, settings, counts, start, stop, results):
+    q_out, status, iterations, restarts, position_error, rotation_error = results
+    base, links, revolute, lower, upper = chain[0], chain[1], chain[2], chain[3], chain[4]
+    n = revolute.shape[0]
+    ws = _workspace(n)
+    state = np.empty(1, dtype=np.uint64)
+    errors = np.empty((2, counts[MAX_ITERATIONS] + 1))
+    history = np.empty((2, 1, n))  # not recorded
+    R, p = np.empty((3, 3)), np.empty(3)
+    axes, origins = np.empty((n, 3)), np.empty((n, 3))
+    e = np.empty(6)
+    for t in range(start, stop):
+        q_out[t] = q0[t]
+        if not valid_target(T[t], settings[TARGET_TOL]):
+            status[t] = INVALID
+            iterations[t] = restarts[t] = 0
+            position_error[t] = rotation_error[t] = np.nan
+            continue
+        # The generator of target t depends on the key and t's index in the whole batch only.
+        state[0] = key + np.uint64(first + t) * _STREAM
+        Rd, pd = T[t, :3, :3], T[t, :3, 3]
+        code, count, used, _, _ = _solve_target(
+            chain, Rd, pd, q0[t], state, settings, counts, ws, q_out[t], history, errors, False
+        )
+        # Strict success: a fresh FK of the returned q, its errors, and the limits.
+        chain_kinematics(base, links, revolute, q_out[t], R, p, axes, origins)
+        position, angle = pose_error(Rd, pd, R, p, e)
+        inside = True
+        for j in range(n):
+            inside = inside and lower[j] <= q_out[t, j] <= upper[j]
+        solved = inside and position <= settings[POS_TOL] and angle <= settings[ROT_TOL]
+        if solved:
+            code = CONVERGED
+        elif code == CONVERGED:
+            code = EXHAUSTED
+        status[t], iterations[t], restarts[t] = code, count, used
+        position_error[t], rotation_error[t] = position, angle
+
+
+@numba.njit(**COMPILE)
+def solve_serial(chain, T, q0, first, key, settings, counts, results):
+    """Solve every target of a chunk on this thread (see :func:`solve_parallel`)."""
+    _solve_range(chain, T, q0, first, key, settings, counts, 0, T.shape[0], results)
+
+
+@numba.njit(parallel=True, **COMPILE)
+def solve_parallel(chain, T, q0, first, key, settings, counts, results):
+    """Solve every target of a chunk, blocks of targets spread over numba's threads.
+
+    ``T`` (B × 4 × 4) are targets ``first … first + B − 1`` of the batch; ``results`` are
+    the output arrays ``(q, status, iterations, restarts, position error, rotation error)``.
+    """
+    size = T.shape[0]
+    blocks = (size + _BLOCK - 1) // _BLOCK
+    for block in numba.prange(blocks):
+        start = block * _BLOCK
+        stop = min(size, start + _BLOCK)
+        _solve_range(chain, T, q0, first, key, settings, counts, start, stop, results)
