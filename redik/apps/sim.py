@@ -91,8 +91,8 @@ import numpy as np
 
 from redik.apps.plot import new_figure, save_figure
 from redik.apps.trajectory import PosePath
-from redik.core._validate import flag, positive
 from redik.core.exceptions import InvalidInput, ModelError, TrackingWarning, warn
+from redik.core.validate import flag, positive
 from redik.kinematics.robot import Robot
 from redik.lie import pose_errors
 

@@ -39,6 +39,7 @@ import math
 import numba
 import numpy as np
 
+from redik.core.validate import MAX_COORDINATE
 from redik.kinematics.compiled import (
     COMPILE,
     apply_inverse_v,
@@ -47,7 +48,6 @@ from redik.kinematics.compiled import (
     valid_target,
     world_jacobian,
 )
-from redik.lie import MAX_COORDINATE
 from redik.solvers.dls.damped import damped_solve_gram, gram
 from redik.solvers.dls.options import (
     BOUNDED,
@@ -374,7 +374,7 @@ def solve_one(chain, columns, reach, T, q0, key, settings, counts, out, history,
 
     ``T`` (4 × 4) must be a rigid transform within ``settings[TARGET_TOL]``
     (:func:`~redik.kinematics.compiled.valid_target`, the exact case of
-    :func:`redik.lie.as_pose`) and ``q0`` (the robot's ``q``) finite within
+    :func:`redik.core.rotation_policy.as_pose`) and ``q0`` (the robot's ``q``) finite within
     ``±MAX_COORDINATE`` (as :meth:`redik.Robot.check_q`); otherwise nothing is solved and the
     status is :data:`INVALID`, so that the caller's full validation names the fault. The
     chain's joints are ``q0[columns]``, clipped into the limits when they are respected.

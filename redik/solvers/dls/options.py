@@ -7,9 +7,9 @@ import math
 
 import numpy as np
 
-from redik.core._validate import fraction, integer
 from redik.core.exceptions import InvalidInput
-from redik.lie import ROTATION_TOLERANCE
+from redik.core.rotation_policy import ROTATION_TOLERANCE
+from redik.core.validate import fraction, integer
 
 # Indices into the float and integer settings arrays (few arguments keep the call cheap).
 POS_TOL, ROT_TOL, DAMPING, MIN_DAMPING, MAX_DAMPING, REQUIRED, REACH, TARGET_TOL = range(8)
@@ -71,8 +71,9 @@ class DLSOptions:
         """The float and integer settings arrays of the compiled kernel.
 
         The reach excess ``REACH`` is 0 (:func:`redik.solvers.dls.kernel.solve_one` sets it
-        per target in a copy); a target is valid within :data:`redik.lie.ROTATION_TOLERANCE`,
-        as :func:`redik.lie.as_pose` checks one pose.
+        per target in a copy); a target is valid within
+        :data:`~redik.core.rotation_policy.ROTATION_TOLERANCE`, as
+        :func:`~redik.core.rotation_policy.as_pose` checks one pose.
 
         Args:
             bounded: Keep every iterate inside the joint limits.

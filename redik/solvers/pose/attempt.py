@@ -56,11 +56,7 @@ class PoseProblem:
 
     def world_error(self, T: np.ndarray, e: np.ndarray) -> tuple[float, float]:
         """Fill ``e = (p_d − p, log(R_d Rᵀ))``; return the position and rotation errors."""
-        np.subtract(self.p_d, T[:3, 3], out=e[:3])
-        e[3:] = so3_log(self.R_d @ T[:3, :3].T)
-        return math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]), math.sqrt(
-            e[3] * e[3] + e[4] * e[4] + e[5] * e[5]
-        )
+        return world_error(self.T_target, T, e)
 
     def within(self, position_error: float, rotation_error: float) -> bool:
         return position_error <= self.pos_tol and rotation_error <= self.rot_tol
@@ -81,3 +77,12 @@ class Attempt:
 
 Iteration = Callable[[PoseProblem, np.ndarray, int], Attempt]
 """``iterate(problem, q_start, max_iterations) -> Attempt``: one attempt of a Python driver."""
+
+
+def world_error(T_target: np.ndarray, T: np.ndarray, e: np.ndarray) -> tuple[float, float]:
+    """Fill ``e = (p_d − p, log(R_d Rᵀ))``; return the position and rotation errors."""
+    np.subtract(T_target[:3, 3], T[:3, 3], out=e[:3])
+    e[3:] = so3_log(T_target[:3, :3] @ T[:3, :3].T)
+    return math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]), math.sqrt(
+        e[3] * e[3] + e[4] * e[4] + e[5] * e[5]
+    )

@@ -28,8 +28,8 @@ import threading
 import numpy as np
 
 from redik.core.result import IKResult
-from redik.solvers import dls as kernel
 from redik.kinematics.chain import Chain
+from redik.solvers import dls as kernel
 from redik.solvers.dls import DLSOptions
 from redik.solvers.pose.attempt import world_error
 from redik.solvers.pose.frame import PoseFrame
@@ -136,8 +136,9 @@ class DLSSolver:
             read-only or non-contiguous one, such as ``robot.home``, is copied into the
             C-contiguous writable type the kernel is compiled for: any other would compile
             another specialisation), or when the kernel refuses them (not a rigid transform
-            within :data:`redik.lie.ROTATION_TOLERANCE`; a non-finite or huge ``q0``). The
-            caller's full validation then raises, or projects a near-rotation onto SO(3).
+            within :data:`~redik.core.rotation_policy.ROTATION_TOLERANCE`; a non-finite or
+            huge ``q0``). The caller's full validation then raises, or projects a
+            near-rotation onto SO(3).
         """
         if settings is None:
             settings = self._kept(arguments)
