@@ -8,7 +8,7 @@ import sys
 import numpy as np
 
 from redik.apps import plot
-from redik.solvers.iterative import gradient_descent, newton_raphson
+from redik.solvers.iterative import solve_equations
 
 L1, L2 = 1.0, 0.8
 
@@ -23,9 +23,9 @@ def tip(q: np.ndarray) -> np.ndarray:
 x_d = tip(np.array([0.4, 1.1]))
 q0 = np.array([0.2, 1.6])
 results = [
-    newton_raphson(tip, x_d, q0, tol=1e-10),
-    gradient_descent(tip, x_d, q0, step="armijo", tol=1e-10, max_iterations=500),
-    gradient_descent(tip, x_d, q0, step=0.3, tol=1e-10, max_iterations=500),
+    solve_equations(tip, x_d, q0, "newton", tol=1e-10),
+    solve_equations(tip, x_d, q0, "transpose", step="armijo", tol=1e-10, max_iterations=500),
+    solve_equations(tip, x_d, q0, "transpose", step=0.3, tol=1e-10, max_iterations=500),
 ]
 labels = ["Newton (J⁻¹)", "gradient, Armijo", "gradient, α = 0.3"]
 for label, result in zip(labels, results, strict=True):

@@ -47,7 +47,6 @@ axes, as the self-motion scoring evaluates thousands of samples at once.
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import softmax
 
 from redik.lie import wrap_angle
 
@@ -95,7 +94,7 @@ def joint_limit_potential_hessian(scale: np.ndarray) -> np.ndarray:
 
 
 def joint_limit_distance(q: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> float:
-    r"""Liégeois' distance from the joint limits (Siciliano et al. eq. 3.58), to maximise:
+    r"""Liégeois' distance from the joint limits (Siciliano et al. eq. 3.58), to maximise.
 
     .. math:: w(q) = -\frac{1}{2n} \sum_i \left(\frac{q_i - \bar q_i}{u_i - l_i}\right)^2
         = -\frac{φ(q - \bar q)}{2n},
@@ -147,7 +146,9 @@ def joint_limit_margin_gradient(
     if not np.any(finite):
         return gradient
     weights = np.zeros_like(margins)
-    weights[finite] = softmax(-margins[finite] / temperature)
+    exponent = -margins[finite] / temperature
+    weights[finite] = np.exp(exponent - exponent.max())  # the softmax, shifted not to overflow
+    weights /= weights.sum()
     n = q.shape[0]
     return weights[:n] - weights[n:]
 

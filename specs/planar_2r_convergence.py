@@ -16,7 +16,7 @@ import numpy as np
 
 import redik
 from redik.apps.plot import convergence
-from redik.solvers.iterative import gradient_descent, newton_raphson
+from redik.solvers.iterative import solve_equations
 
 CRITERIA = {
     "newton_success_rate": ">= 1.0",
@@ -52,9 +52,11 @@ def run(ctx):
         q_true[1] *= ctx.rng.choice([-1.0, 1.0])
         x_d = f(q_true)
         q0 = q_true + ctx.rng.uniform(-0.4, 0.4, 2)  # a start in the solution's basin
-        results["newton"].append(newton_raphson(f, x_d, q0, jac=jac, tol=tol, max_iterations=100))
+        results["newton"].append(solve_equations(f, x_d, q0, jac=jac, tol=tol, max_iterations=100))
         results["gradient"].append(
-            gradient_descent(f, x_d, q0, jac=jac, step="armijo", tol=tol, max_iterations=5000)
+            solve_equations(
+                f, x_d, q0, "transpose", jac, step="armijo", tol=tol, max_iterations=5000
+            )
         )
     first = [results["newton"][0], results["gradient"][0]]
     convergence(

@@ -388,7 +388,9 @@ def test_newton_and_gradient(x_d, q0, step, tol):
         lambda: redik.solve_equations(f, x_d, q0, step=step if step != "armijo" else 1.0, tol=tol)
     )
     holds(
-        lambda: redik.solve_equations(f, x_d, q0, "gradient", step=step, tol=tol, max_iterations=20)
+        lambda: redik.solve_equations(
+            f, x_d, q0, "transpose", step=step, tol=tol, max_iterations=20
+        )
     )
 
 
@@ -609,7 +611,7 @@ def test_newton_and_gradient_refuse_junk_and_overflowing_input():
     def f(q):
         return np.array([np.cos(q).sum(), np.sin(q).sum()])
 
-    for method in ("newton", "gradient"):
+    for method in ("newton", "transpose"):
         with pytest.raises(redik.InvalidInput, match="x_d must hold real numbers"):
             redik.solve_equations(f, "", [0.0, 0.0], method)
         with pytest.raises(redik.InvalidInput, match="x_d must be within"):
@@ -619,7 +621,7 @@ def test_newton_and_gradient_refuse_junk_and_overflowing_input():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         result = redik.solve_equations(
-            lambda q: 1e140 * q**3, [0.0], [1.0], "gradient", step="armijo", max_iterations=5
+            lambda q: 1e140 * q**3, [0.0], [1.0], "transpose", step="armijo", max_iterations=5
         )
     assert np.isfinite(result.q).all() and np.isfinite(result.error)
 

@@ -9,7 +9,7 @@ import pytest
 
 from redik.apps import plot
 from redik.core.exceptions import InvalidInput
-from redik.solvers.iterative import gradient_descent, newton_raphson
+from redik.solvers.iterative import solve_equations
 
 
 def square(q: np.ndarray) -> np.ndarray:
@@ -18,8 +18,10 @@ def square(q: np.ndarray) -> np.ndarray:
 
 def test_convergence_draws_one_curve_per_result_and_saves_a_png(tmp_path):
     results = [
-        newton_raphson(square, [2.0, 1.0], [1.0, 0.5], tol=1e-12),
-        gradient_descent(square, [2.0, 1.0], [1.0, 0.5], step="armijo", max_iterations=50),
+        solve_equations(square, [2.0, 1.0], [1.0, 0.5], tol=1e-12),
+        solve_equations(
+            square, [2.0, 1.0], [1.0, 0.5], "transpose", step="armijo", max_iterations=50
+        ),
     ]
     path = tmp_path / "sub" / "convergence.png"
     ax = plot.convergence(results, ["Newton", "gradient"], path=path)
@@ -38,14 +40,14 @@ def test_convergence_draws_one_curve_per_result_and_saves_a_png(tmp_path):
 
 def test_convergence_draws_on_given_axes_with_default_labels():
     _, ax = plt.subplots()
-    result = newton_raphson(square, [2.0, 1.0], [1.0, 0.5])
+    result = solve_equations(square, [2.0, 1.0], [1.0, 0.5])
     assert plot.convergence([result], ax=ax) is ax
     assert ax.get_lines()[0].get_label() == "newton"
     plt.close(ax.figure)
 
 
 def test_convergence_rejects_bad_inputs():
-    result = newton_raphson(square, [2.0, 1.0], [1.0, 0.5])
+    result = solve_equations(square, [2.0, 1.0], [1.0, 0.5])
     with pytest.raises(InvalidInput):
         plot.convergence([])
     with pytest.raises(InvalidInput):

@@ -112,8 +112,8 @@ def test_root_finders_report_every_status_of_theirs():
     produced(redik.solve_equations(tip, [1.2, 0.5], [0.2, 1.4], max_iterations=1), "max_iterations")
     # Outstretched (q2 = 0): J is singular.
     produced(redik.solve_equations(tip, [1.2, 0.5], [0.3, 0.0], singular_tol=1e-6), "singular")
-    # Beyond reach: the gradient settles at the closest point, no root.
-    far = redik.solve_equations(tip, [3.0, 0.5], [0.2, 0.4], "gradient", step="armijo",
+    # Beyond reach: the transpose settles at the closest point, no root.
+    far = redik.solve_equations(tip, [3.0, 0.5], [0.2, 0.4], "transpose", step="armijo",
                                 rel_tol=1e-6, max_iterations=1000)  # fmt: skip
     produced(far, "stalled")
     # Newton on arctan from |x0| > 1.39 overshoots further every step (a classic).

@@ -51,7 +51,7 @@ def gram(J, G):
                 G[i, j] = total
 
 
-@numba.njit(**COMPILE)
+@numba.njit(inline="always", **COMPILE)
 def _row_system(J, G, free, e, A, y):
     """``A = J_f J_fᵀ = G − Σ_k j_k j_kᵀ`` over the columns ``k`` not free, ``y = e``."""
     for i in range(6):
@@ -65,7 +65,7 @@ def _row_system(J, G, free, e, A, y):
                     A[i, j] -= J[i, k] * J[j, k]
 
 
-@numba.njit(**COMPILE)
+@numba.njit(inline="always", **COMPILE)
 def _column_system(J, G, free, e, A, y):
     """``A = J_fᵀ J_f`` (the rows and columns of ``G = JᵀJ`` not free zeroed), ``y = J_fᵀ e``."""
     n = J.shape[1]
@@ -79,7 +79,7 @@ def _column_system(J, G, free, e, A, y):
         y[i] = total
 
 
-@numba.njit(**COMPILE)
+@numba.njit(inline="always", **COMPILE)
 def _cholesky(A, damping):
     """``A + λI = L Lᵀ`` in place: ``L`` in the lower triangle, ``1 / L_jj`` on the diagonal."""
     m = A.shape[0]
@@ -96,7 +96,7 @@ def _cholesky(A, damping):
             A[i, j] = entry * inverse
 
 
-@numba.njit(**COMPILE)
+@numba.njit(inline="always", **COMPILE)
 def _substitute(A, y):
     """``y ← (L Lᵀ)⁻¹ y`` from the factor of :func:`_cholesky`: ``L z = y``, then ``Lᵀ x = z``."""
     m = A.shape[0]
@@ -112,7 +112,7 @@ def _substitute(A, y):
         y[i] = value * A[i, i]
 
 
-@numba.njit(**COMPILE)
+@numba.njit(inline="always", **COMPILE)
 def _row_step(J, free, y, dq):
     """``dq = J_fᵀ y``: the step of the ``n ≥ 6`` form from its solved system."""
     for k in range(J.shape[1]):

@@ -119,98 +119,114 @@ def _workspace(n):
 
 
 @numba.njit(**COMPILE)
-def _squared_norm(x):
-    total = 0.0
-    for k in range(x.shape[0]):
-        total += x[k] * x[k]
-    return total
+def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
+    """One attempt from ``q[0]`` of the workspace, which ends holding the attempt's ``q``.
 
-
-@numba.njit(**COMPILE)
-def _evaluate(chain, Rd, pd, ws, row):
-    """FK of ``q[row]`` into the buffers' ``row`` and its pose error into ``e[row]``.
+    ``errors[k]`` is ``‖e‖`` after iteration ``k`` and, when ``record``, ``history[k]`` the
+    iterate (the caller records ``history[0]``). The loop is one function on purpose: a
+    compiled call that takes arrays pays their reference counts at every iteration, and a
+    solve is made of few, cheap iterations; only the clamping loop is a call.
 
     Returns:
-        ``(‖p_d − p‖, rotation angle, ‖e‖²)``.
+        ``(status, iterations, ‖e‖², ‖Jᵀe‖ at the end without the components that push
+        against a limit)``.
     """
-    base, links, revolute = chain[0], chain[1], chain[2]
-    R, p, axes, origins = ws[_R][row], ws[_P][row], ws[_AXES][row], ws[_ORIGINS][row]
-    chain_kinematics(base, links, revolute, ws[_Q][row], R, p, axes, origins)
-    position, angle = pose_error(Rd, pd, R, p, ws[_E][row])
-    return position, angle, _squared_norm(ws[_E][row])
-
-
-@numba.njit(**COMPILE)
-def _linearise(chain, ws, row):
-    """The world Jacobian at the buffers' ``row`` into ``J``, and its Gram matrix into ``G``."""
-    J = ws[_J][0]
-    world_jacobian(chain[2], ws[_P][row], ws[_AXES][row], ws[_ORIGINS][row], J)
-    gram(J, ws[_G])
-
-
-@numba.njit(**COMPILE)
-def _propose(chain, ws, row, damping, bounded):
-    """The damped step from ``q[row]`` into the other row, within the limits if ``bounded``."""
-    lower, upper, periodic = chain[3], chain[4], chain[7]
-    J, e, dq, free = ws[_J][0], ws[_E][row], ws[_DQ], ws[_FREE]
-    q, trial = ws[_Q][row], ws[_Q][1 - row]
-    free[:] = True
-    damped_solve_gram(J, ws[_G], free, e, damping, ws[_A], ws[_Y], dq)
-    outside = False
-    for j in range(q.shape[0]):
-        trial[j] = q[j] + dq[j]
-        outside = outside or trial[j] < lower[j] or trial[j] > upper[j]
-    if bounded and outside:
-        for j in range(q.shape[0]):
-            if periodic[j] and (trial[j] < lower[j] or trial[j] > upper[j]):
-                # A turn of 2π is the same pose: wrap instead of stopping.
-                trial[j] = lower[j] + np.mod(trial[j] - lower[j], 2.0 * np.pi)
-        _clamp(J, e, damping, q, trial, lower, upper, ws)
-
-
-@numba.njit(**COMPILE)
-def _saturate(trial, lower, upper, free, limit_value):
-    """Mark the joints of ``trial`` outside their range as not free, at their nearer limit.
-
-    Returns:
-        Whether any joint was outside.
-    """
-    over = False
-    for j in range(trial.shape[0]):
-        if trial[j] < lower[j] or trial[j] > upper[j]:
-            limit_value[j] = min(max(trial[j], lower[j]), upper[j])
-            free[j] = False
-            over = True
-    return over
-
-
-@numba.njit(**COMPILE)
-def _remaining_error(J, e, q, free, limit_value, rhs):
-    """``rhs = e − J (q_lim − q)`` over the saturated columns: what the free joints must do."""
-    for k in range(6):
-        value = e[k]
-        for j in range(q.shape[0]):
-            if not free[j]:
-                value -= J[k, j] * (limit_value[j] - q[j])
-        rhs[k] = value
+    base, links, revolute, lower, upper, _, _, periodic = chain
+    A, y, dq, free, G, J = ws[_A], ws[_Y], ws[_DQ], ws[_FREE], ws[_G], ws[_J][0]
+    # The current iterate (c) and the trial (t): the buffers swap on an accepted step.
+    Rc, Rt, pc, pt, ac, at, oc, ot, ec, et, qc, qt = (
+        ws[_R][0], ws[_R][1], ws[_P][0], ws[_P][1], ws[_AXES][0], ws[_AXES][1],
+        ws[_ORIGINS][0], ws[_ORIGINS][1], ws[_E][0], ws[_E][1], ws[_Q][0], ws[_Q][1],
+    )  # fmt: skip
+    first, n = qc, revolute.shape[0]
+    pos_tol, rot_tol, lambda_min, lambda_max, required, max_iterations, patience, bounded = (
+        settings[POS_TOL], settings[ROT_TOL], settings[MIN_DAMPING], settings[MAX_DAMPING],
+        settings[REQUIRED], counts[MAX_ITERATIONS], counts[PATIENCE], counts[BOUNDED],
+    )  # fmt: skip
+    chain_kinematics(base, links, revolute, qc, Rc, pc, ac, oc)
+    world_jacobian(revolute, pc, ac, oc, J)
+    gram(J, G)
+    position, angle = pose_error(Rd, pd, Rc, pc, ec)
+    E = position * position + angle * angle  # ‖e‖², e = (p_d − p, θ u)
+    errors[0] = math.sqrt(E)
+    mu, status, iterations, ended = settings[DAMPING], EXHAUSTED, 0, False
+    while iterations < max_iterations:
+        if position <= pos_tol and angle <= rot_tol:
+            status, ended = CONVERGED, True
+            break
+        damping = mu * E + lambda_min
+        free[:] = True
+        damped_solve_gram(J, G, free, ec, damping, A, y, dq)
+        outside = False
+        for j in range(n):
+            qt[j] = qc[j] + dq[j]
+            outside = True if qt[j] < lower[j] or qt[j] > upper[j] else outside
+        if bounded and outside:
+            for j in range(n):  # a turn of 2π is the same pose: wrap instead of stopping
+                wrap = periodic[j] and (qt[j] < lower[j] or qt[j] > upper[j])
+                qt[j] = lower[j] + np.mod(qt[j] - lower[j], 2.0 * np.pi) if wrap else qt[j]
+            _clamp(J, ec, damping, qc, qt, lower, upper, ws)
+        chain_kinematics(base, links, revolute, qt, Rt, pt, at, ot)
+        trial_position, trial_angle = pose_error(Rd, pd, Rt, pt, et)
+        E_trial = trial_position * trial_position + trial_angle * trial_angle
+        if E_trial < E:  # accept, and trust the Gauss–Newton model more
+            Rc, Rt, pc, pt, ac, at, oc, ot, ec, et, qc, qt = (
+                Rt, Rc, pt, pc, at, ac, ot, oc, et, ec, qt, qc
+            )  # fmt: skip
+            world_jacobian(revolute, pc, ac, oc, J)
+            gram(J, G)
+            position, angle, E = trial_position, trial_angle, E_trial
+            mu = max(0.5 * mu, 1e-12)
+        elif not math.isfinite(E_trial):  # a non-finite step
+            status, ended = DIVERGED, True
+            break
+        else:
+            mu *= 8.0  # reject, and lean towards the gradient
+        iterations += 1
+        errors[iterations] = math.sqrt(E)
+        if record:
+            history[iterations] = qc
+        if damping > lambda_max or (
+            iterations >= patience and errors[iterations] > required * errors[iterations - patience]
+        ):
+            status, ended = STALLED, True
+            break
+    first[:] = qc  # the caller reads the result from the first row
+    met = not ended and position <= pos_tol and angle <= rot_tol  # at the budget's end
+    return CONVERGED if met else status, iterations, E, _limit_gradient(J, ec, qc, lower, upper)
 
 
 @numba.njit(**COMPILE)
 def _clamp(J, e, damping, q, trial, lower, upper, ws):
-    """Joints that would leave their range stop at the limit; the others re-solve.
+    """Bring ``trial``, a damped step from ``q``, into the joint limits.
 
-    Clipping alone bends the step away from the Gauss–Newton direction and parks the arm on
-    its limits; instead each saturated joint's share of the error is handed to the joints
-    still free: ``J_f Δq_f = e − J (q_lim − q)`` over the saturated columns.
+    Each joint that would leave its range stops at the limit and the joints still free
+    re-solve for its share of the error, ``J_f Δq_f = e − J (q_lim − q)`` over the saturated
+    columns: clipping alone would bend the step away from the Gauss–Newton direction and park
+    the arm on its limits (the clamping loop of Chan & Dubey 1995, with damping).
     """
-    dq, rhs, free, limit_value = ws[_DQ], ws[_RHS], ws[_FREE], ws[_LIMIT]
+    A, y, dq, rhs, free, limit_value, G = (
+        ws[_A], ws[_Y], ws[_DQ], ws[_RHS], ws[_FREE], ws[_LIMIT], ws[_G]
+    )  # fmt: skip
+    n = q.shape[0]
     free[:] = True
-    for _ in range(q.shape[0]):
-        if not _saturate(trial, lower, upper, free, limit_value):
+    for _ in range(n):
+        over = False
+        for j in range(n):
+            if trial[j] < lower[j] or trial[j] > upper[j]:
+                limit_value[j] = min(max(trial[j], lower[j]), upper[j])
+                free[j] = False
+                over = True
+        if not over:
             return
-        _remaining_error(J, e, q, free, limit_value, rhs)
-        damped_solve_gram(J, ws[_G], free, rhs, damping, ws[_A], ws[_Y], dq)
-        for j in range(q.shape[0]):
+        for k in range(6):
+            value = e[k]
+            for j in range(n):
+                if not free[j]:
+                    value -= J[k, j] * (limit_value[j] - q[j])
+            rhs[k] = value
+        damped_solve_gram(J, G, free, rhs, damping, A, y, dq)
+        for j in range(n):
             trial[j] = q[j] + dq[j] if free[j] else limit_value[j]
 
 
@@ -226,70 +242,6 @@ def _limit_gradient(J, e, q, lower, upper):
             g = 0.0
         gradient += g * g
     return math.sqrt(gradient)
-
-
-@numba.njit(**COMPILE)
-def _stalled(errors, iterations, patience, required, damping, max_damping):
-    """``λ`` past ``λ_max``, or ``‖e‖`` above ``required`` times its ``patience`` iterations ago."""
-    return damping > max_damping or (
-        iterations >= patience and errors[iterations] > required * errors[iterations - patience]
-    )
-
-
-@numba.njit(**COMPILE)
-def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
-    """One attempt from ``q[0]`` of the workspace, which ends holding the attempt's ``q``.
-
-    ``errors[k]`` is ``‖e‖`` after iteration ``k`` and, when ``record``, ``history[k]`` the
-    iterate.
-
-    Returns:
-        ``(status, iterations, ‖e‖², ‖Jᵀe‖ at the end without the components that push
-        against a limit)``.
-    """
-    pos_tol, rot_tol = settings[POS_TOL], settings[ROT_TOL]
-    row = 0  # of the current iterate; the trial is in the other
-    position, angle, E = _evaluate(chain, Rd, pd, ws, row)
-    _linearise(chain, ws, row)
-    errors[0] = math.sqrt(E)
-    if record:
-        history[0] = ws[_Q][row]
-    mu = settings[DAMPING]
-    status = EXHAUSTED
-    iterations = 0
-    while iterations < counts[MAX_ITERATIONS]:
-        if position <= pos_tol and angle <= rot_tol:
-            status = CONVERGED
-            break
-        damping = mu * E + settings[MIN_DAMPING]
-        _propose(chain, ws, row, damping, counts[BOUNDED] != 0)
-        trial_position, trial_angle, trial_E = _evaluate(chain, Rd, pd, ws, 1 - row)
-        if trial_E < E:  # accept, and trust the Gauss–Newton model more
-            row = 1 - row
-            position, angle, E = trial_position, trial_angle, trial_E
-            _linearise(chain, ws, row)
-            mu = max(0.5 * mu, 1e-12)
-        elif not math.isfinite(_squared_norm(ws[_DQ])):
-            status = DIVERGED
-            break
-        else:
-            mu *= 8.0  # reject, and lean towards the gradient
-        iterations += 1
-        errors[iterations] = math.sqrt(E)
-        if record:
-            history[iterations] = ws[_Q][row]
-        if _stalled(
-            errors, iterations, counts[PATIENCE], settings[REQUIRED], damping,
-            settings[MAX_DAMPING],
-        ):  # fmt: skip
-            status = STALLED
-            break
-    if status == EXHAUSTED and position <= pos_tol and angle <= rot_tol:
-        status = CONVERGED
-    if row == 1:
-        ws[_Q][0] = ws[_Q][1]  # the caller reads the result from the first row
-    gradient = _limit_gradient(ws[_J][0], ws[_E][row], ws[_Q][0], chain[3], chain[4])
-    return status, iterations, E, gradient
 
 
 @numba.njit(**COMPILE)
@@ -345,6 +297,8 @@ def _solve_target(chain, Rd, pd, q0, state, settings, counts, ws, out, history, 
             q[0] = q0
         else:
             _restart_seed(chain, Rd, pd, state, counts[CANDIDATES], bounded, ws)
+        if record:
+            work_history[0] = q[0]
         status, iterations, E, gradient = _attempt(
             chain, Rd, pd, settings, counts, ws, work_errors, work_history, record
         )

@@ -6,9 +6,9 @@ One idea per module:
   (validation, dispatch, restarts, whole-model robots);
 - :mod:`~redik.solvers.pose.options`: the methods, their defaults and option checks;
 - :mod:`~redik.solvers.pose.dls_solver`: the ``"dls"`` driver around the compiled kernel;
-- :mod:`~redik.solvers.pose.newton`, :mod:`~redik.solvers.pose.gradient`: the Python
-  drivers (``"newton"``; ``"transpose"`` and ``"hybrid"``) on a
-  :class:`~redik.solvers.pose.attempt.PoseProblem`;
+- :mod:`~redik.solvers.pose.attempt`: one attempt of ``"newton"``, ``"transpose"`` or
+  ``"hybrid"``: the loops of :mod:`redik.solvers.iterative` on the pose residual
+  (:class:`~redik.solvers.iterative.PoseResidual`);
 - :mod:`~redik.solvers.pose.result`: the result, its status and the unreachable diagnosis;
 - :mod:`~redik.solvers.pose.frame`, :mod:`~redik.solvers.pose.cache`: what solves of one
   frame share (moving joints, reach, the compiled solver), kept by the robot;
@@ -18,10 +18,9 @@ One idea per module:
 
 :func:`solve_pose` validates its inputs once (a ``"dls"`` call whose scalar arguments it
 has seen before leaves the target and ``q0`` to the compiled kernel, which checks them), then
-runs one of the iterations below in a tight loop on preallocated buffers (one
-:meth:`Robot.kinematics` call — FK and world Jacobian — per trial; ``"dls"`` entirely in
-compiled code), restarting from random
-configurations when an attempt fails. Success is always decided by a fresh FK of the
+runs one of the methods below (one :meth:`Robot.kinematics` call — FK and world Jacobian —
+per trial; ``"dls"`` entirely in compiled code), restarting from random configurations when
+an attempt fails. Success is always decided by a fresh FK of the
 returned ``q``: MuJoCo's, or for ``"dls"`` the compiled chain's (equal to MuJoCo's to 1e-12,
 ``tests/test_batch_kernel.py``; MuJoCo's again when ``q`` was shifted into the limits).
 :func:`solve_all` collects the distinct solutions found from many starts. Frames, twist

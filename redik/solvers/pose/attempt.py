@@ -1,65 +1,71 @@
-"""One validated pose problem, and what one attempt of an iterative method returns.
+r"""One attempt of ``"newton"``, ``"transpose"`` or ``"hybrid"`` on a pose, from one start.
 
-The Python drivers (:mod:`~redik.solvers.pose.newton`, :mod:`~redik.solvers.pose.gradient`)
-are :data:`Iteration` s: from a start ``q`` they iterate on a :class:`PoseProblem` and return
-an :class:`Attempt`; :func:`~redik.solvers.pose.solve.solve_pose` restarts them and
-:mod:`~redik.solvers.pose.result` makes the result of the attempts.
+The methods are the loops of :mod:`redik.solvers.iterative`, run on the pose residual
+(:class:`~redik.solvers.iterative.PoseResidual`); what is here is only what makes them a pose
+solve — the problem (target, tolerances, limits), the options of each method and the
+record of an attempt that :func:`~redik.solvers.pose.solve.solve_pose` restarts and
+:mod:`~redik.solvers.pose.result` summarises:
+
+``"newton"``
+    :func:`~redik.solvers.iterative.newton_raphson` on the body twist (``form="body"``,
+    *IKinBody*) or the space twist (``form="space"``, *IKinSpace*), step ``λ`` (``step``),
+    stopping on the pose errors (``stop="pose"``) or on the twist's halves (``"twist"``,
+    the book's rule).
+``"transpose"``
+    :func:`~redik.solvers.iterative.jacobian_transpose` on the world error, ``step`` ``"armijo"``
+    or a constant ``α``.
+``"hybrid"``
+    :func:`~redik.solvers.iterative.transpose_then_newton` on the world error, Newton below
+    ``switch_error``.
+
+Every attempt stops on the pose test ``‖p_d − p‖ ≤ pos_tol`` and ``angle ≤ rot_tol`` (or
+the twist's halves for ``stop="twist"``), its budget, a stall of its Armijo search
+(:data:`~redik.solvers.iterative.ARMIJO_ATTEMPT_TRIALS` trials: a restart follows), or a
+divergence.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
+from redik.core.exceptions import InvalidInput
 from redik.core.result import Status
+from redik.core.validate import positive
 from redik.kinematics.robot import Frame, Robot
-from redik.lie import so3_log
+from redik.solvers.iterative import (
+    ARMIJO_ATTEMPT_TRIALS,
+    Iterates,
+    PoseResidual,
+    StoppingRules,
+    jacobian_transpose,
+    newton_raphson,
+    step_size,
+    transpose_then_newton,
+)
 
 
+@dataclass(frozen=True)
 class PoseProblem:
-    """A validated solve: target, tolerances and limits.
+    """A validated pose solve: the robot and frame, the target, tolerances and limits."""
 
-    Its error is the world-frame ``e = (p_d − p, log(R_d Rᵀ))`` (``"world"`` in
-    :mod:`redik.core.conventions`), whose halves are the reported position and rotation
-    errors.
-    """
+    robot: Robot
+    frame: Frame
+    T_target: np.ndarray
+    pos_tol: float
+    rot_tol: float
+    respect_limits: bool
 
-    def __init__(
-        self,
-        robot: Robot,
-        frame: Frame,
-        T_target: np.ndarray,
-        pos_tol: float,
-        rot_tol: float,
-        respect_limits: bool,
-    ) -> None:
-        self.robot = robot
-        self.frame = frame
-        self.T_target = T_target
-        self.p_d = T_target[:3, 3].copy()
-        self.R_d = T_target[:3, :3].copy()
-        self.pos_tol = pos_tol
-        self.rot_tol = rot_tol
-        self.respect_limits = respect_limits
-        self.lower = robot.lower
-        self.upper = robot.upper
-        self.n = robot.dof
+    def within(self, position_error: float, rotation_error: float) -> bool:
+        """Both errors within their tolerances."""
+        return position_error <= self.pos_tol and rotation_error <= self.rot_tol
 
     def project(self, q: np.ndarray) -> np.ndarray:
         """``q`` clipped into the limits when they are respected (a new array)."""
-        return (
-            np.clip(q, self.lower, self.upper) if self.respect_limits else np.array(q, dtype=float)
-        )
-
-    def world_error(self, T: np.ndarray, e: np.ndarray) -> tuple[float, float]:
-        """Fill ``e = (p_d − p, log(R_d Rᵀ))``; return the position and rotation errors."""
-        return world_error(self.T_target, T, e)
-
-    def within(self, position_error: float, rotation_error: float) -> bool:
-        return position_error <= self.pos_tol and rotation_error <= self.rot_tol
+        robot = self.robot
+        return np.clip(q, robot.lower, robot.upper) if self.respect_limits else np.array(q)
 
 
 @dataclass
@@ -69,20 +75,61 @@ class Attempt:
     q: np.ndarray
     status: Status  # CONVERGED, STALLED, MAX_ITERATIONS or DIVERGED
     history: list[np.ndarray]
-    errors: list[float]
+    errors: list[float]  # ‖e‖ of the method's own error, per iterate
     error_sq: float  # ‖e‖² of the world error at q, to pick the closest attempt
     J: np.ndarray  # world Jacobian at q
     e: np.ndarray  # world error at q
 
+    @classmethod
+    def of(cls, run: Iterates, residual: PoseResidual) -> Attempt:
+        """The attempt a finished run made."""
+        e, J = residual.world(run.point)
+        return cls(run.q, run.status, run.history, run.errors, float(e @ e), J, e)
 
-Iteration = Callable[[PoseProblem, np.ndarray, int], Attempt]
-"""``iterate(problem, q_start, max_iterations) -> Attempt``: one attempt of a Python driver."""
+
+AttemptFrom = Callable[[np.ndarray], Attempt]
+"""``attempt(q_start) -> Attempt``: one attempt of a method, its options bound."""
 
 
-def world_error(T_target: np.ndarray, T: np.ndarray, e: np.ndarray) -> tuple[float, float]:
-    """Fill ``e = (p_d − p, log(R_d Rᵀ))``; return the position and rotation errors."""
-    np.subtract(T_target[:3, 3], T[:3, 3], out=e[:3])
-    e[3:] = so3_log(T_target[:3, :3] @ T[:3, :3].T)
-    return math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]), math.sqrt(
-        e[3] * e[3] + e[4] * e[4] + e[5] * e[5]
+def attempt_of(
+    method: str, options: dict[str, object], problem: PoseProblem, max_iterations: int
+) -> AttemptFrom:
+    """The attempt of ``method`` (``"newton"``, ``"transpose"`` or ``"hybrid"``) on ``problem``.
+
+    Args:
+        method: The method.
+        options: Its options, defaults filled in (:data:`~redik.solvers.pose.options.OPTIONS`).
+        problem: The solve.
+        max_iterations: Iterations per attempt.
+
+    Raises:
+        InvalidInput: An option value the method does not take.
+    """
+    form, stop = "world", "pose"
+    if method == "newton":
+        form, stop = _choice(options["form"], "form", ("body", "space")), options["stop"]
+        stop = _choice(stop, "stop", ("pose", "twist"), " (Modern Robotics' rule)")
+    residual = PoseResidual(
+        problem.robot, problem.frame, problem.T_target, form, stop, problem.respect_limits
     )
+    rules = StoppingRules(
+        tol=(problem.pos_tol, problem.rot_tol),
+        max_iterations=max_iterations,
+        armijo_trials=ARMIJO_ATTEMPT_TRIALS,
+    )
+    if method == "newton":
+        step = step_size(options["step"], "step")
+        return lambda q: Attempt.of(newton_raphson(residual, q, rules, step), residual)
+    if method == "transpose":
+        step = step_size(options["step"], "step")
+        return lambda q: Attempt.of(jacobian_transpose(residual, q, rules, step), residual)
+    switch_error = positive(options["switch_error"], "switch_error")
+    return lambda q: Attempt.of(transpose_then_newton(residual, q, rules, switch_error), residual)
+
+
+def _choice(value: object, name: str, choices: tuple[str, ...], note: str = "") -> str:
+    if not isinstance(value, str) or value not in choices:
+        raise InvalidInput(
+            f"{name} must be {' or '.join(repr(c) for c in choices)}{note}, got {value!r}"
+        )
+    return value

@@ -31,7 +31,7 @@ from redik.core.result import IKResult
 from redik.kinematics.chain import Chain
 from redik.solvers import dls as kernel
 from redik.solvers.dls import DLSOptions
-from redik.solvers.pose.attempt import world_error
+from redik.solvers.iterative import world_error
 from redik.solvers.pose.frame import PoseFrame
 from redik.solvers.pose.options import DLS_OPTIONS
 from redik.solvers.pose.result import (

@@ -21,6 +21,7 @@ import numpy as np
 from redik.core.result import IKResult, Status
 from redik.kinematics.robot import Robot
 from redik.lie import apply_inverse_v, wrap_angle, wrap_into_range
+from redik.solvers.iterative import world_error
 from redik.solvers.pose.attempt import Attempt, PoseProblem
 
 
@@ -79,7 +80,7 @@ def finish(problem: PoseProblem, outcome: Outcome, method: str, reach: float) ->
     if q is not outcome.q:
         T, e = np.eye(4), np.empty(6)
         robot.kinematics(q, problem.frame, T)
-        position_error, rotation_error = problem.world_error(T, e)
+        position_error, rotation_error = world_error(problem.T_target, T, e)
     inside = robot.within_limits(q)
     success = problem.within(position_error, rotation_error) and (
         inside or not problem.respect_limits

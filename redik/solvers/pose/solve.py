@@ -1,16 +1,14 @@
-"""The entry points :func:`solve_pose` and :func:`solve_all`: validation of the arguments,
-dispatch to a method's driver, restarts, and whole-model robots solved on their chains.
+"""The entry points :func:`solve_pose` and :func:`solve_all`.
 
-The methods and their options are described in :mod:`redik.solvers.pose`. ``"dls"`` runs in
-:mod:`~redik.solvers.pose.dls_solver` (a call whose scalar arguments were seen before skips the
-validation here: the compiled kernel checks the target and ``q0``), ``"newton"`` in
-:mod:`~redik.solvers.pose.newton`, ``"transpose"`` and ``"hybrid"`` in
-:mod:`~redik.solvers.pose.gradient`, ``"qp"`` in :mod:`~redik.solvers.pose.qp`.
+Validation of the arguments, dispatch to a method, restarts, and whole-model robots solved on
+their chains. The methods and their options are described in :mod:`redik.solvers.pose`.
+``"dls"`` runs in :mod:`~redik.solvers.pose.dls_solver` (a call whose scalar arguments were
+seen before skips the validation here: the compiled kernel checks the target and ``q0``),
+``"newton"``, ``"transpose"`` and ``"hybrid"`` in :mod:`~redik.solvers.pose.attempt` (the loops
+of :mod:`redik.solvers.iterative`), ``"qp"`` in :mod:`~redik.solvers.pose.qp`.
 """
 
 from __future__ import annotations
-
-from collections.abc import Callable
 
 import numpy as np
 
@@ -20,13 +18,11 @@ from redik.core.validate import integer, positive
 from redik.core.validate import seed as check_seed
 from redik.kinematics.robot import Frame, Robot
 from redik.lie import wrap_angle
-from redik.solvers.pose.attempt import Iteration, PoseProblem
+from redik.solvers.pose.attempt import PoseProblem, attempt_of
 from redik.solvers.pose.cache import PoseCache
 from redik.solvers.pose.closed_form import closed_form_solutions
 from redik.solvers.pose.dls_solver import fast_kernel_key, kernel_key
 from redik.solvers.pose.frame import PoseFrame
-from redik.solvers.pose.gradient import hybrid, transpose
-from redik.solvers.pose.newton import newton
 from redik.solvers.pose.options import (
     MAX_ITERATIONS,
     OPTIONS,
@@ -36,13 +32,6 @@ from redik.solvers.pose.options import (
     check_options,
 )
 from redik.solvers.pose.result import Outcome, finish, limits_message
-
-ITERATIONS: dict[str, Callable[[dict], Iteration]] = {
-    "newton": newton,
-    "transpose": transpose,
-    "hybrid": hybrid,
-}
-"""The Python drivers, by method: ``driver(options)`` is the :data:`Iteration` of one attempt."""
 
 
 def solve_pose(
@@ -215,19 +204,17 @@ def _solve_chain(
         if result is None:  # cannot happen: every argument passed the checks above
             raise RuntimeError("the compiled dls solve refused validated arguments")
         return result
-    options = {**OPTIONS[method], **method_options}
     problem = PoseProblem(robot, resolved, T_target, pos_tol, rot_tol, respect_limits)
-    q_start = problem.project(q_start)
-    iterate = ITERATIONS[method](options)
-    attempts = [iterate(problem, q_start, max_iterations)]
+    attempt = attempt_of(method, {**OPTIONS[method], **method_options}, problem, max_iterations)
+    attempts = [attempt(problem.project(q_start))]
     reach = 0.0
     if attempts[0].status != Status.CONVERGED:
-        reach = pose_frame.reach_excess(problem.p_d)
+        reach = pose_frame.reach_excess(T_target[:3, 3])
         if reach > 0.0:
             restarts = min(restarts, 2)  # a closest q is all there is to find
         rng = np.random.default_rng(seed)
         for _ in range(restarts):
-            attempts.append(iterate(problem, problem.project(robot.random_q(rng)), max_iterations))
+            attempts.append(attempt(problem.project(robot.random_q(rng))))
             if attempts[-1].status == Status.CONVERGED:
                 break
     return finish(problem, Outcome.of(attempts, robot.lower, robot.upper), method, reach)
@@ -319,9 +306,10 @@ def solve_all(
 
     Each start is solved by :func:`solve_pose` without restarts; the successful results are
     clustered: two solutions are the same when every joint differs by at most
-    ``cluster_tol`` (radians or metres), comparing angles modulo 2π for revolute joints
-    without limits or whose range spans more than 2π. A redundant arm has a continuum of
-    solutions: the list then samples it.
+    ``cluster_tol`` (radians or metres), comparing angles modulo 2π for the revolute joints
+    that may turn fully — every one with ``respect_limits=False`` (the limits play no part:
+    ``q`` and ``q + 2π`` are one pose), those without limits or whose range spans a full turn
+    otherwise. A redundant arm has a continuum of solutions: the list then samples it.
 
     On a whole-model robot (:mod:`redik.kinematics.robot`) the solutions are those of its chain to
     ``frame``, every other joint held at its value in ``q0`` (default ``robot.home``) — as
@@ -350,6 +338,7 @@ def solve_all(
     cluster_tol = positive(cluster_tol, "cluster_tol")
     first = None if q0 is None else robot.check_q(q0, "q0")
     rng = np.random.default_rng(check_seed(seed))
+    turning = robot.periodic if respect_limits else robot.revolute
     solutions: list[IKResult] = []
     for start in range(n_starts):
         q_start = first if start == 0 and first is not None else robot.random_q(rng)
@@ -358,15 +347,24 @@ def solve_all(
             max_iterations=max_iterations, restarts=0, respect_limits=respect_limits,
             frame=frame, diagnose_limits=False, **method_options,
         )  # fmt: skip
-        if not result.success:
-            continue
-        for index, known in enumerate(solutions):
-            difference = result.q - known.q
-            difference[robot.periodic] = np.abs(wrap_angle(difference[robot.periodic]))
-            if np.max(np.abs(difference)) <= cluster_tol:
-                if result.error < known.error:
-                    solutions[index] = result
-                break
-        else:
-            solutions.append(result)
+        if result.success:
+            _cluster(solutions, result, turning, cluster_tol)
     return sorted(solutions, key=lambda r: r.error)
+
+
+def _cluster(
+    solutions: list[IKResult], result: IKResult, turning: np.ndarray, cluster_tol: float
+) -> None:
+    """Add ``result`` to ``solutions``, or let it replace the same solution if more accurate.
+
+    Two solutions are the same when every joint differs by at most ``cluster_tol``, the
+    ``turning`` joints' angles compared modulo 2π.
+    """
+    for index, known in enumerate(solutions):
+        difference = result.q - known.q
+        difference[turning] = wrap_angle(difference[turning])
+        if np.max(np.abs(difference)) <= cluster_tol:
+            if result.error < known.error:
+                solutions[index] = result
+            return
+    solutions.append(result)

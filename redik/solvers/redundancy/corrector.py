@@ -1,7 +1,8 @@
 r"""Correctors: Newton projection of configurations onto the pose of a self-motion manifold.
 
-:class:`Corrector` projects one configuration at a time with MuJoCo's kinematics: Gauss–Newton
-on the body error twist (Modern Robotics §6.2.2, *IKinBody*),
+:class:`Corrector` projects one configuration at a time: the Newton loop of redik
+(:func:`redik.solvers.iterative.newton_raphson`) on the body error twist of the pose
+(:class:`~redik.solvers.iterative.PoseResidual`, Modern Robotics §6.2.2, *IKinBody*),
 
 .. math::
 
@@ -11,26 +12,28 @@ until ``‖p_d − p‖`` and ``angle(Rᵀ R_d)`` are a hundredth of the sample 
 minimum-norm step is orthogonal to ``ker J_b``, so a corrected prediction does not slide
 along the manifold.
 
-:class:`BatchCorrector` runs the same iteration on a whole batch (a covering's frontier)
-with the vectorised kinematics of :mod:`redik.solvers.batch`: the world-frame error
+:class:`BatchCorrector` takes the same steps on a whole batch (a covering's frontier) with the
+vectorised kinematics of :mod:`redik.kinematics.batched`: the world-frame error
 ``e = (p_d − p, log(R_d Rᵀ)^∨)`` and the ``"world"`` Jacobian (the body pair rotated to world
-axes: same kernel, same minimum-norm steps to first order). Frozen joints — a point placed on
-a joint limit — get a zero Jacobian column, so the minimum-norm step leaves them still.
+axes: the same minimum-norm steps to first order), by the batched damped least-squares step
+with a vanishing damping (:func:`redik.solvers.dls.damped_step`). Frozen joints — a point
+placed on a joint limit — get a zero Jacobian column, so the minimum-norm step leaves them
+still.
 
 Frames and twists follow :mod:`redik.core.conventions`.
 """
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from redik.kinematics.batched import chain_poses, world_jacobian
 from redik.kinematics.chain import Chain
-from redik.lie import body_error_twist, pose_errors, rotation_log, world_jacobian_to, wrap_angle
+from redik.lie import pose_errors, rotation_log, wrap_angle
 from redik.solvers.dls import damped_step
+from redik.solvers.iterative import PoseResidual, StoppingRules, newton_raphson
 from redik.solvers.redundancy.nullspace import nullspace_basis
 
 if TYPE_CHECKING:
@@ -40,9 +43,8 @@ SAMPLE_POSITION_TOLERANCE = 1e-9
 """Largest ``‖p_d − p‖`` (m) of a sample after correction."""
 
 SAMPLE_ROTATION_TOLERANCE = 1e-8
-"""Largest ``angle(Rᵀ R_d)`` (rad) of a sample after correction (and the default of
-:func:`redik.solvers.redundancy.gradient_projection_ik`): an accuracy asked of a solver, not
-the validation tolerance of an input rotation
+"""Largest ``angle(Rᵀ R_d)`` (rad) of a sample after correction: an accuracy asked of a
+solver, not the validation tolerance of an input rotation
 (:data:`~redik.core.rotation_policy.ROTATION_TOLERANCE`)."""
 
 
@@ -51,11 +53,17 @@ _DAMPING = 1e-12  # keeps the batched 6 × 6 solves regular at singular points
 
 
 class Corrector:
-    """Projects configurations onto a pose: Gauss–Newton with ``J_b⁺`` on ``log(T⁻¹ T_d)``.
+    """Projects configurations onto a pose by Newton's method on the body error twist.
 
-    Works on preallocated buffers (one :meth:`Robot.kinematics` per iteration). Also gives
-    the tangent space ``ker J_b`` at a point, the joint-space metric and the limit checks the
-    tracer needs.
+    Also gives the tangent space ``ker J_b`` at a point, the joint-space metric and the limit
+    checks the tracer needs.
+
+    Args:
+        robot: The robot (a chain).
+        T_target: The pose of the manifold.
+        frame: The resolved frame placed at ``T_target``.
+        position_tolerance: The largest ``‖p_d − p‖`` of a corrected point.
+        rotation_tolerance: The largest rotation angle of a corrected point.
     """
 
     def __init__(
@@ -74,75 +82,63 @@ class Corrector:
         self.periodic = robot.periodic
         self.lower = np.asarray(robot.lower)
         self.upper = np.asarray(robot.upper)
-        self._T = np.eye(4)
-        self.J = np.empty((6, robot.dof))
-        self.J_body = np.empty((6, robot.dof))
-        self.iterations = 0
-
-    def body_error(self, q: np.ndarray) -> tuple[np.ndarray, float, float]:
-        """Body error twist ``ξ_b = log(T(q)⁻¹ T_d)``, position error and rotation angle at
-        ``q`` (Modern Robotics' IKinBody step); leaves the world and body Jacobians at ``q``
-        in :attr:`J` and :attr:`J_body`."""
-        self.robot.kinematics(q, self.frame, self._T, self.J)
-        R = self._T[:3, :3]
-        world_jacobian_to("body", self.J, R, self._T[:3, 3], out=self.J_body)
-        xi = body_error_twist(self._T, self.T_target)
-        position_error = math.dist(self._T[:3, 3], self.T_target[:3, 3])
-        return xi, position_error, float(np.linalg.norm(xi[3:]))
+        self.residual = PoseResidual(robot, frame, T_target, form="body")
+        self._rules: dict[int, StoppingRules] = {}  # by iteration budget
+        self._last: tuple | None = None  # the residual and point correct() returned
 
     def pose_errors(self, q: np.ndarray) -> tuple[float, float]:
         """``(‖p_d − p‖, angle(Rᵀ R_d))`` at ``q`` (:func:`redik.lie.pose_errors`)."""
-        self.robot.kinematics(q, self.frame, self._T)
-        return pose_errors(self._T, self.T_target)
+        T = np.eye(4)
+        self.robot.kinematics(q, self.frame, T)
+        return pose_errors(T, self.T_target)
 
     def correct(
-        self,
-        q: np.ndarray,
-        free: np.ndarray | None = None,
-        max_iterations: int = 12,
-        max_step: float = math.inf,
+        self, q: np.ndarray, free: np.ndarray | None = None, max_iterations: int = 12
     ) -> tuple[np.ndarray, bool]:
-        """Gauss–Newton from ``q`` onto the pose, moving only the ``free`` joints.
+        """Newton from ``q`` onto the pose, moving only the ``free`` joints.
 
-        Iterates ``q ← q + J_b⁺ ξ_b`` (the step clipped to ``max_step``) until the errors are
-        a hundredth of the tolerances; returns ``(q, converged)`` where converged means within
-        the tolerances.
+        Iterates ``q ← q + J_b⁺ ξ_b`` until the errors are a hundredth of the tolerances.
+
+        Args:
+            q: The start.
+            free: A mask of the joints that move (default all).
+            max_iterations: The iteration budget.
+
+        Returns:
+            ``(q, converged)``, converged meaning within the tolerances.
         """
         q = np.array(q, dtype=float)
-        for _ in range(max_iterations):
-            xi, position_error, rotation_error = self.body_error(q)
-            if (
-                position_error <= 0.01 * self.position_tolerance
-                and rotation_error <= 0.01 * self.rotation_tolerance
-            ):
-                return q, True  # the buffers hold the kinematics at the returned q
-            self.iterations += 1
-            J = self.J_body if free is None else self.J_body[:, free]
-            step = _min_norm_solve(J, xi)
-            norm = float(np.linalg.norm(step))
-            if not math.isfinite(norm):
-                return q, False
-            if norm > max_step:
-                step *= max_step / norm
-            if free is None:
-                q += step
-            else:
-                q[free] += step
-        _, position_error, rotation_error = self.body_error(q)
-        converged = (
-            position_error <= self.position_tolerance and rotation_error <= self.rotation_tolerance
-        )
-        return q, converged
+        residual = self.residual
+        if free is not None:
+            residual = PoseResidual(
+                self.robot, self.frame, self.T_target, form="body", free=free, q_full=q
+            )
+        start = q if free is None else q[free]
+        run = newton_raphson(residual, start, self._rules_for(max_iterations))
+        self._last = (residual, run.point)
+        position, rotation = residual.errors(run.point)
+        converged = position <= self.position_tolerance and rotation <= self.rotation_tolerance
+        return residual.full(run.q).copy(), converged
 
     def tangent_basis(self, q: np.ndarray | None, dimension: int) -> np.ndarray:
         """Orthonormal basis (n × dimension) of ``ker J_b(q)``: the manifold's tangent space.
 
-        ``q = None`` reuses the Jacobian of the last point evaluated (the one :meth:`correct`
-        just returned).
+        ``q = None`` reuses the Jacobian of the last point :meth:`correct` returned.
         """
-        if q is not None:
-            self.body_error(q)
-        return nullspace_basis(self.J_body, dimension)
+        if q is None:
+            residual, point = self._last
+        else:
+            residual, point = self.residual, self.residual.evaluate(np.array(q, dtype=float))
+        return nullspace_basis(residual.jacobian(point), dimension)
+
+    def _rules_for(self, max_iterations: int) -> StoppingRules:
+        rules = self._rules.get(max_iterations)
+        if rules is None:
+            tol = (_CONVERGED * self.position_tolerance, _CONVERGED * self.rotation_tolerance)
+            rules = self._rules[max_iterations] = StoppingRules(
+                tol=tol, max_iterations=max_iterations
+            )
+        return rules
 
     def within_limits(self, q: np.ndarray) -> bool:
         return bool(np.all(q >= self.lower) and np.all(q <= self.upper))
@@ -218,16 +214,6 @@ class Corrector:
         if converged and self.within_limits(q):
             return q
         return None
-
-
-def _min_norm_solve(J: np.ndarray, xi: np.ndarray) -> np.ndarray:
-    """``J⁺ ξ``: ``Jᵀ(JJᵀ)⁻¹ξ`` for a wide ``J`` of full row rank, else least squares."""
-    if J.shape[1] >= J.shape[0]:
-        try:
-            return J.T @ np.linalg.solve(J @ J.T, xi)
-        except np.linalg.LinAlgError:
-            pass
-    return np.linalg.lstsq(J, xi, rcond=1e-10)[0]
 
 
 class BatchCorrector:

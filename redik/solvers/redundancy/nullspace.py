@@ -13,10 +13,9 @@ takes the minimum-norm solution and adds any velocity that leaves the task uncha
 singularities), ``P = I − J⁺J`` the orthogonal projector onto ``ker J``, and ``q̇₀`` usually
 the gradient ``k ∇w(q)`` of a secondary criterion ``w`` to increase (eq. 3.55): distance
 from the joint limits (eq. 3.58), manipulability ``√det(JJᵀ)`` (eq. 3.56), closeness to a
-nominal posture. The functions here compute the projection; the criteria and their
-gradients live in :mod:`redik.criteria` (re-exported here and in :mod:`redik.solvers.redundancy`);
-:func:`redik.solvers.redundancy.gradient_projection.gradient_projection_ik` iterates them
-into a solver that reaches a pose while climbing a criterion.
+nominal posture. The functions here are the velocity-level tools, as matrices and
+vectors; the criteria and their gradients live in :mod:`redik.criteria`, and the steps the
+iterative methods take (the same ``J⁺`` and projection) in :mod:`redik.solvers.iterative.steps`.
 
 Twists and Jacobians follow :mod:`redik.core.conventions`: ``(v, ω)`` order; the manipulability
 gradient takes the ``"world"`` Jacobian (origin velocity and angular velocity in world axes),
@@ -29,13 +28,11 @@ import numpy as np
 
 from redik.core.exceptions import InvalidInput
 from redik.core.validate import as_vector, real_array
+from redik.solvers.iterative import RANK_TOLERANCE
 
 _MAX_ENTRY = 1e100
 """Largest entry of ``J``, ``ẋ`` or ``q̇₀`` (and damping) :func:`nullspace_velocity` takes:
 ``J Jᵀ + λ²I`` and ``J⁺ J q̇₀`` stay finite."""
-
-RANK_TOLERANCE = 1e-10
-"""Singular values below ``RANK_TOLERANCE · σ_max`` count as zero in :func:`pseudo_inverse`."""
 
 
 # --------------------------------------------------------------------------------------
@@ -45,7 +42,8 @@ RANK_TOLERANCE = 1e-10
 def pseudo_inverse(J: np.ndarray, damping: float = 0.0) -> np.ndarray:
     r"""``J⁺`` (n × m): Moore–Penrose by SVD, or ``Jᵀ(JJᵀ + λ²I)⁻¹`` for ``damping = λ > 0``.
 
-    The undamped inverse drops singular values below ``RANK_TOLERANCE · σ_max``; the damped
+    The undamped inverse drops singular values below
+    :data:`~redik.solvers.iterative.steps.RANK_TOLERANCE` ``· σ_max``; the damped
     one (Nakamura & Hanafusa 1986; Wampler 1986) trades exactness for bounded ``‖q̇‖`` near
     singularities.
     """
@@ -71,12 +69,8 @@ def nullspace_basis(J: np.ndarray, dimension: int | None = None) -> np.ndarray:
     ``k`` is ``n − rank J`` by default (one ``J`` only), or ``dimension`` when given (the
     right-singular vectors of the ``dimension`` smallest singular values: the directions that
     move the task least, which is ``ker J`` itself at full rank; the tangent space of a
-    self-motion manifold, :mod:`redik.solvers.redundancy.corrector`).
-
-    Why not ``scipy.linalg.null_space(J, rcond=RANK_TOLERANCE)``, which gives the same basis
-    (to 0.0 in absolute value, 200 random 6 × 7 Jacobians): it takes 1.8–2.0× the time
-    (60–72 against 33–35 µs per call, same run, load 3.7), and it has neither the stack nor
-    the fixed ``dimension``.
+    self-motion manifold, :mod:`redik.solvers.redundancy.corrector`). It is
+    ``scipy.linalg.null_space`` with the stack and the fixed ``dimension`` that scipy's lacks.
     """
     J = np.asarray(J, dtype=float)
     _, s, Vt = np.linalg.svd(J, full_matrices=True)
