@@ -42,6 +42,7 @@ def _square(shared: int, x: int) -> int:
     return shared * x * x
 
 
+@pytest.mark.slow
 def test_map_chunks_keeps_order_and_reports_progress():
     seen: list[int] = []
     chunks = ((x,) for x in range(9))
@@ -49,6 +50,7 @@ def test_map_chunks_keeps_order_and_reports_progress():
     assert out == [2 * x * x for x in range(9)] == seen
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("workers", [1, 2])
 def test_process_engine_matches_local(problem, workers):
     chain, T = problem
@@ -65,6 +67,7 @@ def test_missing_ray_says_how_to_install(problem, monkeypatch):
         solve_batch(chain, T[:10], engine="ray")
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(importlib.util.find_spec("ray") is None, reason="ray is not installed")
 def test_ray_engine_matches_local(problem):
     import ray
@@ -103,6 +106,7 @@ def _wait_gone(pids: set[int], timeout: float = 10.0) -> set[int]:
     return alive
 
 
+@pytest.mark.slow
 def test_an_engine_keeps_its_pool_between_calls_and_closes_it():
     with Engine("process", workers=2) as engine:
         assert not engine.in_process
@@ -117,6 +121,7 @@ def test_an_engine_keeps_its_pool_between_calls_and_closes_it():
     engine.close()  # closing twice is harmless
 
 
+@pytest.mark.slow
 def test_solve_batch_on_an_engine_object_matches_local(problem):
     chain, T = problem
     local = solve_batch(chain, T, seed=5, engine="local", chunk_size=128)
@@ -157,6 +162,7 @@ def test_bad_engine_arguments_are_refused(args, message):
         Engine(*args)
 
 
+@pytest.mark.slow
 def test_a_shared_pool_stops_when_the_interpreter_exits():
     script = (
         "from redik.solvers.batch.engines import map_chunks\n"

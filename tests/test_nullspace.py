@@ -200,3 +200,14 @@ def test_damped_pseudo_inverse_is_the_damped_least_squares_step(panda, rng):
     for damping in (1e-3, 0.1, 1.0):
         step = damped_step(J[:, :, None], e[:, None], np.array([damping**2]))[:, 0]
         np.testing.assert_allclose(pseudo_inverse(J, damping) @ e, step, rtol=1e-10, atol=1e-12)
+
+
+def test_the_projection_step_is_the_projector(rng):
+    """(I − J⁺J) v, the step of gradient projection, is the projector times v, in ker J."""
+    from redik.solvers.iterative import nullspace_projection
+
+    for _ in range(5):
+        J, v = rng.standard_normal((6, 8)), rng.standard_normal(8)
+        step = nullspace_projection(J, v)
+        np.testing.assert_allclose(step, nullspace_projector(J) @ v, atol=1e-12)
+        np.testing.assert_allclose(J @ step, 0.0, atol=1e-12)

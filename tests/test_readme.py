@@ -75,6 +75,10 @@ RETIRED = {
     r"\bMAX_ITER\b": "MAX_ITERATIONS",
     r"\btaskspec\b": "specs",
     r"\b_compat\b": "nothing: no shims before the first release",
+    r"\bgradient_descent\b": 'solve_equations(method="transpose")',
+    r"\bgradient_then_newton\b": "transpose_then_newton",
+    r"\bBatchOptions\b": "DLSOptions",
+    r"\bkinematics[./]dls\b": "solvers.dls",
 }
 """Names that left, as patterns, and the one word that replaced each (README, *Names*)."""
 

@@ -139,9 +139,11 @@ class Engine:
         return collected
 
     def close(self, wait: bool = True) -> None:
-        """Shut down the process pool (``wait``: until its workers have exited; else cancel
-        the pending chunks and return at once) or the Ray instance this engine started.
-        Closing twice is harmless."""
+        """Shut down the process pool or the Ray instance this engine started.
+
+        ``wait``: until the pool's workers have exited; else cancel the pending chunks and
+        return at once. Closing twice is harmless.
+        """
         with self._lock:
             self._closed = True
             pool, self._pool = self._pool, None
@@ -232,8 +234,10 @@ atexit.register(_SHARED.close, wait=False)
 
 
 def shared_engine(kind: str, workers: int | None = None, address: str | None = None) -> Engine:
-    """The shared :class:`Engine` an engine name stands for (created on first use, kept for
-    later calls, closed at exit or by :func:`close_shared_engines`).
+    """The shared :class:`Engine` an engine name stands for.
+
+    It is created on first use, kept for later calls, and closed at exit or by
+    :func:`close_shared_engines`.
 
     Raises:
         InvalidInput: as :class:`Engine`.
@@ -242,8 +246,7 @@ def shared_engine(kind: str, workers: int | None = None, address: str | None = N
 
 
 def close_shared_engines(wait: bool = True) -> None:
-    """Close every shared engine (their pools stop now, not at exit); the next engine name
-    starts a new one."""
+    """Close every shared engine now, not at exit; the next engine name starts a new one."""
     _SHARED.close(wait=wait)
 
 
@@ -275,8 +278,10 @@ def map_chunks(
     address: str | None = None,
     on_result: Callable[[Any], None] | None = None,
 ) -> list[Any]:
-    """``[function(shared, *chunk) for chunk in chunks]`` on ``engine`` (an :class:`Engine` or
-    a name, :func:`as_engine`), in chunk order; ``on_result`` as in :meth:`Engine.map`.
+    """``[function(shared, *chunk) for chunk in chunks]`` on ``engine``, in chunk order.
+
+    ``engine`` is an :class:`Engine` or a name (:func:`as_engine`); ``on_result`` as in
+    :meth:`Engine.map`.
 
     Raises:
         InvalidInput: unknown engine or a non-positive worker count.

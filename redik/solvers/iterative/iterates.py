@@ -236,8 +236,10 @@ class Iterates:
     def _line_search(
         self, d: np.ndarray, J: np.ndarray, first_trial: float, descent_only: bool
     ) -> Point | None:
-        """The point Armijo's rule accepts along ``d``, or None (the run stopped unless
-        ``descent_only``)."""
+        """The point Armijo's rule accepts along ``d``, or None.
+
+        On None the run has stopped, unless ``descent_only``.
+        """
         e, Jd = self.e, J @ d
         slope = -float(e @ (Jd if self.weight is None else self.weight @ Jd))  # ∇Fᵀd
         if not slope < 0.0:
@@ -288,8 +290,10 @@ class Iterates:
                 self._stop_by_rule(f"‖q_k+1 − q_k‖ = {increment:.3g} < q_tol = {rules.q_tol:g}")
 
     def _stop_by_rule(self, message: str) -> None:
-        """Stop on the relative change or the increment: converged if the error test holds or
-        none was asked, else stalled."""
+        """Stop on the relative change or the increment.
+
+        Converged if the error test holds or none was asked, else stalled.
+        """
         if self.rules.tol is None or self._error_test():
             self.stop(Status.CONVERGED, message)
         else:

@@ -15,7 +15,7 @@ What it keeps is derived from the model (the compiled chain folds in ``body_pos`
 ``lower``, ``upper`` and ``home``. MuJoCo reads the model afresh at each forward kinematics,
 so a user may move a tool site or a link between solves; :meth:`PoseCache.of` and
 :meth:`PoseCache.known_dls` then find the cache out of date (a byte comparison of those
-arrays, ~0.5 µs) and start a new one, instead of solving — and reporting success — on the
+arrays) and start a new one, instead of solving — and reporting success — on the
 old geometry.
 """
 
@@ -66,9 +66,12 @@ class PoseCache:
         """The views and their bytes when kept, one attribute so that threads read a pair."""
 
     def is_current(self) -> bool:
-        """False once the model geometry, the held joints' values or the robot's limits
-        differ from those this cache was built on (module docstring). One ``bytes.join`` of
-        views: ~0.5 µs, against ~2 µs for a comparison per array."""
+        """Whether the cache still describes the robot (module docstring).
+
+        False once the model geometry, the held joints' values or the robot's limits differ
+        from those this cache was built on: one ``bytes.join`` of views, cheaper than a
+        comparison per array.
+        """
         robot = self.robot
         lower, upper, home = self._limits
         sources, stamp = self._sources
@@ -86,9 +89,11 @@ class PoseCache:
 
     @staticmethod
     def known_dls(robot: Robot, frame: object) -> DLSSolver | None:
-        """The ``"dls"`` solver of the frame argument ``frame`` (None, a name or a
-        :class:`Frame`) if a solve has made it and the cache is current, else None — a
-        look-up, the arguments unvalidated."""
+        """The ``"dls"`` solver of the frame argument ``frame``, if a solve has made it.
+
+        ``frame`` is None, a name or a :class:`Frame`. None when no solve made the solver or
+        the cache is out of date: a look-up, the arguments unvalidated.
+        """
         cache = robot.solver_cache.get(_KEY)
         if cache is None or not cache.is_current():  # type: ignore[attr-defined]
             return None  # the full path starts a new cache
@@ -119,8 +124,11 @@ class PoseCache:
         return pose_frame
 
     def dls(self, frame: Frame, argument: object) -> DLSSolver:
-        """The ``"dls"`` solver of a resolved frame, compiled on first use; :meth:`known_dls`
-        finds it by the frame argument ``argument`` from now on (when None or a name)."""
+        """The ``"dls"`` solver of a resolved frame, compiled on first use.
+
+        :meth:`known_dls` finds it by the frame argument ``argument`` from now on (when None
+        or a name).
+        """
         solver = self.dls_solvers.get(frame)
         if solver is None:
             with self._lock:
@@ -132,12 +140,13 @@ class PoseCache:
         return solver
 
     def chain(self, frame: Frame, q_whole: np.ndarray) -> tuple[Robot, np.ndarray]:
-        """``robot.chain(frame, q_whole)`` of a whole-model robot and its ``q`` there, the
-        chain kept while the joints it holds keep their values: its compiled solver bakes
-        them in, and rebuilding both per call made a ``dls`` solve 17× slower than on the
-        chain itself (2.2 ms vs 0.13 ms, left arm of ``tests/test_whole_model.py``'s torso;
-        0.40 ms kept). The chain's ``q`` comes from ``q_whole``, not from ``chain.data``,
-        which the threads sharing the chain all write."""
+        """``robot.chain(frame, q_whole)`` of a whole-model robot, and its ``q`` there.
+
+        The chain is kept while the joints it holds keep their values: its compiled solver
+        bakes them in, and rebuilding both per call would cost more than the solve. The
+        chain's ``q`` comes from ``q_whole``, not from ``chain.data``, which the threads sharing
+        the chain all write.
+        """
         robot = self.robot
         qpos = robot.full_qpos(q_whole)
         cached = self.chains.get(frame)

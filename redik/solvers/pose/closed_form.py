@@ -23,9 +23,11 @@ def closed_form_solutions(
     frame: str | Frame | None,
     options: dict[str, object],
 ) -> list[IKResult]:
-    """Every solution of the robot's closed-form solver (kept in ``robot.solver_cache``) for
-    the validated pose ``T_target``; ``message`` carries the solution's label (and
-    singularity), ``method`` the solver's family (``"analytic:general_6r"``, …).
+    """Every solution of the robot's closed-form solver for the validated pose ``T_target``.
+
+    The solver is kept in ``robot.solver_cache``; each result's ``message`` carries the
+    solution's label (and singularity), ``method`` the solver's family
+    (``"analytic:general_6r"``, …).
 
     Raises:
         InvalidInput: An option was given (there are none), or ``frame`` is not the

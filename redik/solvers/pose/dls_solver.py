@@ -1,6 +1,8 @@
-r"""The ``"dls"`` driver of :func:`~redik.solvers.pose.solve_pose`: every attempt and restart
-of damped least squares on one pose target in one call of the compiled kernel
-:func:`redik.solvers.dls.solve_one`, the code :func:`redik.solvers.batch.solve_batch` runs.
+r"""The ``"dls"`` driver of :func:`~redik.solvers.pose.solve_pose`: one compiled call per solve.
+
+Every attempt and restart of damped least squares on one pose target runs in one call of the
+compiled kernel :func:`redik.solvers.dls.solve_one`, the code
+:func:`redik.solvers.batch.solve_batch` runs.
 
 .. math:: Δq = J^T (J J^T + λ I)^{-1} e, \qquad λ = μ\,‖e‖^2 + λ_{min}
 
@@ -268,16 +270,20 @@ def kernel_copy(value: object, shape: tuple[int, ...]) -> np.ndarray | None:
 
 
 def kernel_key(seed: int | None) -> np.uint64:
-    """The kernel generator's 64-bit state from a validated ``seed`` (reproducible for an
-    int; a fresh random one for None)."""
+    """The kernel generator's 64-bit state from a validated ``seed``.
+
+    Reproducible for an int; a fresh random one for None.
+    """
     if seed is None:
         return np.uint64(secrets.randbits(64))
     return np.uint64(seed % _TWO_TO_64)
 
 
 def fast_kernel_key(seed: object) -> np.uint64 | None:
-    """:func:`kernel_key` of the seeds that need no validation (None, an ``int`` ≥ 0); None
-    for the others, which take the full validation."""
+    """:func:`kernel_key` of the seeds that need no validation (None, an ``int`` ≥ 0).
+
+    None for the others, which take the full validation.
+    """
     if seed is None:
         return np.uint64(secrets.randbits(64))
     if type(seed) is int and seed >= 0:

@@ -1,6 +1,8 @@
-"""What every pose solve of one frame of one robot shares: the joints that move the frame
-and how far the chain can reach. Built once per frame and kept by the robot
-(:class:`~redik.solvers.pose.cache.PoseCache`)."""
+"""What every pose solve of one frame of one robot shares.
+
+The joints that move the frame and how far the chain can reach: built once per frame and
+kept by the robot (:class:`~redik.solvers.pose.cache.PoseCache`).
+"""
 
 from __future__ import annotations
 
@@ -14,9 +16,10 @@ from redik.kinematics.robot import Frame, Robot, frame_pose_views
 
 
 class PoseFrame:
-    """The joints of ``robot`` that move ``frame`` (:attr:`columns`, indices into ``q``)
-    and the reach of the chain: no ``q`` puts the frame farther than :attr:`reach` from
-    :attr:`origin`, the first joint's anchor (:func:`reach_bound`).
+    """The joints of ``robot`` that move ``frame``, and the reach of the chain.
+
+    :attr:`columns` are the joints' indices into ``q``; no ``q`` puts the frame farther than
+    :attr:`reach` from :attr:`origin`, the first joint's anchor (:func:`reach_bound`).
 
     Raises:
         InvalidInput: no joint of the robot moves ``frame`` (such as ``"world"``).
@@ -36,9 +39,10 @@ class PoseFrame:
         self.origin, self.reach = reach_bound(robot, frame, self.columns)
 
     def reach_excess(self, p_d: np.ndarray) -> float:
-        """How far (m) ``p_d`` lies beyond the chain's reach (0 inside; see
-        :func:`reach_bound`). The compiled ``"dls"`` kernel computes the same
-        (:func:`redik.solvers.dls.solve_one`)."""
+        """How far (m) ``p_d`` lies beyond the chain's reach (0 inside; see :func:`reach_bound`).
+
+        The compiled ``"dls"`` kernel computes the same (:func:`redik.solvers.dls.solve_one`).
+        """
         if not math.isfinite(self.reach):
             return 0.0
         excess = math.dist(p_d.tolist(), self.origin) - self.reach

@@ -1,5 +1,7 @@
-"""The methods of :func:`~redik.solvers.pose.solve_pose`, their defaults and options, and the
-checks of the scalar arguments that are not checked elsewhere (seed, counts, options).
+"""The methods of :func:`~redik.solvers.pose.solve_pose`, their defaults and their options.
+
+With the checks of the scalar arguments that are not checked elsewhere (seed, counts,
+options).
 
 Tolerances go through :func:`redik.core.validate.positive`, targets through
 :func:`redik.core.rotation_policy.as_pose` and joint vectors through

@@ -1,5 +1,6 @@
-r"""The :class:`~redik.core.result.IKResult` of a pose solve: success by the pose of the
-returned ``q``, the status, and the unreachable diagnosis.
+r"""The :class:`~redik.core.result.IKResult` of a pose solve.
+
+Success by the pose of the returned ``q``, the status, and the unreachable diagnosis.
 
 Success is decided from the pose of the returned ``q``: ``‖p_d − p‖ ≤ pos_tol``,
 ``angle(Rᵀ R_d) ≤ rot_tol`` and, with ``respect_limits``, ``lower ≤ q ≤ upper``
@@ -50,6 +51,7 @@ class Outcome:
 
     @classmethod
     def of(cls, attempts: list[Attempt], lower: np.ndarray, upper: np.ndarray) -> Outcome:
+        """The summary of ``attempts``, the returned one the converged or else the closest."""
         best = attempts[-1]
         if best.status != Status.CONVERGED:
             best = min(attempts, key=lambda attempt: attempt.error_sq)
@@ -72,8 +74,10 @@ class Outcome:
 
 
 def finish(problem: PoseProblem, outcome: Outcome, method: str, reach: float) -> IKResult:
-    """The result of a Python driver's attempts; ``reach`` is the target's distance beyond
-    the chain's reach (0 within it)."""
+    """The result of the attempts of ``"newton"``, ``"transpose"`` or ``"hybrid"``.
+
+    ``reach`` is the target's distance beyond the chain's reach (0 within it).
+    """
     robot = problem.robot
     q, e = shift_into_limits(robot, outcome.q), outcome.e
     position_error, rotation_error = outcome.position_error, outcome.rotation_error
@@ -163,8 +167,11 @@ def body_twist_norm(e: np.ndarray) -> float:
 def same_stationary_point(
     attempts: int, error_min: float, error_max: float, stationary: bool
 ) -> bool:
-    """Every attempt (at least two) ended at one non-zero error (``error_min … error_max``
-    within 1 %) with ``Jᵀe ≈ 0`` (``stationary``: ``‖Jᵀe‖ ≤ 1e-4 ‖e‖`` for each)."""
+    """Every attempt (at least two) ended at one non-zero error with ``Jᵀe ≈ 0``.
+
+    One error: ``error_min … error_max`` within 1 %; ``stationary``: ``‖Jᵀe‖ ≤ 1e-4 ‖e‖``
+    for each attempt.
+    """
     return (
         attempts >= 2
         and math.isfinite(error_max)
@@ -191,9 +198,12 @@ def shift_into_limits(robot: Robot, q: np.ndarray) -> np.ndarray:
 
 
 def limits_message(robot: Robot, result: IKResult, q_free: np.ndarray) -> str:
-    """The message of a ``"limits"`` failure: the joints of ``result.q`` at a limit (within
-    1e-6 rad or m), the joints the unconstrained solution ``q_free`` puts outside (angles
-    in (−π, π]), and the closest pose found within the limits."""
+    """The message of a ``"limits"`` failure.
+
+    It names the joints of ``result.q`` at a limit (within 1e-6 rad or m), the joints the
+    unconstrained solution ``q_free`` puts outside (angles in (−π, π]), and the closest pose
+    found within the limits.
+    """
     names = robot.joint_names
     values, free = robot.scalar_values(result.q), robot.scalar_values(q_free)
     # No multiple of 2π brought these inside (shift_into_limits): show them in (−π, π].

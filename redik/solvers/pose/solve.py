@@ -238,8 +238,10 @@ def _diagnose_limits(
     frame: str | Frame | None,
     method_options: dict,
 ) -> IKResult:
-    """``result`` (a failure with the limits respected), its status turned to
-    ``"limits"`` when one unconstrained solve reaches the target outside the limits.
+    """``result``, a failure within the limits, as ``"limits"`` if the target lies outside them.
+
+    Its status turns to ``"limits"`` when one unconstrained solve reaches the target outside
+    the limits.
 
     A target beyond the chain's reach, or a failure that is not a budget spent, a stall or
     an unreachable stationary point (a divergence), keeps its status: no solve is run.
@@ -269,8 +271,11 @@ def _diagnose_limits(
 def _solve_on_chain(
     robot: Robot, T_target: np.ndarray, q0: np.ndarray | None, frame, **options
 ) -> IKResult:
-    """:func:`solve_pose` for a whole-model robot: on its chain to ``frame``, the other
-    joints held at ``q0`` (default ``home``); ``q`` and ``history`` are the robot's."""
+    """:func:`solve_pose` for a whole-model robot, on its chain to ``frame``.
+
+    The other joints are held at ``q0`` (default ``home``); ``q`` and ``history`` are the
+    robot's.
+    """
     q_whole = robot.home.copy() if q0 is None else robot.check_q(q0, "q0").copy()
     chain, q_chain = PoseCache.of(robot).chain(robot.frame(frame), q_whole)
     result = solve_pose(chain, T_target, q_chain, **options)

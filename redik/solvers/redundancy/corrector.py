@@ -141,12 +141,15 @@ class Corrector:
         return rules
 
     def within_limits(self, q: np.ndarray) -> bool:
+        """``lower ≤ q ≤ upper``."""
         return bool(np.all(q >= self.lower) and np.all(q <= self.upper))
 
     def limit_violation(self, q: np.ndarray) -> float:
-        """How far ``q`` is outside its limits, hinge angles taken modulo 2π: the largest
-        distance of one joint to its range. Every configuration closer than this (on the
-        torus of hinge angles) is outside the limits too."""
+        """How far ``q`` is outside its limits, hinge angles taken modulo 2π.
+
+        The largest distance of one joint to its range: every configuration closer than this
+        (on the torus of hinge angles) is outside the limits too.
+        """
         return float(self.limit_violations(q))
 
     def limit_violations(self, q: np.ndarray) -> np.ndarray:
@@ -167,8 +170,10 @@ class Corrector:
         return shifted if inside else None
 
     def shift_into_limits(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Every row of ``q`` (… × n) with its hinges shifted by multiples of 2π towards their
-        ranges, and whether it then lies within them.
+        """Every row of ``q`` (… × n), hinges shifted by turns towards their ranges, and if inside.
+
+        The shifts are multiples of 2π; the mask says whether each row then lies within the
+        limits.
 
         A hinge that cannot be brought into its range takes the angle nearest to it, on
         whichever side (what :meth:`limit_violation` measures): the start of a limit point.
@@ -234,9 +239,11 @@ class BatchCorrector:
     def correct(
         self, q: np.ndarray, frozen: np.ndarray | None = None, max_iterations: int = 12
     ) -> tuple[np.ndarray, np.ndarray]:
-        """Newton from every row of ``q`` (B × n) onto the pose, ``frozen`` joints (B × n
-        mask) held still; returns ``(q, converged)``, converged meaning within the
-        tolerances."""
+        """Newton from every row of ``q`` (B × n) onto the pose, ``frozen`` joints held still.
+
+        ``frozen`` is a B × n mask. Returns ``(q, converged)``, converged meaning within the
+        tolerances.
+        """
         q = np.array(q, dtype=float).reshape(-1, self.dof)
         if self.chain is None:
             rows = [
@@ -296,8 +303,10 @@ class BatchCorrector:
     def limit_points(
         self, q_inside: np.ndarray, q_outside: np.ndarray, max_rounds: int = 3
     ) -> tuple[np.ndarray, np.ndarray]:
-        """:meth:`Corrector.limit_point` for every pair of rows: the manifold's point on the
-        limit between ``q_inside`` (within the limits) and a nearby ``q_outside``.
+        """:meth:`Corrector.limit_point` for every pair of rows.
+
+        The manifold's point on the limit between ``q_inside`` (within the limits) and a
+        nearby ``q_outside``.
 
         A joint the corrected point pushes past another limit is frozen there too and the
         point corrected again (up to ``max_rounds`` times), which finds the corners where

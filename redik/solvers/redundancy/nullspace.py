@@ -63,8 +63,9 @@ def nullspace_projector(J: np.ndarray, J_pinv: np.ndarray | None = None) -> np.n
 
 
 def nullspace_basis(J: np.ndarray, dimension: int | None = None) -> np.ndarray:
-    """An orthonormal basis of ``ker J`` as the columns of an n × k matrix (… × n × k for a
-    stack of Jacobians … × m × n).
+    """An orthonormal basis of ``ker J`` as the columns of an n × k matrix.
+
+    For a stack of Jacobians (… × m × n), a stack of bases (… × n × k).
 
     ``k`` is ``n − rank J`` by default (one ``J`` only), or ``dimension`` when given (the
     right-singular vectors of the ``dimension`` smallest singular values: the directions that

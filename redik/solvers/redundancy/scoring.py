@@ -1,5 +1,6 @@
-r"""Scoring objects for the secondary criteria: what makes one point of a self-motion manifold
-better than another.
+r"""Scoring objects for the secondary criteria.
+
+What makes one point of a self-motion manifold better than another.
 
 The math (values and gradients) is in :mod:`redik.criteria`; this module wraps it into
 scoring objects over a robot's samples.
@@ -58,8 +59,10 @@ class Criterion(abc.ABC):
         """A joint velocity ``q̇₀`` along which the criterion improves (to first order)."""
 
     def values(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
-        """:meth:`value` at every row of ``q`` (N × n; ``J``: N × 6 × n). Subclasses may
-        vectorise it; this default calls :meth:`value` row by row."""
+        """:meth:`value` at every row of ``q`` (N × n; ``J``: N × 6 × n).
+
+        Subclasses may vectorise it; this default calls :meth:`value` row by row.
+        """
         return np.array([self.value(robot, x, Jx) for x, Jx in zip(q, J, strict=True)])
 
 
@@ -76,12 +79,15 @@ class JointLimitMargin(Criterion):
     temperature: float = 0.05
 
     def value(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> float:
+        """:func:`redik.criteria.joint_limit_margin` at ``q``."""
         return joint_limit_margin(q, robot.lower, robot.upper)
 
     def values(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        """:func:`redik.criteria.joint_limit_margin` at every row of ``q``."""
         return np.asarray(joint_limit_margin(q, robot.lower, robot.upper))
 
     def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        """:func:`redik.criteria.joint_limit_margin_gradient` at ``q``."""
         return joint_limit_margin_gradient(q, robot.lower, robot.upper, self.temperature)
 
 
@@ -93,12 +99,15 @@ class Manipulability(Criterion):
     maximize: bool = True
 
     def value(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> float:
+        """:func:`redik.criteria.manipulability` of ``J``."""
         return manipulability(J)
 
     def values(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        """:func:`redik.criteria.manipulability` of every Jacobian of ``J``."""
         return np.asarray(manipulability(J))
 
     def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        """:func:`redik.criteria.manipulability_gradient` of ``J``."""
         return manipulability_gradient(J)
 
 
@@ -111,12 +120,15 @@ class PostureDistance(Criterion):
     maximize: bool = False
 
     def value(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> float:
+        """:func:`redik.criteria.posture_distance` of ``q``."""
         return float(posture_distance(q, self.nominal, robot.periodic))
 
     def values(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        """:func:`redik.criteria.posture_distance` of every row of ``q``."""
         return np.asarray(posture_distance(q, self.nominal, robot.periodic))
 
     def ascent(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        """:func:`redik.criteria.posture_gradient` at ``q``."""
         return posture_gradient(q, self.nominal, robot.periodic)
 
 

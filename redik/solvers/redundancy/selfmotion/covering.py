@@ -24,22 +24,28 @@ _MAX_COVER_STRIDE = 0.6  # rad: longest covering step far outside the joint limi
 
 
 class SurfaceCovering:
-    """The 2-D growth of an :class:`~redik.solvers.redundancy.selfmotion.explore.Explorer`, which
-    this class is mixed into (it reads the explorer's corrector, batch corrector, spacing,
-    indices and budget, and appends components through ``_append``)."""
+    """The 2-D growth of an :class:`~redik.solvers.redundancy.selfmotion.explore.Explorer`.
+
+    This class is mixed into the explorer: it reads the explorer's corrector, batch corrector,
+    spacing, indices and budget, and appends components through ``_append``.
+    """
 
     def _cover_strides(self, q: np.ndarray) -> np.ndarray:
-        """Prediction distance of the covering from each row of ``q``: ``0.7 · spacing`` near
-        or inside the limits, longer far outside them, where no sample is kept — a surface
-        point closer to ``q`` than its violation is outside the limits too."""
+        """Prediction distance of the covering from each row of ``q``.
+
+        ``0.7 · spacing`` near or inside the limits, longer far outside them, where no sample is
+        kept — a surface point closer to ``q`` than its violation is outside the limits too.
+        """
         violation = self.corrector.limit_violations(q)
         fine = _COVER_STEP * self.spacing
         return np.maximum(fine, np.minimum(_MAX_COVER_STRIDE, 0.9 * violation))
 
     def _cover_surface(self, seed: np.ndarray) -> None:
-        """Cover the surface through ``seed`` on the torus of hinge angles, limits ignored,
-        then keep its samples inside the limits (each patch a component) and add samples on
-        the limits where the covering crossed them.
+        """Cover the surface through ``seed``, then keep what lies inside the limits.
+
+        The covering runs on the torus of hinge angles, limits ignored; its samples inside the
+        limits are kept (each patch a component), with samples on the limits where the
+        covering crossed them.
 
         Breadth-first, one generation of the frontier at a time: every node predicts six
         points ``h`` away in its tangent plane; those farther than ``0.75 h`` from every node
@@ -78,8 +84,9 @@ class SurfaceCovering:
         self._keep_inside(np.concatenate(nodes))
 
     def _keep_inside(self, nodes: np.ndarray) -> None:
-        """The covering's nodes inside the limits, with samples on the limits, split into
-        patches: connected components of the graph joining samples ≤ ``spacing`` apart.
+        """The covering's nodes inside the limits, with samples on the limits, in patches.
+
+        A patch is a connected component of the graph joining samples ≤ ``spacing`` apart.
 
         A limit sample is placed where the surface crosses a limit between an inside node
         and its nearest outside neighbour, and from every outside node near the limits with

@@ -212,8 +212,10 @@ def _seed_solutions(
     n_starts: int,
     rng: np.random.Generator,
 ) -> tuple[list[np.ndarray], tuple[float | None, float | None]]:
-    """IK solutions of the pose: from ``extra`` configurations, then ``n_starts`` random ones,
-    and the ``(position, rotation)`` errors of the attempt that came closest (by ``‖e‖``).
+    """IK solutions of the pose, and the errors of the attempt that came closest.
+
+    The starts are ``extra`` configurations, then ``n_starts`` random ones; the errors are
+    the ``(position, rotation)`` of the attempt with the least ``‖e‖``.
 
     Each start is solved by :func:`redik.solve_pose` (damped least squares) *without* the
     joint limits — curves and surfaces are followed through the limits, so a solution
@@ -246,8 +248,10 @@ def _seed_solutions(
 
 
 class Explorer(CurveTracing, SurfaceCovering):
-    """Grows components from seeds: isolated points, traced curves (:class:`CurveTracing`)
-    or covered surfaces (:class:`SurfaceCovering`)."""
+    """Grows components from seeds: isolated points, curves or surfaces.
+
+    Curves are traced (:class:`CurveTracing`), surfaces covered (:class:`SurfaceCovering`).
+    """
 
     def __init__(self, corrector: Corrector, dimension: int, spacing: float, max_samples: int):
         self.corrector = corrector
@@ -268,9 +272,11 @@ class Explorer(CurveTracing, SurfaceCovering):
 
     @property
     def budget(self) -> int:
+        """Samples still allowed."""
         return self.max_samples - len(self.index) - len(self.traced)
 
     def distance(self, a: np.ndarray, b: np.ndarray) -> float:
+        """The joint-space distance of two configurations, periodic joints modulo 2π."""
         return distance(a, b, self.periodic)
 
     def add_component(self, seed: np.ndarray) -> None:

@@ -23,8 +23,11 @@ def distances(a: np.ndarray, b: np.ndarray, periodic: np.ndarray) -> np.ndarray:
 
 
 def spread(points: np.ndarray, exclusion: np.ndarray, periodic: np.ndarray) -> np.ndarray:
-    """Indices of a subset of ``points`` (in order) with no point within its ``exclusion``
-    radius of an earlier one kept: greedy, each kept point blocking its neighbours."""
+    """Indices of a subset of ``points`` (in order) that keep their distances.
+
+    No kept point lies within its ``exclusion`` radius of an earlier one: greedy, each kept
+    point blocking its neighbours.
+    """
     if len(points) < 2:
         return np.arange(len(points))
     index = SampleIndex(periodic, points.shape[1])
@@ -53,8 +56,11 @@ def distance(a: np.ndarray, b: np.ndarray, periodic: np.ndarray) -> float:
 
 
 class SampleIndex:
-    """Nearest-sample queries over a growing set: a KD-tree rebuilt as the set doubles plus a
-    brute-force tail. Periodic joints use the tree's toroidal metric (``boxsize``)."""
+    """Nearest-sample queries over a growing set.
+
+    A KD-tree rebuilt as the set doubles, plus a brute-force tail. Periodic joints use the
+    tree's toroidal metric (``boxsize``).
+    """
 
     _BOX = 1e4  # box side of non-periodic coordinates: far larger than any joint range
 
@@ -84,9 +90,11 @@ class SampleIndex:
         return x
 
     def add(self, q: np.ndarray) -> None:
+        """Add one sample."""
         self.extend(q[None])
 
-    def extend(self, qs) -> None:
+    def extend(self, qs: np.ndarray) -> None:
+        """Add the rows of ``qs``."""
         x = self._embed(np.asarray(qs, dtype=float).reshape(-1, self._points.shape[1]))
         while self._count + len(x) > len(self._points):
             self._points = np.concatenate([self._points, np.empty_like(self._points)])

@@ -1,5 +1,7 @@
-"""The result of :func:`redik.solvers.redundancy.explore_self_motion`: samples of a self-motion
-manifold."""
+"""The result of :func:`redik.solvers.redundancy.explore_self_motion`.
+
+Samples of a self-motion manifold.
+"""
 
 from __future__ import annotations
 
@@ -23,13 +25,10 @@ class SelfMotion:
     **best versus a local optimiser.** :meth:`best` is the optimum over the whole sampled
     manifold, to within the sample spacing; the QP core (a ``PostureTask`` below the pose
     task) and :func:`redik.solvers.redundancy.gradient_projection_ik` climb from one start to the
-    nearest local optimum. ``examples/selfmotion_panda.py`` compares them on a Panda pose
-    (three arcs, 324 samples at spacing 0.05). Distance to the home posture has one
-    optimum on the start's arc: the QP reaches 1.6291 rad, gradient projection 1.6291, the
-    best sample 1.6292 — sampling costs 1e-4 rad. Manipulability ``√det(JJᵀ)`` has three
-    local maxima along the start's arc (0.1105, 0.0982, 0.1200): gradient projection from the
-    start (0.0938) stops at the nearest, 0.0982, while the best sample has 0.1200 (22 %
-    higher; another arc reaches the same value). Use the local optimisers to polish a
+    nearest local optimum. Where a criterion has one optimum on the start's arc (distance to
+    a posture) they agree to the sample spacing; where it has several (manipulability along a
+    Panda arc), the local optimisers stop at the nearest and :meth:`best` finds the highest
+    (``examples/selfmotion_panda.py`` compares them). Use the local optimisers to polish a
     sample, :meth:`best` to choose which basin to polish in.
 
     Attributes:

@@ -28,13 +28,17 @@ def _torus_distance(curve: np.ndarray, q: np.ndarray) -> np.ndarray:
 
 
 class CurveTracing:
-    """The 1-D growth of an :class:`~redik.solvers.redundancy.selfmotion.explore.Explorer`, which
-    this class is mixed into (it reads the explorer's corrector, spacing, indices and
-    budget, and appends components through ``_append``)."""
+    """The 1-D growth of an :class:`~redik.solvers.redundancy.selfmotion.explore.Explorer`.
+
+    This class is mixed into the explorer: it reads the explorer's corrector, spacing, indices
+    and budget, and appends components through ``_append``.
+    """
 
     def _add_curve(self, seed: np.ndarray) -> None:
-        """Trace the whole curve through ``seed`` ignoring the limits, then keep the arcs
-        inside them (each a component, its ends placed on the limits).
+        """Trace the whole curve through ``seed``, then keep the arcs inside the limits.
+
+        The tracing ignores the limits; each arc inside them is a component, its ends placed
+        on the limits.
 
         Tracing through the limits finds every arc of a loop from one seed anywhere on it,
         so seeds outside the limits (most of them, for a Panda) still count.
@@ -67,8 +71,9 @@ class CurveTracing:
             self._append_arc(curve, shifted, [order[p] for p in run], before, after, ends)
 
     def _refine_near_limits(self, curve: list[np.ndarray], closed: bool) -> list[np.ndarray]:
-        """Insert points between consecutive samples outside the limits wherever the curve
-        between them may dip inside: an arc shorter than a step would otherwise be missed.
+        """Insert points where the curve between two samples outside the limits may dip inside.
+
+        An arc shorter than a step would otherwise be missed.
 
         The limit violation changes by at most the distance travelled, so the curve between
         samples ``a`` and ``b`` (length ≈ ``‖b − a‖``) stays outside when
@@ -136,16 +141,21 @@ class CurveTracing:
         return [*backward[::-1], seed, *forward], False, (other_end, end)
 
     def _stride(self, q: np.ndarray) -> float:
-        """Largest step allowed from ``q``: ``spacing`` near or inside the limits, longer
-        far outside them, where no sample is kept — a step shorter than the violation
-        cannot enter the limits unseen."""
+        """Largest step allowed from ``q``.
+
+        ``spacing`` near or inside the limits, longer far outside them, where no sample is kept — a
+        step shorter than the violation cannot enter the limits unseen.
+        """
         return max(self.spacing, min(_MAX_STRIDE, 0.9 * self.corrector.limit_violation(q)))
 
     def _trace_branch(
         self, seed: np.ndarray, tangent: np.ndarray, budget: int
     ) -> tuple[list[np.ndarray], str]:
-        """Predictor–corrector steps from ``seed`` along ``tangent`` until the curve returns to
-        the seed or the budget runs out (distances on the torus of hinge angles)."""
+        """Predictor–corrector steps from ``seed`` along ``tangent``.
+
+        Until the curve returns to the seed or the budget runs out (distances on the torus of
+        hinge angles).
+        """
         corrector, spacing = self.corrector, self.spacing
         points: list[np.ndarray] = []
         q, t = seed, tangent
