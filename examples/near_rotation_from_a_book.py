@@ -3,8 +3,8 @@
 The book prints ``T_sd`` with three decimals, so its rotation block is only close to a
 rotation (max|RᵀR − I| = 5.4e-5). redik projects it onto the closest rotation with a
 ``NearRotationWarning`` and solves; ``strict=True`` refuses it instead (see the tolerance
-policy in :mod:`redik.lie`). The arm: three unit links, joints about z (Lynch & Park, Fig. 6.6;
-screws S_i = (0, 0, 1, 0, −(i−1), 0), home M with the tool at x = 3).
+policy in :mod:`~redik.core.rotation_policy`). The arm: three unit links, joints about z (Lynch &
+Park, Fig. 6.6; screws S_i = (0, 0, 1, 0, −(i−1), 0), home M with the tool at x = 3).
 
 Run: python examples/near_rotation_from_a_book.py
 """
@@ -22,7 +22,8 @@ robot = redik.Robot.from_screws(S, M, "space", limits=[(-np.pi, np.pi)] * 3, nam
 T_sd = np.array(  # as printed in the quiz
     [[-0.585, -0.811, 0, 0.076], [0.811, -0.585, 0, 2.608], [0, 0, 1, 0], [0, 0, 0, 1]]
 )
-print(f"max|RᵀR − I| of the printed target: {redik.lie.rotation_defect(T_sd[:3, :3])[0]:.1e}")
+defect = redik.core.rotation_policy.rotation_defect(T_sd[:3, :3])[0]
+print(f"max|RᵀR − I| of the printed target: {defect:.1e}")
 
 with warnings.catch_warnings(record=True) as caught:
     warnings.simplefilter("always")

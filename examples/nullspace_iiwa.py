@@ -22,7 +22,7 @@ dt, gain = 0.01, 200.0
 for step in range(301):
     J = robot.jacobian(q, reference="body")
     # Hold the pose: a corrective body twist toward T_hold, and climb w(q) in the null space.
-    twist = redik.lie.exp_coordinate_difference(robot.fk(q), T_hold) / dt
+    twist = redik.lie.body_error_twist(robot.fk(q), T_hold) / dt
     dq0 = gain * joint_limit_distance_gradient(q, robot.lower, robot.upper)
     q = q + dt * nullspace_velocity(J, twist, dq0)
     if step % 100 == 0:

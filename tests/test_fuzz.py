@@ -27,6 +27,15 @@ from hypothesis.extra import numpy as hnp
 import redik
 from redik import lie
 from redik.core.result import Status
+from redik.core.rotation_policy import (
+    as_pose,
+    as_quaternion,
+    as_rotation,
+    check_rotations,
+    closest_rotation,
+    rotation_defect,
+)
+from redik.core.validate import as_vector
 from redik.solvers.analytic import BatchSolutions, IKSolutions
 
 FUZZ = settings(
@@ -273,13 +282,13 @@ def test_fk_and_jacobian(panda, data):
 @FUZZ
 @given(R=st.one_of(rotations(), junk()), T=pose_or_junk(), strict=st.booleans())
 def test_lie_validators(R, T, strict):
-    holds(lambda: lie.as_rotation(R, strict=strict))
-    holds(lambda: lie.as_pose(T, strict=strict))
-    holds(lambda: lie.as_vector(R, 3, "x"))
-    holds(lambda: lie.as_quaternion(R))
-    holds(lambda: lie.closest_rotation(R))
-    holds(lambda: lie.rotation_defect(T), elementwise=True)
-    holds(lambda: lie.check_rotations(np.asarray(R)[None] if isinstance(R, np.ndarray) else R))
+    holds(lambda: as_rotation(R, strict=strict))
+    holds(lambda: as_pose(T, strict=strict))
+    holds(lambda: as_vector(R, 3, "x"))
+    holds(lambda: as_quaternion(R))
+    holds(lambda: closest_rotation(R))
+    holds(lambda: rotation_defect(T), elementwise=True)
+    holds(lambda: check_rotations(np.asarray(R)[None] if isinstance(R, np.ndarray) else R))
     holds(lambda: lie.wrap_angle(R), elementwise=True)
 
 
@@ -291,8 +300,8 @@ def test_lie_maps_on_validated_input(R, T, omega):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", redik.RedikWarning)
-            R = lie.as_rotation(R)
-            T = lie.as_pose(T)
+            R = as_rotation(R)
+            T = as_pose(T)
     except redik.RedikError:
         return
     if not np.all(np.abs(T[:3, 3]) < 1e150):  # squared in the log map's translation

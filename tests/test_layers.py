@@ -41,7 +41,7 @@ ROOT = Path(__file__).resolve().parents[1] / "redik"
 
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("core", ("core.*",)),
-    ("lie", ("lie",)),
+    ("lie", ("lie.*",)),
     ("models", ("models.*",)),
     ("kinematics", ("kinematics.*",)),
     ("criteria", ("criteria",)),

@@ -1,4 +1,4 @@
-"""Boundary checks of scalar options (redik/core/_validate.py): one integer check everywhere."""
+"""Boundary checks of scalar options (redik/core/validate.py): one integer check everywhere."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 
 import redik
 from redik.apps import workspace
-from redik.core._validate import integer, seed
+from redik.core.validate import integer, seed
 from redik.solvers.analytic.srs import self_motion_curves
 
 

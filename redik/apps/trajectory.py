@@ -36,19 +36,12 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from redik.core._validate import positive
 from redik.core.exceptions import InvalidInput
 from redik.core.result import IKResult
+from redik.core.rotation_policy import as_pose
+from redik.core.validate import MAX_COORDINATE, as_vector, positive, real_array
 from redik.kinematics.robot import Robot
-from redik.lie import (
-    MAX_COORDINATE,
-    as_pose,
-    as_vector,
-    interpolate_pose,
-    pose_errors,
-    real_array,
-    so3_exp,
-)
+from redik.lie import interpolate_pose, pose_errors, so3_exp
 from redik.solvers.pose import solve_pose
 
 TIME_SCALINGS = ("linear", "cubic", "quintic")

@@ -26,8 +26,8 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from redik.core._validate import seed as check_seed
 from redik.core.exceptions import InvalidInput
+from redik.core.validate import seed as check_seed
 from redik.kinematics.robot import Robot
 from redik.solvers.batch import Chain, forward_kinematics, solve_batch
 

@@ -1,5 +1,12 @@
-"""The foundation every other layer stands on: errors and warnings
-(:mod:`~redik.core.exceptions`), the conventions written once (:mod:`~redik.core.conventions`:
-frames, twist order, units, quaternion order), result records (:mod:`~redik.core.result`) and
-argument checks (:mod:`~redik.core._validate`). Nothing here imports another part of redik.
+"""The foundation every other layer stands on.
+
+* :mod:`~redik.core.exceptions` — errors and warnings;
+* :mod:`~redik.core.conventions` — the conventions written once: frames, twist order, units,
+  quaternion order;
+* :mod:`~redik.core.result` — the result record and the :class:`~redik.core.result.Status`
+  of every solver;
+* :mod:`~redik.core.validate` — checks of arguments at the public boundary;
+* :mod:`~redik.core.rotation_policy` — the one tolerance for rotations and poses.
+
+Nothing here imports another part of redik.
 """

@@ -72,8 +72,11 @@ class ModelWarning(RedikWarning):
 
 
 class NearRotationWarning(RedikWarning):
-    """A matrix close to a rotation was replaced by the closest rotation
-    (:func:`redik.lie.closest_rotation`); see :mod:`redik.lie` for the tolerance policy."""
+    """A matrix close to a rotation was replaced by the closest rotation.
+
+    See :mod:`redik.core.rotation_policy` for the tolerance and
+    :func:`~redik.core.rotation_policy.closest_rotation` for the projection.
+    """
 
 
 class TrackingWarning(RedikWarning):

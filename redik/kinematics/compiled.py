@@ -29,7 +29,7 @@ import math
 
 import numba
 
-from redik.lie import MAX_COORDINATE
+from redik.core.validate import MAX_COORDINATE
 from redik.lie import apply_inverse_v as apply_inverse_v  # compiled in lie, its one home
 
 COMPILE = {"cache": True, "error_model": "numpy", "fastmath": {"contract"}}
@@ -43,7 +43,7 @@ reassociation: results stay reproducible)."""
 def valid_target(T, tol):
     """True when ``T`` is a finite rigid transform: last row ``[0, 0, 0, 1]``, ``RᵀR = I``
     and ``det R = 1``, each within ``tol``, and a translation within ``±MAX_COORDINATE``
-    (the checks of :func:`redik.lie.as_pose`)."""
+    (the checks of :func:`redik.core.rotation_policy.as_pose`)."""
     for a in range(4):
         for b in range(4):
             if not math.isfinite(T[a, b]):

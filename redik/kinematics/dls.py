@@ -44,8 +44,9 @@ import math
 import numba
 import numpy as np
 
-from redik.core._validate import fraction, integer
 from redik.core.exceptions import InvalidInput
+from redik.core.rotation_policy import ROTATION_TOLERANCE
+from redik.core.validate import MAX_COORDINATE, fraction, integer
 from redik.kinematics.compiled import (
     COMPILE,
     apply_inverse_v,
@@ -54,7 +55,6 @@ from redik.kinematics.compiled import (
     valid_target,
     world_jacobian,
 )
-from redik.lie import MAX_COORDINATE, ROTATION_TOLERANCE
 
 CONVERGED, STALLED, EXHAUSTED, INVALID, DIVERGED = range(5)
 """Status codes, shared with :data:`redik.solvers.batch.solve.BATCH_STATUSES` (``EXHAUSTED`` is
@@ -279,8 +279,8 @@ class BatchOptions:
     def kernel_settings(self, bounded: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """The float and integer settings arrays of this module's kernel (the reach
         excess ``REACH`` is 0: :func:`solve_one` sets it per target in a copy; a target
-        is valid within :data:`redik.lie.ROTATION_TOLERANCE`, as :func:`redik.lie.as_pose`
-        checks one pose)."""
+        is valid within :data:`~redik.core.rotation_policy.ROTATION_TOLERANCE`, as
+        :func:`~redik.core.rotation_policy.as_pose` checks one pose)."""
         settings = np.empty(8)
         settings[POS_TOL] = self.pos_tol
         settings[ROT_TOL] = self.rot_tol
@@ -537,7 +537,7 @@ def solve_one(chain, columns, reach, T, q0, key, settings, counts, out, history,
 
     ``T`` (4 × 4) must be a rigid transform within ``settings[TARGET_TOL]``
     (:func:`~redik.kinematics.compiled.valid_target`, the exact case of
-    :func:`redik.lie.as_pose`) and ``q0`` (the robot's ``q``) finite within
+    :func:`redik.core.rotation_policy.as_pose`) and ``q0`` (the robot's ``q``) finite within
     ``±MAX_COORDINATE`` (as :meth:`redik.Robot.check_q`); otherwise nothing is solved and the
     status is :data:`INVALID`, so that the caller's full validation names the fault. The
     chain's joints are ``q0[columns]``, clipped into the limits when they are respected.

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from redik.core._validate import positive
+from redik.core.validate import positive
 from redik.limits.limit import InequalityLimit
 
 

@@ -33,7 +33,8 @@ from typing import Any, Literal
 import numpy as np
 
 from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError
-from redik.lie import as_pose, as_vector
+from redik.core.rotation_policy import as_pose
+from redik.core.validate import as_vector
 
 Convention = Literal["standard", "modified"]
 JointType = Literal["revolute", "prismatic"]

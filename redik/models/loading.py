@@ -55,9 +55,9 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from redik.core._validate import flag
-from redik.core._validate import path as checked_path
 from redik.core.exceptions import InvalidInput, ModelError, ModelWarning, UnknownFrame, warn
+from redik.core.validate import flag
+from redik.core.validate import path as checked_path
 
 # Mesh formats MuJoCo decodes without a plugin; other extensions are probed once per run.
 _DECODED_MESH_FORMATS = {".stl", ".obj", ".msh"}

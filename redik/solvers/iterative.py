@@ -85,10 +85,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from redik.core._validate import integer, non_negative, positive
 from redik.core.exceptions import InvalidInput
 from redik.core.result import IKResult, Status
-from redik.lie import as_vector, real_array
+from redik.core.validate import as_vector, integer, non_negative, positive, real_array
 
 TaskFunction = Callable[[np.ndarray], np.ndarray]
 """A task function ``x = f(q)``: a length-``n`` vector to a length-``r`` vector."""

@@ -35,11 +35,10 @@ import mink
 import numpy as np
 from scipy.optimize import nnls
 
-from redik.core._validate import fraction, integer, non_negative, positive
 from redik.core.exceptions import InfeasibleProblem, InvalidInput
 from redik.core.result import IKResult, Status
+from redik.core.validate import fraction, integer, non_negative, positive, real_array
 from redik.kinematics.robot import Robot
-from redik.lie import real_array
 from redik.limits import (
     AccelerationLimit,
     BallJointLimit,

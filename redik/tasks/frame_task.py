@@ -29,8 +29,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from redik import lie
 from redik.core.exceptions import InvalidInput
+from redik.core.rotation_policy import as_pose
 from redik.kinematics.compiled import pose_error
 from redik.lie import apply_inverse_v, se3_left_jacobian_inverse_entries
 from redik.tasks.kinematics import KinematicState
@@ -40,10 +40,10 @@ from redik.tasks.task import as_cost
 
 def as_target_pose(target, name: str = "target", *, strict: bool = False) -> np.ndarray:
     """A 4 × 4 target pose from an array or anything with ``as_matrix()`` (``mink.SE3``),
-    under :mod:`redik.lie`'s rotation tolerance policy."""
+    under :mod:`~redik.core.rotation_policy`."""
     if hasattr(target, "as_matrix"):
         target = target.as_matrix()
-    return lie.as_pose(target, name=name, strict=strict).copy()
+    return as_pose(target, name=name, strict=strict).copy()
 
 
 _ONES = np.ones(6)
@@ -115,7 +115,7 @@ class FrameTask(SingleFrameTask):
             the task before raises :class:`~redik.core.exceptions.TargetNotSet`).
         priority: Priority level, 0 highest (mink has none).
         strict: Refuse a near-rotation target instead of projecting it onto SO(3) with a
-            warning (:mod:`redik.lie`'s tolerance policy); also the default of
+            warning (:mod:`~redik.core.rotation_policy`); also the default of
             :meth:`set_target`.
     """
 

@@ -17,19 +17,21 @@ import numpy as np
 
 from redik import lie
 from redik.core.exceptions import InvalidRotation
+from redik.core.rotation_policy import as_quaternion, as_rotation
+from redik.core.validate import real_array
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.single_frame_task import SingleFrameTask
 
 
 def as_target_rotation(target, *, strict: bool = False) -> np.ndarray:
     """A 3 × 3 rotation from a matrix, a unit quaternion ``(w, x, y, z)`` or ``mink.SO3``,
-    under :mod:`redik.lie`'s rotation tolerance policy."""
+    under :mod:`~redik.core.rotation_policy`."""
     if hasattr(target, "as_matrix"):
         target = target.as_matrix()
-    target = lie.real_array(target, "target_rotation", InvalidRotation)
+    target = real_array(target, "target_rotation", InvalidRotation)
     if target.shape == (4,):
-        return lie.matrix_from_quat(lie.as_quaternion(target, "target_rotation"))
-    return lie.as_rotation(target, name="target_rotation", strict=strict).copy()
+        return lie.matrix_from_quat(as_quaternion(target, "target_rotation"))
+    return as_rotation(target, name="target_rotation", strict=strict).copy()
 
 
 class OrientationTask(SingleFrameTask):
@@ -47,7 +49,7 @@ class OrientationTask(SingleFrameTask):
             :class:`~redik.core.exceptions.TargetNotSet`).
         priority: Priority level, 0 highest.
         strict: Refuse a near-rotation instead of projecting it onto SO(3) with a warning
-            (:mod:`redik.lie`'s tolerance policy); also the default of :meth:`set_target`.
+            (:mod:`~redik.core.rotation_policy`); also the default of :meth:`set_target`.
     """
 
     def __init__(

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from redik import lie
+from redik.core.validate import as_vector
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.single_frame_task import SingleFrameTask
 
@@ -45,7 +45,7 @@ class PositionTask(SingleFrameTask):
 
     def set_target(self, target_position) -> None:
         """Replace the target position (validated)."""
-        self.target = lie.as_vector(target_position, 3, "target_position").copy()
+        self.target = as_vector(target_position, 3, "target_position").copy()
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
         if self.target is None:

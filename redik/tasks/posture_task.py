@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from redik import lie
+from redik.core.validate import as_vector
 from redik.kinematics.robot import Robot
 from redik.tasks.joint_space_task import JointSpaceTask
 
@@ -53,4 +53,4 @@ class PostureTask(JointSpaceTask):
 
 def _nominal(robot: Robot, q_nominal) -> np.ndarray:
     """``q_nominal`` checked (shape, finite, no zero quaternion) and clipped into the limits."""
-    return robot.clip(robot.check_q(lie.as_vector(q_nominal, robot.nq, "q_nominal"), "q_nominal"))
+    return robot.clip(robot.check_q(as_vector(q_nominal, robot.nq, "q_nominal"), "q_nominal"))

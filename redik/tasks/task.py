@@ -42,10 +42,9 @@ import numpy as np
 from mink.tasks import BaseTask, Objective
 from mink.tasks import Task as MinkTask
 
-from redik.core._validate import integer, non_negative
 from redik.core.exceptions import InvalidInput
+from redik.core.validate import integer, non_negative, real_array
 from redik.kinematics.robot import Robot
-from redik.lie import real_array
 from redik.tasks.kinematics import KinematicState
 
 MAX_COST = 1e6

@@ -18,7 +18,8 @@ import numpy as np
 
 from redik.apps.cli._model import add_model_arguments, load_robot
 from redik.apps.progress import progress_bar, wanted
-from redik.lie import as_quaternion, make_pose, matrix_from_quat
+from redik.core.rotation_policy import as_quaternion
+from redik.lie import make_pose, matrix_from_quat
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

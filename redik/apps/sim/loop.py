@@ -44,8 +44,8 @@ from redik.apps.sim.drives import joint_drives
 from redik.apps.sim.monitor import ContactLog, InstabilityWatch
 from redik.apps.sim.result import SimulationResult, SimulationStatus, tracking_diagnosis
 from redik.apps.trajectory import PosePath
-from redik.core._validate import flag, positive
 from redik.core.exceptions import InstabilityWarning, InvalidInput, TrackingWarning, warn
+from redik.core.validate import flag, positive
 from redik.kinematics.robot import Robot
 from redik.lie import pose_errors
 

@@ -49,6 +49,7 @@ import mujoco
 import numpy as np
 
 from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
+from redik.core.validate import MAX_COORDINATE, real_array
 from redik.kinematics.robot.coordinates import JointCoordinates
 from redik.kinematics.robot.frames import (
     FRAME_JACOBIANS,
@@ -67,7 +68,7 @@ from redik.kinematics.robot.selection import (
     selected_joints,
 )
 from redik.kinematics.robot.solver_cache import SolverCache
-from redik.lie import MAX_COORDINATE, periodic_coordinates, real_array, world_jacobian_to
+from redik.lie import periodic_coordinates, world_jacobian_to
 from redik.models import loading
 
 JACOBIAN_REFERENCES = ("space", "body", "world")
@@ -391,8 +392,8 @@ class Robot:
 
     def check_q(self, q: np.ndarray, name: str = "q") -> np.ndarray:
         """``q`` as a finite real vector of length ``nq``, within ``±``
-        :data:`redik.lie.MAX_COORDINATE`, or raise :class:`InvalidConfiguration` naming the
-        value (complex, string and object arrays are refused, not cast)."""
+        :data:`~redik.core.validate.MAX_COORDINATE`, or raise :class:`InvalidConfiguration`
+        naming the value (complex, string and object arrays are refused, not cast)."""
         q = real_array(q, name, InvalidConfiguration)
         if q.shape != (self.nq,):
             what = f"joints {list(self.joint_names)}"

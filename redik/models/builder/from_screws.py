@@ -9,7 +9,8 @@ from typing import Any
 import numpy as np
 
 from redik.core.exceptions import InvalidInput, ModelError
-from redik.lie import adjoint, as_pose
+from redik.core.rotation_policy import as_pose
+from redik.lie import adjoint
 from redik.models.builder.description import screw_numerics
 from redik.models.builder.serial_arm import Link, serial_arm_to_mjcf
 

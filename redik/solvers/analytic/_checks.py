@@ -11,24 +11,26 @@ import math
 
 import numpy as np
 
-from redik import lie
 from redik.core.exceptions import InvalidInput, InvalidPose
+from redik.core.rotation_policy import ROTATION_TOLERANCE, as_pose, as_rotation, check_rotations
+from redik.core.validate import MAX_COORDINATE, real_array
 from redik.kinematics.compiled import valid_target
 
 
 def finite_array(value: object, name: str, shape: tuple[int | None, ...]) -> np.ndarray:
     """``value`` as a finite float array of ``shape`` (``None`` matches any length), entries
-    within ``±``:data:`redik.lie.MAX_COORDINATE` (larger ones overflow the kernels' squares)."""
-    array = lie.real_array(value, name)
+    within ``±``:data:`~redik.core.validate.MAX_COORDINATE` (larger ones overflow the
+    kernels' squares)."""
+    array = real_array(value, name)
     if array.ndim != len(shape) or any(
         want is not None and got != want for got, want in zip(array.shape, shape, strict=True)
     ):
         raise InvalidInput(f"{name} must have shape {_shape(shape)}, got {array.shape}")
     if not np.all(np.isfinite(array)):
         raise InvalidInput(f"{name} must be finite, got {np.array2string(array, threshold=20)}")
-    if np.abs(array).max(initial=0.0) > lie.MAX_COORDINATE:
+    if np.abs(array).max(initial=0.0) > MAX_COORDINATE:
         raise InvalidInput(
-            f"{name} must be within ±{lie.MAX_COORDINATE:g} (MuJoCo's mjMAXVAL), "
+            f"{name} must be within ±{MAX_COORDINATE:g} (MuJoCo's mjMAXVAL), "
             f"got {np.array2string(array, threshold=20)}"
         )
     return array
@@ -52,8 +54,8 @@ def nonzero(value: object, name: str) -> float:
 
 
 def scalar(value: object, name: str) -> float:
-    """A finite real number within ``±``:data:`redik.lie.MAX_COORDINATE` (a signed DH offset,
-    a coordinate, an angle)."""
+    """A finite real number within ``±``:data:`~redik.core.validate.MAX_COORDINATE` (a signed
+    DH offset, a coordinate, an angle)."""
     try:
         if type(value) is not float and type(value) is not int:  # the fast path: no numpy
             if isinstance(value, bool | str | bytes | complex) or np.ndim(value) != 0:
@@ -61,50 +63,49 @@ def scalar(value: object, name: str) -> float:
         number = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError, OverflowError):  # a ragged list, an int beyond float
         raise InvalidInput(f"{name} must be a real number, got {value!r}") from None
-    if not (math.isfinite(number) and abs(number) <= lie.MAX_COORDINATE):
-        raise InvalidInput(
-            f"{name} must be finite and within ±{lie.MAX_COORDINATE:g}, got {number!r}"
-        )
+    if not (math.isfinite(number) and abs(number) <= MAX_COORDINATE):
+        raise InvalidInput(f"{name} must be finite and within ±{MAX_COORDINATE:g}, got {number!r}")
     return number
 
 
 def rotation(value: object, name: str = "R", *, strict: bool = False) -> np.ndarray:
-    """A 3×3 rotation matrix, under :mod:`redik.lie`'s tolerance policy (a near-rotation is
+    """A 3×3 rotation matrix, under :mod:`~redik.core.rotation_policy` (a near-rotation is
     projected onto SO(3) with a warning unless ``strict``)."""
-    return lie.as_rotation(value, name, strict=strict)
+    return as_rotation(value, name, strict=strict)
 
 
 def pose(value: object, name: str = "T", *, strict: bool = False) -> np.ndarray:
-    """A 4×4 rigid transform ``[[R, p], [0, 0, 0, 1]]``, under :mod:`redik.lie`'s policy.
+    """A 4×4 rigid transform ``[[R, p], [0, 0, 0, 1]]``, under :mod:`~redik.core.rotation_policy`.
 
     A C-contiguous float64 array that :func:`redik.kinematics.compiled.valid_target` accepts
     as it is (as_pose's own rule for "use as it is", strict or not) is returned at once:
     0.4 µs instead of as_pose's 3 µs, a tenth of a closed-form call; anything else goes
-    through :func:`redik.lie.as_pose` (errors, projection of a near-rotation)."""
+    through :func:`redik.core.rotation_policy.as_pose` (errors, projection of a near-rotation)."""
     if (
         value.__class__ is np.ndarray
         and value.dtype == np.float64
         and value.shape == (4, 4)
         and value.flags.c_contiguous
-        and valid_target(value, lie.ROTATION_TOLERANCE)
+        and valid_target(value, ROTATION_TOLERANCE)
     ):
         return value
-    return lie.as_pose(value, name, strict=strict)
+    return as_pose(value, name, strict=strict)
 
 
 def poses(value: object, name: str = "T", *, strict: bool = False) -> np.ndarray:
-    """A (B, 4, 4) stack of rigid transforms, under :mod:`redik.lie`'s policy (near-rotations
-    projected, one warning for the batch, unless ``strict``); the first bad one is named."""
-    T = lie.real_array(value, name, InvalidPose)
+    """A (B, 4, 4) stack of rigid transforms, under :mod:`~redik.core.rotation_policy`
+    (near-rotations projected, one warning for the batch, unless ``strict``); the first bad one is
+    named."""
+    T = real_array(value, name, InvalidPose)
     if T.ndim != 3 or T.shape[1:] != (4, 4):
         raise InvalidPose(f"{name} must have shape (B, 4, 4) (rigid transforms), got {T.shape}")
     with np.errstate(invalid="ignore"):
         bad = ~np.isfinite(T).all(axis=(1, 2))
-        bad |= np.abs(T[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1) > lie.ROTATION_TOLERANCE
-        bad |= np.abs(T[:, :3, 3]).max(axis=1) > lie.MAX_COORDINATE
+        bad |= np.abs(T[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1) > ROTATION_TOLERANCE
+        bad |= np.abs(T[:, :3, 3]).max(axis=1) > MAX_COORDINATE
     _refuse_first(T, bad, name, strict)
     block = T[:, :3, :3]
-    R, accepted = lie.check_rotations(block, name, strict=strict)
+    R, accepted = check_rotations(block, name, strict=strict)
     _refuse_first(T, ~accepted, name, strict)
     if R is not block:
         T = T.copy()
@@ -113,11 +114,12 @@ def poses(value: object, name: str = "T", *, strict: bool = False) -> np.ndarray
 
 
 def _refuse_first(T: np.ndarray, bad: np.ndarray, name: str, strict: bool) -> None:
-    """Raise :func:`redik.lie.as_pose`'s message for the first pose that ``bad`` marks."""
+    """Raise :func:`~redik.core.rotation_policy.as_pose`'s message for the first pose ``bad``
+    marks."""
     if bad.any():
         index = int(np.argmax(bad))
-        lie.as_pose(T[index], f"{name}[{index}]", strict=strict)
-        raise AssertionError(f"{name}[{index}] refused by the stack check, not by lie.as_pose")
+        as_pose(T[index], f"{name}[{index}]", strict=strict)
+        raise AssertionError(f"{name}[{index}] refused by the stack check, not by as_pose")
 
 
 def limits(

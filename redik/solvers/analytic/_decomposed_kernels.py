@@ -34,8 +34,8 @@ import math
 import numba
 import numpy as np
 
+from redik.core.rotation_policy import ROTATION_TOLERANCE
 from redik.kinematics.compiled import COMPILE, valid_target
-from redik.lie import ROTATION_TOLERANCE
 from redik.solvers.analytic.subproblems import (
     BOUNDARY,
     FREE,
@@ -921,12 +921,13 @@ def solve_raw(T, plan):
     smallest multiple of 2π that brings it into range), duplicates (within the duplicate
     tolerance per joint, modulo 2π) dropped, as a (k, 6) array in slot order — or a (0, 0)
     array when ``T`` is not a 4 × 4 finite rigid transform to be used as it is — the one rule
-    of :func:`redik.kinematics.compiled.valid_target` at :data:`redik.lie.ROTATION_TOLERANCE`,
-    which is :func:`redik.lie.as_pose`'s "use as it is" (nothing is solved: the caller raises,
-    or projects a near-rotation as :mod:`redik.lie` does and calls again). Compiled for one
-    signature only (C-contiguous float64 ``T``): any other array or object raises
-    ``TypeError`` at the call instead of compiling a new specialisation, and the caller
-    converts it after its checks.
+    of :func:`redik.kinematics.compiled.valid_target` at
+    :data:`~redik.core.rotation_policy.ROTATION_TOLERANCE`, which is
+    :func:`~redik.core.rotation_policy.as_pose`'s "use as it is" (nothing is solved: the caller
+    raises, or projects a near-rotation as :mod:`~redik.core.rotation_policy` does and calls again).
+    Compiled for one signature only (C-contiguous float64 ``T``): any other array or object raises
+    ``TypeError`` at the call instead of compiling a new specialisation, and the caller converts it
+    after its checks.
 
     ``plan`` packs everything but the target into one array (one argument keeps the call
     cheap): the (19, 3) geometry ``G`` row by row, the lower and upper limits, then the

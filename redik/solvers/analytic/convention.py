@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
-from redik.lie import real_array
+from redik.core.validate import real_array
 from redik.solvers.analytic import _checks
 from redik.solvers.analytic._solution import IKSolutions, JointSolution, SolutionFamily
 

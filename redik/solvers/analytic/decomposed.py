@@ -300,7 +300,8 @@ class DecomposedSolver:
         """Every solution as a (k, 6) array, compiled end to end: verified by FK, wrapped to
         (−π, π] (or moved by 2π into the limits), within ``limits`` (``"robot"``, None or
         ``(lower, upper)``), duplicates dropped, in slot order. No labels or families.
-        ``strict`` refuses a near-rotation instead of projecting it (:mod:`redik.lie`)."""
+        ``strict`` refuses a near-rotation instead of projecting it
+        (:mod:`~redik.core.rotation_policy`)."""
         if strict:
             T = np.ascontiguousarray(_checks.pose(T, "target", strict=True))
         plan = self._plan_for(limits, tol)

@@ -17,8 +17,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from redik import lie
 from redik.core.exceptions import InvalidInput, ModelError
+from redik.core.validate import real_array
 from redik.models.dh import DHRow, forward
 from redik.solvers.analytic import _checks
 from redik.solvers.analytic import _decomposed_kernels as kernels
@@ -247,11 +247,12 @@ class AnalyticSolver:
                 (``planar_2r``, ``rrp_polar``, ``hexapod_leg``), a 3-vector.
             limits: ``"robot"`` (the robot's limits), ``None`` (none) or ``(lower, upper)``.
             tol: As in the family's solver.
-            strict: Refuse a near-rotation instead of projecting it (:mod:`redik.lie`'s policy).
+            strict: Refuse a near-rotation instead of projecting it
+                (:mod:`~redik.core.rotation_policy`).
         """
         # A 4 × 4 array (the usual call) goes straight to the pose check.
         square = target.__class__ is np.ndarray and target.shape == (4, 4)
-        array = target if square else lie.real_array(target, "target")
+        array = target if square else real_array(target, "target")
         if array.shape == (3,) and self.family in ("planar_2r", "rrp_polar", "hexapod_leg"):
             T = np.eye(4)
             T[:3, 3] = _checks.finite_array(array, "target", (3,))

@@ -164,7 +164,8 @@ def puma(
         limits: Optional ``(lower, upper)`` arrays of 6; angles compared modulo 2π.
         tol: Distance (m) by which the wrist centre may lie outside the workspace and be
             clipped onto its boundary; also the size of ``sin θ5`` reported as singular.
-        strict: Refuse a near-rotation instead of projecting it (:mod:`redik.lie`'s policy).
+        strict: Refuse a near-rotation instead of projecting it
+            (:mod:`~redik.core.rotation_policy`).
 
     Returns:
         Up to 8 solutions labelled ``"left-up-noflip"`` … ``"right-down-flip"``; fewer where

@@ -30,8 +30,8 @@ from typing import TYPE_CHECKING
 import numba
 import numpy as np
 
-from redik.core._validate import integer
 from redik.core.exceptions import ModelError
+from redik.core.validate import integer
 from redik.kinematics.compiled import COMPILE
 from redik.lie import wrap_angle
 from redik.solvers.analytic import _checks

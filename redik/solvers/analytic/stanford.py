@@ -148,7 +148,8 @@ def stanford(
         d1: Height of the shoulder above the base frame (m; 0 in Spong's table).
         limits: Optional ``(lower, upper)`` arrays of 6; angles compared modulo 2π, d3 as is.
         tol: Distance (m) from a singular set reported as singular.
-        strict: Refuse a near-rotation instead of projecting it (:mod:`redik.lie`'s policy).
+        strict: Refuse a near-rotation instead of projecting it
+            (:mod:`~redik.core.rotation_policy`).
         convention: ``"dh"`` or ``"course"`` (θ2 as the boom's elevation, module docstring)
             for the solutions and the limits.
 

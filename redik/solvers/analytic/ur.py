@@ -181,7 +181,8 @@ def ur(
             joints span ±2π: the in-range representative nearest the wrapped angle is kept).
         tol: Distance (m) by which a sub-problem may be out of reach and be clipped onto its
             boundary; also the size of ``sin θ5`` reported as singular.
-        strict: Refuse a near-rotation instead of projecting it (:mod:`redik.lie`'s policy).
+        strict: Refuse a near-rotation instead of projecting it
+            (:mod:`~redik.core.rotation_policy`).
 
     Returns:
         Up to 8 solutions ``"left-up-noflip"`` … ``"right-down-flip"``; at ``sin θ5 = 0`` one

@@ -131,7 +131,8 @@ def spherical_wrist(
         limits: Optional ``(lower, upper)`` arrays of 3; solutions are shifted by 2π into
             range when possible, else dropped.
         tol: Size of ``sin θ5`` (``cos β``) below which the wrist is reported singular.
-        strict: Refuse a near-rotation instead of projecting it (:mod:`redik.lie`'s policy).
+        strict: Refuse a near-rotation instead of projecting it
+            (:mod:`~redik.core.rotation_policy`).
 
     Returns:
         Two solutions labelled ``"noflip"`` (θ5 ∈ [0, π], resp. |β| ≤ π/2) and ``"flip"``;

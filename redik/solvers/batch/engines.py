@@ -41,8 +41,8 @@ from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import Future, ProcessPoolExecutor
 from typing import Any
 
-from redik.core._validate import integer
 from redik.core.exceptions import BackendError, InvalidInput
+from redik.core.validate import integer
 
 ENGINES = ("local", "process", "ray")
 

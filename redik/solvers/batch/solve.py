@@ -29,16 +29,16 @@ from collections.abc import Callable
 import numba
 import numpy as np
 
-from redik.core._validate import integer
-from redik.core._validate import seed as check_seed
 from redik.core.exceptions import InvalidInput
 from redik.core.result import Status
+from redik.core.rotation_policy import ROTATION_TOLERANCE, check_rotations
+from redik.core.validate import MAX_COORDINATE, integer, real_array
+from redik.core.validate import seed as check_seed
 from redik.kinematics import dls
 from redik.kinematics.chain import Chain
 from redik.kinematics.compiled import valid_targets
 from redik.kinematics.dls import BatchOptions
 from redik.kinematics.robot import Robot
-from redik.lie import MAX_COORDINATE, ROTATION_TOLERANCE, check_rotations, real_array
 from redik.solvers.batch.engines import ENGINES, Engine, as_engine
 
 BATCH_STATUSES = (
@@ -133,10 +133,11 @@ def check_targets(T_targets: np.ndarray, strict: bool = False) -> tuple[np.ndarr
     """``(T, valid)``: the targets as a float ``B × 4 × 4`` array and a per-target mask.
 
     A target is valid when it is finite, ends with ``[0, 0, 0, 1]``, has a translation within
-    ``±``:data:`redik.lie.MAX_COORDINATE` and a rotation block
-    accepted by :mod:`redik.lie`'s tolerance policy, as :func:`redik.lie.as_pose` checks one
-    pose: near-rotations come back projected onto SO(3) (one warning), or invalid when
-    ``strict``. Malformed targets are reported, not raised.
+    ``±``:data:`redik.core.validate.MAX_COORDINATE` and a rotation block
+    accepted by the tolerance policy (:mod:`redik.core.rotation_policy`), as
+    :func:`~redik.core.rotation_policy.as_pose` checks one pose: near-rotations come back projected
+    onto SO(3) (one warning), or invalid when ``strict``. Malformed targets are reported, not
+    raised.
 
     Raises:
         InvalidInput: the array is not ``B × 4 × 4`` real numbers.
@@ -277,7 +278,7 @@ def solve_batch(
         max_iterations: Iterations per attempt.
         progress: Called with the number of targets in each finished chunk.
         strict: Report near-rotation targets as ``"invalid"`` instead of projecting them
-            onto SO(3) with a warning (:mod:`redik.lie`'s tolerance policy).
+            onto SO(3) with a warning (:mod:`~redik.core.rotation_policy`).
 
     Returns:
         A :class:`BatchResult` with one row per target.

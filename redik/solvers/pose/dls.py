@@ -130,8 +130,8 @@ class DLSSolver:
         non-contiguous one, such as ``robot.home``, is copied into the C-contiguous writable
         type the kernel is compiled for: any other would compile another specialisation),
         or when the kernel refuses them (not a rigid transform within
-        :data:`redik.lie.ROTATION_TOLERANCE`; a non-finite or huge ``q0``). The caller's full
-        validation then raises, or projects a near-rotation onto SO(3).
+        :data:`~redik.core.rotation_policy.ROTATION_TOLERANCE`; a non-finite or huge ``q0``).
+        The caller's full validation then raises, or projects a near-rotation onto SO(3).
         """
         if settings is None:
             try:

@@ -16,8 +16,8 @@ import math
 
 import numpy as np
 
-from redik.core._validate import positive
 from redik.core.result import Status
+from redik.core.validate import positive
 from redik.solvers.iterative import ARMIJO_ATTEMPT_TRIALS, armijo_backtrack
 from redik.solvers.pose.attempt import Attempt, Iteration, PoseProblem
 

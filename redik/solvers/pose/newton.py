@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from redik.core._validate import positive
 from redik.core.exceptions import InvalidInput
 from redik.core.result import Status
-from redik.lie import adjoint, exp_coordinate_difference, pose_errors, world_jacobian_to
+from redik.core.validate import positive
+from redik.lie import adjoint, body_error_twist, pose_errors, world_jacobian_to
 from redik.solvers.pose.attempt import Attempt, Iteration, PoseProblem
 
 
@@ -33,7 +33,7 @@ def newton(options: dict) -> Iteration:
     def twist_and_jacobian(
         T: np.ndarray, J: np.ndarray, T_target: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
-        V_b = exp_coordinate_difference(T, T_target)  # body error twist, (v, ω)
+        V_b = body_error_twist(T, T_target)  # body error twist, (v, ω)
         J_form = world_jacobian_to(form, J, T[:3, :3], T[:3, 3])
         return (V_b if form == "body" else adjoint(T) @ V_b), J_form
 

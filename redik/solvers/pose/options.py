@@ -1,9 +1,9 @@
 """The methods of :func:`~redik.solvers.pose.solve_pose`, their defaults and options, and the
 checks of the scalar arguments that are not checked elsewhere (seed, counts, options).
 
-Tolerances go through :func:`redik.core._validate.positive`, targets through
-:func:`redik.lie.as_pose` and joint vectors through :meth:`redik.Robot.check_q`; what is
-here is only what belongs to pose IK.
+Tolerances go through :func:`redik.core.validate.positive`, targets through
+:func:`redik.core.rotation_policy.as_pose` and joint vectors through
+:meth:`redik.Robot.check_q`; what is here is only what belongs to pose IK.
 """
 
 from __future__ import annotations

@@ -32,10 +32,10 @@ from collections.abc import Iterable
 import numba
 import numpy as np
 
-from redik.core._validate import integer
-from redik.core._validate import seed as check_seed
 from redik.core.exceptions import InvalidInput
 from redik.core.result import IKResult
+from redik.core.validate import integer
+from redik.core.validate import seed as check_seed
 from redik.kinematics.chain import Chain
 from redik.kinematics.compiled import COMPILE, chain_kinematics
 from redik.kinematics.robot import Robot

@@ -14,11 +14,12 @@ from collections.abc import Callable
 
 import numpy as np
 
-from redik.core._validate import integer, positive
-from redik.core._validate import seed as check_seed
 from redik.core.result import IKResult, Status
+from redik.core.rotation_policy import as_pose
+from redik.core.validate import integer, positive
+from redik.core.validate import seed as check_seed
 from redik.kinematics.robot import Frame, Robot
-from redik.lie import as_pose, wrap_angle
+from redik.lie import wrap_angle
 from redik.solvers.pose.attempt import Iteration, PoseProblem
 from redik.solvers.pose.cache import PoseCache
 from redik.solvers.pose.closed_form import closed_form_solutions
@@ -81,7 +82,7 @@ def solve_pose(
             None for fresh entropy.
         frame: Site or body to place; default the end-effector.
         strict: Refuse a near-rotation target instead of projecting it onto SO(3) with a
-            warning (the tolerance policy of :mod:`redik.lie`).
+            warning (:mod:`~redik.core.rotation_policy`).
         diagnose_limits: On a failure with ``respect_limits`` (``"max_iterations"``,
             ``"stalled"``, or ``"unreachable"`` within the chain's reach), solve once more
             without the limits (same method, budget and seed, at most

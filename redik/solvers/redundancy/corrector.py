@@ -30,13 +30,7 @@ import numpy as np
 from redik.kinematics.batched import chain_poses, world_jacobian
 from redik.kinematics.chain import Chain
 from redik.kinematics.dls import damped_step
-from redik.lie import (
-    exp_coordinate_difference,
-    pose_errors,
-    rotation_log,
-    world_jacobian_to,
-    wrap_angle,
-)
+from redik.lie import body_error_twist, pose_errors, rotation_log, world_jacobian_to, wrap_angle
 from redik.solvers.redundancy.nullspace import nullspace_basis
 
 if TYPE_CHECKING:
@@ -48,7 +42,8 @@ SAMPLE_POSITION_TOLERANCE = 1e-9
 SAMPLE_ROTATION_TOLERANCE = 1e-8
 """Largest ``angle(Rᵀ R_d)`` (rad) of a sample after correction (and the default of
 :func:`redik.solvers.redundancy.gradient_projection_ik`): an accuracy asked of a solver, not
-the validation tolerance of an input rotation (:data:`redik.lie.ROTATION_TOLERANCE`)."""
+the validation tolerance of an input rotation
+(:data:`~redik.core.rotation_policy.ROTATION_TOLERANCE`)."""
 
 
 _CONVERGED = 0.01  # iterate until the errors are this fraction of the tolerances
@@ -91,7 +86,7 @@ class Corrector:
         self.robot.kinematics(q, self.frame, self._T, self.J)
         R = self._T[:3, :3]
         world_jacobian_to("body", self.J, R, self._T[:3, 3], out=self.J_body)
-        xi = exp_coordinate_difference(self._T, self.T_target)
+        xi = body_error_twist(self._T, self.T_target)
         position_error = math.dist(self._T[:3, 3], self.T_target[:3, 3])
         return xi, position_error, float(np.linalg.norm(xi[3:]))
 

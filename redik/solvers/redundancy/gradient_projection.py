@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from redik.core.result import IKResult, Status
-from redik.lie import as_pose
+from redik.core.rotation_policy import as_pose
 from redik.solvers.redundancy.corrector import (
     SAMPLE_POSITION_TOLERANCE,
     SAMPLE_ROTATION_TOLERANCE,

@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
-from redik.lie import as_vector, real_array
+from redik.core.validate import as_vector, real_array
 
 _MAX_ENTRY = 1e100
 """Largest entry of ``J``, ``ẋ`` or ``q̇₀`` (and damping) :func:`nullspace_velocity` takes:

@@ -14,11 +14,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from redik.core._validate import integer
-from redik.core._validate import seed as check_seed
 from redik.core.exceptions import InvalidInput
 from redik.core.result import Status
-from redik.lie import as_pose, real_array
+from redik.core.rotation_policy import as_pose
+from redik.core.validate import integer, real_array
+from redik.core.validate import seed as check_seed
 from redik.solvers.redundancy.corrector import BatchCorrector, Corrector
 from redik.solvers.redundancy.scoring import Criterion, default_criteria, evaluate_criteria
 from redik.solvers.redundancy.selfmotion.covering import SurfaceCovering
