@@ -84,6 +84,11 @@ class TrackingWarning(RedikWarning):
     bound it was given."""
 
 
+class InstabilityWarning(RedikWarning):
+    """A closed-loop run (:func:`redik.apps.sim.simulate`) stopped because MuJoCo reported the
+    physics unsound (a NaN or huge state it reset, or a full constraint arena)."""
+
+
 def warn(message: str, category: type[RedikWarning] = RedikWarning) -> None:
     """Issue ``message`` attributed to the first caller outside redik, so that the warning
     names the user's line (and filters by module work) however deep the check sits."""
