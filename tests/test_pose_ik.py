@@ -18,6 +18,7 @@ from redik.core.exceptions import (
 )
 from redik.core.result import IKResult
 from redik.kinematics.dls import BatchOptions
+from redik.solvers.cache import solver_cache
 from redik.solvers.pose import solve_all, solve_pose
 from redik.solvers.pose.attempt import PoseProblem
 from redik.solvers.pose.result import body_twist_norm
@@ -371,14 +372,14 @@ def test_dls_results_own_their_arrays_though_the_solver_state_is_reused(rng):
     first_target, second_target = (robot.fk(robot.random_q(rng)) for _ in range(2))
     first = solve_pose(robot, first_target, seed=0)
     q, history, errors = first.q.copy(), first.history.copy(), first.error_history.copy()
-    assert len(robot.solver_cache) == 1
+    assert len(solver_cache(robot)) == 1
     second = solve_pose(robot, second_target, robot.random_q(rng), seed=1)
     assert first.success and second.success
     np.testing.assert_array_equal(first.q, q)
     np.testing.assert_array_equal(first.history, history)
     np.testing.assert_array_equal(first.error_history, errors)
-    assert len(robot.solver_cache) == 1  # the same frame reuses its solver
-    assert not redik.load("panda").solver_cache  # another robot owns its own
+    assert len(solver_cache(robot)) == 1  # the same frame reuses its solver
+    assert not solver_cache(redik.load("panda"))  # another robot owns its own
 
 
 def test_scalar_options_take_numpy_numbers_and_refuse_bools_nan_and_inf():
@@ -504,12 +505,12 @@ def test_the_solvers_see_a_model_edited_after_the_first_solve(method, rng):
 def test_a_hinge_held_on_the_chain_keeps_its_held_value(method, rng):
     """``fixed=["joint4"]`` holds panda's elbow at its home value (−2.36 rad, not qpos0):
     the compiled chain of ``"dls"`` froze it at qpos0 and reported a wrong error; a new held
-    value written into ``robot.data.qpos`` must be seen too."""
+    value written into ``robot.state.data.qpos`` must be seen too."""
     robot = redik.Robot(redik.load("panda").model, fixed=["joint4"])
     assert "joint4" not in robot.joint_names
     for held in (None, -1.2):
         if held is not None:
-            robot.data.qpos[3] = held
+            robot.state.data.qpos[3] = held
         q_goal = robot.random_q(rng)
         T_target = robot.fk(q_goal)
         q0 = robot.clip(q_goal + rng.uniform(-0.2, 0.2, robot.dof))

@@ -137,7 +137,7 @@ def test_baxter_self_motion_of_one_arm_with_the_other_held(baxter):
     for sample in motion.samples[:: max(len(motion) // 10, 1)]:
         assert pose_errors(left.fk(sample), T)[0] < 1e-6
     # The held right arm is where q put it.
-    np.testing.assert_allclose(left.data.qpos[baxter.qpos_indices[:7]], q[:7])
+    np.testing.assert_allclose(left.state.data.qpos[baxter.qpos_indices[:7]], q[:7])
 
 
 def test_urdfs_have_no_actuators_so_no_simulation(baxter):

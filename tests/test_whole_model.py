@@ -161,7 +161,7 @@ def test_jacobian_matches_finite_differences_on_the_manifold(whole, frame):
 def test_geom_frames(whole):
     q = whole.random_q(2)
     T = whole.fk(q, "left_hand_geom")
-    data = whole.data
+    data = whole.state.data
     geom = mujoco.mj_name2id(whole.model, mujoco.mjtObj.mjOBJ_GEOM, "left_hand_geom")
     np.testing.assert_allclose(T[:3, 3], data.geom_xpos[geom])
     np.testing.assert_allclose(T[:3, :3], data.geom_xmat[geom].reshape(3, 3))
@@ -602,7 +602,7 @@ def test_collision_rows_are_the_distance_gradient(whole):
     checked = 0
     for _ in range(20):
         q = whole.clip(whole.integrate(whole.home, 0.3 * rng.standard_normal(whole.dof)))
-        whole.update(q)
+        whole.state.update(q)
         rows = limit.inequalities(None, None)
         if rows is None:
             continue
@@ -612,7 +612,7 @@ def test_collision_rows_are_the_distance_gradient(whole):
         step = 1e-6
         gradient = []
         for i in range(whole.dof):
-            whole.update(whole.integrate(q, step * np.eye(whole.dof)[i]))
+            whole.state.update(whole.integrate(q, step * np.eye(whole.dof)[i]))
             gradient.append((limit.distances()[0] - d) / step)
         np.testing.assert_allclose(-G[0], gradient, atol=1e-4)
         checked += 1

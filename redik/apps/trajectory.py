@@ -424,7 +424,7 @@ def follow_path(
         qs[k] = q
         success[k] = result.success
         iterations[k] = result.iterations
-        robot.kinematics(q, resolved, T, J)
+        robot.state.kinematics(q, resolved, T, J)
         position_error[k], rotation_error[k] = pose_errors(T, target)
         sigma_min[k] = np.linalg.svd(J, compute_uv=False)[-1]
     return JointTrajectory(

@@ -15,7 +15,7 @@ its origin, so ``M_i`` is simply ``R_z(q_i)`` (hinge) or a translation ``q_i`` a
 (slide). The rotation aligning ``z`` with the axis, the anchor offset and the ``qpos0``
 reference are all absorbed into the neighbouring ``F``. Joints the robot does not move (those
 off the chain, and on it the ball/free joints and the hinges/slides it holds, ``fixed=``) are
-frozen at the robot's home ``qpos`` (the held values of ``robot.data.qpos``), as
+frozen at the robot's home ``qpos`` (the held values of ``robot.state.data.qpos``), as
 :class:`redik.Robot` does.
 
 The :class:`Chain` holds only numpy arrays, so it pickles cheaply to worker processes and Ray

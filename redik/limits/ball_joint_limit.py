@@ -105,7 +105,7 @@ class BallJointLimit(InequalityLimit):
         return float(np.linalg.norm(self._rotation))
 
     def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
-        qpos = self.robot.data.qpos
+        qpos = self.robot.state.data.qpos
         G, h = self._G, self._h
         count = 0
         for i, column in enumerate(self._columns):
@@ -125,7 +125,7 @@ class BallJointLimit(InequalityLimit):
         """Every angle within its bound at the current state, or no farther out than at the
         last linearisation (an angle out by no more than the tolerance, an earlier step's
         slack, is held to its bound again: else the slack compounds step after step)."""
-        qpos = self.robot.data.qpos
+        qpos = self.robot.state.data.qpos
         for i in range(len(self._columns)):
             bound = self.max_angle[i]
             floor = self._floor[i] if self._floor[i] > bound + _ANGLE_TOLERANCE else bound

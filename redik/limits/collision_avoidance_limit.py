@@ -171,9 +171,9 @@ class CollisionAvoidanceLimit(InequalityLimit):
 
     def distances(self, distmax: float = 1.0) -> np.ndarray:
         """Signed distance of every pair at the robot's current state (capped at
-        ``distmax``); call ``robot.update(q)`` (or ``fk``) first."""
+        ``distmax``); call ``robot.state.update(q)`` (or ``fk``) first."""
         self._require_bound()
-        data = self.robot.data
+        data = self.robot.state.data
         out = np.full(len(self.pairs), distmax)
         for i in self._candidates(data, distmax):
             a, b, _, _ = self._pair_list[i]
@@ -184,7 +184,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         """``(d, (geom_a, geom_b))``: the closest pair at ``q`` (``d`` capped at 1 m)."""
         self._require_bound()
         robot = self.robot
-        robot.update(robot.check_q(q))
+        robot.state.update(robot.check_q(q))
         if len(self.pairs) == 0:
             return 1.0, None
         distances = self.distances()
@@ -194,7 +194,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
 
     def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
         robot = self.robot
-        model, data = robot.model, robot.data
+        model, data = robot.model, robot.state.data
         fromto, normal, jac1, jac2, row = (
             self._fromto,
             self._normal,
@@ -240,7 +240,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         along the constraint.
         """
         robot = self.robot
-        model, data = robot.model, robot.data
+        model, data = robot.model, robot.state.data
         tolerance = 1e-6  # 1 µm: what a distance query resolves on meshes
         minimum = self.minimum_distance
         for i in self._candidates(data, minimum):

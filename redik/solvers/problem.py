@@ -393,7 +393,7 @@ class Problem:
     def _update(self, q: np.ndarray) -> None:
         self._state.update(q)
         if self._configuration is not None:
-            self._configuration.update(self.robot.data.qpos)
+            self._configuration.update(self.robot.state.data.qpos)
 
     def _step(
         self,

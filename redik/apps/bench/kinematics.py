@@ -37,7 +37,7 @@ def _median_us(fn, calls: int, repeats: int) -> float:
 
 def _cases(robot) -> dict:
     """The timed calls, the bare MuJoCo sequence (the reference) first."""
-    model, data = robot.model, robot.data
+    model, data = robot.model, robot.state.data
     q = robot.random_q(0)
     jacp, jacr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
     site = robot.ee.id
@@ -55,7 +55,7 @@ def _cases(robot) -> dict:
 
     return {
         "raw MuJoCo (qpos, kin, comPos, jac)": raw,
-        "robot.kinematics (hot path)": lambda: robot.kinematics(q, robot.ee, T, J),
+        "robot.kinematics (hot path)": lambda: robot.state.kinematics(q, robot.ee, T, J),
         "robot.fk + robot.jacobian (checked)": checked,
         "python call overhead (empty lambda)": lambda: None,
     }

@@ -33,17 +33,18 @@ Joint position boxes exist for hinge and slide joints only: ``lower``/``upper`` 
 tangent coordinate, ``±inf`` on ball and free joints. A ball joint's range is a cone on its
 rotation angle, which :class:`redik.BallJointLimit` enforces; a free joint has none.
 
-Forward kinematics runs ``mj_kinematics`` and ``mj_comPos`` (the latter fills the ``cdof``
-that ``mj_jac*`` reads) on the robot's own ``MjData`` and reads the Jacobian with
-``mj_jacSite``/``mj_jacBody`` into preallocated buffers. The public ``fk``/``jacobian`` check
-their input and return fresh arrays; solvers use :meth:`Robot.kinematics`, which skips the
-checks and writes into caller-owned buffers.
+A :class:`Robot` is the model side and does not change once built: joints, coordinates,
+limits, frames, names. Forward kinematics runs on its kinematic state :attr:`Robot.state`
+(:class:`~redik.kinematics.robot.state.RobotState`, one ``MjData``): the public
+:meth:`Robot.fk` and :meth:`Robot.jacobian` check their input and return fresh arrays, while
+solvers and tasks call ``robot.state`` in their loops, which checks nothing and writes into
+caller-owned buffers. The constructors from files, strings, DH tables and screws are
+:class:`~redik.kinematics.robot.loader.RobotLoading`'s.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -51,14 +52,8 @@ import numpy as np
 from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
 from redik.core.validate import MAX_COORDINATE, real_array
 from redik.kinematics.robot.coordinates import JointCoordinates
-from redik.kinematics.robot.frames import (
-    FRAME_JACOBIANS,
-    Frame,
-    frame_body,
-    frame_names,
-    frame_pose_views,
-    resolve_frame,
-)
+from redik.kinematics.robot.frames import Frame, frame_body, frame_names, resolve_frame
+from redik.kinematics.robot.loader import RobotLoading
 from redik.kinematics.robot.selection import (
     BALL,
     chain_joints,
@@ -67,15 +62,14 @@ from redik.kinematics.robot.selection import (
     match_joints,
     selected_joints,
 )
-from redik.kinematics.robot.solver_cache import SolverCache
+from redik.kinematics.robot.state import RobotState
 from redik.lie import periodic_coordinates, world_jacobian_to
-from redik.models import loading
 
 JACOBIAN_REFERENCES = ("space", "body", "world")
 """The references a Jacobian can be expressed in (:mod:`redik.core.conventions`)."""
 
 
-class Robot:
+class Robot(RobotLoading):
     """The joints of a MuJoCo model that redik moves: a serial chain, or any set of joints.
 
     See the module docstring for the two kinds and for ``q`` versus the tangent space.
@@ -95,8 +89,9 @@ class Robot:
 
     Attributes:
         model: The :class:`mujoco.MjModel`.
-        data: The robot's own :class:`mujoco.MjData` (scratch space of ``fk``/``jacobian``);
-            its ``qpos`` holds the values of the joints redik does not move.
+        state: The robot's kinematic state (:class:`~redik.kinematics.robot.state.RobotState`,
+            which ``fk``/``jacobian`` write); ``state.data.qpos`` holds the values of the
+            joints the robot does not move.
         ee: The end-effector :class:`Frame` (None for a whole-model robot without one).
         is_chain: True for a serial chain (the fast paths need one).
         dof: Tangent dimension ``n``: entries of ``Δq`` and Jacobian columns.
@@ -111,16 +106,8 @@ class Robot:
         revolute: Per tangent coordinate, True for rotations (hinge, ball, a free joint's
             angular part).
         home: The ``home`` keyframe's values (else ``qpos0``), clipped into the limits.
-        solver_cache: What solvers compile once per robot and frame (e.g. the chain of
-            :func:`redik.solve_pose`'s ``"dls"`` kernel), kept here so it lives and dies
-            with the robot; a :class:`~redik.kinematics.robot.solver_cache.SolverCache`,
-            safe to share between threads.
 
-    Threads: :attr:`data` is the scratch space of every forward kinematics, so one robot
-    serves one thread at a time, except for what never touches :attr:`data` after the
-    robot is built: :func:`redik.solve_pose` with ``method="dls"`` (the default) and
-    ``respect_limits=True``, and :func:`redik.solvers.batch.solve_batch`. Other solvers need
-    one :class:`Robot` per thread (build each from the same ``model``).
+    Threads: see :mod:`redik.kinematics.robot.state`.
     """
 
     def __init__(
@@ -133,7 +120,6 @@ class Robot:
         fixed: Sequence[str] | None = None,
     ):
         self.model = model
-        self.data = mujoco.MjData(model)
         self.name = name or _model_name(model)
         self._frames: dict[str, Frame] = {}
         fixed_ids = set(match_joints(model, fixed or (), "fixed", self.name))
@@ -175,129 +161,14 @@ class Robot:
         self._free_q = coordinates.free_q
 
         key = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, "home")
-        if key >= 0:
-            self.data.qpos[:] = model.key_qpos[key]
-        else:
-            self.data.qpos[:] = model.qpos0
-        self.home = self.clip(self.data.qpos[self._qpos_adr])
+        qpos = model.key_qpos[key] if key >= 0 else model.qpos0
+        self.home = self.clip(qpos[self._qpos_adr])
         self.home.setflags(write=False)
-
-        self._jacp = np.zeros((3, model.nv))
-        self._jacr = np.zeros((3, model.nv))
-        # Hot-path shortcuts: a slice instead of fancy indexing when the joints are
-        # contiguous in qpos, and MuJoCo writing straight into the caller's J when they are
-        # every dof.
-        self._qpos_index = _as_slice(self._qpos_adr)
-        self._jacobian_is_direct = model.nv == self.dof and np.array_equal(
-            self._dof_adr, np.arange(self.dof)
-        )
-        self._views: dict[Frame, tuple[np.ndarray, np.ndarray]] = {}
+        self.state = RobotState(model, self._qpos_adr, self._dof_adr, qpos)
         # Scratch of integrate/difference on manifold joints (full qpos and qvel).
         self._qpos_a = np.zeros(model.nq)
         self._qpos_b = np.zeros(model.nq)
         self._qvel = np.zeros(model.nv)
-        self.solver_cache = SolverCache()
-
-    # ----------------------------------------------------------------------------------
-    # Construction
-
-    @classmethod
-    def from_file(
-        cls,
-        path: str | Path,
-        ee: str | None = None,
-        *,
-        name: str | None = None,
-        joints: str | Sequence[str] | None = None,
-        fixed: Sequence[str] | None = None,
-        **options,
-    ) -> Robot:
-        """Load an MJCF (``.xml``) or URDF (``.urdf``) file.
-
-        ``joints`` and ``fixed`` choose what moves (the class docstring):
-        ``Robot.from_file(path, joints="all", floating_base=True)`` is a whole humanoid.
-
-        ``options`` go to :func:`redik.models.loading.load_spec`: ``meshes=False`` for a
-        kinematics-only model, ``visual``, ``package_paths`` for ``package://`` meshes,
-        ``floating_base``, ``keep_fixed_links``. Fixed URDF links stay bodies, so ``tool0`` or
-        ``panda_hand`` can be the end-effector.
-
-        Raises:
-            ModelError: the file or a mesh is missing, or MuJoCo cannot compile the model.
-        """
-        model = loading.compile_spec(loading.load_spec(path, **options), str(path))
-        return cls(model, ee=ee, name=name or Path(path).stem, joints=joints, fixed=fixed)
-
-    @classmethod
-    def from_xml_string(
-        cls,
-        xml: str,
-        ee: str | None = None,
-        name: str | None = None,
-        *,
-        joints: str | Sequence[str] | None = None,
-        fixed: Sequence[str] | None = None,
-        **options,
-    ) -> Robot:
-        """Build from an MJCF or URDF string (``options`` as for :func:`load_spec_from_string`;
-        ``joints``, ``fixed`` as for the class).
-
-        Raises:
-            ModelError: MuJoCo cannot compile the string.
-        """
-        spec = loading.load_spec_from_string(xml, **options)
-        model = loading.compile_spec(spec, "the model string")
-        return cls(model, ee=ee, name=name, joints=joints, fixed=fixed)
-
-    @classmethod
-    def from_dh(
-        cls,
-        rows: Sequence,
-        convention: str = "standard",
-        limits: Sequence[Sequence[float]] | None = None,
-        tool: np.ndarray | None = None,
-        *,
-        name: str = "dh_robot",
-        home: Sequence[float] | None = None,
-        **builder_options,
-    ) -> Robot:
-        """Build from a Denavit–Hartenberg table (see :func:`redik.models.dh.parse_rows`).
-
-        ``convention`` is ``"standard"`` (Spong/Paul: ``Rz(θ) Tz(d) Tx(a) Rx(α)``) or
-        ``"modified"`` (Craig: ``Rx(α) Tx(a) Rz(θ) Tz(d)``); ``limits`` is n × 2; ``tool`` a
-        4 × 4 flange transform or a row. The generated MJCF places the ``ee`` site at the
-        last frame, so ``robot.fk(q)`` equals the table's ``T_0n(q) · tool``.
-        ``builder_options`` (``radius``, ``actuators``, ``custom``, …) go to
-        :func:`redik.models.builder.dh_to_mjcf`.
-        """
-        from redik.models.builder import dh_to_mjcf
-
-        xml = dh_to_mjcf(rows, convention, limits, tool, name=name, home=home, **builder_options)
-        return cls.from_xml_string(xml, name=name)
-
-    @classmethod
-    def from_screws(
-        cls,
-        screws: np.ndarray,
-        M: np.ndarray,
-        frame: str = "space",
-        limits: Sequence[Sequence[float]] | None = None,
-        *,
-        name: str = "poe_robot",
-        home: Sequence[float] | None = None,
-        **builder_options,
-    ) -> Robot:
-        """Build from a product of exponentials (Modern Robotics §4.1).
-
-        ``screws`` is 6 × n with columns ``S_i = (ω_i, v_i)`` (Modern Robotics order) in the
-        space frame, or body screws ``B_i`` when ``frame="body"``; ``M`` is the home pose of the
-        end-effector. ``robot.fk(q) = e^{[S_1] q_1} ⋯ e^{[S_n] q_n} M``.
-        ``builder_options`` go to :func:`redik.models.builder.screws_to_mjcf`.
-        """
-        from redik.models.builder import screws_to_mjcf
-
-        xml = screws_to_mjcf(screws, M, frame, limits, name=name, home=home, **builder_options)
-        return cls.from_xml_string(xml, name=name)
 
     # ----------------------------------------------------------------------------------
     # Frames
@@ -352,7 +223,7 @@ class Robot:
 
         The chain moves this robot's hinge and slide joints on the path to ``frame``; every
         other joint (the other arm, the fingers, a floating base) is held at its value in
-        ``q`` (this robot's configuration; default its current ``data.qpos``). The chain
+        ``q`` (this robot's configuration; default its current ``state.data.qpos``). The chain
         shares the model and runs every serial-chain method (compiled DLS, batch, closed
         forms, self-motion); :meth:`embed` writes its solution back into a ``q`` of this
         robot. Ball joints on the path are fixed too (the fast paths need hinges/slides).
@@ -366,8 +237,8 @@ class Robot:
         ]
         chain = Robot(self.model, resolved.name, name=name or f"{self.name}:{resolved.name}",
                       joints=None, fixed=fixed)  # fmt: skip
-        qpos = self.data.qpos.copy() if q is None else self.full_qpos(self.check_q(q))
-        chain.data.qpos[:] = qpos
+        qpos = self.state.data.qpos.copy() if q is None else self.full_qpos(self.check_q(q))
+        chain.state.data.qpos[:] = qpos
         return chain
 
     def embed(self, chain: Robot, q_chain: np.ndarray, q: np.ndarray | None = None) -> np.ndarray:
@@ -383,7 +254,7 @@ class Robot:
                 f"{chain!r} moves joints {outside} that {self!r} does not: their values "
                 "would be lost"
             )
-        qpos = chain.data.qpos.copy() if q is None else self.full_qpos(self.check_q(q))
+        qpos = chain.state.data.qpos.copy() if q is None else self.full_qpos(self.check_q(q))
         qpos[chain.qpos_indices] = chain.check_q(q_chain, "q_chain")
         return qpos[self._qpos_adr]
 
@@ -535,12 +406,8 @@ class Robot:
         """Pose ``T_wf`` (4 × 4) of ``frame`` (default the end-effector) at ``q``."""
         q = self.check_q(q)
         resolved = self.frame(frame)
-        self.update(q)
-        T = np.eye(4)
-        R, p = self._pose_views(resolved)
-        T[:3, :3] = R
-        T[:3, 3] = p
-        return T
+        self.state.update(q)
+        return self.state.pose_into(resolved, np.eye(4))
 
     def jacobian(
         self, q: np.ndarray, frame: str | Frame | None = None, reference: str = "space"
@@ -554,54 +421,10 @@ class Robot:
         resolved = self.frame(frame)
         if reference not in JACOBIAN_REFERENCES:
             raise InvalidInput(f"reference must be one of {JACOBIAN_REFERENCES}, got {reference!r}")
-        self.update(q)
-        J = np.empty((6, self.dof))
-        self.world_jacobian_into(resolved, J)
-        R, p = self._pose_views(resolved)
+        self.state.update(q)
+        J = self.state.world_jacobian_into(resolved, np.empty((6, self.dof)))
+        R, p = self.state.pose_views(resolved)
         return world_jacobian_to(reference, J, R, p, out=J)
-
-    # ----------------------------------------------------------------------------------
-    # Kinematics, unchecked hot path (the caller validates once, outside its loop)
-
-    def update(self, q: np.ndarray) -> None:
-        """Write ``q`` into the model state and run forward kinematics (no checks)."""
-        self.data.qpos[self._qpos_index] = q
-        mujoco.mj_kinematics(self.model, self.data)
-        mujoco.mj_comPos(self.model, self.data)
-
-    def _pose_views(self, frame: Frame) -> tuple[np.ndarray, np.ndarray]:
-        """Views of ``frame``'s rotation and position inside ``data`` (valid after update)."""
-        views = self._views.get(frame)
-        if views is None:
-            views = self._views[frame] = frame_pose_views(self.data, frame)
-        return views
-
-    def pose_into(self, frame: Frame, T: np.ndarray) -> np.ndarray:
-        """Copy the current pose of ``frame`` (after :meth:`update`) into the 4 × 4 ``T``."""
-        R, p = self._pose_views(frame)
-        T[:3, :3] = R
-        T[:3, 3] = p
-        return T
-
-    def world_jacobian_into(self, frame: Frame, J: np.ndarray) -> np.ndarray:
-        """Write the ``"world"`` Jacobian of ``frame`` (after :meth:`update`) into 6 × n ``J``."""
-        jac = FRAME_JACOBIANS[frame.kind]
-        if self._jacobian_is_direct and J.flags.c_contiguous:
-            jac(self.model, self.data, J[:3], J[3:], frame.id)
-            return J
-        jac(self.model, self.data, self._jacp, self._jacr, frame.id)
-        J[:3] = self._jacp[:, self._dof_adr]
-        J[3:] = self._jacr[:, self._dof_adr]
-        return J
-
-    def kinematics(
-        self, q: np.ndarray, frame: Frame, T: np.ndarray, J: np.ndarray | None = None
-    ) -> None:
-        """One FK (+ world Jacobian when ``J`` is given) into caller-owned buffers, no checks."""
-        self.update(q)
-        self.pose_into(frame, T)
-        if J is not None:
-            self.world_jacobian_into(frame, J)
 
     @property
     def qpos_indices(self) -> np.ndarray:
@@ -619,10 +442,12 @@ class Robot:
         return self._joint_ids
 
     def q_of(self, qpos: np.ndarray | None = None) -> np.ndarray:
-        """This robot's ``q`` read from a full ``qpos``; default its own ``data.qpos``: the
+        """This robot's ``q`` read from a full ``qpos``; default its state's ``data.qpos``: the
         last forward kinematics' configuration or, for a fresh chain of :meth:`chain`, the
         values it was cut at."""
-        qpos = self.data.qpos if qpos is None else real_array(qpos, "qpos", InvalidConfiguration)
+        if qpos is None:
+            qpos = self.state.data.qpos
+        qpos = real_array(qpos, "qpos", InvalidConfiguration)
         if qpos.shape != (self.model.nq,):
             raise InvalidConfiguration(
                 f"qpos must have shape ({self.model.nq},) (model.nq), got {qpos.shape}"
@@ -631,7 +456,7 @@ class Robot:
 
     def full_qpos(self, q: np.ndarray) -> np.ndarray:
         """The model's full ``qpos`` with the robot's joints set to ``q``, the rest as held."""
-        qpos = self.data.qpos.copy()
+        qpos = self.state.data.qpos.copy()
         qpos[self._qpos_adr] = q
         return qpos
 
@@ -648,10 +473,3 @@ class Robot:
 def _model_name(model: mujoco.MjModel) -> str:
     # MuJoCo stores the model's own name first in its names buffer.
     return bytes(model.names).split(b"\0", 1)[0].decode() or "robot"
-
-
-def _as_slice(indices: np.ndarray) -> slice | np.ndarray:
-    """``indices`` as a slice when they are consecutive, else unchanged."""
-    if np.array_equal(indices, np.arange(indices[0], indices[0] + len(indices))):
-        return slice(int(indices[0]), int(indices[0]) + len(indices))
-    return indices

@@ -14,6 +14,7 @@ from redik.core.exceptions import InvalidInput
 from redik.core.result import IKResult, Status
 from redik.kinematics.robot import Frame, Robot
 from redik.lie import inverse, pose_errors, se3_log
+from redik.solvers.cache import solver_cache
 
 
 def closed_form_solutions(
@@ -23,9 +24,10 @@ def closed_form_solutions(
     frame: str | Frame | None,
     options: dict[str, object],
 ) -> list[IKResult]:
-    """Every solution of the robot's closed-form solver (kept in ``robot.solver_cache``) for
-    the validated pose ``T_target``; ``message`` carries the solution's label (and
-    singularity), ``method`` the solver's family (``"analytic:general_6r"``, …).
+    """Every solution of the robot's closed-form solver (kept in its
+    :func:`~redik.solvers.cache.solver_cache`) for the validated pose ``T_target``;
+    ``message`` carries the solution's label (and singularity), ``method`` the solver's
+    family (``"analytic:general_6r"``, …).
 
     Raises:
         InvalidInput: An option was given (there are none), or ``frame`` is not the
@@ -41,9 +43,7 @@ def closed_form_solutions(
             "method 'analytic' solves for the end-effector the closed-form solver was built "
             f"for, not {frame!r}"
         )
-    solver = robot.solver_cache.get("analytic")
-    if solver is None:
-        solver = robot.solver_cache["analytic"] = solver_for(robot)
+    solver = solver_cache(robot).get_or_build("analytic", lambda: solver_for(robot))
     solutions = solver(T_target, limits="robot" if respect_limits else None)
     method = f"analytic:{solver.family}"
     results = []

@@ -174,7 +174,7 @@ class DLSSolver:
             shifted = shift_into_limits(robot, q)
             if shifted is not q:
                 q, e, T = shifted, np.empty(6), np.eye(4)
-                robot.kinematics(q, self.frame.frame, T)
+                robot.state.kinematics(q, self.frame.frame, T)
                 problem = PoseProblem(robot, self.frame.frame, T_target, pos_tol, rot_tol, False)
                 position_error, rotation_error = problem.world_error(T, e)
                 error = body_twist_norm(e)

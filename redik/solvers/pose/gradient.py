@@ -45,7 +45,7 @@ def transpose_step(
 
     def squared_error_at(alpha: float) -> float:
         last[0] = problem.project(q + alpha * g)
-        problem.robot.kinematics(last[0], problem.frame, T_trial, J_trial)
+        problem.robot.state.kinematics(last[0], problem.frame, T_trial, J_trial)
         problem.world_error(T_trial, e_trial)
         return float(e_trial @ e_trial)
 
@@ -94,7 +94,7 @@ def gradient_then_newton(
     robot, frame, n = problem.robot, problem.frame, problem.n
     T, J, e = np.eye(4), np.empty((6, n)), np.empty(6)
     trial = (np.eye(4), np.empty((6, n)), np.empty(6))
-    robot.kinematics(q, frame, T, J)
+    robot.state.kinematics(q, frame, T, J)
     errors_now = problem.world_error(T, e)
     E = float(e @ e)
     history, errors = [q.copy()], [math.sqrt(E)]
@@ -107,7 +107,7 @@ def gradient_then_newton(
         if E < switch_error**2:
             q_new = problem.project(q + np.linalg.pinv(J) @ e)
             T_new, J_new, e_new = trial
-            robot.kinematics(q_new, frame, T_new, J_new)
+            robot.state.kinematics(q_new, frame, T_new, J_new)
             problem.world_error(T_new, e_new)
             E_new = float(e_new @ e_new)
             if E_new < E:

@@ -45,7 +45,7 @@ def newton(options: dict) -> Iteration:
     def iterate(problem: PoseProblem, q: np.ndarray, max_iterations: int) -> Attempt:
         robot, frame, n = problem.robot, problem.frame, problem.n
         T, J, e = np.eye(4), np.empty((6, n)), np.empty(6)
-        robot.kinematics(q, frame, T, J)
+        robot.state.kinematics(q, frame, T, J)
         V, J_form = twist_and_jacobian(T, J, problem.T_target)
         history, errors = [q.copy()], [float(np.linalg.norm(V))]
         status = Status.MAX_ITERATIONS
@@ -58,7 +58,7 @@ def newton(options: dict) -> Iteration:
                 status = Status.DIVERGED
                 break
             q = q_next
-            robot.kinematics(q, frame, T, J)
+            robot.state.kinematics(q, frame, T, J)
             V, J_form = twist_and_jacobian(T, J, problem.T_target)
             history.append(q.copy())
             errors.append(float(np.linalg.norm(V)))

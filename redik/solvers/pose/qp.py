@@ -256,8 +256,8 @@ def _nearest_start(
         return qs[_nearest_index(base, links, revolute, chain_q, target, weight)]
     poses = np.empty((candidates, 4, 4))
     for q, T in zip(qs, poses, strict=True):
-        robot.update(q)  # forward kinematics only: robot.fk would also check and allocate
-        robot.pose_into(task.frame, T)
+        robot.state.update(q)  # forward kinematics only: robot.fk would also check and allocate
+        robot.state.pose_into(task.frame, T)
     distance = np.sum((poses[:, :3, 3] - target[:3, 3]) ** 2, axis=1) + weight * np.sum(
         (poses[:, :3, :3] - target[:3, :3]) ** 2, axis=(1, 2)
     )

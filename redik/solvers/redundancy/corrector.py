@@ -83,7 +83,7 @@ class Corrector:
         """Body error twist ``ξ_b = log(T(q)⁻¹ T_d)``, position error and rotation angle at
         ``q`` (Modern Robotics' IKinBody step); leaves the world and body Jacobians at ``q``
         in :attr:`J` and :attr:`J_body`."""
-        self.robot.kinematics(q, self.frame, self._T, self.J)
+        self.robot.state.kinematics(q, self.frame, self._T, self.J)
         R = self._T[:3, :3]
         world_jacobian_to("body", self.J, R, self._T[:3, 3], out=self.J_body)
         xi = body_error_twist(self._T, self.T_target)
@@ -92,7 +92,7 @@ class Corrector:
 
     def pose_errors(self, q: np.ndarray) -> tuple[float, float]:
         """``(‖p_d − p‖, angle(Rᵀ R_d))`` at ``q`` (:func:`redik.lie.pose_errors`)."""
-        self.robot.kinematics(q, self.frame, self._T)
+        self.robot.state.kinematics(q, self.frame, self._T)
         return pose_errors(self._T, self.T_target)
 
     def correct(
