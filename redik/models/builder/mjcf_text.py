@@ -8,14 +8,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from redik.lie import quat_from_matrix
-
-if TYPE_CHECKING:
-    from redik.models.builder.serial_arm import Link
+from redik.models.builder.link import Link
 
 
 def fmt(x: float) -> str:
