@@ -243,3 +243,40 @@ def test_floating_base_warns_when_it_changes_nothing(tmp_path, capsys):
     # Without the flag, nothing to warn about.
     assert main(["info", _planar(tmp_path, free=True), "--ee", "tip"]) == 0
     assert capsys.readouterr().err == ""
+
+
+WHOLE = """
+<mujoco model="whole">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="torso" pos="0 0 1">
+      <freejoint name="root"/>
+      <geom size="0.1"/>
+      <body name="arm" pos="0.1 0 0">
+        <joint name="shoulder" type="ball"/>
+        <geom size="0.05"/>
+        <body name="forearm" pos="0.3 0 0">
+          <joint name="elbow" axis="0 1 0" range="-2 0.5"/>
+          <geom size="0.05"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_info_describes_a_whole_model_robot_joint_by_joint(capsys):
+    import mujoco
+
+    from redik.apps.cli.info import describe
+
+    robot = redik.Robot(mujoco.MjModel.from_xml_string(WHOLE), joints="all")
+    describe(robot)
+    out = capsys.readouterr().out
+    assert out.startswith("whole: 3 joints (10 DoF), whole model (no end-effector")
+    rows = {line.split()[0]: line.split()[1:] for line in out.splitlines()[2:5]}
+    assert rows["root"][0] == "free" and "(0.0000 0.0000 1.0000 1.0000" in " ".join(rows["root"])
+    assert rows["shoulder"] == ["ball", "(1.0000", "0.0000", "0.0000", "0.0000)"]
+    assert rows["elbow"] == ["revolute", "-2.0000", "0.5000", "0.0000", "rad"]
+    assert "leaf bodies: forearm" in out and "end-effector pose" not in out
