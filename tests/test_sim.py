@@ -122,6 +122,8 @@ def test_bad_arguments_are_rejected():
         simulate(robot, problem, task, lambda t: T, 1.0, command="torque")
     with pytest.raises(redik.InvalidInput, match="duration"):
         simulate(robot, problem, task, lambda t: T)
+    with pytest.raises(redik.InvalidInput, match="shorter than one control tick"):
+        simulate(robot, problem, task, lambda t: T, 0.001)
     with pytest.raises(redik.InvalidInput, match="physics steps"):
         simulate(robot, problem, task, lambda t: T, 1.0, control_rate=300.0)
     with pytest.raises(redik.InvalidInput, match="error_bound"):
