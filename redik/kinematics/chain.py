@@ -100,12 +100,12 @@ class Chain:
         The chain holds the robot's joints that move ``frame``, in the robot's order
         (:attr:`columns`): all of them for the end-effector or a frame attached below it.
         """
+        frame = robot.frame(frame)
         if not robot.is_chain:
             raise InvalidInput(
                 f"{robot!r} is a whole-model robot; compile one of its chains: "
-                "Chain.from_robot(robot.chain(frame)) (the other joints held)"
+                f"Chain.from_robot(robot.chain({frame.name!r})) (the other joints held)"
             )
-        frame = robot.frame(frame)
         base, links, addresses = _fold(robot, frame)
         columns = np.array(
             [int(np.flatnonzero(robot.qpos_indices == adr)[0]) for adr in addresses], dtype=int

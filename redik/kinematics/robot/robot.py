@@ -52,7 +52,13 @@ import numpy as np
 from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
 from redik.core.validate import MAX_COORDINATE, real_array
 from redik.kinematics.robot.coordinates import JointCoordinates
-from redik.kinematics.robot.frames import Frame, frame_body, frame_names, resolve_frame
+from redik.kinematics.robot.frames import (
+    Frame,
+    frame_body,
+    frame_names,
+    leaf_bodies,
+    resolve_frame,
+)
 from redik.kinematics.robot.loader import RobotLoading
 from redik.kinematics.robot.selection import (
     BALL,
@@ -68,6 +74,13 @@ from redik.lie import periodic_coordinates, world_jacobian_to
 JACOBIAN_REFERENCES = ("space", "body", "world")
 """The references a Jacobian can be expressed in (:mod:`redik.core.conventions`)."""
 
+NATURAL_FRAME = "ee"
+"""The site by which a model names its end-effector: every bundled scene and every model
+redik's builders write has one. A robot of such a model is the chain to it unless told
+otherwise; a model without one loads whole, with no frame named."""
+
+_LISTED_FRAMES = 40  # per kind in a message, so that a humanoid's stays readable
+
 
 class Robot(RobotLoading):
     """The joints of a MuJoCo model that redik moves: a serial chain, or any set of joints.
@@ -76,14 +89,16 @@ class Robot(RobotLoading):
 
     Args:
         model: The MuJoCo model.
-        ee: Name of the end-effector site, body or geom. For a chain (``joints=None``) it
-            ends the chain; default the site named ``ee``. For a whole-model robot it is
-            only the default frame of tasks (default ``ee`` when the model has it, else
-            none: tasks must then name their frame).
+        ee: The robot's end-effector: a site, body or geom name, the frame solvers and tasks
+            use when they are given none. Default the site named :data:`NATURAL_FRAME`
+            (``"ee"``) when the model has one, else none: frames are then named where they
+            are used (``FrameTask(frame, …)``, ``solve_pose(…, frame=…)``, ``robot.chain(frame)``).
         name: A label for printing; default the model's name.
-        joints: None for the chain from the root to ``ee``; ``"all"`` for every hinge,
-            slide, ball and free joint; or joint names and ``fnmatch`` patterns
-            (``"left/*"``) selecting a subset, kept in model order.
+        joints: What moves. None: the chain from the root to ``ee`` when there is an
+            end-effector, else every joint (a whole model, as :func:`redik.load` gives for a
+            third-party file). ``"all"``: every hinge, slide, ball and free joint. Or joint
+            names and ``fnmatch`` patterns (``"left/*"``) selecting a subset, kept in model
+            order.
         fixed: Joint names or patterns never moved (``["*finger*"]``); they keep their
             value in ``data.qpos``. On a chain, a ball joint on the path must be fixed.
 
@@ -92,8 +107,8 @@ class Robot(RobotLoading):
         state: The robot's kinematic state (:class:`~redik.kinematics.robot.state.RobotState`,
             which ``fk``/``jacobian`` write); ``state.data.qpos`` holds the values of the
             joints the robot does not move.
-        ee: The end-effector :class:`Frame` (None for a whole-model robot without one).
-        is_chain: True for a serial chain (the fast paths need one).
+        ee: The end-effector :class:`Frame`, or None when the model names none.
+        is_chain: True for a serial chain to ``ee`` (the fast paths need one).
         dof: Tangent dimension ``n``: entries of ``Δq`` and Jacobian columns.
         nq: Entries of ``q`` (``dof`` plus one per ball joint and free joint).
         flat: True when ``nq == dof`` (no ball or free joint): ``q ⊕ Δq = q + Δq``.
@@ -123,9 +138,11 @@ class Robot(RobotLoading):
         self.name = name or _model_name(model)
         self._frames: dict[str, Frame] = {}
         fixed_ids = set(match_joints(model, fixed or (), "fixed", self.name))
-        self.is_chain = joints is None
-        if self.is_chain:
-            self.ee = self.frame(ee if ee is not None else "ee")
+        if ee is None and mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, NATURAL_FRAME) >= 0:
+            ee = NATURAL_FRAME
+        self.ee = None if ee is None else self.frame(ee)
+        self.is_chain = joints is None and self.ee is not None
+        if self.ee is not None and self.is_chain:
             joint_ids = chain_joints(model, frame_body(model, self.ee), fixed_ids, self.name)
             if not joint_ids:
                 raise ModelError(
@@ -133,12 +150,9 @@ class Robot(RobotLoading):
                     f"{self.ee.name!r} in model {self.name!r}"
                 )
         else:
-            self.ee = None
-            if ee is not None:
-                self.ee = self.frame(ee)
-            elif mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, "ee") >= 0:
-                self.ee = self.frame("ee")
-            joint_ids = selected_joints(model, joints, fixed, fixed_ids, self.name)
+            joint_ids = selected_joints(
+                model, "all" if joints is None else joints, fixed, fixed_ids, self.name
+            )
         coordinates = JointCoordinates.of(model, joint_ids)
         self._joint_ids = coordinates.joint_ids
         self.joint_names = coordinates.joint_names
@@ -174,16 +188,24 @@ class Robot(RobotLoading):
     # Frames
 
     def frame(self, name: str | Frame | None = None) -> Frame:
-        """Resolve a site, body or geom name (in that order); ``None`` is the end-effector.
+        """Resolve a frame name.
 
-        ``"geom:name"`` (or ``"body:"``, ``"site:"``) picks the kind when names collide.
+        Args:
+            name: A site, body or geom name (looked up in that order; ``"geom:name"``,
+                ``"body:"`` or ``"site:"`` picks the kind when names collide), a resolved
+                :class:`Frame`, or None for the end-effector.
+
+        Returns:
+            The frame.
+
+        Raises:
+            UnknownFrame: No such frame (the message lists the closest names); or None was
+                given and the robot has no end-effector (the message lists the frames its
+                joints move, :meth:`suggested_frames`).
         """
         if name is None:
             if self.ee is None:
-                raise UnknownFrame(
-                    f"{self.name!r} has no end-effector (a whole-model robot): name the frame, "
-                    f"e.g. one of the sites {self.frame_names('site')[:8]}"
-                )
+                raise UnknownFrame(self._no_end_effector())
             return self.ee
         if isinstance(name, Frame):
             return name
@@ -197,6 +219,37 @@ class Robot(RobotLoading):
     def frame_names(self, kind: str = "site") -> list[str]:
         """Names of the model's sites, bodies or geoms (``kind`` = "site", "body", "geom")."""
         return frame_names(self.model, kind)
+
+    def suggested_frames(self) -> list[str]:
+        """The frames a user would pick for a task or a chain.
+
+        Returns:
+            The model's sites, then its leaf bodies (those no body hangs from: hands, feet,
+            flanges; ``"body:name"`` where a site has the same name), each of them moved by
+            some joint of the robot, in model order.
+        """
+        sites = self.frame_names("site")
+        taken = set(sites)
+        bodies = [f"body:{b}" if b in taken else b for b in leaf_bodies(self.model)]
+        return [name for name in (*sites, *bodies) if self.moves(name)]
+
+    def _no_end_effector(self) -> str:
+        suggested = self.suggested_frames()
+        sites = set(self.frame_names("site"))
+        listed = []
+        for kind, names in (
+            ("sites", [n for n in suggested if n in sites]),
+            ("leaf bodies", [n for n in suggested if n not in sites]),
+        ):
+            more = len(names) - _LISTED_FRAMES
+            listed.append(
+                f"{kind} {names[:_LISTED_FRAMES]}" + (f" and {more} more" if more > 0 else "")
+            )
+        return (
+            f"{self.name!r} names no end-effector (no site {NATURAL_FRAME!r}), so the frame "
+            f"must be named where it is used (frame=…, FrameTask(frame, …), "
+            f"robot.chain(frame), ee=…); the frames its joints move: {'; '.join(listed)}"
+        )
 
     def body_of(self, frame: str | Frame) -> int:
         """Id of the body ``frame`` is attached to (itself for a body)."""
@@ -217,16 +270,33 @@ class Robot(RobotLoading):
     # Chains of a whole model
 
     def chain(
-        self, frame: str | Frame, q: np.ndarray | None = None, *, name: str | None = None
+        self,
+        frame: str | Frame | None = None,
+        q: np.ndarray | None = None,
+        *,
+        name: str | None = None,
     ) -> Robot:
-        """The serial chain from the root to ``frame``, the other joints fixed.
+        """The serial chain from the root to a frame, the other joints held.
 
         The chain moves this robot's hinge and slide joints on the path to ``frame``; every
-        other joint (the other arm, the fingers, a floating base) is held at its value in
-        ``q`` (this robot's configuration; default its current ``state.data.qpos``). The chain
-        shares the model and runs every serial-chain method (compiled DLS, batch, closed
-        forms, self-motion); :meth:`embed` writes its solution back into a ``q`` of this
-        robot. Ball joints on the path are fixed too (the fast paths need hinges/slides).
+        other joint (the other arm, the fingers, a floating base, and ball joints on the path,
+        which the fast paths cannot move) is held at its value in ``q``. The chain shares the
+        model and runs every serial-chain method (compiled DLS, batch, closed forms,
+        self-motion); :meth:`embed` writes its solution back into a ``q`` of this robot.
+
+        Args:
+            frame: The chain's end-effector; default this robot's.
+            q: This robot's configuration, at which the other joints are held; default the
+                values in its state's ``data.qpos``.
+            name: A label; default ``"<robot>:<frame>"``.
+
+        Returns:
+            The chain, a :class:`Robot` whose ``ee`` is ``frame``.
+
+        Raises:
+            UnknownFrame: No such frame, or none given and this robot has no end-effector
+                (the message lists :meth:`suggested_frames`).
+            ModelError: No hinge or slide joint of this robot moves ``frame``.
         """
         resolved = self.frame(frame)
         moved = set(self._joint_ids.tolist())
