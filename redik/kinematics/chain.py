@@ -83,9 +83,14 @@ class Chain:
         return self.base[:3, 3].copy(), radius
 
     def kernel_arrays(self) -> tuple[np.ndarray, ...]:
-        """The arrays :mod:`redik.kinematics.dls` takes, in its order; the last marks limited
-        hinges whose range spans a full turn (:func:`redik.lie.periodic_coordinates`; the
-        kernel wraps them by 2π, an unlimited one never leaves its range)."""
+        """The arrays the compiled DLS kernel takes, in its order.
+
+        Returns:
+            ``(base, links, revolute, lower, upper, sampling_lower, sampling_upper,
+            periodic)``; ``periodic`` marks the hinges whose range spans a full turn
+            (:func:`redik.lie.periodic_coordinates`): the kernel wraps them by 2π, and an
+            unlimited one never leaves its range.
+        """
         periodic = periodic_coordinates(self.revolute, self.lower, self.upper)
         return (
             self.base, self.links, self.revolute, self.lower, self.upper,
@@ -94,11 +99,23 @@ class Chain:
 
     @classmethod
     def from_robot(cls, robot: Robot, frame: str | Frame | None = None) -> Chain:
-        """Compile ``robot``'s chain to ``frame`` (default the end-effector) from its MuJoCo
-        model; joints off the chain stay at home.
+        """Compile a robot's chain to a frame from its MuJoCo model.
 
         The chain holds the robot's joints that move ``frame``, in the robot's order
         (:attr:`columns`): all of them for the end-effector or a frame attached below it.
+        Joints off the chain stay at home.
+
+        Args:
+            robot: A serial-chain robot (``robot.is_chain``).
+            frame: The chain's last frame; default the robot's end-effector.
+
+        Returns:
+            The chain.
+
+        Raises:
+            UnknownFrame: No such frame, or none given and the robot has no end-effector.
+            InvalidInput: ``robot`` is a whole-model robot (compile ``robot.chain(frame)``).
+            ModelError: A mocap body on the chain.
         """
         frame = robot.frame(frame)
         if not robot.is_chain:
@@ -168,9 +185,13 @@ def _path_to(model: mujoco.MjModel, body: int) -> list[int]:
 def _split_at_moved_joint(
     model: mujoco.MjModel, joint: int, current: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """``(F, next)``: the fixed transform ending at a moved joint's frame (its axis as ``z``,
-    its anchor as origin, for a hinge) and the start of the next one, undoing the frame and
-    MuJoCo's ``qpos0`` reference (``M_i`` acts on ``q − qpos0``)."""
+    """Close one fixed transform at a moved joint and start the next.
+
+    Returns:
+        ``(F, next)``: ``F`` ends at the joint's frame (its axis as ``z``; for a hinge, its
+        anchor as origin); ``next`` undoes that frame and MuJoCo's ``qpos0`` reference, since
+        ``M_i`` acts on ``q − qpos0``.
+    """
     hinge = int(model.jnt_type[joint]) == _HINGE
     anchor = model.jnt_pos[joint]
     align = make_pose(_z_to(model.jnt_axis[joint]), np.zeros(3))

@@ -497,8 +497,10 @@ def write_scenes(directory: str | Path) -> list[Path]:
 
 
 def main(argv: list[str] | None = None) -> None:
-    """``python -m redik.models.scene_library [DIRECTORY]`` (default: the repository's
-    ``scenes/``)."""
+    """``python -m redik.models.scene_library [DIRECTORY]``: write the bundled scenes.
+
+    The directory defaults to the repository's ``scenes/``.
+    """
     args = sys.argv[1:] if argv is None else argv
     directory = Path(args[0]) if args else Path(__file__).resolve().parents[2] / "scenes"
     for path in write_scenes(directory):

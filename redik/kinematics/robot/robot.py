@@ -312,9 +312,20 @@ class Robot(RobotLoading):
         return chain
 
     def embed(self, chain: Robot, q_chain: np.ndarray, q: np.ndarray | None = None) -> np.ndarray:
-        """This robot's ``q`` with the joints of ``chain`` set to ``q_chain``.
+        """Write a chain's solution back into a configuration of this robot.
 
-        ``q`` defaults to the values held by the chain (those of :meth:`chain`).
+        Args:
+            chain: A chain of this robot (:meth:`chain`).
+            q_chain: The chain's configuration.
+            q: This robot's configuration to write into; default the values the chain holds
+                (those it was cut at).
+
+        Returns:
+            This robot's ``q`` with the joints of ``chain`` set to ``q_chain``.
+
+        Raises:
+            InvalidInput: ``chain`` is of another model, or moves joints this robot does not.
+            InvalidConfiguration: A configuration of the wrong length or not finite.
         """
         if chain.model is not self.model:
             raise InvalidInput(f"{chain!r} is not a chain of {self!r}'s model")
@@ -332,9 +343,20 @@ class Robot(RobotLoading):
     # Joint vectors
 
     def check_q(self, q: np.ndarray, name: str = "q") -> np.ndarray:
-        """``q`` as a finite real vector of length ``nq``, within ``±``
-        :data:`~redik.core.validate.MAX_COORDINATE`, or raise :class:`InvalidConfiguration`
-        naming the value (complex, string and object arrays are refused, not cast)."""
+        """Check a configuration of this robot.
+
+        Args:
+            q: The configuration as given.
+            name: Its name, for the message.
+
+        Returns:
+            ``q`` as a float vector of length ``nq``.
+
+        Raises:
+            InvalidConfiguration: Not a finite real vector of length ``nq`` within
+                ``±``:data:`~redik.core.validate.MAX_COORDINATE` (complex, string and object
+                arrays are refused, not cast), or a zero quaternion of a ball or free joint.
+        """
         q = real_array(q, name, InvalidConfiguration)
         if q.shape != (self.nq,):
             what = f"joints {list(self.joint_names)}"
@@ -383,12 +405,28 @@ class Robot(RobotLoading):
         return q
 
     def within_limits(self, q: np.ndarray, tol: float = 0.0) -> bool:
-        """True when ``lower − tol ≤ q ≤ upper + tol`` for every hinge and slide joint."""
+        """Whether a configuration is inside the joint limits.
+
+        Args:
+            q: A configuration (unchecked).
+            tol: How far outside a limit still counts as inside.
+
+        Returns:
+            True when ``lower − tol ≤ q ≤ upper + tol`` for every hinge and slide joint.
+        """
         values = self.scalar_values(q)
         return bool(np.all(values >= self.lower - tol) and np.all(values <= self.upper + tol))
 
     def clip(self, q: np.ndarray) -> np.ndarray:
-        """``q`` clipped into the joint limits (quaternions normalised)."""
+        """Clip a configuration into the joint limits.
+
+        Args:
+            q: A configuration (unchecked).
+
+        Returns:
+            A copy with each hinge and slide value clipped to ``[lower, upper]`` and each
+            quaternion normalised.
+        """
         if self.flat:
             return np.clip(q, self.lower, self.upper)
         q = np.array(q, dtype=float)
@@ -399,10 +437,17 @@ class Robot(RobotLoading):
         return q
 
     def integrate(self, q: np.ndarray, dq: np.ndarray) -> np.ndarray:
-        """``q ⊕ Δq``: the configuration reached by the tangent step ``dq`` (no checks).
+        """The configuration reached by a tangent step: ``q ⊕ Δq``.
 
         ``q + dq`` on a flat robot, else ``mj_integratePos`` (the exponential map of each
         ball and free joint; see the module docstring).
+
+        Args:
+            q: A configuration (``nq``,), unchecked.
+            dq: A tangent step (``dof``,), unchecked.
+
+        Returns:
+            ``q ⊕ dq`` (``nq``,).
         """
         if self.flat:
             return q + dq
@@ -414,10 +459,17 @@ class Robot(RobotLoading):
         return qpos[self._qpos_adr]
 
     def difference(self, q_from: np.ndarray, q_to: np.ndarray) -> np.ndarray:
-        """``q_to ⊖ q_from`` (``dof``,): the tangent step from ``q_from`` to ``q_to``.
+        """The tangent step between two configurations: ``q_to ⊖ q_from``.
 
         ``q_to − q_from`` on a flat robot, else ``mj_differentiatePos``; the inverse of
         :meth:`integrate`: ``integrate(a, difference(a, b)) = b``.
+
+        Args:
+            q_from: A configuration (``nq``,), unchecked.
+            q_to: A configuration (``nq``,), unchecked.
+
+        Returns:
+            The step (``dof``,).
         """
         if self.flat:
             return q_to - q_from
@@ -438,16 +490,29 @@ class Robot(RobotLoading):
 
     @property
     def periodic(self) -> np.ndarray:
-        """Per tangent coordinate, True for the rotations taken modulo 2π: those whose
-        range spans a full turn (:func:`redik.lie.periodic_coordinates`,
-        :mod:`redik.core.conventions`)."""
+        """Per tangent coordinate, True for the rotations taken modulo 2π.
+
+        Those whose range spans a full turn (:func:`redik.lie.periodic_coordinates`,
+        :mod:`redik.core.conventions`).
+        """
         return periodic_coordinates(self.revolute, self.lower, self.upper)
 
-    def random_q(self, rng: np.random.Generator | int | None = None, size: int | None = None):
-        """Configurations drawn uniformly within the sampling bounds (one, or ``size`` × nq).
+    def random_q(
+        self, rng: np.random.Generator | int | None = None, size: int | None = None
+    ) -> np.ndarray:
+        """Draw configurations uniformly within the sampling bounds.
 
-        Ball and free joints get a uniformly random orientation (Shoemake 1992) and a free
-        joint a position within ±1 m of its home position.
+        Hinges and slides uniformly in ``[sampling_lower, sampling_upper]``; ball and free
+        joints a uniformly random orientation (a normalised Gaussian quaternion; Shoemake,
+        *Uniform random rotations*, Graphics Gems III, 1992), a free joint a position within
+        ±1 m of its home position.
+
+        Args:
+            rng: A generator, or a seed for one.
+            size: How many; None for one.
+
+        Returns:
+            One configuration (``nq``,), or ``size`` × ``nq``.
         """
         rng = np.random.default_rng(rng)
         shape = (self.dof,) if size is None else (size, self.dof)
@@ -473,7 +538,19 @@ class Robot(RobotLoading):
     # Kinematics, checked
 
     def fk(self, q: np.ndarray, frame: str | Frame | None = None) -> np.ndarray:
-        """Pose ``T_wf`` (4 × 4) of ``frame`` (default the end-effector) at ``q``."""
+        """Forward kinematics: the pose ``T_wf`` of a frame in the world.
+
+        Args:
+            q: A configuration (``nq``,).
+            frame: A frame name or :class:`Frame`; default the end-effector.
+
+        Returns:
+            ``T_wf`` (4, 4), a fresh array.
+
+        Raises:
+            InvalidConfiguration: A bad ``q`` (:meth:`check_q`).
+            UnknownFrame: No such frame, or none given and the robot has no end-effector.
+        """
         q = self.check_q(q)
         resolved = self.frame(frame)
         self.state.update(q)
@@ -482,10 +559,22 @@ class Robot(RobotLoading):
     def jacobian(
         self, q: np.ndarray, frame: str | Frame | None = None, reference: str = "space"
     ) -> np.ndarray:
-        """The 6 × n Jacobian of ``frame`` at ``q`` in the given reference.
+        """The Jacobian of a frame, ``ξ = J q̇`` with ``ξ = (v, ω)``.
 
-        ``reference`` is ``"space"`` (spatial twist), ``"body"`` (body twist) or ``"world"``
-        (origin velocity and angular velocity in world axes); see :mod:`redik.core.conventions`.
+        Args:
+            q: A configuration (``nq``,).
+            frame: A frame name or :class:`Frame`; default the end-effector.
+            reference: ``"space"`` (spatial twist, Modern Robotics §5.1.1), ``"body"`` (body
+                twist, §5.1.2) or ``"world"`` (origin velocity and angular velocity in world
+                axes, MuJoCo's); see :mod:`redik.core.conventions`.
+
+        Returns:
+            ``J`` (6, ``dof``), a fresh array.
+
+        Raises:
+            InvalidConfiguration: A bad ``q`` (:meth:`check_q`).
+            UnknownFrame: No such frame, or none given and the robot has no end-effector.
+            InvalidInput: An unknown ``reference``.
         """
         q = self.check_q(q)
         resolved = self.frame(frame)
@@ -512,9 +601,19 @@ class Robot(RobotLoading):
         return self._joint_ids
 
     def q_of(self, qpos: np.ndarray | None = None) -> np.ndarray:
-        """This robot's ``q`` read from a full ``qpos``; default its state's ``data.qpos``: the
-        last forward kinematics' configuration or, for a fresh chain of :meth:`chain`, the
-        values it was cut at."""
+        """Read this robot's ``q`` from a full ``qpos``.
+
+        Args:
+            qpos: The model's ``qpos`` (``model.nq``,); default the state's ``data.qpos``: the
+                last forward kinematics' configuration or, for a fresh chain of
+                :meth:`chain`, the values it was cut at.
+
+        Returns:
+            A copy of the robot's entries.
+
+        Raises:
+            InvalidConfiguration: ``qpos`` is not a real vector of length ``model.nq``.
+        """
         if qpos is None:
             qpos = self.state.data.qpos
         qpos = real_array(qpos, "qpos", InvalidConfiguration)

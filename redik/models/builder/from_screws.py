@@ -48,8 +48,15 @@ def screws_to_mjcf(
         screws: Screw axes, shape ``(6, n)``, each column ``(ω, v)`` (MR order).
         M: End-effector pose at ``q = 0`` (4×4).
         frame: ``"space"`` (``screws`` are :math:`S_i`) or ``"body"`` (:math:`B_i`).
-        limits, name, home, radius, actuators, custom, floor_height, comment: As in
-            :func:`~redik.models.builder.dh_to_mjcf`.
+        limits: Joint ranges, n × 2 (as for :func:`~redik.models.builder.dh_to_mjcf`, and
+            so are the options below).
+        name: The model's name.
+        home: The ``home`` keyframe's joint values.
+        radius: The links' capsule radius (m); default sized from the arm's reach.
+        actuators: Add a position servo per joint.
+        custom: Extra ``<numeric>`` entries.
+        floor_height: Height of the floor plane (m).
+        comment: A comment at the top of the document.
 
     Returns:
         The MJCF document. The space screws are stored in the numeric ``redik_poe_screws``

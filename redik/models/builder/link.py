@@ -1,5 +1,6 @@
-"""One link of a generated serial arm: the description both builders produce and the MJCF
-text is written from.
+"""One link of a generated serial arm.
+
+The description both builders produce, and the MJCF text is written from.
 
 :mod:`~redik.models.builder.from_dh` and :mod:`~redik.models.builder.from_screws` describe an
 arm as a list of :class:`Link`; :mod:`~redik.models.builder.serial_arm` checks and sizes it and

@@ -38,10 +38,10 @@ def serial_arm_to_mjcf(
     floor_height: float,
     comment: str | None,
 ) -> str:
-    """The checked MJCF document of the arm ``links`` with its end-effector site at ``ee``
-    (a pose in the last body).
+    """The checked MJCF document of an arm.
 
-    The options are those of :func:`~redik.models.builder.dh_to_mjcf`; ``stored`` and
+    The arm is ``links``, its end-effector site at ``ee`` (a pose in the last body). The
+    options are those of :func:`~redik.models.builder.dh_to_mjcf`; ``stored`` and
     ``texts`` are the ``<custom>`` entries of the description the arm came from
     (:mod:`~redik.models.builder.description`). The document is compiled once to check it
     and, with ``actuators``, once more to size the servos at ``home``
