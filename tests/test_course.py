@@ -137,6 +137,16 @@ def test_rrp_example_is_reachable_in_its_scene():
     assert redik.solve_pose(robot, T, seed=0).success
 
 
+def test_rrp_scene_holds_both_of_the_courses_solutions():
+    """002, RRP analytic solutions: q* = (0.7854, 0.3398, 1.5), q** = (−2.3562, 2.8018, 1.5)."""
+    robot = scene_robot("rrp_polar")
+    T = np.eye(4)
+    T[:3, 3] = 1.0
+    solutions = redik.solve_all(robot, T, method="analytic")
+    found = sorted(tuple(np.round(solution.q, 4)) for solution in solutions)
+    assert found == [(-2.3562, 2.8018, 1.5), (0.7854, 0.3398, 1.5)]
+
+
 @pytest.mark.parametrize(
     ("scene", "q"),
     [
@@ -144,7 +154,8 @@ def test_rrp_example_is_reachable_in_its_scene():
         ("planar_2r", np.radians([0.0, 30.0])),  # and initial guess
         ("planar_3r", np.array([0.925, 0.586, 0.684])),  # the IKinBody quiz
         ("planar_3r", np.full(3, math.pi / 4)),
-        ("rrp_polar", np.array([math.pi / 4, math.atan2(0.5, math.sqrt(2.0)), 1.5])),
+        ("rrp_polar", np.array([math.pi / 4, math.atan2(0.5, math.sqrt(2.0)), 1.5])),  # q*
+        ("rrp_polar", np.array([-3 * math.pi / 4, math.pi - math.atan2(0.5, math.sqrt(2.0)), 1.5])),
         # The standing foot (0.15, 0, −0.12) of tests/test_analytic_planar.py, knee-up.
         ("hexapod_leg", hexapod_leg([0.15, 0.0, -0.12], 0.052, 0.082, 0.142, -0.015)[1].q),
     ],
