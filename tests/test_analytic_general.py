@@ -183,9 +183,18 @@ def test_bad_input_and_degenerate_arms_are_refused():
         analytic.general_solver(*screws_of(redik.load("stanford_arm")))
 
 
-def test_singular_targets_where_two_solutions_merge_are_found():
+def test_singular_targets_where_two_solutions_merge_are_found(monkeypatch):
     """On det J = 0 two of the 16 roots coincide (a double root, split by rounding into a
-    near-real complex pair): the configuration is still found, once, verified by FK."""
+    near-real complex pair): the configuration is still found, once, verified by FK, through
+    the multiplicity step (the null space of the double root split by the shift)."""
+    multiplicities = []
+    split = elimination.monomials_of
+
+    def spy(M, psi, k):
+        multiplicities.append(k)
+        return split(M, psi, k)
+
+    monkeypatch.setattr(elimination, "monomials_of", spy)
     rng = np.random.default_rng(11)
     robot = _random_screw_robot(rng)
     solver = analytic.solver_for(robot)
@@ -210,6 +219,7 @@ def test_singular_targets_where_two_solutions_merge_are_found():
         assert all(np.abs(robot.fk(q) - T).max() < FK_TOL for q in solutions)
         assert sum(bool(q.singular) for q in solutions) == 1
         found += 1
+    assert multiplicities and set(multiplicities) == {2}
 
 
 def test_a_pose_with_fourteen_solutions_all_found():
