@@ -111,7 +111,9 @@ _HALF_ANGLE = np.array([[1.0, 0.0, 1.0], [1.0, 0.0, -1.0], [0.0, 2.0, 0.0]])
 
 @dataclass(frozen=True)
 class DH:
-    """A standard DH table equal to a screw chain:
+    """A standard DH table equal to a screw chain.
+
+    A standard DH table equal to a screw chain:
     ``T(q) = base · A_1(q_1 + offset_1) ⋯ A_6(q_6 + offset_6) · tool``.
 
     Attributes:
@@ -127,8 +129,11 @@ class DH:
     tool: np.ndarray
 
     def links(self, i: int, theta: np.ndarray) -> np.ndarray:
-        """``A_i(θ)`` for an array of θ: shape (..., 4, 4)
-        (:func:`redik.models.dh.row_transform`, standard convention, on a grid)."""
+        """The link transforms ``A_i(θ)`` on a grid of angles.
+
+        ``A_i(θ)`` for an array of θ: shape (..., 4, 4)
+        (:func:`redik.models.dh.row_transform`, standard convention, on a grid).
+        """
         theta = np.asarray(theta, dtype=float)
         c, s = np.cos(theta), np.sin(theta)
         ca, sa = np.cos(self.alpha[i]), np.sin(self.alpha[i])
@@ -170,8 +175,11 @@ def _closest_on_first(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.nda
 def _common_normal(
     h: np.ndarray, a: np.ndarray, i: int, z: np.ndarray, origin: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(foot on axis i − 1, foot on axis i, x_i)``: the common normal of axes i − 1 and i
-    (through the previous origin when they are parallel) and its direction."""
+    """The common normal of two consecutive axes.
+
+    ``(foot on axis i − 1, foot on axis i, x_i)``: the common normal of axes i − 1 and i
+    (through the previous origin when they are parallel) and its direction.
+    """
     foot_previous = _closest_on_first(a[i - 1], h[i - 1], a[i], h[i])
     foot = _closest_on_first(a[i], h[i], a[i - 1], h[i - 1])
     normal = np.cross(z, h[i])
@@ -186,7 +194,9 @@ def _common_normal(
 
 
 def dh_of_chain(chain: Chain) -> DH:
-    """The standard DH table of a 6R chain by the common normals of consecutive axes at
+    """The standard DH table of a 6R chain (step 1).
+
+    The standard DH table of a 6R chain by the common normals of consecutive axes at
     q = 0 (Spong, Hutchinson & Vidyasagar 2006, §3.2).
 
     Frame ``i`` has ``z_i`` on axis ``i + 1``, its origin where the common normal of axes
@@ -233,8 +243,11 @@ def _offset_basis(offset: float) -> np.ndarray:
 
 @numba.njit(**COMPILE)
 def _sample(local, B, P, out):
-    """The 14 quantities of ``B · local · P`` into ``out`` (``P``: the z column and origin of
-    what follows the target)."""
+    """The 14 quantities of one right-side sample.
+
+    The 14 quantities of ``B · local · P`` into ``out`` (``P``: the z column and origin of
+    what follows the target).
+    """
     z = (
         local[0, 0] * P[0, 0] + local[0, 1] * P[1, 0] + local[0, 2] * P[2, 0],
         local[1, 0] * P[0, 0] + local[1, 1] * P[1, 0] + local[1, 2] * P[2, 0],
@@ -266,8 +279,11 @@ def _sample(local, B, P, out):
 
 @numba.njit(**COMPILE)
 def _right(local, backs, posts, from_samples):
-    """``right[b1, b2, k]``: the right side's coefficients over the bases ``(1, cos, sin)``
-    of its two angles, from the 9 samples at the grid angles."""
+    """The right side's exact coefficients (step 2).
+
+    ``right[b1, b2, k]``: the right side's coefficients over the bases ``(1, cos, sin)``
+    of its two angles, from the 9 samples at the grid angles.
+    """
     samples = np.empty((3, 3, 14))
     for g in range(3):
         for h in range(3):
@@ -285,8 +301,11 @@ def _right(local, backs, posts, from_samples):
 
 @numba.njit(**COMPILE)
 def _reflect(W, Qfull, v, k):
-    """Apply the Householder reflection ``I − 2vvᵀ/vᵀv`` (``v`` zero above row k) to ``W``
-    from the left and to ``Qfull`` from the right."""
+    """Apply one Householder reflection.
+
+    Apply the Householder reflection ``I − 2vvᵀ/vᵀv`` (``v`` zero above row k) to ``W``
+    from the left and to ``Qfull`` from the right.
+    """
     m = W.shape[0]
     vv = 0.0
     for i in range(k, m):
@@ -311,8 +330,11 @@ def _reflect(W, Qfull, v, k):
 
 @numba.njit(**COMPILE)
 def householder(A, Qfull, R):
-    """``A`` (m × n, m > n) ``= Qfull[:, :n] R`` by Householder reflections; ``Qfull`` is
-    orthogonal (m × m), its last m − n columns span the left null space of a full-rank A."""
+    """The Householder QR of a tall matrix.
+
+    ``A`` (m × n, m > n) ``= Qfull[:, :n] R`` by Householder reflections; ``Qfull`` is
+    orthogonal (m × m), its last m − n columns span the left null space of a full-rank A.
+    """
     m, n = A.shape
     W = A.copy()
     Qfull[:, :] = 0.0
@@ -337,8 +359,11 @@ def householder(A, Qfull, R):
 
 @numba.njit(**COMPILE)
 def _reduced(left, constant, Qfull):
-    """``N (P R − const)``: the left side's coefficients times the left null space of ``Q``
-    (the last 6 columns of ``Qfull``), (6, 3, 3, 3) over the bases of the three left angles."""
+    """The six reduced equations over the left angles' bases (step 3).
+
+    ``N (P R − const)``: the left side's coefficients times the left null space of ``Q``
+    (the last 6 columns of ``Qfull``), (6, 3, 3, 3) over the bases of the three left angles.
+    """
     reduced = np.zeros((6, 3, 3, 3))
     for e in range(6):
         for a in range(3):
@@ -356,8 +381,11 @@ def _reduced(left, constant, Qfull):
 
 @numba.njit(**COMPILE)
 def _polynomials(left, constant, Qfull, powers, hidden):
-    """The six reduced equations as polynomials in the three shifted half-angle tangents,
-    ``poly[e, h, s0, s1]`` with the axes ordered (hidden, first shown, second shown)."""
+    """The six reduced equations as polynomials in the half-angle tangents.
+
+    The six reduced equations as polynomials in the three shifted half-angle tangents,
+    ``poly[e, h, s0, s1]`` with the axes ordered (hidden, first shown, second shown).
+    """
     reduced = _reduced(left, constant, Qfull)
     poly = np.zeros((6, 3, 3, 3))
     index = np.empty(3, np.int64)
@@ -393,8 +421,11 @@ def _balance(M):
 
 @numba.njit(**COMPILE)
 def _pencil_matrices(poly):
-    """``M[power]`` (3, 12, 12): the six equations and their multiples by the first shown
-    tangent, over the 12 monomials ``y^i z^j``, rows balanced."""
+    """The 12 × 12 quadratic pencil of the dialytic step.
+
+    ``M[power]`` (3, 12, 12): the six equations and their multiples by the first shown
+    tangent, over the 12 monomials ``y^i z^j``, rows balanced.
+    """
     M = np.zeros((3, 12, 12))
     for shift in range(2):
         for i in range(3):
@@ -408,10 +439,13 @@ def _pencil_matrices(poly):
 
 @numba.njit(**COMPILE)
 def lu_factor(A):
-    """Factor ``A`` (n × n, overwritten by L and U) with partial pivoting; a pivot below
+    """LU factorisation with partial pivoting.
+
+    Factor ``A`` (n × n, overwritten by L and U) with partial pivoting; a pivot below
     1e-14 of the largest entry is replaced by one that size (inverse iteration wants the
     near-singular solve). Returns ``(permutation, regularity)``, the latter the smallest
-    pivot over the largest entry."""
+    pivot over the largest entry.
+    """
     n = A.shape[0]
     big = 1e-300
     for i in range(n):
@@ -453,8 +487,11 @@ def lu_apply(LU, permutation, b, x):
 
 @numba.njit(**COMPILE)
 def _companion(M, x0):
-    """The 24 × 24 companion matrix of ``y² M(x0) + y (M1 + 2 x0 M2) + M2`` (the pencil after
-    ``x = x0 + 1/y``) and how regular ``M(x0)`` is (smallest LU pivot over the largest)."""
+    """The companion matrix of the pencil after the Möbius change.
+
+    The 24 × 24 companion matrix of ``y² M(x0) + y (M1 + 2 x0 M2) + M2`` (the pencil after
+    ``x = x0 + 1/y``) and how regular ``M(x0)`` is (smallest LU pivot over the largest).
+    """
     P2 = M[0] + x0 * M[1] + x0 * x0 * M[2]
     permutation, regular = lu_factor(P2)
     X = np.empty((12, 24))
@@ -506,8 +543,11 @@ def pencil(local, backs, posts, left, from_samples, powers, hidden, x0):
 
 @numba.njit(**COMPILE)
 def _root_angle(yr, yi, x0):
-    """``(ψ, real)``: the hidden angle ``2 atan(x)`` of the eigenvalue ``y`` (``x = x0 + 1/y``)
-    and whether it is real within :data:`IMAGINARY_TOL`."""
+    """The hidden angle of an eigenvalue, and whether it is real.
+
+    ``(ψ, real)``: the hidden angle ``2 atan(x)`` of the eigenvalue ``y`` (``x = x0 + 1/y``)
+    and whether it is real within :data:`IMAGINARY_TOL`.
+    """
     size = yr * yr + yi * yi
     if size == 0.0:  # y = 0: x = ∞, the tangent's pole
         return math.pi, True
@@ -538,8 +578,11 @@ def _null_vector(M, x):
 
 @numba.njit(**COMPILE)
 def _ratio_angle(grid, di, dj):
-    """``2 atan(t)`` for ``grid[i + di, j + dj] ≈ t · grid[i, j]`` over the monomial grid
-    (least squares, finite at t = ∞)."""
+    """An angle from a ratio of monomials.
+
+    ``2 atan(t)`` for ``grid[i + di, j + dj] ≈ t · grid[i, j]`` over the monomial grid
+    (least squares, finite at t = ∞).
+    """
     num = den = 0.0
     for i in range(grid.shape[0] - di):
         for j in range(grid.shape[1] - dj):
@@ -550,8 +593,11 @@ def _ratio_angle(grid, di, dj):
 
 @numba.njit(**COMPILE)
 def _left_angles(m, psi, hidden, offsets):
-    """The three left angles: the hidden ``ψ`` and the shown two from the monomial ratios of
-    ``m`` (``m[3 i + j] = y^i z^j``)."""
+    """The three left angles of a root.
+
+    The three left angles: the hidden ``ψ`` and the shown two from the monomial ratios of
+    ``m`` (``m[3 i + j] = y^i z^j``).
+    """
     grid = m.reshape(4, 3)
     first = 1 if hidden == 0 else 0
     second = 2 if hidden != 2 else 1
@@ -564,8 +610,11 @@ def _left_angles(m, psi, hidden, offsets):
 
 @numba.njit(**COMPILE)
 def _right_products(left, constant, Qfull, R, angles):
-    """``S`` (8,): the right angles' products from ``Q S = P R − const`` (least squares by the
-    QR of ``Q``: ``S = R⁻¹ Q1ᵀ rhs``)."""
+    """The right angles' products of a root.
+
+    ``S`` (8,): the right angles' products from ``Q S = P R − const`` (least squares by the
+    QR of ``Q``: ``S = R⁻¹ Q1ᵀ rhs``).
+    """
     b0 = (1.0, math.cos(angles[0]), math.sin(angles[0]))
     b1 = (1.0, math.cos(angles[1]), math.sin(angles[1]))
     b2 = (1.0, math.cos(angles[2]), math.sin(angles[2]))
@@ -615,9 +664,12 @@ def _times(A, B):
 
 @numba.njit(**COMPILE)
 def _remaining_angle(theta, dh, local, rebased):
-    """The angle left by the split: θ6 from :math:`A_6 = (A_1 ⋯ A_5)^{-1} T` (standard), or
+    """The one angle the split leaves out.
+
+    The angle left by the split: θ6 from :math:`A_6 = (A_1 ⋯ A_5)^{-1} T` (standard), or
     θ5 from :math:`A_5 = (A_1 ⋯ A_4)^{-1} T A_6^{-1}` (re-based), read off the first column
-    of that link, ``(cos θ, sin θ, 0)``."""
+    of that link, ``(cos θ, sin θ, 0)``.
+    """
     last = 4 if rebased else 5
     before = _link(theta[0], dh, 0)
     for i in range(1, last):
@@ -637,8 +689,11 @@ def _remaining_angle(theta, dh, local, rebased):
 
 @numba.njit(**COMPILE)
 def _dh_angles(S, angles, dh, local, rebased):
-    """The six DH angles of a root: the right pair from ``S`` (``c, s`` of the first right
-    angle at entries 2, 5; of the second at 0, 1), the left triple, the remaining angle."""
+    """The six DH angles of a root.
+
+    The six DH angles of a root: the right pair from ``S`` (``c, s`` of the first right
+    angle at entries 2, 5; of the second at 0, 1), the left triple, the remaining angle.
+    """
     theta = np.empty(6)
     first = math.atan2(S[5], S[2])
     second = math.atan2(S[1], S[0])
@@ -655,9 +710,12 @@ def _dh_angles(S, angles, dh, local, rebased):
 
 @numba.njit(**COMPILE)
 def _keep(theta, dh, G, target, length, out, found):
-    """Polish the DH angles ``theta`` as a chain configuration, and append it to ``out``
+    """Polish, verify and keep a candidate.
+
+    Polish the DH angles ``theta`` as a chain configuration, and append it to ``out``
     (``q`` wrapped, then its Hadamard ratio) if it reaches ``target`` within
-    :data:`VERIFY_TOL` and is not within :data:`MERGE_TOL` of a kept one. Returns the count."""
+    :data:`VERIFY_TOL` and is not within :data:`MERGE_TOL` of a kept one. Returns the count.
+    """
     slot = np.empty(18)
     for j in range(6):
         slot[j] = theta[j] - dh[3, j]
@@ -682,8 +740,11 @@ def _keep(theta, dh, G, target, length, out, found):
 
 @numba.njit(**COMPILE)
 def solution_of(m, psi, tables, hidden, local, target, out, found):
-    """Steps 4–5 for one monomial vector ``m`` of the hidden angle ``ψ``; returns the count
-    of ``out`` (``tables = (left, offsets, dh, G, length, rebased, M, Qfull, R, constant)``)."""
+    """The solution of one monomial vector (steps 4–5).
+
+    Steps 4–5 for one monomial vector ``m`` of the hidden angle ``ψ``; returns the count
+    of ``out`` (``tables = (left, offsets, dh, G, length, rebased, M, Qfull, R, constant)``).
+    """
     left, offsets, dh, G, length, rebased, _, Qfull, R, constant = tables
     angles = _left_angles(m, psi, hidden, offsets)
     S = _right_products(left, constant, Qfull, R, angles)
@@ -711,9 +772,12 @@ def _real_roots(y_re, y_im, x0):
 
 @numba.njit(**COMPILE)
 def solutions(y_re, y_im, x0, tables, hidden, local, target, out, clusters):
-    """Every solution of the simple real roots into ``out`` (k, 7); each multiple root (a
+    """Every solution of the simple real roots.
+
+    Every solution of the simple real roots into ``out`` (k, 7); each multiple root (a
     cluster within :data:`CLUSTER_TOL`) goes to ``clusters`` as ``(ψ, multiplicity)`` for
-    :func:`monomials_of`. Returns ``(found, n_clusters)``."""
+    :func:`monomials_of`. Returns ``(found, n_clusters)``.
+    """
     roots = _real_roots(y_re, y_im, x0)
     M = tables[6]
     found = n_clusters = 0
@@ -734,9 +798,12 @@ def solutions(y_re, y_im, x0, tables, hidden, local, target, out, clusters):
 
 
 def monomials_of(M: np.ndarray, psi: float, k: int) -> list[np.ndarray]:
-    """The k monomial vectors of a k-fold root ``ψ`` (step 4): the k-dimensional null space
+    """The monomial vectors of a multiple root (step 4).
+
+    The k monomial vectors of a k-fold root ``ψ`` (step 4): the k-dimensional null space
     of ``M(x)`` split by the shift of the first shown tangent (``m[3(i + 1) + j] = y
-    m[3i + j]``), a k × k eigenproblem."""
+    m[3i + j]``), a k × k eigenproblem.
+    """
     x = float(np.tan(psi / 2.0))
     matrix = M[0] + x * M[1] + x * x * M[2] if abs(x) <= 1.0 else M[2] + M[1] / x + M[0] / x**2
     V = np.linalg.svd(matrix)[2][-k:].T
@@ -749,8 +816,11 @@ def monomials_of(M: np.ndarray, psi: float, k: int) -> list[np.ndarray]:
 
 @numba.njit(**COMPILE)
 def local_target(T, reverse, length, base_inverse, tool_inverse):
-    """``(target, local)``: the target of the chain as solved (``T⁻¹`` backwards) and it in
-    the scaled chain's DH frames, ``base⁻¹ (target / length) tool⁻¹``."""
+    """The target of the chain as solved, in its DH frames.
+
+    ``(target, local)``: the target of the chain as solved (``T⁻¹`` backwards) and it in
+    the scaled chain's DH frames, ``base⁻¹ (target / length) tool⁻¹``.
+    """
     target = inverse(T) if reverse else T.copy()
     scaled = target.copy()
     scaled[:3, 3] /= length
@@ -763,7 +833,9 @@ def local_target(T, reverse, length, base_inverse, tool_inverse):
 
 @dataclass(frozen=True)
 class Elimination:
-    """The target-independent part of one split of a (possibly reversed) chain, and its
+    """One elimination of a chain: its tables and its solve.
+
+    The target-independent part of one split of a (possibly reversed) chain, and its
     solve: every solution of a target, steps 2–5 of the module docstring.
 
     Attributes:
@@ -783,8 +855,11 @@ class Elimination:
 
     @classmethod
     def build(cls, chain: Chain, reverse: bool, split: str, hidden: int) -> Elimination:
-        """The tables of ``chain`` (already reversed if ``reverse``) for a split and hidden
-        variable (step 1, and the left side's coefficients of step 2)."""
+        """The tables of one split and hidden variable.
+
+        The tables of ``chain`` (already reversed if ``reverse``) for a split and hidden
+        variable (step 1, and the left side's coefficients of step 2).
+        """
         length = chain.length()
         dh = dh_of_chain(chain.scaled(length))
         rows = (1, 2, 3) if split == "rebased" else (2, 3, 4)

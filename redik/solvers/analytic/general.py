@@ -62,7 +62,9 @@ REVOLUTE = np.ones(6, bool)
 
 @dataclass(frozen=True)
 class GeneralSolver:
-    """Every solution of a 6R arm by its elimination (make one with
+    """Every solution of a 6R arm by its elimination.
+
+    Every solution of a 6R arm by its elimination (make one with
     :func:`redik.solvers.analytic.solver_for`).
 
     Attributes:
@@ -80,10 +82,13 @@ class GeneralSolver:
     def __call__(
         self, target: Any, *, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
     ) -> IKSolutions:
-        """Every solution of a world-frame target pose, labelled ``"root1"``… (``limits``:
+        """Every solution of a world-frame target pose.
+
+        Every solution of a world-frame target pose, labelled ``"root1"``… (``limits``:
         ``"robot"``, None or ``(lower, upper)``; ``tol`` is checked and unused: every solution
         is exact to the elimination's verification, and it is kept for the common
-        signature)."""
+        signature).
+        """
         T = _checks.pose(target, "target", strict=strict)
         _checks.length(tol, "tol", allow_zero=True)
         lower, upper = _checks.resolve_limits(limits, (self.lower, self.upper), 6)
@@ -141,9 +146,12 @@ class GeneralSolver:
 
 
 def _singular_text(ratio: float) -> str:
-    """The ``singular`` text of a solution whose Jacobian has this Hadamard ratio ('' above
+    """The singularity text of a solution.
+
+    The ``singular`` text of a solution whose Jacobian has this Hadamard ratio ('' above
     :data:`SINGULAR_TOL`): two roots of the elimination meet there (a double root) and the
-    arm can move without moving the tool, to first order."""
+    arm can move without moving the tool, to first order.
+    """
     if ratio >= SINGULAR_TOL:
         return ""
     return (
@@ -166,8 +174,11 @@ def _probe_targets(S: np.ndarray, M: np.ndarray) -> list[tuple[np.ndarray, np.nd
 
 
 def _fault(elimination: Elimination, probes: list[tuple[np.ndarray, np.ndarray]]) -> str:
-    """Why an elimination cannot be trusted on the arm ('' if it can): degenerate on a probe,
-    or missing a probe's generating configuration."""
+    """Why an elimination cannot be trusted on the arm.
+
+    Why an elimination cannot be trusted on the arm ('' if it can): degenerate on a probe,
+    or missing a probe's generating configuration.
+    """
     for q, T in probes:
         rows, rank, regular = elimination.solve(T)
         if rank < RANK_TOL:
@@ -185,7 +196,9 @@ def general_solver(
     lower: np.ndarray | None = None,
     upper: np.ndarray | None = None,
 ) -> GeneralSolver:
-    """The all-solutions solver of the 6R chain with space screws ``S`` (6 × 6, (ω, v)
+    """The all-solutions solver of a 6R chain.
+
+    The all-solutions solver of the 6R chain with space screws ``S`` (6 × 6, (ω, v)
     columns) and home pose ``M``: the first regular elimination of :data:`CHOICES`.
 
     Raises:
