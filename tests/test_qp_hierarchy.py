@@ -8,9 +8,8 @@ import pytest
 
 import redik
 from redik.limits import ConfigurationLimit
-from redik.qp import QP, make_backend, solve_lexicographic
+from redik.qp import QP, Problem, make_backend, solve_lexicographic
 from redik.qp.hierarchy import SLACK_DAMPING, free_directions
-from redik.solvers.problem import Problem
 from redik.tasks import (
     DampingTask,
     FrameTask,

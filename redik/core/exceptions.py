@@ -61,6 +61,10 @@ class InfeasibleProblem(RedikError):
     """The hard constraints of a problem admit no solution."""
 
 
+class TaskError(RedikError):
+    """A foreign (mink) task or limit raised; the message names it, the cause is chained."""
+
+
 class RedikWarning(UserWarning):
     """Root of every warning redik issues: the input was used after a documented repair, or a
     result missed a bound the caller set."""
