@@ -271,3 +271,35 @@ def test_one_robot_solves_from_several_threads_as_in_series(whole, switch_after_
         np.testing.assert_array_equal(a.q, b.q)
         np.testing.assert_array_equal(a.history, b.history)
         np.testing.assert_array_equal(a.error_history, b.error_history)
+
+
+TWO_FINGERS = """<mujoco><worldbody>
+  <body name="palm"><joint name="wrist" axis="0 0 1"/><geom size="0.05"/>
+    <body name="finger_a" pos="0.1 0 0"><joint name="a" axis="0 1 0"/><geom size="0.02"/>
+      <site name="tip_a" pos="0.05 0 0"/></body>
+    <body name="finger_b" pos="-0.1 0 0"><joint name="b" axis="0 1 0"/><geom size="0.02"/></body>
+  </body>
+  <body name="table" pos="1 0 0"><geom type="box" size="0.2 0.2 0.02"/></body>
+</worldbody></mujoco>"""
+
+
+def test_a_model_without_an_ee_site_loads_whole_and_names_frames_where_used():
+    robot = redik.Robot.from_xml_string(TWO_FINGERS)
+    assert robot.ee is None and not robot.is_chain
+    assert robot.joint_names == ("wrist", "a", "b")
+    # Sites, then leaf bodies; the table is a leaf no joint moves.
+    assert robot.suggested_frames() == ["tip_a", "finger_a", "finger_b"]
+    with pytest.raises(UnknownFrame, match=r"sites \['tip_a'\]; leaf bodies \['finger_a', 'finger"):
+        robot.chain()
+    chain = robot.chain("finger_b")
+    assert chain.is_chain and chain.joint_names == ("wrist", "b") and chain.ee.name == "finger_b"
+    assert chain.chain().joint_names == chain.joint_names  # a chain's default frame is its own
+    named = redik.Robot.from_xml_string(TWO_FINGERS, ee="tip_a")
+    assert named.is_chain and named.joint_names == ("wrist", "a")
+
+
+def test_a_site_named_ee_is_the_natural_frame():
+    robot = redik.Robot.from_xml_string(TWO_FINGERS.replace("tip_a", "ee"))
+    assert robot.is_chain and robot.ee.name == "ee" and robot.joint_names == ("wrist", "a")
+    whole = redik.Robot.from_xml_string(TWO_FINGERS.replace("tip_a", "ee"), joints="all")
+    assert not whole.is_chain and whole.ee.name == "ee"

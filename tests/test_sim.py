@@ -122,6 +122,8 @@ def test_bad_arguments_are_rejected():
         simulate(robot, problem, task, lambda t: T, 1.0, command="torque")
     with pytest.raises(redik.InvalidInput, match="duration"):
         simulate(robot, problem, task, lambda t: T)
+    with pytest.raises(redik.InvalidInput, match="shorter than one control tick"):
+        simulate(robot, problem, task, lambda t: T, 0.001)
     with pytest.raises(redik.InvalidInput, match="physics steps"):
         simulate(robot, problem, task, lambda t: T, 1.0, control_rate=300.0)
     with pytest.raises(redik.InvalidInput, match="error_bound"):
@@ -505,7 +507,7 @@ def run_into(goal: list[float]):
     return result, str(caught[0].message)
 
 
-def test_a_contact_with_the_world_is_reported_with_its_time_and_depth():
+def test_a_contact_with_the_world_is_reported_with_its_time_and_depth(tmp_path):
     result, warning = run_into([0.68, 0.0, 0.3])  # into the wall (0.6 ≤ x ≤ 0.7)
     (contact,) = result.contacts
     assert (contact.body1, contact.body2, contact.kind) == ("link2", "world", "world")
@@ -515,6 +517,8 @@ def test_a_contact_with_the_world_is_reported_with_its_time_and_depth():
     for text in (result.summary(), warning):
         assert "contacts: world link2–world" in text and "deepest" in text
     assert "Bodies touched" in warning
+    png = plot_tracking(result, tmp_path / "contact.png")  # the contact span shaded
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 def test_a_contact_within_the_robot_is_reported_as_self():

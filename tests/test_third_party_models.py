@@ -315,6 +315,7 @@ def test_explore_cli_on_one_arm_of_baxter(tmp_path, capsys):
     assert "left_s0" in summary and "right_s0" not in summary
 
 
+@pytest.mark.slow  # an example run
 def test_baxter_with_added_servos_tracks_in_closed_loop():
     """examples/bimanual_simulate.py: the circle within 5 mm, the held gripper within 1 mm."""
     import runpy

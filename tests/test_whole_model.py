@@ -84,8 +84,15 @@ def test_whole_model_sizes_and_names(whole):
     assert whole.revolute[:9].tolist() == [False] * 3 + [True] * 6
     np.testing.assert_allclose(np.linalg.norm(whole.home[3:7]), 1.0)
     assert whole.ee is None
-    with pytest.raises(UnknownFrame, match="name the frame"):
+    with pytest.raises(UnknownFrame, match="names no end-effector") as error:
         whole.fk(whole.home)
+    listed = (
+        "sites ['gaze', 'left_ee', 'right_ee']; leaf bodies ['head', 'left_finger', 'right_finger']"
+    )
+    assert listed in str(error.value)
+    assert whole.suggested_frames() == [
+        "gaze", "left_ee", "right_ee", "head", "left_finger", "right_finger"
+    ]  # fmt: skip
 
 
 def test_joint_subsets_by_pattern(model):
@@ -356,8 +363,11 @@ def test_chain_of_a_whole_model_runs_the_fast_paths(whole):
     targets = np.array([chain.fk(chain.clip(chain.random_q(rng))) for _ in range(4)])
     batch = redik.solve_batch(chain, targets, seed=0, engine="local", workers=1)
     assert batch.success_rate == 1.0
-    with pytest.raises(InvalidInput, match="whole-model"):
-        redik.solve_batch(whole, targets)
+    with pytest.raises(redik.UnknownFrame, match=r"names no end-effector.*'left_ee'"):
+        redik.solve_batch(whole, targets)  # no frame: the chain is not named
+    whole_with_ee = redik.Robot(whole.model, "right_ee", joints="all")
+    with pytest.raises(InvalidInput, match=r"whole-model.*robot\.chain\('right_ee'\)"):
+        redik.solve_batch(whole_with_ee, targets)
     np.testing.assert_allclose(whole.embed(chain, batch.q[0], q)[:7], q[:7])
     qpos = whole.full_qpos(q)
     np.testing.assert_array_equal(chain.q_of(qpos), qpos[chain.qpos_indices])

@@ -204,6 +204,7 @@ class RegressionReport:
 
     @property
     def regressed(self) -> bool:
+        """True when any spec regressed (crashed, failed a criterion or moved a metric)."""
         return any(spec.regressed for spec in self.specs)
 
     def table(self) -> str:
@@ -248,6 +249,7 @@ def default_specs_dir() -> Path:
 
 
 def baseline_path(baselines_dir: Path, name: str) -> Path:
+    """The baseline file of spec ``name``: ``<baselines_dir>/<name>.json``."""
     return Path(baselines_dir) / f"{name}.json"
 
 

@@ -66,13 +66,18 @@ class TaskError(RedikError):
 
 
 class RedikWarning(UserWarning):
-    """Root of every warning redik issues: the input was used after a documented repair, or a
-    result missed a bound the caller set."""
+    """Root of every warning redik issues.
+
+    The input was used after a documented repair, or a result missed a bound the caller set.
+    """
 
 
 class ModelWarning(RedikWarning):
-    """A model loaded after a stated repair: a part left out (a mesh in a format MuJoCo cannot
-    read) or replaced (an indefinite inertia tensor); see :mod:`redik.models.loading`."""
+    """A model loaded after a stated repair.
+
+    A part was left out (a mesh in a format MuJoCo cannot read) or replaced (an indefinite
+    inertia tensor); see :mod:`redik.models.loading`.
+    """
 
 
 class NearRotationWarning(RedikWarning):
@@ -84,18 +89,30 @@ class NearRotationWarning(RedikWarning):
 
 
 class TrackingWarning(RedikWarning):
-    """A closed-loop run (:func:`redik.apps.sim.simulate`) left the reference by more than the
-    bound it was given."""
+    """A closed-loop run left the reference by more than the bound it was given.
+
+    See :func:`redik.apps.sim.simulate`.
+    """
 
 
 class InstabilityWarning(RedikWarning):
-    """A closed-loop run (:func:`redik.apps.sim.simulate`) stopped because MuJoCo reported the
-    physics unsound (a NaN or huge state it reset, or a full constraint arena)."""
+    """A closed-loop run stopped because MuJoCo reported the physics unsound.
+
+    A NaN or huge state it reset, or a full constraint arena; see
+    :func:`redik.apps.sim.simulate`.
+    """
 
 
 def warn(message: str, category: type[RedikWarning] = RedikWarning) -> None:
-    """Issue ``message`` attributed to the first caller outside redik, so that the warning
-    names the user's line (and filters by module work) however deep the check sits."""
+    """Issue a warning attributed to the first caller outside redik.
+
+    So that the warning names the user's line (and filters by module work) however deep the
+    check sits.
+
+    Args:
+        message: The warning's text.
+        category: Its class.
+    """
     frame, level = sys._getframe(1), 2  # stacklevel 2 is the caller of warn()
     while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE):
         frame, level = frame.f_back, level + 1

@@ -88,8 +88,18 @@ class Status(str, Enum):
 
     @classmethod
     def coerce(cls, status: object, name: str = "status") -> Status:
-        """``status`` (a member or its string) as a member; raises :class:`InvalidInput`
-        naming the valid values otherwise."""
+        """Convert a member or its string to the member.
+
+        Args:
+            status: A :class:`Status` or its value.
+            name: The argument's name, for the message.
+
+        Returns:
+            The member.
+
+        Raises:
+            InvalidInput: ``status`` is neither (the message names the valid values).
+        """
         if isinstance(status, cls):
             return status
         try:

@@ -49,12 +49,12 @@ from redik.core.rotation_policy import ROTATION_TOLERANCE
 from redik.core.validate import MAX_COORDINATE, fraction, integer
 from redik.kinematics.compiled import (
     COMPILE,
-    apply_inverse_v,
     chain_kinematics,
     pose_error,
     valid_target,
     world_jacobian,
 )
+from redik.lie import apply_inverse_v
 
 CONVERGED, STALLED, EXHAUSTED, INVALID, DIVERGED = range(5)
 """Status codes, shared with :data:`redik.solvers.batch.solve.BATCH_STATUSES` (``EXHAUSTED`` is

@@ -16,13 +16,14 @@ from pathlib import Path
 
 import numpy as np
 
-from redik.apps.cli._model import add_model_arguments, load_robot
+from redik.apps.cli._model import add_model_arguments, load_chain
 from redik.apps.progress import progress_bar, wanted
 from redik.core.exceptions import InvalidInput
 from redik.solvers.batch import BATCH_STATUSES, ENGINES, Chain, forward_kinematics, solve_batch
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``redik batch`` to the command line."""
     parser = subparsers.add_parser(
         "batch",
         help="solve many pose targets at once, on all cores or a Ray cluster",
@@ -30,7 +31,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_model_arguments(parser)
-    parser.add_argument("--ee", default=None, help="end-effector site or body (default: 'ee')")
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument("--targets", type=Path, help=".npz with T (B×4×4) and optional q0")
     source.add_argument("--random", type=int, metavar="N", help="solve N random reachable poses")
@@ -53,7 +53,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    robot = load_robot(args)
+    """Solve the targets, write the ``.npz`` and print the summary and the rate."""
+    robot = load_chain(args)
     chain = Chain.from_robot(robot)
     extra: dict[str, np.ndarray] = {}
     q0 = None
@@ -109,6 +110,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _read_targets(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
+    """``T`` and the optional seeds ``q0`` of a targets file."""
     if not path.is_file():
         raise InvalidInput(f"targets file not found: {str(path)!r}")
     with np.load(path) as data:

@@ -169,6 +169,10 @@ class _Run:
             raise InvalidInput(f"on_tick must be callable or None, got {on_tick!r}")
         dt = 1.0 / control_rate
         ticks = round(duration * control_rate)
+        if ticks < 1:
+            raise InvalidInput(
+                f"duration {duration:g} s is shorter than one control tick ({dt:g} s)"
+            )
         return cls(
             pose_at=pose_at,
             times=start + np.arange(1, ticks + 1) * dt,

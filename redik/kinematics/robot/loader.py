@@ -1,5 +1,7 @@
-"""The ways to build a :class:`~redik.Robot`: a scene name or a file, an MJCF or URDF string,
-a Denavit–Hartenberg table, or screw axes.
+"""The ways to build a :class:`~redik.Robot`: from a scene, a file, a string, a table, screws.
+
+A scene name or a file path, an MJCF or URDF string, a Denavit–Hartenberg table, or screw
+axes.
 
 Each compiles a :class:`mujoco.MjModel` (through :mod:`redik.models.loading`, which resolves
 meshes and repairs what stops real-world files from loading, or the MJCF builders of
@@ -105,11 +107,11 @@ class RobotLoading:
         home: Sequence[float] | None = None,
         **builder_options: Any,
     ) -> Robot:
-        """Build from a Denavit–Hartenberg table (Spong et al., *Robot Modeling and Control*,
-        §3.2; Craig, *Introduction to Robotics*, §3.4).
+        """Build from a Denavit–Hartenberg table.
 
-        The generated MJCF places the ``ee`` site at the last frame, so ``robot.fk(q)`` equals
-        the table's ``T_0n(q) · tool``.
+        Spong et al., *Robot Modeling and Control*, §3.2 (standard); Craig, *Introduction to
+        Robotics*, §3.4 (modified). The generated MJCF places the ``ee`` site at the last frame, so
+        ``robot.fk(q)`` equals the table's ``T_0n(q) · tool``.
 
         Args:
             rows: The table, one row per joint (:func:`redik.models.dh.parse_rows`).

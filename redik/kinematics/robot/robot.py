@@ -52,7 +52,13 @@ import numpy as np
 from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
 from redik.core.validate import MAX_COORDINATE, real_array
 from redik.kinematics.robot.coordinates import JointCoordinates
-from redik.kinematics.robot.frames import Frame, frame_body, frame_names, resolve_frame
+from redik.kinematics.robot.frames import (
+    Frame,
+    frame_body,
+    frame_names,
+    leaf_bodies,
+    resolve_frame,
+)
 from redik.kinematics.robot.loader import RobotLoading
 from redik.kinematics.robot.selection import (
     BALL,
@@ -68,6 +74,13 @@ from redik.lie import periodic_coordinates, world_jacobian_to
 JACOBIAN_REFERENCES = ("space", "body", "world")
 """The references a Jacobian can be expressed in (:mod:`redik.core.conventions`)."""
 
+NATURAL_FRAME = "ee"
+"""The site by which a model names its end-effector: every bundled scene and every model
+redik's builders write has one. A robot of such a model is the chain to it unless told
+otherwise; a model without one loads whole, with no frame named."""
+
+_LISTED_FRAMES = 40  # per kind in a message, so that a humanoid's stays readable
+
 
 class Robot(RobotLoading):
     """The joints of a MuJoCo model that redik moves: a serial chain, or any set of joints.
@@ -76,14 +89,16 @@ class Robot(RobotLoading):
 
     Args:
         model: The MuJoCo model.
-        ee: Name of the end-effector site, body or geom. For a chain (``joints=None``) it
-            ends the chain; default the site named ``ee``. For a whole-model robot it is
-            only the default frame of tasks (default ``ee`` when the model has it, else
-            none: tasks must then name their frame).
+        ee: The robot's end-effector: a site, body or geom name, the frame solvers and tasks
+            use when they are given none. Default the site named :data:`NATURAL_FRAME`
+            (``"ee"``) when the model has one, else none: frames are then named where they
+            are used (``FrameTask(frame, …)``, ``solve_pose(…, frame=…)``, ``robot.chain(frame)``).
         name: A label for printing; default the model's name.
-        joints: None for the chain from the root to ``ee``; ``"all"`` for every hinge,
-            slide, ball and free joint; or joint names and ``fnmatch`` patterns
-            (``"left/*"``) selecting a subset, kept in model order.
+        joints: What moves. None: the chain from the root to ``ee`` when there is an
+            end-effector, else every joint (a whole model, as :func:`redik.load` gives for a
+            third-party file). ``"all"``: every hinge, slide, ball and free joint. Or joint
+            names and ``fnmatch`` patterns (``"left/*"``) selecting a subset, kept in model
+            order.
         fixed: Joint names or patterns never moved (``["*finger*"]``); they keep their
             value in ``data.qpos``. On a chain, a ball joint on the path must be fixed.
 
@@ -92,8 +107,8 @@ class Robot(RobotLoading):
         state: The robot's kinematic state (:class:`~redik.kinematics.robot.state.RobotState`,
             which ``fk``/``jacobian`` write); ``state.data.qpos`` holds the values of the
             joints the robot does not move.
-        ee: The end-effector :class:`Frame` (None for a whole-model robot without one).
-        is_chain: True for a serial chain (the fast paths need one).
+        ee: The end-effector :class:`Frame`, or None when the model names none.
+        is_chain: True for a serial chain to ``ee`` (the fast paths need one).
         dof: Tangent dimension ``n``: entries of ``Δq`` and Jacobian columns.
         nq: Entries of ``q`` (``dof`` plus one per ball joint and free joint).
         flat: True when ``nq == dof`` (no ball or free joint): ``q ⊕ Δq = q + Δq``.
@@ -123,9 +138,11 @@ class Robot(RobotLoading):
         self.name = name or _model_name(model)
         self._frames: dict[str, Frame] = {}
         fixed_ids = set(match_joints(model, fixed or (), "fixed", self.name))
-        self.is_chain = joints is None
-        if self.is_chain:
-            self.ee = self.frame(ee if ee is not None else "ee")
+        if ee is None and mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, NATURAL_FRAME) >= 0:
+            ee = NATURAL_FRAME
+        self.ee = None if ee is None else self.frame(ee)
+        self.is_chain = joints is None and self.ee is not None
+        if self.ee is not None and self.is_chain:
             joint_ids = chain_joints(model, frame_body(model, self.ee), fixed_ids, self.name)
             if not joint_ids:
                 raise ModelError(
@@ -133,12 +150,9 @@ class Robot(RobotLoading):
                     f"{self.ee.name!r} in model {self.name!r}"
                 )
         else:
-            self.ee = None
-            if ee is not None:
-                self.ee = self.frame(ee)
-            elif mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, "ee") >= 0:
-                self.ee = self.frame("ee")
-            joint_ids = selected_joints(model, joints, fixed, fixed_ids, self.name)
+            joint_ids = selected_joints(
+                model, "all" if joints is None else joints, fixed, fixed_ids, self.name
+            )
         coordinates = JointCoordinates.of(model, joint_ids)
         self._joint_ids = coordinates.joint_ids
         self.joint_names = coordinates.joint_names
@@ -174,16 +188,24 @@ class Robot(RobotLoading):
     # Frames
 
     def frame(self, name: str | Frame | None = None) -> Frame:
-        """Resolve a site, body or geom name (in that order); ``None`` is the end-effector.
+        """Resolve a frame name.
 
-        ``"geom:name"`` (or ``"body:"``, ``"site:"``) picks the kind when names collide.
+        Args:
+            name: A site, body or geom name (looked up in that order; ``"geom:name"``,
+                ``"body:"`` or ``"site:"`` picks the kind when names collide), a resolved
+                :class:`Frame`, or None for the end-effector.
+
+        Returns:
+            The frame.
+
+        Raises:
+            UnknownFrame: No such frame (the message lists the closest names); or None was
+                given and the robot has no end-effector (the message lists the frames its
+                joints move, :meth:`suggested_frames`).
         """
         if name is None:
             if self.ee is None:
-                raise UnknownFrame(
-                    f"{self.name!r} has no end-effector (a whole-model robot): name the frame, "
-                    f"e.g. one of the sites {self.frame_names('site')[:8]}"
-                )
+                raise UnknownFrame(self._no_end_effector())
             return self.ee
         if isinstance(name, Frame):
             return name
@@ -197,6 +219,37 @@ class Robot(RobotLoading):
     def frame_names(self, kind: str = "site") -> list[str]:
         """Names of the model's sites, bodies or geoms (``kind`` = "site", "body", "geom")."""
         return frame_names(self.model, kind)
+
+    def suggested_frames(self) -> list[str]:
+        """The frames a user would pick for a task or a chain.
+
+        Returns:
+            The model's sites, then its leaf bodies (those no body hangs from: hands, feet,
+            flanges; ``"body:name"`` where a site has the same name), each of them moved by
+            some joint of the robot, in model order.
+        """
+        sites = self.frame_names("site")
+        taken = set(sites)
+        bodies = [f"body:{b}" if b in taken else b for b in leaf_bodies(self.model)]
+        return [name for name in (*sites, *bodies) if self.moves(name)]
+
+    def _no_end_effector(self) -> str:
+        suggested = self.suggested_frames()
+        sites = set(self.frame_names("site"))
+        listed = []
+        for kind, names in (
+            ("sites", [n for n in suggested if n in sites]),
+            ("leaf bodies", [n for n in suggested if n not in sites]),
+        ):
+            more = len(names) - _LISTED_FRAMES
+            listed.append(
+                f"{kind} {names[:_LISTED_FRAMES]}" + (f" and {more} more" if more > 0 else "")
+            )
+        return (
+            f"{self.name!r} names no end-effector (no site {NATURAL_FRAME!r}), so the frame "
+            f"must be named where it is used (frame=…, FrameTask(frame, …), "
+            f"robot.chain(frame), ee=…); the frames its joints move: {'; '.join(listed)}"
+        )
 
     def body_of(self, frame: str | Frame) -> int:
         """Id of the body ``frame`` is attached to (itself for a body)."""
@@ -217,16 +270,33 @@ class Robot(RobotLoading):
     # Chains of a whole model
 
     def chain(
-        self, frame: str | Frame, q: np.ndarray | None = None, *, name: str | None = None
+        self,
+        frame: str | Frame | None = None,
+        q: np.ndarray | None = None,
+        *,
+        name: str | None = None,
     ) -> Robot:
-        """The serial chain from the root to ``frame``, the other joints fixed.
+        """The serial chain from the root to a frame, the other joints held.
 
         The chain moves this robot's hinge and slide joints on the path to ``frame``; every
-        other joint (the other arm, the fingers, a floating base) is held at its value in
-        ``q`` (this robot's configuration; default its current ``state.data.qpos``). The chain
-        shares the model and runs every serial-chain method (compiled DLS, batch, closed
-        forms, self-motion); :meth:`embed` writes its solution back into a ``q`` of this
-        robot. Ball joints on the path are fixed too (the fast paths need hinges/slides).
+        other joint (the other arm, the fingers, a floating base, and ball joints on the path,
+        which the fast paths cannot move) is held at its value in ``q``. The chain shares the
+        model and runs every serial-chain method (compiled DLS, batch, closed forms,
+        self-motion); :meth:`embed` writes its solution back into a ``q`` of this robot.
+
+        Args:
+            frame: The chain's end-effector; default this robot's.
+            q: This robot's configuration, at which the other joints are held; default the
+                values in its state's ``data.qpos``.
+            name: A label; default ``"<robot>:<frame>"``.
+
+        Returns:
+            The chain, a :class:`Robot` whose ``ee`` is ``frame``.
+
+        Raises:
+            UnknownFrame: No such frame, or none given and this robot has no end-effector
+                (the message lists :meth:`suggested_frames`).
+            ModelError: No hinge or slide joint of this robot moves ``frame``.
         """
         resolved = self.frame(frame)
         moved = set(self._joint_ids.tolist())
@@ -242,9 +312,20 @@ class Robot(RobotLoading):
         return chain
 
     def embed(self, chain: Robot, q_chain: np.ndarray, q: np.ndarray | None = None) -> np.ndarray:
-        """This robot's ``q`` with the joints of ``chain`` set to ``q_chain``.
+        """Write a chain's solution back into a configuration of this robot.
 
-        ``q`` defaults to the values held by the chain (those of :meth:`chain`).
+        Args:
+            chain: A chain of this robot (:meth:`chain`).
+            q_chain: The chain's configuration.
+            q: This robot's configuration to write into; default the values the chain holds
+                (those it was cut at).
+
+        Returns:
+            This robot's ``q`` with the joints of ``chain`` set to ``q_chain``.
+
+        Raises:
+            InvalidInput: ``chain`` is of another model, or moves joints this robot does not.
+            InvalidConfiguration: A configuration of the wrong length or not finite.
         """
         if chain.model is not self.model:
             raise InvalidInput(f"{chain!r} is not a chain of {self!r}'s model")
@@ -262,9 +343,20 @@ class Robot(RobotLoading):
     # Joint vectors
 
     def check_q(self, q: np.ndarray, name: str = "q") -> np.ndarray:
-        """``q`` as a finite real vector of length ``nq``, within ``±``
-        :data:`~redik.core.validate.MAX_COORDINATE`, or raise :class:`InvalidConfiguration`
-        naming the value (complex, string and object arrays are refused, not cast)."""
+        """Check a configuration of this robot.
+
+        Args:
+            q: The configuration as given.
+            name: Its name, for the message.
+
+        Returns:
+            ``q`` as a float vector of length ``nq``.
+
+        Raises:
+            InvalidConfiguration: Not a finite real vector of length ``nq`` within
+                ``±``:data:`~redik.core.validate.MAX_COORDINATE` (complex, string and object
+                arrays are refused, not cast), or a zero quaternion of a ball or free joint.
+        """
         q = real_array(q, name, InvalidConfiguration)
         if q.shape != (self.nq,):
             what = f"joints {list(self.joint_names)}"
@@ -313,12 +405,28 @@ class Robot(RobotLoading):
         return q
 
     def within_limits(self, q: np.ndarray, tol: float = 0.0) -> bool:
-        """True when ``lower − tol ≤ q ≤ upper + tol`` for every hinge and slide joint."""
+        """Whether a configuration is inside the joint limits.
+
+        Args:
+            q: A configuration (unchecked).
+            tol: How far outside a limit still counts as inside.
+
+        Returns:
+            True when ``lower − tol ≤ q ≤ upper + tol`` for every hinge and slide joint.
+        """
         values = self.scalar_values(q)
         return bool(np.all(values >= self.lower - tol) and np.all(values <= self.upper + tol))
 
     def clip(self, q: np.ndarray) -> np.ndarray:
-        """``q`` clipped into the joint limits (quaternions normalised)."""
+        """Clip a configuration into the joint limits.
+
+        Args:
+            q: A configuration (unchecked).
+
+        Returns:
+            A copy with each hinge and slide value clipped to ``[lower, upper]`` and each
+            quaternion normalised.
+        """
         if self.flat:
             return np.clip(q, self.lower, self.upper)
         q = np.array(q, dtype=float)
@@ -329,10 +437,17 @@ class Robot(RobotLoading):
         return q
 
     def integrate(self, q: np.ndarray, dq: np.ndarray) -> np.ndarray:
-        """``q ⊕ Δq``: the configuration reached by the tangent step ``dq`` (no checks).
+        """The configuration reached by a tangent step: ``q ⊕ Δq``.
 
         ``q + dq`` on a flat robot, else ``mj_integratePos`` (the exponential map of each
         ball and free joint; see the module docstring).
+
+        Args:
+            q: A configuration (``nq``,), unchecked.
+            dq: A tangent step (``dof``,), unchecked.
+
+        Returns:
+            ``q ⊕ dq`` (``nq``,).
         """
         if self.flat:
             return q + dq
@@ -344,10 +459,17 @@ class Robot(RobotLoading):
         return qpos[self._qpos_adr]
 
     def difference(self, q_from: np.ndarray, q_to: np.ndarray) -> np.ndarray:
-        """``q_to ⊖ q_from`` (``dof``,): the tangent step from ``q_from`` to ``q_to``.
+        """The tangent step between two configurations: ``q_to ⊖ q_from``.
 
         ``q_to − q_from`` on a flat robot, else ``mj_differentiatePos``; the inverse of
         :meth:`integrate`: ``integrate(a, difference(a, b)) = b``.
+
+        Args:
+            q_from: A configuration (``nq``,), unchecked.
+            q_to: A configuration (``nq``,), unchecked.
+
+        Returns:
+            The step (``dof``,).
         """
         if self.flat:
             return q_to - q_from
@@ -368,16 +490,29 @@ class Robot(RobotLoading):
 
     @property
     def periodic(self) -> np.ndarray:
-        """Per tangent coordinate, True for the rotations taken modulo 2π: those whose
-        range spans a full turn (:func:`redik.lie.periodic_coordinates`,
-        :mod:`redik.core.conventions`)."""
+        """Per tangent coordinate, True for the rotations taken modulo 2π.
+
+        Those whose range spans a full turn (:func:`redik.lie.periodic_coordinates`,
+        :mod:`redik.core.conventions`).
+        """
         return periodic_coordinates(self.revolute, self.lower, self.upper)
 
-    def random_q(self, rng: np.random.Generator | int | None = None, size: int | None = None):
-        """Configurations drawn uniformly within the sampling bounds (one, or ``size`` × nq).
+    def random_q(
+        self, rng: np.random.Generator | int | None = None, size: int | None = None
+    ) -> np.ndarray:
+        """Draw configurations uniformly within the sampling bounds.
 
-        Ball and free joints get a uniformly random orientation (Shoemake 1992) and a free
-        joint a position within ±1 m of its home position.
+        Hinges and slides uniformly in ``[sampling_lower, sampling_upper]``; ball and free
+        joints a uniformly random orientation (a normalised Gaussian quaternion; Shoemake,
+        *Uniform random rotations*, Graphics Gems III, 1992), a free joint a position within
+        ±1 m of its home position.
+
+        Args:
+            rng: A generator, or a seed for one.
+            size: How many; None for one.
+
+        Returns:
+            One configuration (``nq``,), or ``size`` × ``nq``.
         """
         rng = np.random.default_rng(rng)
         shape = (self.dof,) if size is None else (size, self.dof)
@@ -403,7 +538,19 @@ class Robot(RobotLoading):
     # Kinematics, checked
 
     def fk(self, q: np.ndarray, frame: str | Frame | None = None) -> np.ndarray:
-        """Pose ``T_wf`` (4 × 4) of ``frame`` (default the end-effector) at ``q``."""
+        """Forward kinematics: the pose ``T_wf`` of a frame in the world.
+
+        Args:
+            q: A configuration (``nq``,).
+            frame: A frame name or :class:`Frame`; default the end-effector.
+
+        Returns:
+            ``T_wf`` (4, 4), a fresh array.
+
+        Raises:
+            InvalidConfiguration: A bad ``q`` (:meth:`check_q`).
+            UnknownFrame: No such frame, or none given and the robot has no end-effector.
+        """
         q = self.check_q(q)
         resolved = self.frame(frame)
         self.state.update(q)
@@ -412,10 +559,22 @@ class Robot(RobotLoading):
     def jacobian(
         self, q: np.ndarray, frame: str | Frame | None = None, reference: str = "space"
     ) -> np.ndarray:
-        """The 6 × n Jacobian of ``frame`` at ``q`` in the given reference.
+        """The Jacobian of a frame, ``ξ = J q̇`` with ``ξ = (v, ω)``.
 
-        ``reference`` is ``"space"`` (spatial twist), ``"body"`` (body twist) or ``"world"``
-        (origin velocity and angular velocity in world axes); see :mod:`redik.core.conventions`.
+        Args:
+            q: A configuration (``nq``,).
+            frame: A frame name or :class:`Frame`; default the end-effector.
+            reference: ``"space"`` (spatial twist, Modern Robotics §5.1.1), ``"body"`` (body
+                twist, §5.1.2) or ``"world"`` (origin velocity and angular velocity in world
+                axes, MuJoCo's); see :mod:`redik.core.conventions`.
+
+        Returns:
+            ``J`` (6, ``dof``), a fresh array.
+
+        Raises:
+            InvalidConfiguration: A bad ``q`` (:meth:`check_q`).
+            UnknownFrame: No such frame, or none given and the robot has no end-effector.
+            InvalidInput: An unknown ``reference``.
         """
         q = self.check_q(q)
         resolved = self.frame(frame)
@@ -442,9 +601,19 @@ class Robot(RobotLoading):
         return self._joint_ids
 
     def q_of(self, qpos: np.ndarray | None = None) -> np.ndarray:
-        """This robot's ``q`` read from a full ``qpos``; default its state's ``data.qpos``: the
-        last forward kinematics' configuration or, for a fresh chain of :meth:`chain`, the
-        values it was cut at."""
+        """Read this robot's ``q`` from a full ``qpos``.
+
+        Args:
+            qpos: The model's ``qpos`` (``model.nq``,); default the state's ``data.qpos``: the
+                last forward kinematics' configuration or, for a fresh chain of
+                :meth:`chain`, the values it was cut at.
+
+        Returns:
+            A copy of the robot's entries.
+
+        Raises:
+            InvalidConfiguration: ``qpos`` is not a real vector of length ``model.nq``.
+        """
         if qpos is None:
             qpos = self.state.data.qpos
         qpos = real_array(qpos, "qpos", InvalidConfiguration)

@@ -8,7 +8,7 @@ another zero or in the other sense; both are affine per joint:
 
 so a student's numbers and the solver's are one exact map apart, in both directions, for
 solutions, limits and the members of a singular family alike. The hexapod leg's servo
-angles (:data:`redik.solvers.analytic.hexapod.SERVO`) and the Stanford arm's course angles
+angles (:data:`redik.solvers.analytic.hexapod.LECTURE`) and the Stanford arm's course angles
 (:data:`redik.solvers.analytic.stanford.COURSE`) are instances; build another for another lecture.
 """
 

@@ -14,6 +14,12 @@ Siciliano et al. §2.4 and §2.12.3).
     The second solution is :math:`(θ_4 + π, −θ_5, θ_6 + π)` ("flip"). Singular when
     :math:`\sin θ_5 = 0`: only :math:`θ_4 + θ_6` (θ5 = 0) or :math:`θ_4 − θ_6` (θ5 = π) is
     determined.
+``"ZXZ"`` (the other wrist the course notes name, 002 "Inverse kinematics for robots with
+spherical wrist")
+    :math:`R = R_z(θ_4)\, R_x(θ_5)\, R_z(θ_6)`. Since :math:`R_x(θ) = R_z(-π/2)\, R_y(θ)\,
+    R_z(π/2)`, its angles are the ZYZ angles of the same R with
+    :math:`(θ_4 + π/2,\; θ_5,\; θ_6 - π/2)`: :math:`θ_4 = \operatorname{atan2}(\pm r_{13},
+    \mp r_{23})`, the same flip and the same singularity as ZYZ.
 ``"ZYX"`` (yaw–pitch–roll)
     :math:`R = R_z(α)\, R_y(β)\, R_x(γ)`, :math:`r_{31} = −\sin β`; the second solution is
     :math:`(α + π, π − β, γ + π)`. Singular when :math:`\cos β = 0`.
@@ -41,7 +47,10 @@ from redik.solvers.analytic._solution import (
     wrap_angle,
 )
 
-Convention = Literal["ZYZ", "ZYX"]
+Convention = Literal["ZYZ", "ZXZ", "ZYX"]
+
+#: The conventions :func:`spherical_wrist` accepts.
+CONVENTIONS = ("ZYZ", "ZXZ", "ZYX")
 
 #: Slot labels of :func:`zyz_angles` / :func:`zyx_angles` and :func:`spherical_wrist`.
 WRIST_LABELS = ("noflip", "flip")
@@ -72,6 +81,12 @@ def zyz_pair(
     return (theta4, theta5, theta6), (theta4 + np.pi, -theta5, theta6 + np.pi)
 
 
+def zxz_angles(R: np.ndarray) -> np.ndarray:
+    """Both ZXZ solutions of rotations ``R`` (..., 3, 3) as (..., 2, 3): :func:`zyz_angles`
+    with the first angle turned by +π/2 and the last by −π/2 (module docstring)."""
+    return wrap_angle(zyz_angles(R) + np.array([np.pi / 2.0, 0.0, -np.pi / 2.0]))
+
+
 def zyx_angles(R: np.ndarray) -> np.ndarray:
     """Both ZYX (yaw, pitch, roll) solutions of ``R`` (..., 3, 3) as (..., 2, 3):
     [noflip, flip], with ``cos β ≥ 0`` for noflip. At ``cos β = 0`` noflip has α = 0."""
@@ -93,7 +108,7 @@ def wrist_singularity(angles: np.ndarray, convention: Convention) -> tuple[str, 
     """Describe the singular wrist whose representative is ``angles`` (first angle 0 or any),
     and the family through it: the first angle is free, the third follows."""
     a, b, c = (float(v) for v in angles)
-    if convention == "ZYZ":
+    if convention in ("ZYZ", "ZXZ"):
         same_sign = np.cos(b) > 0.0  # θ5 = 0: θ4 + θ6 fixed; θ5 = π: θ4 − θ6 fixed
         name, middle, names = "θ5", ("0" if same_sign else "π"), ("θ4", "θ6")
         key = "theta4+theta6" if same_sign else "theta4-theta6"
@@ -127,7 +142,8 @@ def spherical_wrist(
 
     Args:
         R: 3×3 rotation matrix (the wrist rotation :math:`R_3^6 = R_3^{0\,T} R_0^6` of an arm).
-        convention: ``"ZYZ"`` or ``"ZYX"`` (see the module docstring for the equations).
+        convention: ``"ZYZ"``, ``"ZXZ"`` or ``"ZYX"`` (see the module docstring for the
+            equations).
         limits: Optional ``(lower, upper)`` arrays of 3; solutions are shifted by 2π into
             range when possible, else dropped.
         tol: Size of ``sin θ5`` (``cos β``) below which the wrist is reported singular.
@@ -140,11 +156,13 @@ def spherical_wrist(
         angle and a :class:`SolutionFamily` (first angle free).
     """
     R = _checks.rotation(R, strict=strict)
-    if convention not in ("ZYZ", "ZYX"):
-        raise _checks.InvalidInput(f"convention must be 'ZYZ' or 'ZYX', got {convention!r}")
+    if convention not in CONVENTIONS:
+        raise _checks.InvalidInput(
+            f"convention must be one of {list(CONVENTIONS)}, got {convention!r}"
+        )
     checked_limits = _checks.limits(limits, 3)
-    angles = zyz_angles(R) if convention == "ZYZ" else zyx_angles(R)
-    degenerate = np.sin(angles[0, 1]) if convention == "ZYZ" else np.cos(angles[0, 1])
+    angles = _ANGLES[convention](R)
+    degenerate = np.cos(angles[0, 1]) if convention == "ZYX" else np.sin(angles[0, 1])
     revolute = np.ones(3, bool)
     if abs(degenerate) <= tol:
         text, family = wrist_singularity(angles[0], convention)
@@ -154,3 +172,6 @@ def spherical_wrist(
             JointSolution(q, label) for q, label in zip(angles, WRIST_LABELS, strict=True)
         ]
     return finalize(candidates, 3, revolute, checked_limits)
+
+
+_ANGLES = {"ZYZ": zyz_angles, "ZXZ": zxz_angles, "ZYX": zyx_angles}
