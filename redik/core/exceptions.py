@@ -68,6 +68,10 @@ class InfeasibleProblem(RedikError):
     """The hard constraints of a problem admit no solution."""
 
 
+class TaskError(RedikError):
+    """A foreign (mink) task or limit raised; the message names it, the cause is chained."""
+
+
 class RedikWarning(UserWarning):
     """Root of every warning redik issues.
 
