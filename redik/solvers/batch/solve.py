@@ -263,7 +263,8 @@ def solve_batch(
             finite rigid transform is reported with status ``"invalid"``; the others are solved.
         q0: Seeds, ``(n,)`` for all or ``(B, n)``; default the robot's home configuration.
         method: ``"dls"``, damped least squares (Levenberg–Marquardt).
-        pos_tol, rot_tol: Position (m) and rotation (rad) tolerances.
+        pos_tol: Position tolerance (m).
+        rot_tol: Rotation tolerance (rad).
         restarts: Random re-seeds allowed per target after its first attempt.
         seed: Seed of the re-seeds; the same seed gives the same result on every engine,
             worker count and chunk size.
