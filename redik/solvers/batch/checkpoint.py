@@ -11,9 +11,9 @@ A checkpoint is a directory that belongs to one batch:
 
 **Safe against a kill.** Every file is written under a temporary name, flushed to disk
 (``fsync``) and renamed onto its final name (:func:`os.replace`, atomic on POSIX file
-systems), so a process killed in the middle of a write leaves either the whole file or none of it. The
-temporaries such a kill leaves behind are removed the next time the checkpoint is opened; one
-run at a time may use a checkpoint.
+systems), so a process killed in the middle of a write leaves either the whole file or none of
+it. The temporaries such a kill leaves behind are removed the next time the checkpoint is
+opened; one run at a time may use a checkpoint.
 
 **The same batch, or none.** :meth:`Checkpoint.open` compares the fingerprint it is given with
 the stored one entry by entry and raises
