@@ -171,6 +171,8 @@ def _out_of_iterations(
     """The verdict when the budget ran out: on level 0, stationary or not; else the best point."""
     if not point.converged:
         return search.best_point, Status.MAX_ITERATIONS
+    if options.stationarity_tol is None or not _optimised_levels(problem):
+        return point, Status.CONVERGED
     if point.values is None:
         point = restore(problem, point, options)
     stationarity = _stationarity(problem, point, options)
@@ -183,6 +185,8 @@ def _optimise(problem: Problem, point: Point, options: SolveOptions) -> tuple[Po
 
     ``converged`` when stationary, else an optimise step, or ``suboptimal`` when none is acceptable.
     """
+    if options.stationarity_tol is None or not _optimised_levels(problem):
+        return point, Status.CONVERGED  # level 0 met is all there is to ask
     if point.values is None:
         point = restore(problem, point, options)  # the first point on level 0
     stationarity = _stationarity(problem, point, options)
@@ -241,6 +245,11 @@ def _stationarity(problem: Problem, point: Point, options: SolveOptions) -> list
     if point.stationarity is None:
         point.stationarity = problem.stationarity(point.q, options.dt)
     return point.stationarity
+
+
+def _optimised_levels(problem: Problem) -> int:
+    """How many levels are optimised below level 0's targets (all of them without targets)."""
+    return len(problem.levels) - (1 if problem.has_targets else 0)
 
 
 def _stationary(stationarity: list[float], options: SolveOptions) -> bool:
