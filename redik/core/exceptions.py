@@ -38,6 +38,13 @@ class InvalidPose(InvalidInput):
     """A 4×4 matrix that should be a rigid transform is not."""
 
 
+class CheckpointMismatch(InvalidInput):
+    """A checkpoint directory belongs to another batch, or is no checkpoint at all.
+
+    See :mod:`redik.solvers.batch.checkpoint`; the message names what differs.
+    """
+
+
 class TargetNotSet(RedikError):
     """A task was used before its target was set (mink's ``TargetNotSet``)."""
 
