@@ -21,7 +21,7 @@ with Engine("process", workers=2) as engine:  # the pool starts on first use...
         print(f"{engine}: {result.summary()}")
 print(engine)  # closed: its worker processes have exited
 
-# One robot, several threads: the "dls" solver it keeps in robot.solver_cache is built once
+# One robot, several threads: the "dls" solver kept in solver_cache(robot) is built once
 # and shared; each thread gets the same answer it would get alone.
 targets = batches[0][:24]
 with ThreadPoolExecutor(4) as pool:

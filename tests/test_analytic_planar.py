@@ -192,7 +192,7 @@ def test_hexapod_leg_branches_and_preferred_knee():
     assert np.allclose(foot(under[0].family.at(1.0), *dims), [0, 0, -0.1], atol=1e-12)
 
 
-@pytest.mark.parametrize("convention", ["ZYZ", "ZYX"])
+@pytest.mark.parametrize("convention", ["ZYZ", "ZXZ", "ZYX"])
 def test_spherical_wrist_both_solutions(convention):
     rng = np.random.default_rng(5)
     for angles in rng.uniform(-np.pi, np.pi, (100, 3)):
@@ -209,6 +209,8 @@ def test_spherical_wrist_both_solutions(convention):
     [
         ("ZYZ", (0.3, 0.0, 0.5), "theta4+theta6", 0.8),
         ("ZYZ", (0.3, np.pi, 0.5), "theta4-theta6", -0.2),
+        ("ZXZ", (0.3, 0.0, 0.5), "theta4+theta6", 0.8),
+        ("ZXZ", (0.3, np.pi, 0.5), "theta4-theta6", -0.2),
         ("ZYX", (0.3, np.pi / 2, 0.5), "alpha-gamma", -0.2),
         ("ZYX", (0.3, -np.pi / 2, 0.5), "alpha+gamma", 0.8),
     ],

@@ -1,5 +1,5 @@
-"""The command line: discovery, `redik info`, third-party models and their load flags, and
-errors reported without tracebacks."""
+"""The command line: discovery, `redik info`, third-party models and the model flags every
+command that loads one takes, and errors reported without tracebacks, in the CLI's words."""
 
 from __future__ import annotations
 
@@ -45,6 +45,7 @@ def test_unknown_scene_is_a_clean_error(capsys):
     assert "no bundled scene named 'no_such_robot'" in err
 
 
+@pytest.mark.slow
 def test_console_script_entry_point():
     completed = subprocess.run(
         [sys.executable, "-m", "redik", "--help"], capture_output=True, text=True, timeout=60
@@ -139,6 +140,9 @@ def test_package_path_finds_the_meshes_of_a_copied_urdf(tmp_path, capsys):
     assert main(info) == 2
     err = capsys.readouterr().err
     assert "package://example-robot-data/robots/ur_description/meshes" in err and "not found" in err
+    # The remedies are named as the flags that apply them, not as Python keywords.
+    assert "--no-meshes" in err and "--package-path DIR" in err
+    assert "meshes=False" not in err and "package_paths" not in err
     assert main([*info, "--no-meshes"]) == 0
     capsys.readouterr()
     empty = tmp_path / "empty"
@@ -159,3 +163,135 @@ def test_explore_loads_a_third_party_model_with_the_load_flags(tmp_path, capsys)
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["dimension"] == 1 and summary["max_position_error"] < 1e-6
     assert "wrote" in capsys.readouterr().out
+
+
+PLANAR = """
+<mujoco model="planar">
+  <worldbody>
+    <body name="base">{free}
+      <body name="link1">
+        <joint name="j1" axis="0 0 1"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/>
+        <body name="link2" pos="0.3 0 0">
+          <joint name="j2" axis="0 0 1"/>
+          <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/>
+          <site name="tip" pos="0.3 0 0"/>
+          <body name="marker" pos="0.1 0 0"><geom size="0.01"/></body>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def _planar(tmp_path: Path, free: bool = False) -> str:
+    path = tmp_path / ("free.xml" if free else "planar.xml")
+    path.write_text(PLANAR.format(free="<freejoint name='root'/>" if free else ""))
+    return str(path)
+
+
+def test_info_prints_the_frames_a_user_would_pick(tmp_path, capsys):
+    assert main(["info", _planar(tmp_path), "--ee", "tip"]) == 0
+    out = capsys.readouterr().out
+    assert "  sites:  tip" in out
+    assert "  leaf bodies: marker" in out  # the tip of the tree; link2 holds a child
+    assert "other bodies: base, link1, link2" in out
+
+
+@pytest.mark.parametrize("command", ["info", "batch", "explore"])
+def test_every_command_that_loads_a_model_takes_the_model_flags(command):
+    from redik.apps.cli import build_parser
+
+    argv = [command, "panda", "--ee", "ee", "--fixed", "joint7", "--no-meshes",
+            "--floating-base", "--package-path", "."]  # fmt: skip
+    if command == "batch":
+        argv += ["--random", "1", "--out", "x.npz"]
+    args = build_parser().parse_args(argv)
+    assert (args.ee, args.fixed, args.meshes, args.floating_base) == ("ee", ["joint7"], False, True)
+    assert args.package_paths == [Path(".")]
+
+
+def test_fixed_holds_a_joint_in_info_and_batch(tmp_path, capsys):
+    assert main(["info", "panda", "--fixed", "joint7"]) == 0
+    out = capsys.readouterr().out
+    assert "panda: 6 joints" in out and "held joints (not moved): joint7 (hinge)" in out
+    solutions = tmp_path / "solutions.npz"
+    argv = ["batch", "panda", "--fixed", "joint7", "--random", "5", "--out", str(solutions)]
+    assert main([*argv, "--engine", "local", "--quiet"]) == 0
+    with np.load(solutions) as data:
+        assert data["q"].shape == (5, 6)
+
+
+def test_errors_name_the_flag_not_the_keyword(capsys):
+    assert main(["info", "panda", "--fixed", "no_such_joint"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("redik info: error: --fixed: no joint of model 'panda' matches")
+
+
+def test_floating_base_warns_when_it_changes_nothing(tmp_path, capsys):
+    # A chain does not move the free joint the flag adds.
+    assert main(["info", _planar(tmp_path), "--ee", "tip", "--floating-base"]) == 0
+    captured = capsys.readouterr()
+    assert "held joints (not moved): floating_base (free)" in captured.out
+    assert "warning: --floating-base changes nothing here: the chain" in captured.err
+    # A model whose root is free already gets no second free joint.
+    assert main(["info", _planar(tmp_path, free=True), "--ee", "tip", "--floating-base"]) == 0
+    captured = capsys.readouterr()
+    assert "already has a free joint ('root')" in captured.err
+    assert "floating_base" not in captured.out
+    # Without the flag, nothing to warn about.
+    assert main(["info", _planar(tmp_path, free=True), "--ee", "tip"]) == 0
+    assert capsys.readouterr().err == ""
+
+
+WHOLE = """
+<mujoco model="whole">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="torso" pos="0 0 1">
+      <freejoint name="root"/>
+      <geom size="0.1"/>
+      <body name="arm" pos="0.1 0 0">
+        <joint name="shoulder" type="ball"/>
+        <geom size="0.05"/>
+        <body name="forearm" pos="0.3 0 0">
+          <joint name="elbow" axis="0 1 0" range="-2 0.5"/>
+          <geom size="0.05"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_info_describes_a_whole_model_robot_joint_by_joint(capsys):
+    import mujoco
+
+    from redik.apps.cli.info import describe
+
+    robot = redik.Robot(mujoco.MjModel.from_xml_string(WHOLE), joints="all")
+    describe(robot)
+    out = capsys.readouterr().out
+    assert out.startswith("whole: 3 joints (10 DoF), whole model (no end-effector")
+    rows = {line.split()[0]: line.split()[1:] for line in out.splitlines()[2:5]}
+    assert rows["root"][0] == "free" and "(0.0000 0.0000 1.0000 1.0000" in " ".join(rows["root"])
+    assert rows["shoulder"] == ["ball", "(1.0000", "0.0000", "0.0000", "0.0000)"]
+    assert rows["elbow"] == ["revolute", "-2.0000", "0.5000", "0.0000", "rad"]
+    assert "leaf bodies: forearm" in out and "end-effector pose" not in out
+
+
+def test_a_model_without_an_end_effector_is_described_whole_and_needs_ee_to_solve(tmp_path, capsys):
+    planar = _planar(tmp_path)  # no site called 'ee'
+    assert main(["info", planar]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("planar: 2 joints, whole model (no end-effector: pick one with --ee)")
+    assert "  sites:  tip" in out and "end-effector pose" not in out
+    batch = ["batch", planar, "--random", "2", "--out", str(tmp_path / "o.npz")]
+    explore = ["explore", planar, "--frames", "0", "--out", str(tmp_path / "e")]
+    for command in (batch, explore):
+        assert main(command) == 2
+        err = capsys.readouterr().err
+        assert "names no end-effector (no site 'ee'): pick one with --ee FRAME" in err
+        assert err.rstrip().endswith("the frames its joints move: tip, marker")

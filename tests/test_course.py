@@ -9,8 +9,8 @@ own inputs, so a student typing the example gets the book's answer:
   iterations, and IKinBody on the planar 3R arm to a target typed with 3 decimals;
 - the forward-difference Jacobian with ``δ = 0.1`` of the course notes;
 - the RRP polar arm's example ``p = (1, 1, 1)``, ``d1 = 0.5`` in its bundled scene;
-- the hexapod leg's servo angles and the Stanford arm's boom elevation as the lecture
-  measures them.
+- the hexapod leg's servo angles as the notes define them (001), and the Stanford arm's boom
+  elevation as the lecture measures it.
 """
 
 from __future__ import annotations
@@ -23,11 +23,10 @@ import pytest
 
 import redik
 from redik.core.exceptions import NearRotationWarning
-from redik.lie import inverse, se3_log
+from redik.lie import euler_angles, inverse, se3_log, so3_exp
 from redik.models.scene_library import get_scene
-from redik.solvers.analytic import hexapod_leg, rrp_polar, stanford
-from redik.solvers.analytic.hexapod import SERVO
-from redik.solvers.analytic.stanford import COURSE, dh_rows
+from redik.solvers.analytic import hexapod_leg, rrp_polar, solver_for, spherical_wrist
+from redik.solvers.analytic.hexapod import LECTURE
 from redik.solvers.iterative import finite_difference_jacobian, solve_equations
 
 
@@ -138,6 +137,16 @@ def test_rrp_example_is_reachable_in_its_scene():
     assert redik.solve_pose(robot, T, seed=0).success
 
 
+def test_rrp_scene_holds_both_of_the_courses_solutions():
+    """002, RRP analytic solutions: q* = (0.7854, 0.3398, 1.5), q** = (−2.3562, 2.8018, 1.5)."""
+    robot = scene_robot("rrp_polar")
+    T = np.eye(4)
+    T[:3, 3] = 1.0
+    solutions = redik.solve_all(robot, T, method="analytic")
+    found = sorted(tuple(np.round(solution.q, 4)) for solution in solutions)
+    assert found == [(-2.3562, 2.8018, 1.5), (0.7854, 0.3398, 1.5)]
+
+
 @pytest.mark.parametrize(
     ("scene", "q"),
     [
@@ -145,7 +154,8 @@ def test_rrp_example_is_reachable_in_its_scene():
         ("planar_2r", np.radians([0.0, 30.0])),  # and initial guess
         ("planar_3r", np.array([0.925, 0.586, 0.684])),  # the IKinBody quiz
         ("planar_3r", np.full(3, math.pi / 4)),
-        ("rrp_polar", np.array([math.pi / 4, math.atan2(0.5, math.sqrt(2.0)), 1.5])),
+        ("rrp_polar", np.array([math.pi / 4, math.atan2(0.5, math.sqrt(2.0)), 1.5])),  # q*
+        ("rrp_polar", np.array([-3 * math.pi / 4, math.pi - math.atan2(0.5, math.sqrt(2.0)), 1.5])),
         # The standing foot (0.15, 0, −0.12) of tests/test_analytic_planar.py, knee-up.
         ("hexapod_leg", hexapod_leg([0.15, 0.0, -0.12], 0.052, 0.082, 0.142, -0.015)[1].q),
     ],
@@ -159,74 +169,108 @@ def test_every_worked_example_lies_inside_its_scene(scene, q):
 
 
 def test_hexapod_servo_angles_are_the_lectures():
-    """α coxa yaw, β femur elevation, γ the knee angle by the law of cosines."""
+    """001 "Example: Analytical IK": the notes' three formulas (α from the downward vertical,
+    β the interior knee angle, γ = atan(x/y) from the outward y axis), evaluated on the
+    bundled leg with a foot at x = 0.05, y = 0.15, Z_offset = 0.105 m below the femur axis,
+    give (114.123°, 78.601°, 18.435°)."""
     coxa, femur, tibia, z_offset = 0.052, 0.082, 0.142, -0.015
-    foot = np.array([0.15, 0.05, -0.12])
-    servo = hexapod_leg(foot, coxa, femur, tibia, z_offset, convention="servo")
-    alpha, beta, gamma = servo.by_label("knee-up")
-    u = math.hypot(foot[0], foot[1]) - coxa
-    z = foot[2] - z_offset
-    L = math.hypot(u, z)
-    assert alpha == pytest.approx(math.atan2(foot[1], foot[0]), abs=1e-12)
-    knee = math.acos((femur**2 + tibia**2 - L**2) / (2 * femur * tibia))
-    assert gamma == pytest.approx(knee, abs=1e-12) and 0 < gamma < math.pi
-    assert beta == pytest.approx(
-        math.atan2(z, u) + math.acos((femur**2 + L**2 - tibia**2) / (2 * femur * L)), abs=1e-12
-    )
+    x, y, Z_offset = 0.05, 0.15, 0.105
+    L = math.hypot(Z_offset, math.hypot(x, y) - coxa)
+    notes = {
+        "α": math.acos(Z_offset / L) + math.acos((tibia**2 - femur**2 - L**2) / (-2 * femur * L)),
+        "β": math.acos((L**2 - tibia**2 - femur**2) / (-2 * tibia * femur)),
+        "γ": math.atan(x / y),
+    }
+    assert [round(math.degrees(notes[k]), 3) for k in "αβγ"] == [114.123, 78.601, 18.435]
+    foot = np.array([y, x, z_offset - Z_offset])  # the notes' y is the leg's outward axis
+    lecture = hexapod_leg(foot, coxa, femur, tibia, z_offset, convention="lecture")
+    angles = dict(zip(LECTURE.symbols, lecture.by_label("knee-up"), strict=True))
+    for symbol, value in notes.items():
+        assert angles[symbol] == pytest.approx(value, abs=1e-12), symbol
     joint = hexapod_leg(foot, coxa, femur, tibia, z_offset)
-    assert servo.labels == joint.labels
-    np.testing.assert_allclose(SERVO.to_joints(servo.as_array()), joint.as_array(), atol=1e-15)
-    assert servo.by_label("knee-down")[2] > math.pi  # the other bend
-    # Limits in servo angles: a knee that may only close to 100° keeps no knee-up solution
+    assert lecture.labels == joint.labels
+    np.testing.assert_allclose(LECTURE.to_joints(lecture.as_array()), joint.as_array(), atol=1e-15)
+    assert lecture.by_label("knee-down")[2] > math.pi  # the other bend
+    # Limits in lecture angles: a knee that may only close to 100° keeps no knee-up solution
     # bent further than that.
-    limited = hexapod_leg(foot, coxa, femur, tibia, z_offset, convention="servo",
-                          limits=([-1, -1, math.radians(100)], [1, 1.5, math.pi]))  # fmt: skip
+    limited = hexapod_leg(foot, coxa, femur, tibia, z_offset, convention="lecture",
+                          limits=([-1, 0, math.radians(100)], [1, 3, math.pi]))  # fmt: skip
     assert all(math.radians(100) <= s[2] <= math.pi for s in limited)
-    assert (knee >= math.radians(100)) == ("knee-up" in limited.labels)
+    assert (notes["β"] >= math.radians(100)) == ("knee-up" in limited.labels)
 
 
-def test_hexapod_servo_family_members_are_in_servo_angles():
+def test_hexapod_lecture_family_members_are_in_lecture_angles():
     dims = (0.052, 0.082, 0.142, -0.015)
-    under = hexapod_leg([0.0, 0.0, -0.1], *dims, convention="servo")
-    member = under[0].family.at(0.7)  # α = 0.7
+    under = hexapod_leg([0.0, 0.0, -0.1], *dims, convention="lecture")
+    member = under[0].family.at(0.7)  # γ = 0.7
     assert member[0] == pytest.approx(0.7)
     np.testing.assert_allclose(member[1:], under[0][1:], atol=1e-12)
 
 
-def test_stanford_course_angle_is_the_boom_elevation(rng):
-    d2, d6 = 0.154, 0.263
-    for _ in range(10):
-        q = np.array([rng.uniform(-2, 2), rng.uniform(0.2, 1.4), rng.uniform(0.3, 1.0),
-                      *rng.uniform(-2, 2, 3)])  # fmt: skip
-        T = redik.models.dh.forward(dh_rows(d2, d6), q, "standard")
-        course = stanford(T, d2, d6, convention="course")
-        dh = stanford(T, d2, d6)
-        np.testing.assert_allclose(COURSE.to_joints(course.as_array()), dh.as_array(), atol=1e-12)
-        centre = T[:3, 3] - d6 * T[:3, 2]
-        for solution in course:
-            X = math.cos(solution[0]) * centre[0] + math.sin(solution[0]) * centre[1]
-            assert solution[1] == pytest.approx(math.atan2(centre[2], X), abs=1e-9)
-        # Limits in course angles: a boom kept between horizontal-down and 60° up keeps
-        # exactly the solutions whose elevation β lies there (angles compare modulo 2π).
-        lower = [-np.inf, -math.pi / 2, -np.inf, -np.inf, -np.inf, -np.inf]
-        upper = [np.inf, math.radians(60), np.inf, np.inf, np.inf, np.inf]
-        limited = stanford(T, d2, d6, convention="course", limits=(lower, upper))
-        kept = [s.label for s in course if -math.pi / 2 <= s[1] <= math.radians(60)]
-        assert list(limited.labels) == kept
+def test_stanford_type_rrp_takes_the_boom_offset():
+    """000 "Example 2: Stanford-Type Arms (RRP)": p_W = (θ3 + a2)(c2 c1, c2 s1, s2) + d1 ẑ, so
+    θ3 = √(p_Wx² + p_Wy² + (p_Wz − d1)²) − a2 and θ2 = atan2(p_Wz − d1, ±√(p_Wx² + p_Wy²)):
+    two solutions. The notes give no numbers; d1 = 0.5, a2 = 0.25, p_W = (1, 1, 1)."""
+    d1, a2, p_w = 0.5, 0.25, np.array([1.0, 1.0, 1.0])
+    notes = []
+    for sign in (1.0, -1.0):
+        theta2 = math.atan2(p_w[2] - d1, sign * math.hypot(p_w[0], p_w[1]))
+        theta1 = math.atan2(p_w[1] / math.cos(theta2), p_w[0] / math.cos(theta2))
+        theta3 = math.sqrt(p_w[0] ** 2 + p_w[1] ** 2 + (p_w[2] - d1) ** 2) - a2
+        notes.append((theta1, theta2, theta3))
+    assert np.round(notes, 4).tolist() == [[0.7854, 0.3398, 1.25], [-2.3562, 2.8018, 1.25]]
+    result = rrp_polar(p_w, d1, a2=a2)
+    np.testing.assert_allclose(result.as_array(), notes, atol=1e-12)
+    # The whole Stanford-type arm, its boom a2 long at θ3 = 0 and a ZYZ wrist ("similar to
+    # PUMA"): its closed form returns the notes' θ3 for the wrist centre p_W, no offset by hand.
+    rows = [
+        redik.models.dh.DHRow(0.0, d1, math.pi / 2),
+        redik.models.dh.DHRow(0.0, 0.0, math.pi / 2, math.pi / 2),
+        redik.models.dh.DHRow(0.0, a2, 0.0, 0.0, "prismatic"),
+        redik.models.dh.DHRow(0.0, 0.0, -math.pi / 2),
+        redik.models.dh.DHRow(0.0, 0.0, math.pi / 2),
+        redik.models.dh.DHRow(0.0, 0.0, 0.0),
+    ]
+    limits = [(-math.pi, math.pi), (-math.pi, math.pi), (-1.0, 2.0)] + [(-math.pi, math.pi)] * 3
+    robot = redik.Robot.from_dh(rows, limits=limits, name="stanford_type")
+    T = robot.fk(np.zeros(6))
+    T[:3, 3] = p_w
+    arm = {tuple(np.round(q[:3], 12)) for q in solver_for(robot)(T, limits=None)}
+    assert len(arm) == 4  # the notes' two, and the boom pointing back (θ3 + a2 < 0)
+    for row in notes:
+        assert min(np.abs(np.subtract(row, q)).max() for q in arm) < 1e-9
+
+
+@pytest.mark.parametrize("convention", ["ZYZ", "ZXZ"])
+def test_spherical_wrist_takes_both_conventions_the_notes_name(convention):
+    """002 "Inverse kinematics for robots with spherical wrist": ³R₆ is "Euler ZYZ or ZXZ";
+    out of the singularity there are two solutions. The notes give no rotation; this one is
+    chosen, and the noflip solution is redik.lie's Euler angles (middle angle in [0, π])."""
+    R = so3_exp(np.array([0.3, -0.5, 0.9]))
+    axes = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]),
+            "Z": np.array([0.0, 0.0, 1.0])}  # fmt: skip
+    result = spherical_wrist(R, convention)
+    assert result.labels == ("noflip", "flip")
+    for q in result:
+        rebuilt = np.eye(3)
+        for letter, angle in zip(convention, q, strict=True):
+            rebuilt = rebuilt @ so3_exp(axes[letter] * angle)
+        np.testing.assert_allclose(rebuilt, R, atol=1e-12)
+    np.testing.assert_allclose(
+        result.by_label("noflip"), euler_angles(R, convention.lower()), atol=1e-12
+    )
 
 
 def test_unknown_convention_is_refused():
     with pytest.raises(redik.InvalidInput, match="convention must be one of"):
-        hexapod_leg([0.15, 0.0, -0.12], 0.052, 0.082, 0.142, convention="lecture")
-    with pytest.raises(redik.InvalidInput, match="convention must be one of"):
-        stanford(np.eye(4), 0.154, 0.263, convention="spong")
+        hexapod_leg([0.15, 0.0, -0.12], 0.052, 0.082, 0.142, convention="servo")
     with pytest.raises(redik.InvalidInput, match="must end in 3 values"):
-        SERVO.to_joints([0.1, 0.2])
+        LECTURE.to_joints([0.1, 0.2])
     # Neither text, complex numbers nor NaN become angles (no raw numpy error, no silent NaN).
     for bad, match in [(["a", "b", "c"], "real numbers"), ([1j, 0, 0], "real numbers"),
                        ([np.nan, 0.0, 0.0], "NaN")]:  # fmt: skip
         with pytest.raises(redik.InvalidInput, match=match):
-            SERVO.from_joints(bad)
+            LECTURE.from_joints(bad)
 
 
 def test_the_quiz_with_strict_input_is_refused_not_projected():

@@ -17,6 +17,8 @@ import pytest
 import redik
 from redik.lie import pose_errors
 
+pytestmark = pytest.mark.slow  # the demo runs as a subprocess
+
 FILES = {"summary.json", "selfmotion.npz", "manifold.png", "solution.png", "selfmotion.gif"}
 
 

@@ -16,6 +16,7 @@ def test_there_are_examples():
     assert len(EXAMPLES) >= 3
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("script", EXAMPLES, ids=[path.stem for path in EXAMPLES])
 def test_example_runs(script, tmp_path):
     env = {**os.environ, "MUJOCO_GL": "egl", "MPLBACKEND": "Agg", "REDIK_OUT": str(tmp_path)}

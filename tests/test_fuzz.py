@@ -408,7 +408,7 @@ def test_problem_and_task_targets(panda, data):
     holds(lambda: orientation.set_target(data.draw(st.one_of(rotations(), junk()))))
     holds(lambda: redik.PositionTask("ee", target=data.draw(st.one_of(junk(), poses()))))
     q = data.draw(configurations(panda))
-    holds(lambda: problem.solve(q, max_iterations=5), panda)
+    holds(lambda: redik.solve_problem(problem, q, redik.SolveOptions(max_iterations=5)), panda)
     holds(lambda: problem.step(q))
     cost = data.draw(mostly(st.just(1.0), number, junk()))
     gain = data.draw(mostly(st.just(0.5), number, junk()))
@@ -428,14 +428,19 @@ def test_problem_and_task_targets(panda, data):
     holds(lambda: redik.DampingTask(cost, priority))
     holds(lambda: redik.ManipulabilityTask(None, cost, gain, priority))
     holds(
-        lambda: redik.Problem(
-            panda,
-            data.draw(mostly(st.just([task]), st.just([]), junk())),
-            data.draw(mostly(st.none(), st.just([]), junk())),
-            data.draw(mostly(st.sampled_from(["daqp", "quadprog"]), junk())),
-            damping=data.draw(mostly(st.just(1e-6), number, junk())),
-        ).solve(
-            panda.home, max_iterations=data.draw(mostly(st.just(3), st.integers(-1, 2), junk()))
+        lambda: redik.solve_problem(
+            redik.Problem(
+                panda,
+                data.draw(mostly(st.just([task]), st.just([]), junk())),
+                data.draw(mostly(st.none(), st.just([]), junk())),
+                data.draw(mostly(st.sampled_from(["daqp", "quadprog"]), junk())),
+                damping=data.draw(mostly(st.just(1e-6), number, junk())),
+            ),
+            panda.home,
+            redik.SolveOptions(
+                max_iterations=data.draw(mostly(st.just(3), st.integers(-1, 2), junk())),
+                restarts=0,
+            ),
         ),
         panda,
     )
@@ -471,15 +476,9 @@ def test_analytic_solvers(ur5e, data, strict, limits):
     solver = redik.solvers.analytic.solver_for(ur5e)
     chosen = {"junk": (np.zeros(6), np.full(5, np.nan)), "robot": "robot", None: None}[limits]
     holds(lambda: solver(T, limits=chosen, strict=strict))
-    decomposed = redik.solvers.analytic.solver_for(ur5e, "decomposed")
-    holds(lambda: decomposed(T, limits=chosen, strict=strict))
-    holds(lambda: decomposed.raw(T, limits=chosen, strict=strict))
-    params = redik.solvers.analytic.UR5E
-    holds(lambda: redik.solvers.analytic.ur(T, *params, strict=strict))
-    holds(lambda: redik.solvers.analytic.puma(T, 0.43, 0.02, 0.15, 0.43, strict=strict))
-    holds(lambda: redik.solvers.analytic.stanford(T, 0.1, 0.1, strict=strict))
-    holds(lambda: redik.solvers.analytic.ur_batch([T], *params, strict=strict))
-    holds(lambda: redik.solvers.analytic.puma_batch(T, 0.43, 0.02, 0.15, 0.43))
+    holds(lambda: solver.raw(T, limits=chosen, strict=strict))
+    holds(lambda: solver.batch([T], limits=chosen, strict=strict))
+    holds(lambda: solver.batch(T, limits=chosen, strict=strict))
 
 
 @FUZZ
@@ -507,9 +506,9 @@ def test_analytic_small_solvers(R, p, length):
 
 
 @FUZZ
-@given(family=st.one_of(st.text(max_size=8), junk(), st.sampled_from(["ur", "puma", "planar_2r"])))
-def test_solver_for(ur5e, family):
-    holds(lambda: redik.solvers.analytic.solver_for(ur5e, family))
+@given(method=st.one_of(st.text(max_size=8), junk(), st.sampled_from(["closed_form", "ur"])))
+def test_solver_for(ur5e, method):
+    holds(lambda: redik.solvers.analytic.solver_for(ur5e, method))
 
 
 # --------------------------------------------------------------------------------------
@@ -587,13 +586,14 @@ def test_pose_translation_beyond_mjmaxval_is_refused_everywhere(panda, ur5e):
     with pytest.raises(redik.InvalidPose, match="beyond"):
         redik.solvers.analytic.solver_for(ur5e)(T)
     with pytest.raises(redik.InvalidPose, match="beyond"):
-        redik.solvers.analytic.ur_batch(T[None], *redik.solvers.analytic.UR5E)
+        redik.solvers.analytic.solver_for(ur5e).batch(T[None])
     result = redik.solve_batch(panda, T[None], restarts=0, max_iterations=1)
     assert result.status_names.tolist() == ["invalid"]
     T[2, 3] = 1e9  # far, but a number MuJoCo and the QP handle: an explicit status
     task = redik.FrameTask("ee", target=T)
     problem = redik.Problem(panda, [task])
-    assert problem.solve(panda.home, max_iterations=3).status in ("max_iterations", "stalled")
+    result = redik.solve_problem(problem, panda.home, redik.SolveOptions(max_iterations=3))
+    assert result.status == "unreachable" and "beyond the reach" in result.message
 
 
 @pytest.mark.parametrize("q", [np.zeros(7) + 1j, np.array([""] * 7), np.full(7, 1e11)])
@@ -629,7 +629,7 @@ def test_newton_and_gradient_refuse_junk_and_overflowing_input():
 def test_solver_for_and_analytic_targets_refuse_junk(ur5e):
     # Found by test_solver_for / test_analytic_solvers: a list as family name raised
     # "unhashable type"; a string target a raw ValueError.
-    with pytest.raises(redik.InvalidInput, match="no closed-form solver"):
+    with pytest.raises(redik.InvalidInput, match="method must be"):
         redik.solvers.analytic.solver_for(ur5e, [])  # type: ignore[arg-type]
     with pytest.raises(redik.InvalidInput, match="target must hold real numbers"):
         redik.solvers.analytic.solver_for(ur5e)("")
@@ -713,9 +713,11 @@ def test_problem_and_tasks_refuse_junk_arguments(panda):
         redik.Problem(panda, [task], damping="")  # type: ignore[arg-type]
     problem = redik.Problem(panda, [task])
     with pytest.raises(redik.InvalidInput, match="max_iterations"):
-        problem.solve(panda.home, max_iterations=None)  # type: ignore[arg-type]
+        redik.SolveOptions(max_iterations=None)  # type: ignore[arg-type]
     with pytest.raises(redik.InvalidInput, match="pos_tol"):
-        problem.solve(panda.home, pos_tol=math.nan)
+        redik.SolveOptions(pos_tol=math.nan)
+    with pytest.raises(redik.InvalidInput, match="options must be a SolveOptions"):
+        redik.solve_problem(problem, panda.home, {"max_iterations": 3})  # type: ignore[arg-type]
     with pytest.raises(redik.InvalidInput, match="gain"):
         redik.JointLimitAvoidanceTask(1.0, "")  # type: ignore[arg-type]
     with pytest.raises(redik.InvalidInput, match="priority"):

@@ -17,6 +17,7 @@ from redik.core.exceptions import (
     RedikError,
 )
 from redik.core.result import IKResult
+from redik.solvers.cache import solver_cache
 from redik.solvers.dls import DLSOptions
 from redik.solvers.iterative import world_error
 from redik.solvers.pose import solve_all, solve_pose
@@ -371,14 +372,14 @@ def test_dls_results_own_their_arrays_though_the_solver_state_is_reused(rng):
     first_target, second_target = (robot.fk(robot.random_q(rng)) for _ in range(2))
     first = solve_pose(robot, first_target, seed=0)
     q, history, errors = first.q.copy(), first.history.copy(), first.error_history.copy()
-    assert len(robot.solver_cache) == 1
+    assert len(solver_cache(robot)) == 1
     second = solve_pose(robot, second_target, robot.random_q(rng), seed=1)
     assert first.success and second.success
     np.testing.assert_array_equal(first.q, q)
     np.testing.assert_array_equal(first.history, history)
     np.testing.assert_array_equal(first.error_history, errors)
-    assert len(robot.solver_cache) == 1  # the same frame reuses its solver
-    assert not redik.load("panda").solver_cache  # another robot owns its own
+    assert len(solver_cache(robot)) == 1  # the same frame reuses its solver
+    assert not solver_cache(redik.load("panda"))  # another robot owns its own
 
 
 def test_scalar_options_take_numpy_numbers_and_refuse_bools_nan_and_inf():
@@ -441,16 +442,17 @@ def test_a_repeated_dls_call_still_refuses_what_the_first_call_would(rng):
         solve_pose(robot, T, q0, seed=0, respect_limits=1)
 
 
-def test_progress_is_one_rule_for_dls_and_qp():
-    """``progress`` is a fraction in (0, 1) for both methods that take it: "dls" clamped 1.5
-    to 1 (an attempt stalls unless ‖e‖² reaches 0) where "qp" (Problem.solve) refused it."""
+def test_progress_is_a_fraction_for_dls():
+    """``progress`` is a fraction in (0, 1): "dls" clamped 1.5 to 1 (an attempt stalls unless
+    ‖e‖² reaches 0); "qp" (the task-stack driver) takes no such option."""
     robot = redik.load("panda")
     T = robot.fk(robot.clip(robot.home + 0.1))
-    for method in ("dls", "qp"):
-        assert solve_pose(robot, T, method=method, seed=0, progress=np.float64(0.25)).success
-        for bad in (0.0, 1.0, 1.5, -0.5, float("nan"), True, "0.5"):
-            with pytest.raises(InvalidInput, match=r"progress must be a number in \(0, 1\)"):
-                solve_pose(robot, T, method=method, seed=0, progress=bad)
+    assert solve_pose(robot, T, method="dls", seed=0, progress=np.float64(0.25)).success
+    for bad in (0.0, 1.0, 1.5, -0.5, float("nan"), True, "0.5"):
+        with pytest.raises(InvalidInput, match=r"progress must be a number in \(0, 1\)"):
+            solve_pose(robot, T, method="dls", seed=0, progress=bad)
+    with pytest.raises(InvalidInput, match=r"unknown options \['progress'\] for method='qp'"):
+        solve_pose(robot, T, method="qp", seed=0, progress=0.25)
     with pytest.raises(InvalidInput, match=r"progress must be a number in \(0, 1\)"):
         DLSOptions(progress=1.0)  # the compiled kernel's options, as "dls" passes them
 
@@ -504,12 +506,12 @@ def test_the_solvers_see_a_model_edited_after_the_first_solve(method, rng):
 def test_a_hinge_held_on_the_chain_keeps_its_held_value(method, rng):
     """``fixed=["joint4"]`` holds panda's elbow at its home value (−2.36 rad, not qpos0):
     the compiled chain of ``"dls"`` froze it at qpos0 and reported a wrong error; a new held
-    value written into ``robot.data.qpos`` must be seen too."""
+    value written into ``robot.state.data.qpos`` must be seen too."""
     robot = redik.Robot(redik.load("panda").model, fixed=["joint4"])
     assert "joint4" not in robot.joint_names
     for held in (None, -1.2):
         if held is not None:
-            robot.data.qpos[3] = held
+            robot.state.data.qpos[3] = held
         q_goal = robot.random_q(rng)
         T_target = robot.fk(q_goal)
         q0 = robot.clip(q_goal + rng.uniform(-0.2, 0.2, robot.dof))

@@ -13,6 +13,7 @@ import redik
 from redik import lie
 from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
 from redik.solvers import dls
+from redik.solvers.cache import solver_cache
 
 from .conftest import ARM_XML
 
@@ -44,7 +45,7 @@ def test_chain_joints_limits_and_home(arm):
     np.testing.assert_array_equal(arm.revolute, [1, 1, 0, 1, 1, 1, 1])
     np.testing.assert_allclose(arm.home, [0.1, 0.2, 0.05, -0.3, 0.4, 0.5, 0.6])
     # Off-chain joints stay at their home values.
-    assert arm.data.qpos[7] == pytest.approx(0.02)
+    assert arm.state.data.qpos[7] == pytest.approx(0.02)
     fingertip = redik.Robot(arm.model, ee="fingertip")
     assert fingertip.joint_names[-1] == "grip"
 
@@ -104,15 +105,6 @@ def test_jacobian_references_are_related_by_the_adjoint(arm, rng):
         lie.adjoint(T) @ arm.jacobian(q, reference="body"),
         atol=1e-12,
     )
-
-
-def test_hot_path_equals_checked_path(arm, rng):
-    q = arm.random_q(rng)
-    T, J = np.empty((4, 4)), np.empty((6, arm.dof))
-    T[3] = (0, 0, 0, 1)
-    arm.kinematics(q, arm.ee, T, J)
-    np.testing.assert_array_equal(T, arm.fk(q))
-    np.testing.assert_array_equal(J, arm.jacobian(q, reference="world"))
 
 
 def test_random_q_within_limits_and_reproducible(arm):
@@ -175,18 +167,6 @@ def test_every_scene_jacobian_matches_finite_differences(scene, rng):
                 numeric_jacobian(robot, q, None, reference),
                 atol=1e-8,
             )
-
-
-def test_scene_fast_path_equals_generic_path():
-    """The bundled scenes use MuJoCo's Jacobian in place; a non-contiguous buffer copies."""
-    robot = redik.load("panda")
-    q = robot.random_q(3)
-    T = np.eye(4)
-    J_direct = np.empty((6, robot.dof))
-    J_strided = np.empty((robot.dof, 6)).T  # not C-contiguous: takes the copying path
-    robot.kinematics(q, robot.ee, T, J_direct)
-    robot.kinematics(q, robot.ee, T, J_strided)
-    np.testing.assert_array_equal(J_direct, J_strided)
 
 
 def test_builders_pass_their_options_on():
@@ -285,7 +265,7 @@ def test_one_robot_solves_from_several_threads_as_in_series(whole, switch_after_
         threaded = list(pool.map(solve, range(len(targets))))
     assert switch_after_each_kernel[0] >= len(targets)
     serial = [solve(i) for i in range(len(targets))]
-    assert len(robot.solver_cache) == 1
+    assert len(solver_cache(robot)) == 1
     for a, b in zip(threaded, serial, strict=True):
         assert a.status == b.status and a.iterations == b.iterations
         np.testing.assert_array_equal(a.q, b.q)
@@ -293,17 +273,33 @@ def test_one_robot_solves_from_several_threads_as_in_series(whole, switch_after_
         np.testing.assert_array_equal(a.error_history, b.error_history)
 
 
-def test_solver_cache_builds_an_entry_once_for_racing_threads():
-    cache = redik.Robot.from_xml_string(ARM_XML).solver_cache
-    builds = []
+TWO_FINGERS = """<mujoco><worldbody>
+  <body name="palm"><joint name="wrist" axis="0 0 1"/><geom size="0.05"/>
+    <body name="finger_a" pos="0.1 0 0"><joint name="a" axis="0 1 0"/><geom size="0.02"/>
+      <site name="tip_a" pos="0.05 0 0"/></body>
+    <body name="finger_b" pos="-0.1 0 0"><joint name="b" axis="0 1 0"/><geom size="0.02"/></body>
+  </body>
+  <body name="table" pos="1 0 0"><geom type="box" size="0.2 0.2 0.02"/></body>
+</worldbody></mujoco>"""
 
-    def build() -> object:
-        time.sleep(0.01)  # every thread arrives while the first one builds
-        builds.append(object())
-        return builds[-1]
 
-    with ThreadPoolExecutor(8) as pool:
-        entries = list(pool.map(lambda _: cache.get_or_build("key", build), range(8)))
-    assert len(builds) == 1 and all(entry is builds[0] for entry in entries)
-    assert cache.get_or_build("key", build, valid=lambda entry: False) is builds[1]
-    assert list(cache) == ["key"] and len(cache) == 1
+def test_a_model_without_an_ee_site_loads_whole_and_names_frames_where_used():
+    robot = redik.Robot.from_xml_string(TWO_FINGERS)
+    assert robot.ee is None and not robot.is_chain
+    assert robot.joint_names == ("wrist", "a", "b")
+    # Sites, then leaf bodies; the table is a leaf no joint moves.
+    assert robot.suggested_frames() == ["tip_a", "finger_a", "finger_b"]
+    with pytest.raises(UnknownFrame, match=r"sites \['tip_a'\]; leaf bodies \['finger_a', 'finger"):
+        robot.chain()
+    chain = robot.chain("finger_b")
+    assert chain.is_chain and chain.joint_names == ("wrist", "b") and chain.ee.name == "finger_b"
+    assert chain.chain().joint_names == chain.joint_names  # a chain's default frame is its own
+    named = redik.Robot.from_xml_string(TWO_FINGERS, ee="tip_a")
+    assert named.is_chain and named.joint_names == ("wrist", "a")
+
+
+def test_a_site_named_ee_is_the_natural_frame():
+    robot = redik.Robot.from_xml_string(TWO_FINGERS.replace("tip_a", "ee"))
+    assert robot.is_chain and robot.ee.name == "ee" and robot.joint_names == ("wrist", "a")
+    whole = redik.Robot.from_xml_string(TWO_FINGERS.replace("tip_a", "ee"), joints="all")
+    assert not whole.is_chain and whole.ee.name == "ee"

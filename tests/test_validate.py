@@ -28,12 +28,8 @@ def test_every_count_option_uses_the_one_check():
         "max_iterations": lambda v: redik.solve_pose(planar, T, max_iterations=v),
         "restarts": lambda v: redik.solve_pose(planar, T, restarts=v),
         "n_starts": lambda v: redik.solve_all(planar, T, n_starts=v),
-        "candidates": lambda v: redik.solve_pose(planar, T, method="qp", candidates=v),
         "chunk_size": lambda v: redik.solve_batch(planar, T[None], chunk_size=v),
         "workers": lambda v: redik.solve_batch(planar, T[None], workers=v),
-        "patience": lambda v: redik.Problem(planar, [redik.FrameTask("ee", target=T)]).solve(
-            planar.home, patience=v
-        ),
         "priority": lambda v: redik.PostureTask(priority=v),
         "max_samples": lambda v: redik.explore_self_motion(planar, T, max_samples=v),
     }
@@ -94,3 +90,20 @@ def test_every_seed_option_uses_the_one_check():
             with pytest.raises(redik.InvalidInput, match=r"seed must be None or an integer ≥ 0"):
                 call(bad)
         assert call(np.int64(1)) is not None, name  # a numpy integer is a seed everywhere
+
+
+def test_real_array_refuses_what_numpy_would_truncate_or_fail_on():
+    from redik.core.validate import MAX_COORDINATE, as_vector, real_array
+
+    assert real_array([1, 2], "x").dtype == float
+    for bad, why in (([1j, 2], "dtype complex"), (["a"], "dtype <U1"), ([[1], [2, 3]], "real")):
+        with pytest.raises(redik.InvalidInput, match=f"x must .*{why}"):
+            real_array(bad, "x")
+    with pytest.raises(redik.InvalidPose, match="T must hold real numbers"):
+        real_array("eye", "T", redik.InvalidPose)
+    np.testing.assert_array_equal(as_vector((1, 2, 3), 3, "p"), [1.0, 2.0, 3.0])
+    with pytest.raises(redik.InvalidInput, match=r"p must have shape \(3,\), got \(2,\)"):
+        as_vector([1, 2], 3, "p")
+    with pytest.raises(redik.InvalidInput, match="p must be finite, holds NaN or inf"):
+        as_vector([1, np.nan, 2], 3, "p")
+    assert MAX_COORDINATE == 1e10  # MuJoCo's mjMAXVAL

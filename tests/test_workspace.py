@@ -1,4 +1,5 @@
-"""Workspace estimates: shapes, scores in [0, 1], known reachable and unreachable points, PNGs."""
+"""Workspace estimates: shapes, scores in [0, 1], known reachable and unreachable points, PNGs,
+and the course's primary and dexterous workspaces of the planar 2R arm."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import numpy as np
 import pytest
 
 import redik
+from redik import Robot
 from redik.apps import workspace
 from redik.solvers.batch import Chain, forward_kinematics
 
@@ -70,6 +72,38 @@ def test_sample_estimates_primary_and_dexterous_workspace(panda, tmp_path):
     assert len(result.dexterous) == int((result.score >= 1).sum())
     for path in result.plot(tmp_path):
         assert path.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_default_orientations_are_ones_the_arm_takes():
+    planar = redik.load("planar_2r")
+    R = workspace.attainable_rotations(planar, 20, rng=0)
+    # a planar arm turns about its plane's normal only: R e_z = e_z
+    np.testing.assert_allclose(R[:, :, 2], np.tile([0.0, 0.0, 1.0], (20, 1)), atol=1e-12)
+    angles = np.arctan2(R[:, 1, 0], R[:, 0, 0])
+    assert np.ptp(angles) > np.pi  # spread over the turn, not one orientation
+    reach = workspace.reachability(planar, np.zeros((1, 3)), orientations=5, seed=3)
+    np.testing.assert_allclose(reach.orientations[:, :, 2], np.tile([0, 0, 1.0], (5, 1)))
+
+
+# Course 002, "Workspace of planar 2R arm": WS1 = {|l1 − l2| ≤ ‖p‖ ≤ l1 + l2}; WS2 = {0} for
+# l1 = l2 (every orientation of the plane at the origin, q2 = π) and WS2 = ∅ for l1 ≠ l2.
+PROBE = np.array([[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [1.0, 0.0, 0.0], [1.5, 0.0, 0.0]])
+
+
+@pytest.mark.parametrize(
+    ("l1", "l2", "dexterous"),
+    [(1.0, 1.0, [True, False, False, False]), (1.0, 0.5, [False, False, False, False])],
+)
+def test_planar_2r_primary_and_dexterous_workspace_are_the_courses(l1, l2, dexterous):
+    robot = Robot.from_dh([(l1, 0.0, 0.0), (l2, 0.0, 0.0)])
+    radii = np.linalg.norm(workspace.sample(robot, 2000, seed=0, resolution=4).points, axis=1)
+    assert abs(l1 - l2) - 1e-9 <= radii.min() and radii.max() <= l1 + l2 + 1e-9
+    assert radii.min() < abs(l1 - l2) + 0.05 and radii.max() > l1 + l2 - 0.05  # WS1 filled
+    score = workspace.reachability(robot, PROBE, seed=0).score
+    np.testing.assert_array_equal(score >= 1.0, dexterous)
+    # Uniform SO(3) asks a planar arm for orientations it cannot take: nothing is dexterous.
+    uniform = workspace.reachability(robot, PROBE, workspace.random_rotations(8, rng=0), seed=0)
+    np.testing.assert_array_equal(uniform.score, 0.0)
 
 
 def test_bad_inputs_raise(panda):

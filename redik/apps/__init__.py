@@ -1,7 +1,9 @@
-"""Applications built on the solvers: timed paths (:mod:`~redik.apps.trajectory`), headless
-simulation (:mod:`~redik.apps.sim`), rendering and plots (:mod:`~redik.apps.render`,
-:mod:`~redik.apps.plot`, :mod:`~redik.apps.selfmotion_plot`), workspace analysis
-(:mod:`~redik.apps.workspace`), spec scripts (:mod:`~redik.apps.specs`), regression
-scenes (:mod:`~redik.apps.regress`), the demo, the benchmarks (:mod:`~redik.apps.bench`) and the
-``redik`` command line (:mod:`~redik.apps.cli`).
+"""Applications built on the solvers.
+
+Timed paths (:mod:`~redik.apps.trajectory`), headless simulation (:mod:`~redik.apps.sim`),
+rendering and plots (:mod:`~redik.apps.render`, :mod:`~redik.apps.plot`,
+:mod:`~redik.apps.selfmotion_plot`), workspace analysis (:mod:`~redik.apps.workspace`), spec
+scripts (:mod:`~redik.apps.specs`), regression scenes (:mod:`~redik.apps.regress`), the demo,
+the benchmarks (:mod:`~redik.apps.bench`) and the ``redik`` command line
+(:mod:`~redik.apps.cli`).
 """

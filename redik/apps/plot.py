@@ -30,8 +30,10 @@ def new_figure(
     figsize: tuple[float, float] = (6.0, 4.0),
     **subplot_options: Any,
 ) -> tuple[Figure, Any]:
-    """A figure and its axes (``Figure.subplots(nrows, ncols, **subplot_options)``) that need
-    no GUI backend and stay out of pyplot's global state."""
+    """A figure and its axes (``Figure.subplots(nrows, ncols, **subplot_options)``).
+
+    The figure needs no GUI backend and stays out of pyplot's global state.
+    """
     from matplotlib.figure import Figure
 
     figure = Figure(figsize=figsize, layout="constrained")

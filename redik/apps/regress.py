@@ -204,6 +204,7 @@ class RegressionReport:
 
     @property
     def regressed(self) -> bool:
+        """True when any spec regressed (crashed, failed a criterion or moved a metric)."""
         return any(spec.regressed for spec in self.specs)
 
     def table(self) -> str:
@@ -248,6 +249,7 @@ def default_specs_dir() -> Path:
 
 
 def baseline_path(baselines_dir: Path, name: str) -> Path:
+    """The baseline file of spec ``name``: ``<baselines_dir>/<name>.json``."""
     return Path(baselines_dir) / f"{name}.json"
 
 
@@ -290,10 +292,10 @@ def warm_up() -> None:
     paths.
     """
     from redik.kinematics.robot import Robot, load
+    from redik.qp import Problem
     from redik.solvers.analytic import solver_for
     from redik.solvers.batch import solve_batch
     from redik.solvers.pose import solve_pose
-    from redik.solvers.problem import Problem
     from redik.tasks import FrameTask
 
     robot = Robot.from_dh([(1.0, 0.0, 0.0), (1.0, 0.0, 0.0)], name="warm_up")

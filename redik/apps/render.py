@@ -155,10 +155,18 @@ def render_frames(
     Args:
         robot: The robot (its model is drawn; its own ``data`` is left untouched).
         qs: Configurations (k × n) of the chain; other joints at their home values.
-        width, height: Image size in pixels.
+        width: Image width in pixels.
+        height: Image height in pixels.
         camera: See :data:`Camera`; None frames every configuration (:func:`framing_camera`).
         target: A pose (4 × 4) drawn as RGB axes, e.g. the end-effector target.
         on_frame: Called as ``on_frame(k, total)`` after each frame (e.g. a progress bar).
+
+    Returns:
+        One ``height × width × 3`` uint8 image per configuration.
+
+    Raises:
+        InvalidInput: a configuration of the wrong length or not finite, a size that is not
+            positive, an ``on_frame`` that is not callable.
     """
     qs = [robot.check_q(q, "qs[i]") for q in np.atleast_2d(np.asarray(qs, dtype=float))]
     view = _camera(robot, camera, qs)
@@ -175,8 +183,13 @@ def render_states(
     target: np.ndarray | None = None,
     on_frame: Callable[[int, int], None] | None = None,
 ) -> list[np.ndarray]:
-    """Render full model states (k × nq ``qpos``, e.g. ``SimulationResult.qpos``); the other
-    arguments are those of :func:`render_frames`."""
+    """Render full model states (k × nq ``qpos``, e.g. ``SimulationResult.qpos``).
+
+    The other arguments and the result are those of :func:`render_frames`.
+
+    Raises:
+        InvalidInput: ``qpos`` is not a finite ``k × nq`` array; as :func:`render_frames`.
+    """
     qpos = np.atleast_2d(np.asarray(qpos, dtype=float))
     if qpos.shape[1] != robot.model.nq or not np.all(np.isfinite(qpos)):
         raise InvalidInput(f"qpos must be finite, k × {robot.model.nq}; got shape {qpos.shape}")

@@ -45,39 +45,35 @@ def plot_joint_pairs(
     path: str | Path | None = None,
     marks: dict[str, np.ndarray] | None = None,
 ) -> Figure:
-    """Scatter the samples on joint pairs, coloured by ``"component"`` or a criterion name.
+    """Scatter the samples on joint pairs, coloured by component or by a criterion.
 
-    ``lower``/``upper`` (the robot's limits) draw the limit lines; ``marks`` maps a label to a
-    configuration drawn as a marker on every pair (e.g. a QP solution, the best sample);
-    ``path`` saves a PNG.
+    Args:
+        motion: The sampled self-motion.
+        color_by: ``"component"`` or the name of one of ``motion.criteria``.
+        pairs: Joint index pairs, one panel each (default :func:`default_pairs`).
+        lower: The robot's lower limits, drawn as dashed lines (optional).
+        upper: The robot's upper limits, likewise.
+        path: Where to save a PNG (optional).
+        marks: Label → configuration, drawn as a marker on every panel (e.g. a QP
+            solution, the best sample).
+
+    Returns:
+        The figure.
+
+    Raises:
+        InvalidInput: ``color_by`` names neither ``"component"`` nor a criterion.
     """
-    if color_by != "component" and color_by not in motion.criteria:
-        raise InvalidInput(
-            f"color_by must be 'component' or one of {list(motion.criteria)}, got {color_by!r}"
-        )
+    values, cmap, label = _colouring(motion, color_by)
     pairs = default_pairs(motion) if pairs is None else list(pairs)
     columns = min(3, len(pairs))
     rows = int(np.ceil(len(pairs) / columns))
     figure, axes = new_figure(rows, columns, figsize=(4.2 * columns, 3.8 * rows), squeeze=False)
-    if color_by == "component":
-        values, cmap, label = motion.component, "tab10", "component"
-    else:
-        values = motion.criteria[color_by]
-        better = "higher" if motion.maximize[color_by] else "lower"
-        cmap, label = (
-            "viridis" if motion.maximize[color_by] else "viridis_r",
-            f"{color_by} ({better} is better)",
-        )
     scatter = None
     for ax, (i, j) in zip(axes.flat, pairs, strict=False):
         scatter = ax.scatter(
             motion.samples[:, i], motion.samples[:, j], c=values, cmap=cmap, s=4, linewidths=0
         )
-        for bounds in (lower, upper):
-            if bounds is not None and np.isfinite(bounds[i]):
-                ax.axvline(bounds[i], color="grey", linestyle="--", linewidth=0.8)
-            if bounds is not None and np.isfinite(bounds[j]):
-                ax.axhline(bounds[j], color="grey", linestyle="--", linewidth=0.8)
+        _limit_lines(ax, i, j, lower, upper)
         for (name, q), style in zip((marks or {}).items(), itertools.cycle("*XPD"), strict=False):
             ax.plot(q[i], q[j], style, ms=10, mec="black", label=name)
         ax.set_xlabel(f"{motion.joint_names[i]} [rad]")
@@ -95,3 +91,28 @@ def plot_joint_pairs(
     if path is not None:
         save_figure(figure, path, dpi=110)
     return figure
+
+
+def _colouring(motion: SelfMotion, color_by: str) -> tuple[np.ndarray, str, str]:
+    """``(values, colormap, colorbar label)`` of a colouring; the better end is bright."""
+    if color_by == "component":
+        return motion.component, "tab10", "component"
+    if color_by not in motion.criteria:
+        raise InvalidInput(
+            f"color_by must be 'component' or one of {list(motion.criteria)}, got {color_by!r}"
+        )
+    maximize = motion.maximize[color_by]
+    better = "higher" if maximize else "lower"
+    cmap = "viridis" if maximize else "viridis_r"
+    return motion.criteria[color_by], cmap, f"{color_by} ({better} is better)"
+
+
+def _limit_lines(ax, i: int, j: int, lower: np.ndarray | None, upper: np.ndarray | None) -> None:
+    """Dashed lines at the finite limits of joint ``i`` (vertical) and ``j`` (horizontal)."""
+    for bounds in (lower, upper):
+        if bounds is None:
+            continue
+        if np.isfinite(bounds[i]):
+            ax.axvline(bounds[i], color="grey", linestyle="--", linewidth=0.8)
+        if np.isfinite(bounds[j]):
+            ax.axhline(bounds[j], color="grey", linestyle="--", linewidth=0.8)

@@ -58,9 +58,11 @@ _CRITERION = re.compile(r"^\s*(>=|<=|==|>|<)\s*([-+0-9.eE]+|inf|-inf)\s*$")
 
 @dataclasses.dataclass(frozen=True)
 class SuccessCriterion:
-    """One success condition ``metric OP threshold`` (e.g. ``max_position_error <= 1e-6``)
-    of a spec's ``CRITERIA``. (Not :class:`redik.solvers.redundancy.Criterion`, a score of
-    configurations.)"""
+    """One success condition ``metric OP threshold`` of a spec's ``CRITERIA``.
+
+    For example ``max_position_error <= 1e-6``. (Not :class:`redik.solvers.redundancy.Criterion`,
+    a score of configurations.)
+    """
 
     metric: str
     op: str

@@ -72,10 +72,12 @@ class PosePath:
     end_time: float
 
     def pose(self, t: float) -> np.ndarray:  # pragma: no cover - abstract
+        """The 4 × 4 pose at time ``t`` (s), clamped to the path's ends."""
         raise NotImplementedError
 
     @property
     def duration(self) -> float:
+        """``end_time − start_time`` (s)."""
         return float(self.end_time - self.start_time)
 
     def sample_times(self, rate: float) -> np.ndarray:
@@ -158,10 +160,12 @@ class CartesianPath(PosePath):
 
     @property
     def start_time(self) -> float:
+        """Time of the first waypoint (s)."""
         return float(self.times[0])
 
     @property
     def end_time(self) -> float:
+        """Time of the last waypoint (s)."""
         return float(self.times[-1])
 
 
@@ -204,9 +208,11 @@ class CircularPath(PosePath):
 
     @property
     def radius(self) -> float:
+        """The circle's radius (m)."""
         return float(np.linalg.norm(self.offset))
 
     def pose(self, t: float) -> np.ndarray:
+        """``T_start`` with its position turned by ``2π s(t / duration)`` about the axis."""
         tau = min(max(t / self.end_time, 0.0), 1.0)
         angle = 2.0 * np.pi * time_scaling(tau, self.time_scaling)
         T = self.T_start.copy()
@@ -286,6 +292,7 @@ class JointTrajectory:
 
     @property
     def success_rate(self) -> float:
+        """Fraction of the samples solved."""
         return float(np.mean(self.success))
 
     @property
@@ -320,8 +327,11 @@ def joint_steps(q: np.ndarray) -> np.ndarray:
 
 
 def _tangent_steps(robot: Robot, q: np.ndarray) -> np.ndarray:
-    """``‖q_{k+1} ⊖ q_k‖_∞`` per step, across ball and free joints
-    (:mod:`redik.kinematics.robot`)."""
+    """``‖q_{k+1} ⊖ q_k‖_∞`` per step, across ball and free joints.
+
+    The difference ``⊖`` is the robot's (:meth:`redik.Robot.difference`): on the tangent
+    space of ball and free joints.
+    """
     return np.array([np.max(np.abs(robot.difference(a, b))) for a, b in itertools.pairwise(q)])
 
 
@@ -378,10 +388,10 @@ def follow_path(
         solver: ``solver(T_target, q_start) -> IKResult``. Default: damped least squares
             (:func:`redik.solvers.pose.solve_pose`) without restarts — a restart would jump to a
             random seed and break continuity. A QP stack works too, e.g.
-            ``lambda T, q: (task.set_target(T), problem.solve(q))[1]``: ``solve`` keeps no
-            state between calls (acceleration limits are left out of it,
-            :meth:`redik.Problem.solve`), so such a run does not depend on what the problem
-            did before (a :func:`~redik.apps.sim.simulate`, a loop of ``step``).
+            ``lambda T, q: (task.set_target(T), redik.solve_problem(problem, q))[1]``: the
+            driver keeps no state between calls (acceleration limits are left out of it,
+            :meth:`redik.Problem.static_step`), so such a run does not depend on what the
+            problem did before (a :func:`~redik.apps.sim.simulate`, a loop of ``step``).
         rate: Sampling rate in Hz.
         jump_tol: Largest joint change per sample (rad or m) still counted as continuous.
         singular_tol: ``σ_min(J)`` below which a sample counts as singular.
@@ -414,7 +424,7 @@ def follow_path(
         qs[k] = q
         success[k] = result.success
         iterations[k] = result.iterations
-        robot.kinematics(q, resolved, T, J)
+        robot.state.kinematics(q, resolved, T, J)
         position_error[k], rotation_error[k] = pose_errors(T, target)
         sigma_min[k] = np.linalg.svd(J, compute_uv=False)[-1]
     return JointTrajectory(

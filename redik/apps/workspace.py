@@ -9,10 +9,18 @@ numerically:
   end-effector position is reachable by construction — bins the points into cubic cells, and
   scores every occupied cell by :func:`reachability` at its centre;
 - :func:`reachability` scores points by the fraction of a set of orientations for which
-  :func:`redik.solvers.batch.solve_batch` finds a strict solution (tolerances and joint limits). A
-  score of 1 marks the dexterous workspace (as far as the sampled orientations tell), 0 a
-  point reached with none. Points outside the chain's reach ball (:meth:`Chain.reach`)
-  score 0 without a solve.
+  :func:`redik.solvers.batch.solve_batch` finds a strict solution (tolerances and joint
+  limits). A score of 1 marks the dexterous workspace (as far as the sampled orientations
+  tell), 0 a point reached with none. Points outside the chain's reach ball
+  (:meth:`Chain.reach`) score 0 without a solve.
+
+"Every orientation" means every orientation the arm can take (Siciliano et al., §2.11:
+"the orientations feasible for the direct kinematics"): by default the orientations are
+drawn from the arm's own forward kinematics at random configurations
+(:func:`attainable_rotations`), so a planar arm is asked for rotations about its plane's
+normal and scores its dexterous workspace — the origin of a two-link arm with equal links —
+as 1. Uniform rotations of SO(3) (:func:`random_rotations`) suit an arm that takes every
+orientation; a planar or 5-joint arm scores 0 against them everywhere.
 
 A score is an estimate from below: a missed solution lowers it, a reported one is verified.
 Plots are written as PNG with matplotlib's object-oriented API (no display needed).
@@ -155,14 +163,47 @@ class WorkspaceSample:
 
 
 def random_rotations(count: int, rng: np.random.Generator | int | None = None) -> np.ndarray:
-    """``count × 3 × 3`` rotations uniform on SO(3), drawn from ``rng`` (a Generator whose
-    stream carries on, or what :func:`numpy.random.default_rng` takes, as
-    :meth:`redik.Robot.random_q`): normalised Gaussian quaternions
-    ``(w, x, y, z)`` (Shoemake 1992), converted by scipy's ``Rotation`` — the same matrices
-    as ``mju_quat2Mat`` one by one (to 7e-16), 51× faster at 1000 (67 against 3451 µs) and
-    1.25× slower at 8 (29 against 23 µs; same run, load 3.4)."""
+    """``count × 3 × 3`` rotations uniform on SO(3).
+
+    Normalised Gaussian quaternions ``(w, x, y, z)`` are uniform on SO(3) (Shoemake,
+    *Uniform random rotations*, Graphics Gems III, 1992); scipy's ``Rotation`` converts them
+    in one vectorised call.
+
+    Args:
+        count: How many rotations.
+        rng: A Generator whose stream carries on, or what :func:`numpy.random.default_rng`
+            takes (as :meth:`redik.Robot.random_q`).
+
+    Returns:
+        ``count × 3 × 3`` rotation matrices.
+    """
     quats = np.random.default_rng(rng).standard_normal((count, 4))
     return Rotation.from_quat(quats[:, [1, 2, 3, 0]]).as_matrix()  # scipy's order: (x, y, z, w)
+
+
+def attainable_rotations(
+    robot: Robot | Chain, count: int, rng: np.random.Generator | int | None = None
+) -> np.ndarray:
+    """``count × 3 × 3`` orientations the arm takes: its FK at random configurations.
+
+    The configurations are uniform within the chain's sampling bounds (its joint limits,
+    ``±π`` for an unlimited revolute joint), so the rotations cover the orientations the
+    arm's forward kinematics can produce — all of SO(3) for a 6-joint arm with a full wrist,
+    rotations about the plane's normal for a planar arm.
+
+    Args:
+        robot: The robot (or its compiled chain).
+        count: How many orientations.
+        rng: A Generator whose stream carries on, or what :func:`numpy.random.default_rng`
+            takes.
+
+    Returns:
+        ``count × 3 × 3`` rotation matrices.
+    """
+    chain = robot if isinstance(robot, Chain) else Chain.from_robot(robot)
+    rng = np.random.default_rng(rng)
+    q = rng.uniform(chain.sampling_lower, chain.sampling_upper, (count, chain.dof))
+    return forward_kinematics(chain, q)[:, :3, :3]
 
 
 def reachability(
@@ -179,12 +220,20 @@ def reachability(
         robot: The robot (or its compiled chain).
         grid: ``(..., 3)`` positions, e.g. ``np.stack(np.meshgrid(xs, ys, zs,
             indexing="ij"), axis=-1)``.
-        orientations: A count ``K`` of random orientations (uniform on SO(3), from
-            ``seed``), or ``K × 3 × 3`` rotation matrices.
+        orientations: A count ``K`` of orientations the arm takes
+            (:func:`attainable_rotations` from ``seed``), or ``K × 3 × 3`` rotation
+            matrices (e.g. :func:`random_rotations` for uniform SO(3)).
         seed: Seed of the orientations and of the solver's re-seeds.
         restarts: Random re-seeds per target (each costs time at unreachable points).
-        **solve_options: Passed to :func:`redik.solvers.batch.solve_batch` (``engine``, ``workers``,
-            ``pos_tol``, …).
+        **solve_options: Passed to :func:`redik.solvers.batch.solve_batch` (``engine``,
+            ``workers``, ``pos_tol``, …).
+
+    Returns:
+        The scores, which orientation was solved where, and the orientations tried.
+
+    Raises:
+        InvalidInput: a grid that is not finite ``(..., 3)`` positions, a count below 1 or
+            orientations that are not ``K × 3 × 3``; a bad seed.
     """
     chain = robot if isinstance(robot, Chain) else Chain.from_robot(robot)
     grid = np.asarray(grid, dtype=float)
@@ -194,7 +243,7 @@ def reachability(
     if np.ndim(orientations) == 0:
         if int(orientations) < 1:
             raise InvalidInput(f"orientations must be at least 1, got {orientations!r}")
-        rotations = random_rotations(int(orientations), rng)
+        rotations = attainable_rotations(chain, int(orientations), rng)
     else:
         rotations = np.asarray(orientations, dtype=float)
         if rotations.ndim != 3 or rotations.shape[1:] != (3, 3):
@@ -245,6 +294,12 @@ def sample(
         orientations: As in :func:`reachability`, tried at every occupied cell's centre.
         resolution: Cells along the longest side of the sampled points' bounding box.
         **solve_options: Passed to :func:`reachability`.
+
+    Returns:
+        The sampled points and configurations, and the scores of the occupied cells.
+
+    Raises:
+        InvalidInput: ``n`` or ``resolution`` below 1; as :func:`reachability`.
     """
     if n < 1 or resolution < 1:
         raise InvalidInput(f"n and resolution must be positive, got {n} and {resolution}")

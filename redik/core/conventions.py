@@ -7,7 +7,7 @@ Units
 Poses
     A pose is a 4×4 homogeneous transform ``T = [[R, p], [0, 1]]`` with ``R ∈ SO(3)``.
     ``T_ab`` maps coordinates expressed in frame *b* to frame *a*: ``x_a = T_ab x_b``.
-    ``robot.fk(q)`` returns ``T_wf``: the frame *f* (end-effector by default) in the
+    ``robot.fk(q, frame)`` returns ``T_wf``: the frame *f* (the end-effector by default) in the
     MuJoCo **world** frame *w*, which is also redik's **space** frame *s*.
 
 Quaternions
@@ -43,11 +43,13 @@ Pose error
     accurate at small angles).
 
 Joint vector
-    ``q`` holds the hinge and slide joints on the kinematic chain from the model root to
-    the end-effector, in that order (``robot.joint_names``). Every other joint of the
-    MuJoCo model is held at its ``home`` keyframe value (or ``qpos0``). A joint without a
-    range has limits ``±inf``. A whole-model robot (``Robot(model, joints=...)``) moves any
-    set of joints, ball and free joints included: ``q`` is then their ``qpos`` entries
+    On a chain (a robot with an end-effector: the model's site ``ee``, or ``ee=``), ``q``
+    holds the hinge and slide joints on the kinematic chain from the model root to the
+    end-effector, in that order (``robot.joint_names``). Every other joint of the MuJoCo
+    model is held at its ``home`` keyframe value (or ``qpos0``). A joint without a range has
+    limits ``±inf``. A whole-model robot (a model that names no end-effector, or
+    ``Robot(model, joints=...)``) moves any set of joints, ball and free joints included:
+    ``q`` is then their ``qpos`` entries
     (``robot.nq``: a free joint's position then unit quaternion ``(w, x, y, z)``), while
     ``Δq``, Jacobian columns, limits and task costs live in the tangent space (``robot.dof``,
     MuJoCo's velocity coordinates); ``robot.integrate`` and ``robot.difference`` map between

@@ -38,6 +38,13 @@ class InvalidPose(InvalidInput):
     """A 4×4 matrix that should be a rigid transform is not."""
 
 
+class CheckpointMismatch(InvalidInput):
+    """A checkpoint directory belongs to another batch, or is no checkpoint at all.
+
+    See :mod:`redik.solvers.batch.checkpoint`; the message names what differs.
+    """
+
+
 class TargetNotSet(RedikError):
     """A task was used before its target was set (mink's ``TargetNotSet``)."""
 
@@ -61,14 +68,23 @@ class InfeasibleProblem(RedikError):
     """The hard constraints of a problem admit no solution."""
 
 
+class TaskError(RedikError):
+    """A foreign (mink) task or limit raised; the message names it, the cause is chained."""
+
+
 class RedikWarning(UserWarning):
-    """Root of every warning redik issues: the input was used after a documented repair, or a
-    result missed a bound the caller set."""
+    """Root of every warning redik issues.
+
+    The input was used after a documented repair, or a result missed a bound the caller set.
+    """
 
 
 class ModelWarning(RedikWarning):
-    """A model loaded after a stated repair: a part left out (a mesh in a format MuJoCo cannot
-    read) or replaced (an indefinite inertia tensor); see :mod:`redik.models.loading`."""
+    """A model loaded after a stated repair.
+
+    A part was left out (a mesh in a format MuJoCo cannot read) or replaced (an indefinite
+    inertia tensor); see :mod:`redik.models.loading`.
+    """
 
 
 class NearRotationWarning(RedikWarning):
@@ -80,13 +96,30 @@ class NearRotationWarning(RedikWarning):
 
 
 class TrackingWarning(RedikWarning):
-    """A closed-loop run (:func:`redik.apps.sim.simulate`) left the reference by more than the
-    bound it was given."""
+    """A closed-loop run left the reference by more than the bound it was given.
+
+    See :func:`redik.apps.sim.simulate`.
+    """
+
+
+class InstabilityWarning(RedikWarning):
+    """A closed-loop run stopped because MuJoCo reported the physics unsound.
+
+    A NaN or huge state it reset, or a full constraint arena; see
+    :func:`redik.apps.sim.simulate`.
+    """
 
 
 def warn(message: str, category: type[RedikWarning] = RedikWarning) -> None:
-    """Issue ``message`` attributed to the first caller outside redik, so that the warning
-    names the user's line (and filters by module work) however deep the check sits."""
+    """Issue a warning attributed to the first caller outside redik.
+
+    So that the warning names the user's line (and filters by module work) however deep the
+    check sits.
+
+    Args:
+        message: The warning's text.
+        category: Its class.
+    """
     frame, level = sys._getframe(1), 2  # stacklevel 2 is the caller of warn()
     while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE):
         frame, level = frame.f_back, level + 1

@@ -15,7 +15,7 @@ its origin, so ``M_i`` is simply ``R_z(q_i)`` (hinge) or a translation ``q_i`` a
 (slide). The rotation aligning ``z`` with the axis, the anchor offset and the ``qpos0``
 reference are all absorbed into the neighbouring ``F``. Joints the robot does not move (those
 off the chain, and on it the ball/free joints and the hinges/slides it holds, ``fixed=``) are
-frozen at the robot's home ``qpos`` (the held values of ``robot.data.qpos``), as
+frozen at the robot's home ``qpos`` (the held values of ``robot.state.data.qpos``), as
 :class:`redik.Robot` does.
 
 The :class:`Chain` holds only numpy arrays, so it pickles cheaply to worker processes and Ray
@@ -33,7 +33,8 @@ from redik.core.exceptions import InvalidInput, ModelError
 from redik.kinematics.robot import Frame, Robot
 from redik.lie import make_pose, matrix_from_quat, periodic_coordinates, so3_exp
 
-_CHAIN_TYPES = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
+_HINGE, _FREE = int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_FREE)
+_CHAIN_TYPES = (_HINGE, int(mujoco.mjtJoint.mjJNT_SLIDE))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -82,9 +83,14 @@ class Chain:
         return self.base[:3, 3].copy(), radius
 
     def kernel_arrays(self) -> tuple[np.ndarray, ...]:
-        """The arrays :mod:`redik.solvers.dls` takes, in its order; the last marks limited
-        hinges whose range spans a full turn (:func:`redik.lie.periodic_coordinates`; the
-        kernel wraps them by 2π, an unlimited one never leaves its range)."""
+        """The arrays the compiled DLS kernel takes, in its order.
+
+        Returns:
+            ``(base, links, revolute, lower, upper, sampling_lower, sampling_upper,
+            periodic)``; ``periodic`` marks the hinges whose range spans a full turn
+            (:func:`redik.lie.periodic_coordinates`): the kernel wraps them by 2π, and an
+            unlimited one never leaves its range.
+        """
         periodic = periodic_coordinates(self.revolute, self.lower, self.upper)
         return (
             self.base, self.links, self.revolute, self.lower, self.upper,
@@ -93,18 +99,30 @@ class Chain:
 
     @classmethod
     def from_robot(cls, robot: Robot, frame: str | Frame | None = None) -> Chain:
-        """Compile ``robot``'s chain to ``frame`` (default the end-effector) from its MuJoCo
-        model; joints off the chain stay at home.
+        """Compile a robot's chain to a frame from its MuJoCo model.
 
         The chain holds the robot's joints that move ``frame``, in the robot's order
         (:attr:`columns`): all of them for the end-effector or a frame attached below it.
+        Joints off the chain stay at home.
+
+        Args:
+            robot: A serial-chain robot (``robot.is_chain``).
+            frame: The chain's last frame; default the robot's end-effector.
+
+        Returns:
+            The chain.
+
+        Raises:
+            UnknownFrame: No such frame, or none given and the robot has no end-effector.
+            InvalidInput: ``robot`` is a whole-model robot (compile ``robot.chain(frame)``).
+            ModelError: A mocap body on the chain.
         """
+        frame = robot.frame(frame)
         if not robot.is_chain:
             raise InvalidInput(
                 f"{robot!r} is a whole-model robot; compile one of its chains: "
-                "Chain.from_robot(robot.chain(frame)) (the other joints held)"
+                f"Chain.from_robot(robot.chain({frame.name!r})) (the other joints held)"
             )
-        frame = robot.frame(frame)
         base, links, addresses = _fold(robot, frame)
         columns = np.array(
             [int(np.flatnonzero(robot.qpos_indices == adr)[0]) for adr in addresses], dtype=int
@@ -124,71 +142,101 @@ class Chain:
 
 
 def _fold(robot: Robot, ee: Frame) -> tuple[np.ndarray, np.ndarray, list[int]]:
-    """``(F_0, [F_1 … F_n], qpos addresses)`` by walking the bodies from the world to ``ee``."""
+    """``(F_0, [F_1 … F_n], qpos addresses)`` by walking the bodies from the world to ``ee``.
+
+    ``current`` is the transform accumulated since the last moved joint's frame: each body
+    multiplies in its pose in its parent, each held joint its motion at the held value, and each
+    moved joint closes one ``F`` and starts the next from its own frame.
+    """
     model = robot.model
     home_qpos = robot.full_qpos(robot.home)
-    chain_qpos = {int(adr) for adr in robot.qpos_indices}
-    ee_body = robot.body_of(ee)
-
-    path = []
-    body = ee_body
-    while body > 0:
-        path.append(body)
-        body = int(model.body_parentid[body])
-    path.reverse()
-
+    moved = {int(adr) for adr in robot.qpos_indices}
     fixed: list[np.ndarray] = []  # one F per joint boundary, built up as we walk
     addresses: list[int] = []
     current = np.eye(4)
-    for body in path:
+    for body in _path_to(model, robot.body_of(ee)):
         if model.body_mocapid[body] >= 0:
             raise ModelError(f"mocap body {body} on the chain of {robot.name!r} is not supported")
         current = current @ make_pose(matrix_from_quat(model.body_quat[body]), model.body_pos[body])
         start = int(model.body_jntadr[body])
         for joint in range(start, start + int(model.body_jntnum[body])):
-            kind = int(model.jnt_type[joint])
-            anchor = model.jnt_pos[joint]
             adr = int(model.jnt_qposadr[joint])
-            if kind in _CHAIN_TYPES and adr in chain_qpos:
-                align = make_pose(_z_to(model.jnt_axis[joint]), np.zeros(3))
-                hinge = kind == int(mujoco.mjtJoint.mjJNT_HINGE)
-                to_anchor = make_pose(np.eye(3), anchor if hinge else np.zeros(3))
-                fixed.append(current @ to_anchor @ align)
+            if int(model.jnt_type[joint]) in _CHAIN_TYPES and adr in moved:
+                F, current = _split_at_moved_joint(model, joint, current)
+                fixed.append(F)
                 addresses.append(adr)
-                reference = float(model.qpos0[adr])
-                undo = np.eye(4)
-                if hinge:
-                    undo[:3, :3] = _rot_z(-reference)
-                else:
-                    undo[2, 3] = -reference
-                current = undo @ align.T @ make_pose(np.eye(3), -anchor if hinge else np.zeros(3))
-            elif kind in _CHAIN_TYPES:
-                # A hinge or slide the robot holds (``fixed=``, or a joint it does not move):
-                # frozen at its held value, turned or shifted by ``q − qpos0`` as MuJoCo does.
-                value = home_qpos[adr] - model.qpos0[adr]
-                axis = model.jnt_axis[joint] / np.linalg.norm(model.jnt_axis[joint])
-                if kind == int(mujoco.mjtJoint.mjJNT_HINGE):
-                    current = current @ _about(
-                        anchor, make_pose(so3_exp(value * axis), np.zeros(3))
-                    )
-                else:
-                    current = current @ make_pose(np.eye(3), value * axis)
-            elif kind == int(mujoco.mjtJoint.mjJNT_BALL):
-                rotation = make_pose(matrix_from_quat(home_qpos[adr : adr + 4]), np.zeros(3))
-                current = current @ _about(anchor, rotation)
-            elif kind == int(mujoco.mjtJoint.mjJNT_FREE):
-                # A free joint sets the body's world pose outright; nothing before it matters.
-                current = make_pose(
-                    matrix_from_quat(home_qpos[adr + 3 : adr + 7]), home_qpos[adr : adr + 3]
-                )
-    if ee.kind == "site":
-        site = ee.id
-        current = current @ make_pose(matrix_from_quat(model.site_quat[site]), model.site_pos[site])
-    elif ee.kind == "geom":
-        geom = ee.id
-        current = current @ make_pose(matrix_from_quat(model.geom_quat[geom]), model.geom_pos[geom])
-    fixed.append(current)
+            elif int(model.jnt_type[joint]) == _FREE:  # sets the body's world pose outright
+                current = _free_joint_pose(model, joint, home_qpos)
+            else:
+                current = current @ _held_joint_motion(model, joint, home_qpos)
+    fixed.append(current @ _frame_offset(model, ee))
     return fixed[0], np.stack(fixed[1:]) if addresses else np.empty((0, 4, 4)), addresses
+
+
+def _path_to(model: mujoco.MjModel, body: int) -> list[int]:
+    """The bodies from the world's first child down to ``body``."""
+    path = []
+    while body > 0:
+        path.append(body)
+        body = int(model.body_parentid[body])
+    return path[::-1]
+
+
+def _split_at_moved_joint(
+    model: mujoco.MjModel, joint: int, current: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Close one fixed transform at a moved joint and start the next.
+
+    Returns:
+        ``(F, next)``: ``F`` ends at the joint's frame (its axis as ``z``; for a hinge, its
+        anchor as origin); ``next`` undoes that frame and MuJoCo's ``qpos0`` reference, since
+        ``M_i`` acts on ``q − qpos0``.
+    """
+    hinge = int(model.jnt_type[joint]) == _HINGE
+    anchor = model.jnt_pos[joint]
+    align = make_pose(_z_to(model.jnt_axis[joint]), np.zeros(3))
+    to_anchor = make_pose(np.eye(3), anchor if hinge else np.zeros(3))
+    reference = float(model.qpos0[int(model.jnt_qposadr[joint])])
+    undo = np.eye(4)
+    if hinge:
+        undo[:3, :3] = _rot_z(-reference)
+    else:
+        undo[2, 3] = -reference
+    after = undo @ align.T @ make_pose(np.eye(3), -anchor if hinge else np.zeros(3))
+    return current @ to_anchor @ align, after
+
+
+def _held_joint_motion(model: mujoco.MjModel, joint: int, qpos: np.ndarray) -> np.ndarray:
+    """The motion of a hinge, slide or ball joint the robot holds, at its value in ``qpos``.
+
+    As MuJoCo applies it: a hinge or slide turns or shifts by ``q − qpos0`` about or along its
+    axis, a ball turns about its anchor by its quaternion.
+    """
+    kind = int(model.jnt_type[joint])
+    adr = int(model.jnt_qposadr[joint])
+    anchor = model.jnt_pos[joint]
+    if kind in _CHAIN_TYPES:
+        value = qpos[adr] - model.qpos0[adr]
+        axis = model.jnt_axis[joint] / np.linalg.norm(model.jnt_axis[joint])
+        if kind == _HINGE:
+            return _about(anchor, make_pose(so3_exp(value * axis), np.zeros(3)))
+        return make_pose(np.eye(3), value * axis)
+    return _about(anchor, make_pose(matrix_from_quat(qpos[adr : adr + 4]), np.zeros(3)))
+
+
+def _free_joint_pose(model: mujoco.MjModel, joint: int, qpos: np.ndarray) -> np.ndarray:
+    """The world pose a held free joint gives its body: position, then quaternion in ``qpos``."""
+    adr = int(model.jnt_qposadr[joint])
+    return make_pose(matrix_from_quat(qpos[adr + 3 : adr + 7]), qpos[adr : adr + 3])
+
+
+def _frame_offset(model: mujoco.MjModel, frame: Frame) -> np.ndarray:
+    """The frame's pose in its body: a site's or a geom's offset, the identity for a body."""
+    if frame.kind == "site":
+        return make_pose(matrix_from_quat(model.site_quat[frame.id]), model.site_pos[frame.id])
+    if frame.kind == "geom":
+        return make_pose(matrix_from_quat(model.geom_quat[frame.id]), model.geom_pos[frame.id])
+    return np.eye(4)
 
 
 def _about(anchor: np.ndarray, rotation: np.ndarray) -> np.ndarray:

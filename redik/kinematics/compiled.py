@@ -13,14 +13,12 @@ slide. The pose error is ``e = (p_d − p, log(R_d Rᵀ)^∨)``.
 Why redik keeps its own rather than MuJoCo's ``mj_kinematics``/``mj_jacSite`` (or mink's
 ``Configuration``, which calls them) and numpy's :func:`redik.lie.rotation_log`: inside a
 Levenberg–Marquardt iteration these run on a handful of 3-vectors per target, where any call
-into MuJoCo or numpy from Python costs more than the arithmetic. Measured on panda (2-core
-machine, load 1.5, 2026-11): FK + world Jacobian + pose error here 0.37 µs per call inside a
-compiled loop, :meth:`redik.Robot.kinematics` (MuJoCo's FK and Jacobian) 3.9 µs per call
-from Python — 10× — and the compiled kernel cannot call MuJoCo at all.
-Each function has a reference it is tested equal to: the FK and Jacobian MuJoCo's
-(``tests/test_batch_kernel.py``, to 1e-12), :func:`pose_error` the numpy
-:func:`redik.lie.rotation_log` at every angle (``test_kernel_pose_error_matches_the_batched_
-rotation_log``), which ``tests/test_batch_solve.py`` pins to :func:`redik.lie.so3_log`.
+into MuJoCo or numpy from Python costs more than the arithmetic, and a compiled kernel cannot
+call MuJoCo at all (``redik bench kinematics`` measures both forms). Each function has a reference
+it is tested equal to: the FK and Jacobian MuJoCo's (``tests/test_batch_kernel.py``, to 1e-12),
+:func:`pose_error` the numpy :func:`redik.lie.rotation_log` at every angle
+(``test_kernel_pose_error_matches_the_batched_rotation_log``), which ``tests/test_batch_solve.py``
+pins to :func:`redik.lie.so3_log`.
 """
 
 from __future__ import annotations
@@ -30,7 +28,6 @@ import math
 import numba
 
 from redik.core.validate import MAX_COORDINATE
-from redik.lie import apply_inverse_v as apply_inverse_v  # compiled in lie, its one home
 
 COMPILE = {"cache": True, "error_model": "numpy", "fastmath": {"contract"}}
 """numba options of every compiled kernel of redik: compiled once per machine; a division
@@ -41,9 +38,12 @@ reassociation: results stay reproducible)."""
 
 @numba.njit(**COMPILE)
 def valid_target(T, tol):
-    """True when ``T`` is a finite rigid transform: last row ``[0, 0, 0, 1]``, ``RᵀR = I``
-    and ``det R = 1``, each within ``tol``, and a translation within ``±MAX_COORDINATE``
-    (the checks of :func:`redik.core.rotation_policy.as_pose`)."""
+    """Whether ``T`` is a rigid transform to use as it is.
+
+    As :func:`~redik.core.rotation_policy.as_pose` checks it: finite, last row
+    ``[0, 0, 0, 1]``, ``RᵀR = I`` and ``det R = 1``, each within ``tol``, and a translation
+    within ``±MAX_COORDINATE``.
+    """
     for a in range(4):
         for b in range(4):
             if not math.isfinite(T[a, b]):
@@ -76,8 +76,11 @@ def valid_targets(T, tol, out):
 
 @numba.njit(**COMPILE)
 def chain_kinematics(base, links, revolute, q, R, p, axes, origins):
-    """FK of the chain at ``q`` into ``R`` (3 × 3) and ``p``, with each joint's world axis
-    and origin into ``axes`` and ``origins`` (n × 3)."""
+    """Forward kinematics of the chain at ``q``, into the caller's buffers.
+
+    Writes the pose into ``R`` (3 × 3) and ``p``, and each joint's world axis and origin
+    into ``axes`` and ``origins`` (n × 3).
+    """
     for a in range(3):
         p[a] = base[a, 3]
         for b in range(3):

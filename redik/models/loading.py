@@ -263,7 +263,8 @@ def _package_candidates(package: str, rest: str, folders: Iterable[Path]) -> Ite
 
     A generator, so that the search stops at the first file found: a model's meshes usually
     sit in the first folders, and building every candidate (reading each folder's
-    ``package.xml``) for every mesh took half of :func:`load_spec` on talos (37 meshes)."""
+    ``package.xml``) for every mesh took half of :func:`load_spec` on talos (37 meshes).
+    """
     for folder in folders:
         yield folder / package / rest
         if folder.name == package or _package_name(folder) == package:

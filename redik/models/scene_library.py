@@ -251,14 +251,17 @@ SCENES: dict[str, Scene] = {
             source="textbook example (Spong §3.3 spherical manipulator, without a wrist)",
             parameters={"d1": 0.5},
             table=_rrp_polar,
-            limits=(_PI_RANGE, (-HALF_PI, HALF_PI), (0.0, 2.0)),
+            limits=(_PI_RANGE, _PI_RANGE, (0.0, 2.0)),
             home=(0.0, 0.4, 0.6),
             radius=0.03,
             notes=(
                 "q1 = yaw about z, q2 = elevation above the horizontal, q3 = extension (m);",
                 "the ee sits at the end of the prismatic link:",
                 "p = (q3 cos q2 cos q1, q3 cos q2 sin q1, d1 + q3 sin q2).",
-                "q3 in [0, 2] m so the course's example p = (1, 1, 1) (q3 = 1.5 m) is reachable.",
+                "q3 in [0, 2] m so the course's example p = (1, 1, 1) (q3 = 1.5 m) is reachable;",
+                "q2 in [-pi, pi] (the boom may pass over the top), so both of the course's",
+                "solutions, q* = (0.7854, 0.3398, 1.5) and q** = (-2.3562, 2.8018, 1.5),",
+                "are in range.",
             ),
         ),
         Scene(
@@ -494,8 +497,10 @@ def write_scenes(directory: str | Path) -> list[Path]:
 
 
 def main(argv: list[str] | None = None) -> None:
-    """``python -m redik.models.scene_library [DIRECTORY]`` (default: the repository's
-    ``scenes/``)."""
+    """``python -m redik.models.scene_library [DIRECTORY]``: write the bundled scenes.
+
+    The directory defaults to the repository's ``scenes/``.
+    """
     args = sys.argv[1:] if argv is None else argv
     directory = Path(args[0]) if args else Path(__file__).resolve().parents[2] / "scenes"
     for path in write_scenes(directory):

@@ -36,9 +36,10 @@ _THIRD_PARTY = {
 
 
 def scene_path(name: str | os.PathLike[str]) -> Path:
-    """Path of a scene given its bundled name (``"panda"``), a path to any MJCF/URDF file, or a
-    third-party model ``"example-robot-data:<name>"`` / ``"pybullet_data:<name>"``
-    (:mod:`redik.models`).
+    """Path of a scene given its bundled name, a file path, or a third-party model's name.
+
+    ``"panda"``, a path to any MJCF/URDF file, or ``"example-robot-data:<name>"`` /
+    ``"pybullet_data:<name>"`` (:mod:`redik.models`).
 
     Raises:
         InvalidInput: ``name`` is neither a string nor a path.

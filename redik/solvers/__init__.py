@@ -11,7 +11,8 @@ Each kind of problem has one loop, in one file:
 - :mod:`~redik.solvers.pose`: pose IK on a robot, ``solve_pose`` / ``solve_all``: validation,
   restarts and results around the loops above, the closed forms, and
   :mod:`~redik.solvers.pose.qp` its QP driver;
-- :mod:`~redik.solvers.problem`: the differential ``Problem`` (tasks and limits stacked into
+- :mod:`~redik.solvers.task_stack`: ``solve_problem``, the one driver that iterates a
+  :class:`redik.Problem` (tasks and limits stacked into
   per-step QPs, costs and strict priorities);
 - :mod:`~redik.solvers.analytic`: closed forms with every solution;
 - :mod:`~redik.solvers.batch`: many targets at once, compiled, on every core;

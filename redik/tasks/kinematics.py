@@ -3,7 +3,7 @@
 A redik task is evaluated in two settings, and both hand it a :class:`KinematicState`:
 
 - inside a :class:`redik.Problem` (the hot path), the state wraps the robot's own
-  ``MjData`` after **one** ``robot.update(q)`` per step, and Jacobians have one column per
+  ``MjData`` after **one** ``robot.state.update(q)`` per step, and Jacobians have one column per
   tangent coordinate of the robot's joints (``robot.dof`` columns, :mod:`redik.kinematics.robot`);
 - inside ``mink.solve_ik`` (interoperability), the state wraps the ``mink.Configuration``'s
   data, and Jacobians have one column per degree of freedom of the model (``model.nv``),
@@ -52,7 +52,7 @@ class KinematicState:
     @classmethod
     def for_robot(cls, robot: Robot) -> KinematicState:
         """A state on the robot's own data with ``robot.dof`` Jacobian columns (hot path)."""
-        return cls(robot, robot.model, robot.data, full=False)
+        return cls(robot, robot.model, robot.state.data, full=False)
 
     @classmethod
     def for_configuration(cls, robot: Robot, configuration) -> KinematicState:
@@ -69,7 +69,7 @@ class KinematicState:
 
     def update(self, q: np.ndarray) -> None:
         """Run forward kinematics at ``q`` (robot path only; no checks)."""
-        self.robot.update(q)
+        self.robot.state.update(q)
         self.q[:] = q
         self._fresh.clear()
 
@@ -80,6 +80,18 @@ class KinematicState:
             views = self._views[frame] = frame_pose_views(self.data, frame)
         return views
 
+    def point_jacobian(self, body: int, point: np.ndarray) -> np.ndarray:
+        """The world Jacobian (6 × ``n_columns``, fresh) of a point fixed to ``body``.
+
+        Rows ``ṗ`` then ``ω`` in world axes (``mj_jac``) at the world point ``point``.
+        """
+        mujoco.mj_jac(self.model, self.data, self._jacp, self._jacr, point, body)
+        J = np.empty((6, self.n_columns))
+        columns = slice(None) if self._full else self.robot.dof_indices
+        J[:3] = self._jacp[:, columns]
+        J[3:] = self._jacr[:, columns]
+        return J
+
     def jacobian(self, frame: Frame) -> np.ndarray:
         """The world Jacobian (6 × ``n_columns``) of ``frame``; do not modify it."""
         J = self._jacobians.get(frame)
@@ -88,7 +100,7 @@ class KinematicState:
         elif frame in self._fresh:
             return J
         if not self._full:
-            self.robot.world_jacobian_into(frame, J)
+            self.robot.state.world_jacobian_into(frame, J)
         else:
             frame_jacobian(self.model, self.data, frame, self._jacp, self._jacr)
             J[:3] = self._jacp

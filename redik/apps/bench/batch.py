@@ -8,8 +8,8 @@ the single-target :func:`redik.solvers.pose.solve_pose` in a Python loop. A *str
 ``pos_tol`` = 1e-6 m and ``rot_tol`` = 1e-5 rad within the joint limits. Rates are medians
 over ``--repeats`` runs of wall-clock time; the CPU-time rate (this process's CPU time, so
 shown for the in-process runs) is less disturbed by other load on a shared machine, and the
-load average is printed at start and end. The target (issue 14): at least 100,000 strict
-7-DoF solves per second on every core at ≥ 99.99 % strict success.
+load average is printed at start and end. The target: at least 100,000 strict 7-DoF solves
+per second on every core at ≥ 99.99 % strict success.
 """
 
 from __future__ import annotations
@@ -24,12 +24,14 @@ from redik.apps.bench import load_average
 from redik.kinematics.robot import load
 from redik.solvers.batch import Chain, forward_kinematics, solve_batch
 from redik.solvers.batch.engines import default_workers
+from redik.solvers.pose import solve_pose
 
 TARGET_RATE = 100_000
 TARGET_SUCCESS = 0.9999
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add this benchmark's options to its ``redik bench`` subparser."""
     parser.add_argument("--robots", nargs="+", default=["panda", "iiwa14", "ur5e"])
     parser.add_argument("--sizes", nargs="+", type=int, default=[1_000, 10_000, 100_000])
     parser.add_argument("--repeats", type=int, default=3, help="runs per case; median reported")
@@ -39,6 +41,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _timed(fn) -> tuple[float, float, object]:
+    """``(wall seconds, CPU seconds, fn())``."""
     wall, cpu = time.perf_counter(), time.process_time()
     out = fn()
     return time.perf_counter() - wall, time.process_time() - cpu, out
@@ -56,11 +59,8 @@ def _median_rate(fn, repeats: int) -> tuple[float, float, float]:
     return statistics.median(walls), statistics.median(cpus), success
 
 
-def _single_loop(robot, T: np.ndarray, seed: int) -> tuple[float, float] | None:
-    try:
-        from redik.solvers.pose import solve_pose
-    except ImportError:
-        return None
+def _single_loop(robot, T: np.ndarray, seed: int) -> tuple[float, float]:
+    """``(strict solves per second, success fraction)`` of a ``solve_pose`` loop over ``T``."""
     solve_pose(robot, T[0], seed=seed)  # load the compiled kernel before timing
     wall, _, results = _timed(
         lambda: [solve_pose(robot, Ti, seed=seed + i) for i, Ti in enumerate(T)]
@@ -70,6 +70,7 @@ def _single_loop(robot, T: np.ndarray, seed: int) -> tuple[float, float] | None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Rates per robot, size and engine, then the verdict on the 7-DoF target."""
     workers = args.workers or default_workers()
     print(f"strict solves/s (pos 1e-6 m, rot 1e-5 rad, limits); {workers} workers")
     print(load_average("load average at start"))
@@ -104,18 +105,11 @@ def run(args: argparse.Namespace) -> int:
                 )
                 if count == workers and success >= TARGET_SUCCESS:
                     best[name] = max(best.get(name, (0.0, 0.0)), (rate, success))
-        single = _single_loop(robot, T_all[: args.single], args.seed)
-        if single is None:
-            print(
-                f"{name:<8}{args.single:>8}{'solve_pose loop':>20}"
-                "  (redik.solvers.pose not available)"
-            )
-        else:
-            rate, success = single
-            print(
-                f"{name:<8}{args.single:>8}{'solve_pose loop':>20}{rate:>11,.0f}{'':>11}"
-                f"{100 * success:>9.2f}%"
-            )
+        rate, success = _single_loop(robot, T_all[: args.single], args.seed)
+        print(
+            f"{name:<8}{args.single:>8}{'solve_pose loop':>20}{rate:>11,.0f}{'':>11}"
+            f"{100 * success:>9.2f}%"
+        )
     for name, (rate, success) in best.items():
         robot = load(name)
         if robot.dof == 7:

@@ -18,12 +18,14 @@ from redik.kinematics.robot import load
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add this benchmark's options to its ``redik bench`` subparser."""
     parser.add_argument("--robots", nargs="+", default=["panda", "iiwa14", "ur5e"])
     parser.add_argument("--calls", type=int, default=20000, help="calls per repeat")
     parser.add_argument("--repeats", type=int, default=7, help="repeats; the median is reported")
 
 
 def _median_us(fn, calls: int, repeats: int) -> float:
+    """Median over ``repeats`` of the time per call of ``fn`` (µs), ``calls`` calls each."""
     samples = []
     for _ in range(repeats):
         start = time.perf_counter()
@@ -34,7 +36,8 @@ def _median_us(fn, calls: int, repeats: int) -> float:
 
 
 def _cases(robot) -> dict:
-    model, data = robot.model, robot.data
+    """The timed calls, the bare MuJoCo sequence (the reference) first."""
+    model, data = robot.model, robot.state.data
     q = robot.random_q(0)
     jacp, jacr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
     site = robot.ee.id
@@ -52,13 +55,14 @@ def _cases(robot) -> dict:
 
     return {
         "raw MuJoCo (qpos, kin, comPos, jac)": raw,
-        "robot.kinematics (hot path)": lambda: robot.kinematics(q, robot.ee, T, J),
+        "robot.kinematics (hot path)": lambda: robot.state.kinematics(q, robot.ee, T, J),
         "robot.fk + robot.jacobian (checked)": checked,
         "python call overhead (empty lambda)": lambda: None,
     }
 
 
 def run(args: argparse.Namespace) -> int:
+    """Print the median time per call of each case and its ratio to the raw MuJoCo calls."""
     print(f"{'robot':<8}{'case':<38}{'median µs':>11}{'vs raw':>9}")
     for name in args.robots:
         reference = None

@@ -1,6 +1,6 @@
 """Pose IK on panda, iiwa14 and ur5e, like with like: redik, Robotics Toolbox, TRAC-IK, mink.
 
-Protocol (issues 3 and 14). For each robot, ``--n`` targets are the poses of configurations
+Protocol. For each robot, ``--n`` targets are the poses of configurations
 drawn uniformly within the joint limits (generator seeded by ``--seed``); each target is
 solved once from the middle of the joint ranges and once from a random configuration (drawn
 by the same generator). Every library is set up **once** per robot and then called as its
@@ -46,7 +46,7 @@ ROBOTS = ("panda", "iiwa14", "ur5e")
 POS_TOL = 1e-6
 ROT_TOL = 1e-5
 RTB_TOL = 5e-13
-"""Robotics Toolbox's tolerance on ``E = ½‖e‖²``: ``‖e‖ ≤ 1e-6`` (issue 14)."""
+"""Robotics Toolbox's tolerance on ``E = ½‖e‖²``: ``‖e‖ ≤ 1e-6``, as strict as ours."""
 MINK_MAX_ITERATIONS = 500
 MINK_SETTINGS = {"mink": (0.95, 1e-12), "mink tuned": (0.2, 1e-6)}
 """``(ConfigurationLimit gain, solve_ik damping)``: mink's defaults, and its best setting."""
@@ -60,6 +60,7 @@ Solver = Callable[[np.ndarray, np.ndarray, int], np.ndarray | None]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add this benchmark's options to its ``redik bench`` subparser."""
     parser.add_argument("--n", type=int, default=200, help="targets per robot (default 200)")
     parser.add_argument("--robots", nargs="+", default=list(ROBOTS), help="scenes to use")
     parser.add_argument(
@@ -82,6 +83,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Measure every solver on every robot and print the table; exit code 2 on bad names."""
     n = 50 if args.quick else args.n
     unknown = [m for m in args.methods if m not in METHODS]
     if unknown:
@@ -133,6 +135,7 @@ class Score:
         self.T = np.eye(4)
 
     def __call__(self, q: np.ndarray | None, T_target: np.ndarray) -> bool:
+        """True when ``q`` reaches ``T_target`` strictly inside the limits."""
         robot = self.robot
         if q is None or np.shape(q) != (robot.dof,) or not np.all(np.isfinite(q)):
             return False
@@ -271,8 +274,10 @@ def _mink_solver(robot: Robot, limit_gain: float, damping: float) -> Solver | No
 
 
 def _dh_table(robot: Robot) -> tuple[tuple, str, np.ndarray, np.ndarray]:
-    """``(rows, convention, tool, base)`` of a scene built from a DH table, where ``base``
-    places the table's frame 0 in the scene: ``robot.fk(q) = base · T_0n(q) · tool``."""
+    """``(rows, convention, tool, base)`` of a scene built from a DH table.
+
+    ``base`` places the table's frame 0 in the scene: ``robot.fk(q) = base · T_0n(q) · tool``.
+    """
     from redik.models.builder import read_dh
     from redik.models.dh import forward, parse_convention
 

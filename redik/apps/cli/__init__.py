@@ -14,10 +14,12 @@ import pkgutil
 import sys
 from collections.abc import Sequence
 
+from redik.apps.cli._model import in_flags
 from redik.core.exceptions import RedikError
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``redik`` parser, with one subparser per module of this package."""
     parser = argparse.ArgumentParser(
         prog="redik",
         description="Optimisation-based, redundancy-resolving inverse kinematics on MuJoCo.",
@@ -31,6 +33,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run ``redik`` on ``argv`` (default ``sys.argv[1:]``) and return its exit code.
+
+    A :class:`~redik.core.exceptions.RedikError` is printed as one line on stderr, in the
+    command line's words (:func:`~redik.apps.cli._model.in_flags`), with exit code 2.
+    """
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
@@ -39,7 +46,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args.func(args) or 0)
     except RedikError as error:
-        print(f"redik {args.command}: error: {error}", file=sys.stderr)
+        print(f"redik {args.command}: error: {in_flags(str(error))}", file=sys.stderr)
         return 2
 
 

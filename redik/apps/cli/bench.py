@@ -8,6 +8,7 @@ from redik.apps.bench import benchmarks
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``redik bench NAME`` (one subparser per benchmark, and ``all``)."""
     parser = subparsers.add_parser("bench", help="run a benchmark (not a test): redik bench NAME")
     names = parser.add_subparsers(dest="benchmark", metavar="NAME", required=True)
     for name, module in benchmarks().items():
@@ -19,6 +20,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run_all(args: argparse.Namespace) -> int:
+    """Run every benchmark with its defaults; the exit codes OR-ed together."""
     status = 0
     for name, module in benchmarks().items():
         print(f"\n=== redik bench {name} ===")

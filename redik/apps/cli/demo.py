@@ -7,6 +7,7 @@ from pathlib import Path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``redik demo`` to the command line."""
     parser = subparsers.add_parser(
         "demo",
         help="dexter8r: QP solve with limit avoidance and posture, self-motion, pictures",
@@ -20,6 +21,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run the demo, print its summary; exit code 1 when the QP solve failed."""
     from redik.apps.demo import format_summary, run_demo  # heavy imports only for this command
 
     result = run_demo(args.out, seed=args.seed, max_samples=args.max_samples)

@@ -16,13 +16,14 @@ from pathlib import Path
 
 import numpy as np
 
-from redik.apps.cli._model import add_model_arguments, load_robot
+from redik.apps.cli._model import add_model_arguments, load_chain
 from redik.apps.progress import progress_bar, wanted
 from redik.core.rotation_policy import as_quaternion
 from redik.lie import make_pose, matrix_from_quat
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``redik explore`` to the command line."""
     parser = subparsers.add_parser(
         "explore", help="sample the self-motion manifold of a pose: NPZ, JSON and pictures"
     )
@@ -34,12 +35,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )  # fmt: skip
     pose.add_argument("--q-ref", nargs="+", type=float, help="target = FK of these joint values")
     parser.add_argument("--out", default="explore_out", help="output directory")
-    parser.add_argument("--ee", default=None, help="end-effector site or body (default 'ee')")
-    parser.add_argument(
-        "--fixed", nargs="+", default=None, metavar="JOINT",
-        help="joints held on the chain (names or patterns, e.g. 'head_*'; a ball joint on "
-        "the chain must be held)",
-    )  # fmt: skip
     parser.add_argument("--spacing", type=float, default=None, help="sample spacing (rad)")
     parser.add_argument("--starts", type=int, default=64, help="random IK starts for seeding")
     parser.add_argument("--seed", type=int, default=0)
@@ -51,9 +46,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Explore the self-motion of the pose and draw it; exit code 1 when nothing was found."""
     from redik.solvers.redundancy import explore_self_motion
 
-    robot = load_robot(args, fixed=args.fixed)  # a ball joint on the chain must be held
+    robot = load_chain(args)
     initial = None
     if args.pose is not None:
         quat = as_quaternion(np.array(args.pose[3:]), "--pose quaternion")
@@ -74,8 +70,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _draw(robot, motion, out: Path, args: argparse.Namespace, progress) -> int:
-    """Write the samples, summary, plots and renders, advancing ``progress`` (one step per
-    plot, per rendered frame and per written file)."""
+    """Write the samples, summary, plots and renders; 1 when there is nothing to draw.
+
+    ``progress`` advances one step per plot, per rendered frame and per written file.
+    """
     from redik.apps.selfmotion_plot import plot_joint_pairs
 
     out.mkdir(parents=True, exist_ok=True)
@@ -119,6 +117,7 @@ def _frame_picks(motion, frames: int) -> np.ndarray:
 
 
 def _render(robot, motion, picks, out: Path, args: argparse.Namespace, progress) -> None:
+    """Render the picked samples and write them as PNGs, a GIF and (unless told not) an MP4."""
     from redik.apps.render import render_frames, save_gif, save_mp4, save_pngs
 
     progress.set_description("rendering")

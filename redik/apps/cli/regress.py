@@ -10,6 +10,7 @@ from redik.apps.regress import run_regression
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``redik regress`` to the command line."""
     parser = subparsers.add_parser(
         "regress",
         help="run every spec, compare with specs/baselines/*.json, exit 1 on a regression",
@@ -27,6 +28,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run the specs against the baselines; exit code 1 on a regression."""
     report = run_regression(
         args.specs,
         args.baselines,

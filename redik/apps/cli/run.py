@@ -9,6 +9,7 @@ from redik.apps.specs import Context, load_spec, run_spec, summary_table
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``redik run`` to the command line."""
     parser = subparsers.add_parser(
         "run", help="run a spec (specs/<file>.py) and print its summary table"
     )
@@ -23,6 +24,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run each spec and print its table; exit code 1 when one fails."""
     status = 0
     for path in args.spec:
         spec = load_spec(path)

@@ -8,16 +8,18 @@ explained in :mod:`redik.kinematics.robot.robot`.
 
 One idea per module:
 
-- :mod:`~redik.kinematics.robot.robot`: :class:`Robot` (configuration and tangent space,
-  forward kinematics and Jacobians, chains cut from a whole model);
+- :mod:`~redik.kinematics.robot.robot`: :class:`Robot`, the model side (configuration and
+  tangent space, limits, frames, checked forward kinematics and Jacobians, chains cut from a
+  whole model);
+- :mod:`~redik.kinematics.robot.state`: :class:`RobotState`, the kinematic state (one
+  ``MjData``: ``update(q)``, poses and Jacobians into buffers, unchecked, for hot loops);
 - :mod:`~redik.kinematics.robot.selection`: which joints move (the chain to a frame, or names
   and ``fnmatch`` patterns, minus the fixed ones);
 - :mod:`~redik.kinematics.robot.coordinates`: where those joints live in ``qpos`` and ``qvel``;
 - :mod:`~redik.kinematics.robot.frames`: sites, bodies and geoms resolved by name, their pose
   and world Jacobian in ``MjData``;
-- :mod:`~redik.kinematics.robot.solver_cache`: what solvers compile once per robot, safe to
-  share between threads;
-- :mod:`~redik.kinematics.robot.loader`: :func:`load`, a robot from a scene name or a path.
+- :mod:`~redik.kinematics.robot.loader`: :func:`load` and the ``Robot.from_*`` constructors, a
+  robot from a scene name, a file, a string, a DH table or screws.
 """
 
 from redik.kinematics.robot.frames import (
@@ -28,14 +30,14 @@ from redik.kinematics.robot.frames import (
 )
 from redik.kinematics.robot.loader import load
 from redik.kinematics.robot.robot import JACOBIAN_REFERENCES, Robot
-from redik.kinematics.robot.solver_cache import SolverCache
+from redik.kinematics.robot.state import RobotState
 
 __all__ = [
     "FRAME_KINDS",
     "JACOBIAN_REFERENCES",
     "Frame",
     "Robot",
-    "SolverCache",
+    "RobotState",
     "frame_jacobian",
     "frame_pose_views",
     "load",

@@ -68,6 +68,24 @@ def frame_names(model: mujoco.MjModel, kind: str = "site") -> list[str]:
     return [n for n in names if n]
 
 
+def leaf_bodies(model: mujoco.MjModel) -> list[str]:
+    """Names of the model's leaf bodies: those no other body hangs from (hands, feet, flanges).
+
+    Args:
+        model: The MuJoCo model.
+
+    Returns:
+        The named leaf bodies, in model order (the world excluded).
+    """
+    parents = set(model.body_parentid[1:].tolist())
+    names = (
+        mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body)
+        for body in range(1, model.nbody)
+        if body not in parents
+    )
+    return [name for name in names if name]
+
+
 def frame_body(model: mujoco.MjModel, frame: Frame) -> int:
     """Id of the body ``frame`` is attached to (itself for a body)."""
     if frame.kind == "site":

@@ -33,17 +33,18 @@ Joint position boxes exist for hinge and slide joints only: ``lower``/``upper`` 
 tangent coordinate, ``±inf`` on ball and free joints. A ball joint's range is a cone on its
 rotation angle, which :class:`redik.BallJointLimit` enforces; a free joint has none.
 
-Forward kinematics runs ``mj_kinematics`` and ``mj_comPos`` (the latter fills the ``cdof``
-that ``mj_jac*`` reads) on the robot's own ``MjData`` and reads the Jacobian with
-``mj_jacSite``/``mj_jacBody`` into preallocated buffers. The public ``fk``/``jacobian`` check
-their input and return fresh arrays; solvers use :meth:`Robot.kinematics`, which skips the
-checks and writes into caller-owned buffers.
+A :class:`Robot` is the model side and does not change once built: joints, coordinates,
+limits, frames, names. Forward kinematics runs on its kinematic state :attr:`Robot.state`
+(:class:`~redik.kinematics.robot.state.RobotState`, one ``MjData``): the public
+:meth:`Robot.fk` and :meth:`Robot.jacobian` check their input and return fresh arrays, while
+solvers and tasks call ``robot.state`` in their loops, which checks nothing and writes into
+caller-owned buffers. The constructors from files, strings, DH tables and screws are
+:class:`~redik.kinematics.robot.loader.RobotLoading`'s.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -52,13 +53,13 @@ from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError
 from redik.core.validate import MAX_COORDINATE, real_array
 from redik.kinematics.robot.coordinates import JointCoordinates
 from redik.kinematics.robot.frames import (
-    FRAME_JACOBIANS,
     Frame,
     frame_body,
     frame_names,
-    frame_pose_views,
+    leaf_bodies,
     resolve_frame,
 )
+from redik.kinematics.robot.loader import RobotLoading
 from redik.kinematics.robot.selection import (
     BALL,
     chain_joints,
@@ -67,38 +68,47 @@ from redik.kinematics.robot.selection import (
     match_joints,
     selected_joints,
 )
-from redik.kinematics.robot.solver_cache import SolverCache
+from redik.kinematics.robot.state import RobotState
 from redik.lie import periodic_coordinates, world_jacobian_to
-from redik.models import loading
 
 JACOBIAN_REFERENCES = ("space", "body", "world")
 """The references a Jacobian can be expressed in (:mod:`redik.core.conventions`)."""
 
+NATURAL_FRAME = "ee"
+"""The site by which a model names its end-effector: every bundled scene and every model
+redik's builders write has one. A robot of such a model is the chain to it unless told
+otherwise; a model without one loads whole, with no frame named."""
 
-class Robot:
+_LISTED_FRAMES = 40  # per kind in a message, so that a humanoid's stays readable
+
+
+class Robot(RobotLoading):
     """The joints of a MuJoCo model that redik moves: a serial chain, or any set of joints.
 
     See the module docstring for the two kinds and for ``q`` versus the tangent space.
 
     Args:
         model: The MuJoCo model.
-        ee: Name of the end-effector site, body or geom. For a chain (``joints=None``) it
-            ends the chain; default the site named ``ee``. For a whole-model robot it is
-            only the default frame of tasks (default ``ee`` when the model has it, else
-            none: tasks must then name their frame).
+        ee: The robot's end-effector: a site, body or geom name, the frame solvers and tasks
+            use when they are given none. Default the site named :data:`NATURAL_FRAME`
+            (``"ee"``) when the model has one, else none: frames are then named where they
+            are used (``FrameTask(frame, …)``, ``solve_pose(…, frame=…)``, ``robot.chain(frame)``).
         name: A label for printing; default the model's name.
-        joints: None for the chain from the root to ``ee``; ``"all"`` for every hinge,
-            slide, ball and free joint; or joint names and ``fnmatch`` patterns
-            (``"left/*"``) selecting a subset, kept in model order.
+        joints: What moves. None: the chain from the root to ``ee`` when there is an
+            end-effector, else every joint (a whole model, as :func:`redik.load` gives for a
+            third-party file). ``"all"``: every hinge, slide, ball and free joint. Or joint
+            names and ``fnmatch`` patterns (``"left/*"``) selecting a subset, kept in model
+            order.
         fixed: Joint names or patterns never moved (``["*finger*"]``); they keep their
             value in ``data.qpos``. On a chain, a ball joint on the path must be fixed.
 
     Attributes:
         model: The :class:`mujoco.MjModel`.
-        data: The robot's own :class:`mujoco.MjData` (scratch space of ``fk``/``jacobian``);
-            its ``qpos`` holds the values of the joints redik does not move.
-        ee: The end-effector :class:`Frame` (None for a whole-model robot without one).
-        is_chain: True for a serial chain (the fast paths need one).
+        state: The robot's kinematic state (:class:`~redik.kinematics.robot.state.RobotState`,
+            which ``fk``/``jacobian`` write); ``state.data.qpos`` holds the values of the
+            joints the robot does not move.
+        ee: The end-effector :class:`Frame`, or None when the model names none.
+        is_chain: True for a serial chain to ``ee`` (the fast paths need one).
         dof: Tangent dimension ``n``: entries of ``Δq`` and Jacobian columns.
         nq: Entries of ``q`` (``dof`` plus one per ball joint and free joint).
         flat: True when ``nq == dof`` (no ball or free joint): ``q ⊕ Δq = q + Δq``.
@@ -111,16 +121,8 @@ class Robot:
         revolute: Per tangent coordinate, True for rotations (hinge, ball, a free joint's
             angular part).
         home: The ``home`` keyframe's values (else ``qpos0``), clipped into the limits.
-        solver_cache: What solvers compile once per robot and frame (e.g. the chain of
-            :func:`redik.solve_pose`'s ``"dls"`` kernel), kept here so it lives and dies
-            with the robot; a :class:`~redik.kinematics.robot.solver_cache.SolverCache`,
-            safe to share between threads.
 
-    Threads: :attr:`data` is the scratch space of every forward kinematics, so one robot
-    serves one thread at a time, except for what never touches :attr:`data` after the
-    robot is built: :func:`redik.solve_pose` with ``method="dls"`` (the default) and
-    ``respect_limits=True``, and :func:`redik.solvers.batch.solve_batch`. Other solvers need
-    one :class:`Robot` per thread (build each from the same ``model``).
+    Threads: see :mod:`redik.kinematics.robot.state`.
     """
 
     def __init__(
@@ -133,13 +135,14 @@ class Robot:
         fixed: Sequence[str] | None = None,
     ):
         self.model = model
-        self.data = mujoco.MjData(model)
         self.name = name or _model_name(model)
         self._frames: dict[str, Frame] = {}
         fixed_ids = set(match_joints(model, fixed or (), "fixed", self.name))
-        self.is_chain = joints is None
-        if self.is_chain:
-            self.ee = self.frame(ee if ee is not None else "ee")
+        if ee is None and mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, NATURAL_FRAME) >= 0:
+            ee = NATURAL_FRAME
+        self.ee = None if ee is None else self.frame(ee)
+        self.is_chain = joints is None and self.ee is not None
+        if self.ee is not None and self.is_chain:
             joint_ids = chain_joints(model, frame_body(model, self.ee), fixed_ids, self.name)
             if not joint_ids:
                 raise ModelError(
@@ -147,12 +150,9 @@ class Robot:
                     f"{self.ee.name!r} in model {self.name!r}"
                 )
         else:
-            self.ee = None
-            if ee is not None:
-                self.ee = self.frame(ee)
-            elif mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, "ee") >= 0:
-                self.ee = self.frame("ee")
-            joint_ids = selected_joints(model, joints, fixed, fixed_ids, self.name)
+            joint_ids = selected_joints(
+                model, "all" if joints is None else joints, fixed, fixed_ids, self.name
+            )
         coordinates = JointCoordinates.of(model, joint_ids)
         self._joint_ids = coordinates.joint_ids
         self.joint_names = coordinates.joint_names
@@ -175,144 +175,37 @@ class Robot:
         self._free_q = coordinates.free_q
 
         key = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, "home")
-        if key >= 0:
-            self.data.qpos[:] = model.key_qpos[key]
-        else:
-            self.data.qpos[:] = model.qpos0
-        self.home = self.clip(self.data.qpos[self._qpos_adr])
+        qpos = model.key_qpos[key] if key >= 0 else model.qpos0
+        self.home = self.clip(qpos[self._qpos_adr])
         self.home.setflags(write=False)
-
-        self._jacp = np.zeros((3, model.nv))
-        self._jacr = np.zeros((3, model.nv))
-        # Hot-path shortcuts: a slice instead of fancy indexing when the joints are
-        # contiguous in qpos, and MuJoCo writing straight into the caller's J when they are
-        # every dof.
-        self._qpos_index = _as_slice(self._qpos_adr)
-        self._jacobian_is_direct = model.nv == self.dof and np.array_equal(
-            self._dof_adr, np.arange(self.dof)
-        )
-        self._views: dict[Frame, tuple[np.ndarray, np.ndarray]] = {}
+        self.state = RobotState(model, self._qpos_adr, self._dof_adr, qpos)
         # Scratch of integrate/difference on manifold joints (full qpos and qvel).
         self._qpos_a = np.zeros(model.nq)
         self._qpos_b = np.zeros(model.nq)
         self._qvel = np.zeros(model.nv)
-        self.solver_cache = SolverCache()
-
-    # ----------------------------------------------------------------------------------
-    # Construction
-
-    @classmethod
-    def from_file(
-        cls,
-        path: str | Path,
-        ee: str | None = None,
-        *,
-        name: str | None = None,
-        joints: str | Sequence[str] | None = None,
-        fixed: Sequence[str] | None = None,
-        **options,
-    ) -> Robot:
-        """Load an MJCF (``.xml``) or URDF (``.urdf``) file.
-
-        ``joints`` and ``fixed`` choose what moves (the class docstring):
-        ``Robot.from_file(path, joints="all", floating_base=True)`` is a whole humanoid.
-
-        ``options`` go to :func:`redik.models.loading.load_spec`: ``meshes=False`` for a
-        kinematics-only model, ``visual``, ``package_paths`` for ``package://`` meshes,
-        ``floating_base``, ``keep_fixed_links``. Fixed URDF links stay bodies, so ``tool0`` or
-        ``panda_hand`` can be the end-effector.
-
-        Raises:
-            ModelError: the file or a mesh is missing, or MuJoCo cannot compile the model.
-        """
-        model = loading.compile_spec(loading.load_spec(path, **options), str(path))
-        return cls(model, ee=ee, name=name or Path(path).stem, joints=joints, fixed=fixed)
-
-    @classmethod
-    def from_xml_string(
-        cls,
-        xml: str,
-        ee: str | None = None,
-        name: str | None = None,
-        *,
-        joints: str | Sequence[str] | None = None,
-        fixed: Sequence[str] | None = None,
-        **options,
-    ) -> Robot:
-        """Build from an MJCF or URDF string (``options`` as for :func:`load_spec_from_string`;
-        ``joints``, ``fixed`` as for the class).
-
-        Raises:
-            ModelError: MuJoCo cannot compile the string.
-        """
-        spec = loading.load_spec_from_string(xml, **options)
-        model = loading.compile_spec(spec, "the model string")
-        return cls(model, ee=ee, name=name, joints=joints, fixed=fixed)
-
-    @classmethod
-    def from_dh(
-        cls,
-        rows: Sequence,
-        convention: str = "standard",
-        limits: Sequence[Sequence[float]] | None = None,
-        tool: np.ndarray | None = None,
-        *,
-        name: str = "dh_robot",
-        home: Sequence[float] | None = None,
-        **builder_options,
-    ) -> Robot:
-        """Build from a Denavit–Hartenberg table (see :func:`redik.models.dh.parse_rows`).
-
-        ``convention`` is ``"standard"`` (Spong/Paul: ``Rz(θ) Tz(d) Tx(a) Rx(α)``) or
-        ``"modified"`` (Craig: ``Rx(α) Tx(a) Rz(θ) Tz(d)``); ``limits`` is n × 2; ``tool`` a
-        4 × 4 flange transform or a row. The generated MJCF places the ``ee`` site at the
-        last frame, so ``robot.fk(q)`` equals the table's ``T_0n(q) · tool``.
-        ``builder_options`` (``radius``, ``actuators``, ``custom``, …) go to
-        :func:`redik.models.builder.dh_to_mjcf`.
-        """
-        from redik.models.builder import dh_to_mjcf
-
-        xml = dh_to_mjcf(rows, convention, limits, tool, name=name, home=home, **builder_options)
-        return cls.from_xml_string(xml, name=name)
-
-    @classmethod
-    def from_screws(
-        cls,
-        screws: np.ndarray,
-        M: np.ndarray,
-        frame: str = "space",
-        limits: Sequence[Sequence[float]] | None = None,
-        *,
-        name: str = "poe_robot",
-        home: Sequence[float] | None = None,
-        **builder_options,
-    ) -> Robot:
-        """Build from a product of exponentials (Modern Robotics §4.1).
-
-        ``screws`` is 6 × n with columns ``S_i = (ω_i, v_i)`` (Modern Robotics order) in the
-        space frame, or body screws ``B_i`` when ``frame="body"``; ``M`` is the home pose of the
-        end-effector. ``robot.fk(q) = e^{[S_1] q_1} ⋯ e^{[S_n] q_n} M``.
-        ``builder_options`` go to :func:`redik.models.builder.screws_to_mjcf`.
-        """
-        from redik.models.builder import screws_to_mjcf
-
-        xml = screws_to_mjcf(screws, M, frame, limits, name=name, home=home, **builder_options)
-        return cls.from_xml_string(xml, name=name)
 
     # ----------------------------------------------------------------------------------
     # Frames
 
     def frame(self, name: str | Frame | None = None) -> Frame:
-        """Resolve a site, body or geom name (in that order); ``None`` is the end-effector.
+        """Resolve a frame name.
 
-        ``"geom:name"`` (or ``"body:"``, ``"site:"``) picks the kind when names collide.
+        Args:
+            name: A site, body or geom name (looked up in that order; ``"geom:name"``,
+                ``"body:"`` or ``"site:"`` picks the kind when names collide), a resolved
+                :class:`Frame`, or None for the end-effector.
+
+        Returns:
+            The frame.
+
+        Raises:
+            UnknownFrame: No such frame (the message lists the closest names); or None was
+                given and the robot has no end-effector (the message lists the frames its
+                joints move, :meth:`suggested_frames`).
         """
         if name is None:
             if self.ee is None:
-                raise UnknownFrame(
-                    f"{self.name!r} has no end-effector (a whole-model robot): name the frame, "
-                    f"e.g. one of the sites {self.frame_names('site')[:8]}"
-                )
+                raise UnknownFrame(self._no_end_effector())
             return self.ee
         if isinstance(name, Frame):
             return name
@@ -326,6 +219,37 @@ class Robot:
     def frame_names(self, kind: str = "site") -> list[str]:
         """Names of the model's sites, bodies or geoms (``kind`` = "site", "body", "geom")."""
         return frame_names(self.model, kind)
+
+    def suggested_frames(self) -> list[str]:
+        """The frames a user would pick for a task or a chain.
+
+        Returns:
+            The model's sites, then its leaf bodies (those no body hangs from: hands, feet,
+            flanges; ``"body:name"`` where a site has the same name), each of them moved by
+            some joint of the robot, in model order.
+        """
+        sites = self.frame_names("site")
+        taken = set(sites)
+        bodies = [f"body:{b}" if b in taken else b for b in leaf_bodies(self.model)]
+        return [name for name in (*sites, *bodies) if self.moves(name)]
+
+    def _no_end_effector(self) -> str:
+        suggested = self.suggested_frames()
+        sites = set(self.frame_names("site"))
+        listed = []
+        for kind, names in (
+            ("sites", [n for n in suggested if n in sites]),
+            ("leaf bodies", [n for n in suggested if n not in sites]),
+        ):
+            more = len(names) - _LISTED_FRAMES
+            listed.append(
+                f"{kind} {names[:_LISTED_FRAMES]}" + (f" and {more} more" if more > 0 else "")
+            )
+        return (
+            f"{self.name!r} names no end-effector (no site {NATURAL_FRAME!r}), so the frame "
+            f"must be named where it is used (frame=…, FrameTask(frame, …), "
+            f"robot.chain(frame), ee=…); the frames its joints move: {'; '.join(listed)}"
+        )
 
     def body_of(self, frame: str | Frame) -> int:
         """Id of the body ``frame`` is attached to (itself for a body)."""
@@ -346,16 +270,33 @@ class Robot:
     # Chains of a whole model
 
     def chain(
-        self, frame: str | Frame, q: np.ndarray | None = None, *, name: str | None = None
+        self,
+        frame: str | Frame | None = None,
+        q: np.ndarray | None = None,
+        *,
+        name: str | None = None,
     ) -> Robot:
-        """The serial chain from the root to ``frame``, the other joints fixed.
+        """The serial chain from the root to a frame, the other joints held.
 
         The chain moves this robot's hinge and slide joints on the path to ``frame``; every
-        other joint (the other arm, the fingers, a floating base) is held at its value in
-        ``q`` (this robot's configuration; default its current ``data.qpos``). The chain
-        shares the model and runs every serial-chain method (compiled DLS, batch, closed
-        forms, self-motion); :meth:`embed` writes its solution back into a ``q`` of this
-        robot. Ball joints on the path are fixed too (the fast paths need hinges/slides).
+        other joint (the other arm, the fingers, a floating base, and ball joints on the path,
+        which the fast paths cannot move) is held at its value in ``q``. The chain shares the
+        model and runs every serial-chain method (compiled DLS, batch, closed forms,
+        self-motion); :meth:`embed` writes its solution back into a ``q`` of this robot.
+
+        Args:
+            frame: The chain's end-effector; default this robot's.
+            q: This robot's configuration, at which the other joints are held; default the
+                values in its state's ``data.qpos``.
+            name: A label; default ``"<robot>:<frame>"``.
+
+        Returns:
+            The chain, a :class:`Robot` whose ``ee`` is ``frame``.
+
+        Raises:
+            UnknownFrame: No such frame, or none given and this robot has no end-effector
+                (the message lists :meth:`suggested_frames`).
+            ModelError: No hinge or slide joint of this robot moves ``frame``.
         """
         resolved = self.frame(frame)
         moved = set(self._joint_ids.tolist())
@@ -366,14 +307,25 @@ class Robot:
         ]
         chain = Robot(self.model, resolved.name, name=name or f"{self.name}:{resolved.name}",
                       joints=None, fixed=fixed)  # fmt: skip
-        qpos = self.data.qpos.copy() if q is None else self.full_qpos(self.check_q(q))
-        chain.data.qpos[:] = qpos
+        qpos = self.state.data.qpos.copy() if q is None else self.full_qpos(self.check_q(q))
+        chain.state.data.qpos[:] = qpos
         return chain
 
     def embed(self, chain: Robot, q_chain: np.ndarray, q: np.ndarray | None = None) -> np.ndarray:
-        """This robot's ``q`` with the joints of ``chain`` set to ``q_chain``.
+        """Write a chain's solution back into a configuration of this robot.
 
-        ``q`` defaults to the values held by the chain (those of :meth:`chain`).
+        Args:
+            chain: A chain of this robot (:meth:`chain`).
+            q_chain: The chain's configuration.
+            q: This robot's configuration to write into; default the values the chain holds
+                (those it was cut at).
+
+        Returns:
+            This robot's ``q`` with the joints of ``chain`` set to ``q_chain``.
+
+        Raises:
+            InvalidInput: ``chain`` is of another model, or moves joints this robot does not.
+            InvalidConfiguration: A configuration of the wrong length or not finite.
         """
         if chain.model is not self.model:
             raise InvalidInput(f"{chain!r} is not a chain of {self!r}'s model")
@@ -383,7 +335,7 @@ class Robot:
                 f"{chain!r} moves joints {outside} that {self!r} does not: their values "
                 "would be lost"
             )
-        qpos = chain.data.qpos.copy() if q is None else self.full_qpos(self.check_q(q))
+        qpos = chain.state.data.qpos.copy() if q is None else self.full_qpos(self.check_q(q))
         qpos[chain.qpos_indices] = chain.check_q(q_chain, "q_chain")
         return qpos[self._qpos_adr]
 
@@ -391,9 +343,20 @@ class Robot:
     # Joint vectors
 
     def check_q(self, q: np.ndarray, name: str = "q") -> np.ndarray:
-        """``q`` as a finite real vector of length ``nq``, within ``±``
-        :data:`~redik.core.validate.MAX_COORDINATE`, or raise :class:`InvalidConfiguration`
-        naming the value (complex, string and object arrays are refused, not cast)."""
+        """Check a configuration of this robot.
+
+        Args:
+            q: The configuration as given.
+            name: Its name, for the message.
+
+        Returns:
+            ``q`` as a float vector of length ``nq``.
+
+        Raises:
+            InvalidConfiguration: Not a finite real vector of length ``nq`` within
+                ``±``:data:`~redik.core.validate.MAX_COORDINATE` (complex, string and object
+                arrays are refused, not cast), or a zero quaternion of a ball or free joint.
+        """
         q = real_array(q, name, InvalidConfiguration)
         if q.shape != (self.nq,):
             what = f"joints {list(self.joint_names)}"
@@ -442,12 +405,28 @@ class Robot:
         return q
 
     def within_limits(self, q: np.ndarray, tol: float = 0.0) -> bool:
-        """True when ``lower − tol ≤ q ≤ upper + tol`` for every hinge and slide joint."""
+        """Whether a configuration is inside the joint limits.
+
+        Args:
+            q: A configuration (unchecked).
+            tol: How far outside a limit still counts as inside.
+
+        Returns:
+            True when ``lower − tol ≤ q ≤ upper + tol`` for every hinge and slide joint.
+        """
         values = self.scalar_values(q)
         return bool(np.all(values >= self.lower - tol) and np.all(values <= self.upper + tol))
 
     def clip(self, q: np.ndarray) -> np.ndarray:
-        """``q`` clipped into the joint limits (quaternions normalised)."""
+        """Clip a configuration into the joint limits.
+
+        Args:
+            q: A configuration (unchecked).
+
+        Returns:
+            A copy with each hinge and slide value clipped to ``[lower, upper]`` and each
+            quaternion normalised.
+        """
         if self.flat:
             return np.clip(q, self.lower, self.upper)
         q = np.array(q, dtype=float)
@@ -458,10 +437,17 @@ class Robot:
         return q
 
     def integrate(self, q: np.ndarray, dq: np.ndarray) -> np.ndarray:
-        """``q ⊕ Δq``: the configuration reached by the tangent step ``dq`` (no checks).
+        """The configuration reached by a tangent step: ``q ⊕ Δq``.
 
         ``q + dq`` on a flat robot, else ``mj_integratePos`` (the exponential map of each
         ball and free joint; see the module docstring).
+
+        Args:
+            q: A configuration (``nq``,), unchecked.
+            dq: A tangent step (``dof``,), unchecked.
+
+        Returns:
+            ``q ⊕ dq`` (``nq``,).
         """
         if self.flat:
             return q + dq
@@ -473,10 +459,17 @@ class Robot:
         return qpos[self._qpos_adr]
 
     def difference(self, q_from: np.ndarray, q_to: np.ndarray) -> np.ndarray:
-        """``q_to ⊖ q_from`` (``dof``,): the tangent step from ``q_from`` to ``q_to``.
+        """The tangent step between two configurations: ``q_to ⊖ q_from``.
 
         ``q_to − q_from`` on a flat robot, else ``mj_differentiatePos``; the inverse of
         :meth:`integrate`: ``integrate(a, difference(a, b)) = b``.
+
+        Args:
+            q_from: A configuration (``nq``,), unchecked.
+            q_to: A configuration (``nq``,), unchecked.
+
+        Returns:
+            The step (``dof``,).
         """
         if self.flat:
             return q_to - q_from
@@ -497,16 +490,29 @@ class Robot:
 
     @property
     def periodic(self) -> np.ndarray:
-        """Per tangent coordinate, True for the rotations taken modulo 2π: those whose
-        range spans a full turn (:func:`redik.lie.periodic_coordinates`,
-        :mod:`redik.core.conventions`)."""
+        """Per tangent coordinate, True for the rotations taken modulo 2π.
+
+        Those whose range spans a full turn (:func:`redik.lie.periodic_coordinates`,
+        :mod:`redik.core.conventions`).
+        """
         return periodic_coordinates(self.revolute, self.lower, self.upper)
 
-    def random_q(self, rng: np.random.Generator | int | None = None, size: int | None = None):
-        """Configurations drawn uniformly within the sampling bounds (one, or ``size`` × nq).
+    def random_q(
+        self, rng: np.random.Generator | int | None = None, size: int | None = None
+    ) -> np.ndarray:
+        """Draw configurations uniformly within the sampling bounds.
 
-        Ball and free joints get a uniformly random orientation (Shoemake 1992) and a free
-        joint a position within ±1 m of its home position.
+        Hinges and slides uniformly in ``[sampling_lower, sampling_upper]``; ball and free
+        joints a uniformly random orientation (a normalised Gaussian quaternion; Shoemake,
+        *Uniform random rotations*, Graphics Gems III, 1992), a free joint a position within
+        ±1 m of its home position.
+
+        Args:
+            rng: A generator, or a seed for one.
+            size: How many; None for one.
+
+        Returns:
+            One configuration (``nq``,), or ``size`` × ``nq``.
         """
         rng = np.random.default_rng(rng)
         shape = (self.dof,) if size is None else (size, self.dof)
@@ -532,76 +538,52 @@ class Robot:
     # Kinematics, checked
 
     def fk(self, q: np.ndarray, frame: str | Frame | None = None) -> np.ndarray:
-        """Pose ``T_wf`` (4 × 4) of ``frame`` (default the end-effector) at ``q``."""
+        """Forward kinematics: the pose ``T_wf`` of a frame in the world.
+
+        Args:
+            q: A configuration (``nq``,).
+            frame: A frame name or :class:`Frame`; default the end-effector.
+
+        Returns:
+            ``T_wf`` (4, 4), a fresh array.
+
+        Raises:
+            InvalidConfiguration: A bad ``q`` (:meth:`check_q`).
+            UnknownFrame: No such frame, or none given and the robot has no end-effector.
+        """
         q = self.check_q(q)
         resolved = self.frame(frame)
-        self.update(q)
-        T = np.eye(4)
-        R, p = self._pose_views(resolved)
-        T[:3, :3] = R
-        T[:3, 3] = p
-        return T
+        self.state.update(q)
+        return self.state.pose_into(resolved, np.eye(4))
 
     def jacobian(
         self, q: np.ndarray, frame: str | Frame | None = None, reference: str = "space"
     ) -> np.ndarray:
-        """The 6 × n Jacobian of ``frame`` at ``q`` in the given reference.
+        """The Jacobian of a frame, ``ξ = J q̇`` with ``ξ = (v, ω)``.
 
-        ``reference`` is ``"space"`` (spatial twist), ``"body"`` (body twist) or ``"world"``
-        (origin velocity and angular velocity in world axes); see :mod:`redik.core.conventions`.
+        Args:
+            q: A configuration (``nq``,).
+            frame: A frame name or :class:`Frame`; default the end-effector.
+            reference: ``"space"`` (spatial twist, Modern Robotics §5.1.1), ``"body"`` (body
+                twist, §5.1.2) or ``"world"`` (origin velocity and angular velocity in world
+                axes, MuJoCo's); see :mod:`redik.core.conventions`.
+
+        Returns:
+            ``J`` (6, ``dof``), a fresh array.
+
+        Raises:
+            InvalidConfiguration: A bad ``q`` (:meth:`check_q`).
+            UnknownFrame: No such frame, or none given and the robot has no end-effector.
+            InvalidInput: An unknown ``reference``.
         """
         q = self.check_q(q)
         resolved = self.frame(frame)
         if reference not in JACOBIAN_REFERENCES:
             raise InvalidInput(f"reference must be one of {JACOBIAN_REFERENCES}, got {reference!r}")
-        self.update(q)
-        J = np.empty((6, self.dof))
-        self.world_jacobian_into(resolved, J)
-        R, p = self._pose_views(resolved)
+        self.state.update(q)
+        J = self.state.world_jacobian_into(resolved, np.empty((6, self.dof)))
+        R, p = self.state.pose_views(resolved)
         return world_jacobian_to(reference, J, R, p, out=J)
-
-    # ----------------------------------------------------------------------------------
-    # Kinematics, unchecked hot path (the caller validates once, outside its loop)
-
-    def update(self, q: np.ndarray) -> None:
-        """Write ``q`` into the model state and run forward kinematics (no checks)."""
-        self.data.qpos[self._qpos_index] = q
-        mujoco.mj_kinematics(self.model, self.data)
-        mujoco.mj_comPos(self.model, self.data)
-
-    def _pose_views(self, frame: Frame) -> tuple[np.ndarray, np.ndarray]:
-        """Views of ``frame``'s rotation and position inside ``data`` (valid after update)."""
-        views = self._views.get(frame)
-        if views is None:
-            views = self._views[frame] = frame_pose_views(self.data, frame)
-        return views
-
-    def pose_into(self, frame: Frame, T: np.ndarray) -> np.ndarray:
-        """Copy the current pose of ``frame`` (after :meth:`update`) into the 4 × 4 ``T``."""
-        R, p = self._pose_views(frame)
-        T[:3, :3] = R
-        T[:3, 3] = p
-        return T
-
-    def world_jacobian_into(self, frame: Frame, J: np.ndarray) -> np.ndarray:
-        """Write the ``"world"`` Jacobian of ``frame`` (after :meth:`update`) into 6 × n ``J``."""
-        jac = FRAME_JACOBIANS[frame.kind]
-        if self._jacobian_is_direct and J.flags.c_contiguous:
-            jac(self.model, self.data, J[:3], J[3:], frame.id)
-            return J
-        jac(self.model, self.data, self._jacp, self._jacr, frame.id)
-        J[:3] = self._jacp[:, self._dof_adr]
-        J[3:] = self._jacr[:, self._dof_adr]
-        return J
-
-    def kinematics(
-        self, q: np.ndarray, frame: Frame, T: np.ndarray, J: np.ndarray | None = None
-    ) -> None:
-        """One FK (+ world Jacobian when ``J`` is given) into caller-owned buffers, no checks."""
-        self.update(q)
-        self.pose_into(frame, T)
-        if J is not None:
-            self.world_jacobian_into(frame, J)
 
     @property
     def qpos_indices(self) -> np.ndarray:
@@ -619,10 +601,22 @@ class Robot:
         return self._joint_ids
 
     def q_of(self, qpos: np.ndarray | None = None) -> np.ndarray:
-        """This robot's ``q`` read from a full ``qpos``; default its own ``data.qpos``: the
-        last forward kinematics' configuration or, for a fresh chain of :meth:`chain`, the
-        values it was cut at."""
-        qpos = self.data.qpos if qpos is None else real_array(qpos, "qpos", InvalidConfiguration)
+        """Read this robot's ``q`` from a full ``qpos``.
+
+        Args:
+            qpos: The model's ``qpos`` (``model.nq``,); default the state's ``data.qpos``: the
+                last forward kinematics' configuration or, for a fresh chain of
+                :meth:`chain`, the values it was cut at.
+
+        Returns:
+            A copy of the robot's entries.
+
+        Raises:
+            InvalidConfiguration: ``qpos`` is not a real vector of length ``model.nq``.
+        """
+        if qpos is None:
+            qpos = self.state.data.qpos
+        qpos = real_array(qpos, "qpos", InvalidConfiguration)
         if qpos.shape != (self.model.nq,):
             raise InvalidConfiguration(
                 f"qpos must have shape ({self.model.nq},) (model.nq), got {qpos.shape}"
@@ -631,7 +625,7 @@ class Robot:
 
     def full_qpos(self, q: np.ndarray) -> np.ndarray:
         """The model's full ``qpos`` with the robot's joints set to ``q``, the rest as held."""
-        qpos = self.data.qpos.copy()
+        qpos = self.state.data.qpos.copy()
         qpos[self._qpos_adr] = q
         return qpos
 
@@ -648,10 +642,3 @@ class Robot:
 def _model_name(model: mujoco.MjModel) -> str:
     # MuJoCo stores the model's own name first in its names buffer.
     return bytes(model.names).split(b"\0", 1)[0].decode() or "robot"
-
-
-def _as_slice(indices: np.ndarray) -> slice | np.ndarray:
-    """``indices`` as a slice when they are consecutive, else unchanged."""
-    if np.array_equal(indices, np.arange(indices[0], indices[0] + len(indices))):
-        return slice(int(indices[0]), int(indices[0]) + len(indices))
-    return indices

@@ -76,8 +76,10 @@ def selected_joints(
     fixed_ids: set[int],
     robot_name: str,
 ) -> list[int]:
-    """Ids of the joints a whole-model robot moves, in model order: ``joints`` (``"all"``, or
-    names and patterns) minus ``fixed`` (whose ids :func:`match_joints` gave as ``fixed_ids``).
+    """Ids of the joints a whole-model robot moves, in model order.
+
+    ``joints`` (``"all"``, or names and patterns) minus ``fixed`` (whose ids
+    :func:`match_joints` gave as ``fixed_ids``).
 
     Raises:
         InvalidInput: a joint is named (not matched by a pattern) in both arguments.
@@ -104,8 +106,9 @@ def selected_joints(
 
 
 def chain_joints(model: mujoco.MjModel, body: int, fixed: set[int], robot_name: str) -> list[int]:
-    """Hinge and slide joints on the path from the world to ``body``, root first, except
-    the ``fixed`` ones (ids).
+    """Hinge and slide joints on the path from the world to ``body``, root first.
+
+    Except the ``fixed`` ones (ids).
 
     A free joint on the path is the floating base: it stays where ``qpos`` puts it. A ball
     joint cannot be part of a serial chain of hinges and slides; it must be fixed

@@ -22,8 +22,10 @@ One idea per module:
 - :mod:`~redik.models.builder.from_dh`: :func:`dh_to_mjcf`, a DH table → the bodies of the arm;
 - :mod:`~redik.models.builder.from_screws`: :func:`screws_to_mjcf`, screw axes (product of
   exponentials) → the bodies of the arm;
-- :mod:`~redik.models.builder.serial_arm`: the arm (one :class:`~redik.models.builder.
-  serial_arm.Link` per joint) → a checked MJCF document, with the options both builders share;
+- :mod:`~redik.models.builder.link`: :class:`~redik.models.builder.link.Link`, one body of the
+  arm, the description both builders produce;
+- :mod:`~redik.models.builder.serial_arm`: the arm (one ``Link`` per joint) → a checked MJCF
+  document, with the options both builders share;
 - :mod:`~redik.models.builder.servos`: the stiffness of the generated position servos;
 - :mod:`~redik.models.builder.mjcf_text`: the MJCF text itself (numbers, poses, elements);
 - :mod:`~redik.models.builder.description`: the DH table or screws stored in ``<custom>``,

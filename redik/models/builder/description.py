@@ -44,14 +44,17 @@ def dh_texts(convention: str) -> dict[str, str]:
 
 
 def screw_numerics(S: np.ndarray, M: np.ndarray) -> dict[str, list[float]]:
-    """The ``<numeric>`` entries of space screws ``S`` (6 × n, stored n × 6 row-major, each
-    row ``(ω, v)``) and ``M`` (row-major)."""
+    """The ``<numeric>`` entries that store space screws ``S`` and the home pose ``M``.
+
+    ``S`` (6 × n) is stored n × 6 row-major, each row ``(ω, v)``; ``M`` row-major.
+    """
     return {POE_SCREWS: S.T.ravel().tolist(), POE_HOME: M.ravel().tolist()}
 
 
 def read_dh(model: mujoco.MjModel) -> tuple[tuple[DHRow, ...], str, np.ndarray]:
-    """Recover ``(rows, convention, tool)`` from a model made by
-    :func:`~redik.models.builder.dh_to_mjcf`.
+    """Recover ``(rows, convention, tool)`` from a model made by ``dh_to_mjcf``.
+
+    The inverse of :func:`~redik.models.builder.dh_to_mjcf`'s storage.
 
     Raises:
         ModelError: The model does not carry a DH table.
@@ -75,8 +78,9 @@ def read_dh(model: mujoco.MjModel) -> tuple[tuple[DHRow, ...], str, np.ndarray]:
 
 
 def read_screws(model: mujoco.MjModel) -> tuple[np.ndarray, np.ndarray]:
-    """Recover the space screws ``S`` (6 × n, MR order) and ``M`` from
-    :func:`~redik.models.builder.screws_to_mjcf`.
+    """Recover the space screws ``S`` (6 × n, MR order) and ``M`` of a model.
+
+    The inverse of :func:`~redik.models.builder.screws_to_mjcf`'s storage.
 
     Raises:
         ModelError: The model does not carry screw axes.

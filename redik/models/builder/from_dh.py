@@ -9,7 +9,8 @@ from typing import Any
 import numpy as np
 
 from redik.models.builder.description import dh_numerics, dh_texts
-from redik.models.builder.serial_arm import Link, serial_arm_to_mjcf
+from redik.models.builder.link import Link
+from redik.models.builder.serial_arm import serial_arm_to_mjcf
 from redik.models.dh import RowLike, parse_convention, parse_rows, split_row, tool_transform
 
 

@@ -12,7 +12,8 @@ from redik.core.exceptions import InvalidInput, ModelError
 from redik.core.rotation_policy import as_pose
 from redik.lie import adjoint
 from redik.models.builder.description import screw_numerics
-from redik.models.builder.serial_arm import Link, serial_arm_to_mjcf
+from redik.models.builder.link import Link
+from redik.models.builder.serial_arm import serial_arm_to_mjcf
 
 UNIT_TOLERANCE = 1e-6
 """How far ``‖ω‖`` or ``‖v‖`` may be from 1, and the pitch from 0, in a screw column."""
@@ -47,8 +48,15 @@ def screws_to_mjcf(
         screws: Screw axes, shape ``(6, n)``, each column ``(ω, v)`` (MR order).
         M: End-effector pose at ``q = 0`` (4×4).
         frame: ``"space"`` (``screws`` are :math:`S_i`) or ``"body"`` (:math:`B_i`).
-        limits, name, home, radius, actuators, custom, floor_height, comment: As in
-            :func:`~redik.models.builder.dh_to_mjcf`.
+        limits: Joint ranges, n × 2 (as for :func:`~redik.models.builder.dh_to_mjcf`, and
+            so are the options below).
+        name: The model's name.
+        home: The ``home`` keyframe's joint values.
+        radius: The links' capsule radius (m); default sized from the arm's reach.
+        actuators: Add a position servo per joint.
+        custom: Extra ``<numeric>`` entries.
+        floor_height: Height of the floor plane (m).
+        comment: A comment at the top of the document.
 
     Returns:
         The MJCF document. The space screws are stored in the numeric ``redik_poe_screws``
@@ -89,16 +97,41 @@ def screws_to_mjcf(
 
 
 def space_screws(screws: Any, M: Any, frame: str) -> np.ndarray:
-    r"""``screws`` checked and as space screws :math:`S_i` (6 × n, MR order ``(ω, v)``).
+    r"""Check screw axes and express them in the space frame.
 
-    Body screws are converted by :math:`S_i = [\mathrm{Ad}_M] B_i` (MR §4.1.3). A column is
-    revolute (:math:`\|\omega\| = 1`, pitch :math:`\omega \cdot v = 0`) or prismatic
-    (:math:`\omega = 0`, :math:`\|v\| = 1`), within :data:`UNIT_TOLERANCE`.
+    Body screws are converted by :math:`S_i = [\mathrm{Ad}_M] B_i` (Modern Robotics §4.1.3).
+
+    Args:
+        screws: 6 × n, columns ``(ω, v)`` in Modern Robotics' order (a single 6-vector is one
+            column).
+        M: The end-effector's home pose (4, 4).
+        frame: ``"space"`` when the columns are space screws ``S_i``, ``"body"`` when they are
+            body screws ``B_i``.
+
+    Returns:
+        The space screws :math:`S_i` (6 × n), each revolute (:math:`\|\omega\| = 1`, pitch
+        :math:`\omega \cdot v = 0`) or prismatic (:math:`\omega = 0` exactly,
+        :math:`\|v\| = 1`) within :data:`UNIT_TOLERANCE`.
 
     Raises:
-        InvalidInput: not a finite 6 × n array, or a bad ``frame``.
-        ModelError: a helical column or a non-unit axis.
+        InvalidInput: Not a finite 6 × n array, or a bad ``frame``.
+        InvalidPose: ``M`` is not a rigid transform (body screws).
+        ModelError: A helical column or a non-unit axis.
     """
+    S = _screw_array(screws)
+    if frame not in ("space", "body"):
+        raise InvalidInput(f"frame must be 'space' or 'body', got {frame!r}")
+    if frame == "body":
+        # lie.adjoint acts on (v, ω) twists, so swap the halves of the (ω, v) screws around it.
+        swap = np.r_[3:6, 0:3]
+        S = (adjoint(as_pose(M, "M")) @ S[swap])[swap]
+    for i in range(S.shape[1]):
+        _check_screw(S[:, i], i)
+    return S
+
+
+def _screw_array(screws: Any) -> np.ndarray:
+    """``screws`` as a finite float (6, n) array, or :class:`InvalidInput` saying why not."""
     try:
         S = np.array(screws, dtype=float)
     except (TypeError, ValueError):
@@ -112,32 +145,28 @@ def space_screws(screws: Any, M: Any, frame: str) -> np.ndarray:
         )
     if not np.all(np.isfinite(S)):
         raise InvalidInput(f"screws must be finite, got\n{S}")
-    if frame not in ("space", "body"):
-        raise InvalidInput(f"frame must be 'space' or 'body', got {frame!r}")
-    if frame == "body":
-        # S = [Ad_M] B (MR §4.1.3); lie.adjoint acts on (v, ω), so swap the halves around it.
-        swap = np.r_[3:6, 0:3]
-        S = (adjoint(as_pose(M, "M")) @ S[swap])[swap]
-    for i in range(S.shape[1]):
-        omega, v = S[:3, i], S[3:, i]
-        norm_omega = float(np.linalg.norm(omega))
-        if norm_omega > UNIT_TOLERANCE:
-            if abs(norm_omega - 1.0) > UNIT_TOLERANCE:
-                raise ModelError(
-                    f"screw column {i}: a revolute axis needs ‖ω‖ = 1, got ‖ω‖ = {norm_omega:.9g}"
-                )
-            pitch = float(omega @ v)
-            if abs(pitch) > UNIT_TOLERANCE:
-                raise ModelError(
-                    f"screw column {i} has pitch ω·v = {pitch:.9g}; only revolute (pitch 0) "
-                    "and prismatic (ω = 0) joints are supported, not helical ones"
-                )
-        else:
-            S[:3, i] = 0.0
-            norm_v = float(np.linalg.norm(v))
-            if abs(norm_v - 1.0) > UNIT_TOLERANCE:
-                raise ModelError(
-                    f"screw column {i}: a prismatic axis (ω = 0) needs ‖v‖ = 1, "
-                    f"got ‖v‖ = {norm_v:.9g}"
-                )
     return S
+
+
+def _check_screw(screw: np.ndarray, i: int) -> None:
+    """Refuse a helical or non-unit column ``i``; zero a prismatic one's tiny ``ω`` in place."""
+    omega, v = screw[:3], screw[3:]
+    norm_omega = float(np.linalg.norm(omega))
+    if norm_omega <= UNIT_TOLERANCE:
+        omega[:] = 0.0
+        norm_v = float(np.linalg.norm(v))
+        if abs(norm_v - 1.0) > UNIT_TOLERANCE:
+            raise ModelError(
+                f"screw column {i}: a prismatic axis (ω = 0) needs ‖v‖ = 1, got ‖v‖ = {norm_v:.9g}"
+            )
+        return
+    if abs(norm_omega - 1.0) > UNIT_TOLERANCE:
+        raise ModelError(
+            f"screw column {i}: a revolute axis needs ‖ω‖ = 1, got ‖ω‖ = {norm_omega:.9g}"
+        )
+    pitch = float(omega @ v)
+    if abs(pitch) > UNIT_TOLERANCE:
+        raise ModelError(
+            f"screw column {i} has pitch ω·v = {pitch:.9g}; only revolute (pitch 0) "
+            "and prismatic (ω = 0) joints are supported, not helical ones"
+        )

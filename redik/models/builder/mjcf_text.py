@@ -8,14 +8,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from redik.lie import quat_from_matrix
-
-if TYPE_CHECKING:
-    from redik.models.builder.serial_arm import Link
+from redik.models.builder.link import Link
 
 
 def fmt(x: float) -> str:
@@ -29,6 +26,7 @@ def fmt(x: float) -> str:
 
 
 def vec(values: Iterable[float]) -> str:
+    """Numbers as an MJCF attribute value: each by :func:`fmt`, separated by spaces."""
     return " ".join(fmt(x) for x in values)
 
 
@@ -57,8 +55,11 @@ def document_lines(
     floor_height: float,
     comment: str | None,
 ) -> list[str]:
-    """The lines of the MJCF document of ``links`` (see :mod:`redik.models.builder` for what
-    the scene holds); ``gains`` is ``None`` for a model without actuators."""
+    """The lines of the MJCF document of ``links``.
+
+    See :mod:`redik.models.builder` for what the scene holds; ``gains`` is ``None`` for a
+    model without actuators.
+    """
     r = radius
     lines = []
     if comment:

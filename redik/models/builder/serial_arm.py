@@ -1,4 +1,4 @@
-"""A serial arm, one :class:`Link` per joint, → its checked MJCF document.
+"""A serial arm, one :class:`~redik.models.builder.link.Link` per joint → its checked MJCF.
 
 Both builders (:mod:`~redik.models.builder.from_dh`, :mod:`~redik.models.builder.from_screws`)
 describe the arm as links and hand it to :func:`serial_arm_to_mjcf`, which checks the options
@@ -10,28 +10,17 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
 from typing import Any
 
 import mujoco
 import numpy as np
 
 from redik.core.exceptions import InvalidInput, ModelError
+from redik.models.builder.link import Link
 from redik.models.builder.mjcf_text import document_lines
 from redik.models.builder.servos import servo_gains
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
-
-
-@dataclass
-class Link:
-    """One body of the chain, in its parent's coordinates."""
-
-    pose: np.ndarray  # 4×4, parent body → this body at q = 0
-    slide: bool
-    axis: np.ndarray  # joint axis, body coordinates
-    anchor: np.ndarray  # joint position, body coordinates
-    next_anchor: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
 
 def serial_arm_to_mjcf(
@@ -49,10 +38,10 @@ def serial_arm_to_mjcf(
     floor_height: float,
     comment: str | None,
 ) -> str:
-    """The checked MJCF document of the arm ``links`` with its end-effector site at ``ee``
-    (a pose in the last body).
+    """The checked MJCF document of an arm.
 
-    The options are those of :func:`~redik.models.builder.dh_to_mjcf`; ``stored`` and
+    The arm is ``links``, its end-effector site at ``ee`` (a pose in the last body). The
+    options are those of :func:`~redik.models.builder.dh_to_mjcf`; ``stored`` and
     ``texts`` are the ``<custom>`` entries of the description the arm came from
     (:mod:`~redik.models.builder.description`). The document is compiled once to check it
     and, with ``actuators``, once more to size the servos at ``home``

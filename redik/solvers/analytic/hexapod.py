@@ -22,19 +22,34 @@ Knee labels: ``"knee-up"`` has θ3 < 0, the knee above the femur–foot line for
 and below; this is the branch a hexapod walks with (``result.preferred``). ``"knee-down"``
 has θ3 > 0.
 
-Servo angles (``convention="servo"``, :data:`SERVO`)
-    The lecture's leg angles ``(α, β, γ)``, what the three servos are commanded to:
+Lecture angles (``convention="lecture"``, :data:`LECTURE`)
+    The hexapod example of the course notes (001, "Example: Analytical IK") finds the three
+    servo angles of a foot at :math:`(x, y)` on the ground, :math:`Z_\text{offset}` below the
+    femur axis, with :math:`L_1 = \sqrt{x^2 + y^2}` and
+    :math:`L = \sqrt{Z_\text{offset}^2 + (L_1 - \text{coxa})^2}`:
 
-    .. math:: α = θ_1, \qquad β = θ_2, \qquad γ = π + θ_3,
+    .. math::
+        γ = \arctan\frac{x}{y},\qquad
+        α = \arccos\frac{Z_\text{offset}}{L}
+            + \arccos\frac{\text{tibia}^2 - \text{femur}^2 - L^2}{-2\,\text{femur}\,L},
+        \qquad
+        β = \arccos\frac{L^2 - \text{tibia}^2 - \text{femur}^2}{-2\,\text{tibia}\,
+            \text{femur}},
 
-    α the coxa yaw, β the femur elevation above the horizontal and γ the knee angle between
-    femur and tibia — the angle the law of cosines gives,
-    :math:`γ = \arccos\frac{\text{femur}^2 + \text{tibia}^2 - L^2}{2\,\text{femur}\,
-    \text{tibia}}` with ``L`` the femur-axis-to-foot distance — so γ = π is the stretched
-    leg, ``γ ∈ (0, π)`` the knee-up (walking) branch and ``γ ∈ (π, 2π)`` the knee-down one.
-    :meth:`SERVO.from_joints <redik.solvers.analytic.convention.AngleConvention.from_joints>` and
-    ``SERVO.to_joints`` convert either way; with ``convention="servo"`` the solver takes its
-    ``limits`` and returns its solutions in ``(α, β, γ)``.
+    γ the coxa angle measured from the leg's outward axis (the notes' y), α the femur angle
+    measured from the downward vertical and β the interior knee angle between femur and
+    tibia (π: the stretched leg). In this module's terms the notes' y is the leg frame's x
+    (outward), their x is its y, :math:`L_1 = \sqrt{p_x^2 + p_y^2}` and
+    :math:`Z_\text{offset} = z_\text{offset} - p_z`, the height of the femur axis above the
+    foot; the notes' foot is ``p = (y, x, z_offset − Z_offset)``. Then
+
+    .. math:: γ = θ_1, \qquad α = θ_2 + π/2, \qquad β = θ_3 + π,
+
+    given per joint (coxa, femur, tibia) as ``(γ, α, β)``: ``β ∈ (0, π)`` is the knee-up
+    (walking) branch, ``β ∈ (π, 2π)`` the knee-down one.
+    :meth:`LECTURE.from_joints <redik.solvers.analytic.convention.AngleConvention.from_joints>`
+    and ``LECTURE.to_joints`` convert either way; with ``convention="lecture"`` the solver
+    takes its ``limits`` and returns its solutions in these angles.
 """
 
 from __future__ import annotations
@@ -43,7 +58,9 @@ import numpy as np
 
 from redik.solvers.analytic import _checks
 from redik.solvers.analytic._numeric import SCALAR
-from redik.solvers.analytic._solution import (
+from redik.solvers.analytic.convention import AngleConvention, solve_in
+from redik.solvers.analytic.planar import two_link, two_link_candidates, two_link_reason
+from redik.solvers.analytic.results import (
     DEFAULT_TOL,
     IKSolutions,
     JointSolution,
@@ -52,23 +69,25 @@ from redik.solvers.analytic._solution import (
     unreachable,
     wrap_angle,
 )
-from redik.solvers.analytic.convention import AngleConvention, solve_in
-from redik.solvers.analytic.planar import two_link, two_link_candidates, two_link_reason
 
 KNEE_LABELS = ("knee-down", "knee-up")  # 2R slot 0 has θ3 ≥ 0
 PREFERRED = "knee-up"
 
-SERVO = AngleConvention(
-    name="servo",
-    symbols=("α", "β", "γ"),
+LECTURE = AngleConvention(
+    name="lecture",
+    symbols=("γ", "α", "β"),
     signs=(1.0, 1.0, 1.0),
-    offsets=(0.0, 0.0, np.pi),
-    description="α coxa yaw, β femur elevation, γ knee angle between femur and tibia",
+    offsets=(0.0, np.pi / 2.0, np.pi),
+    description=(
+        "γ coxa angle from the outward axis, α femur angle from the downward vertical, "
+        "β interior knee angle"
+    ),
 )
-"""The lecture's servo angles ``(α, β, γ) = (θ1, θ2, π + θ3)`` (module docstring)."""
+"""The course notes' angles ``(γ, α, β) = (θ1, θ2 + π/2, θ3 + π)`` per joint (module
+docstring)."""
 
-CONVENTIONS: dict[str, AngleConvention | None] = {"joint": None, "servo": SERVO}
-"""The values of ``convention=``: the DH joint angles (θ1, θ2, θ3), or the servo angles."""
+CONVENTIONS: dict[str, AngleConvention | None] = {"joint": None, "lecture": LECTURE}
+"""The values of ``convention=``: the joint angles (θ1, θ2, θ3), or the lecture's angles."""
 
 
 def hexapod_leg(
@@ -87,11 +106,12 @@ def hexapod_leg(
     Args:
         p: Foot position (3,) in the leg frame (metres), see the module docstring.
         coxa: Coxa length, from the yaw axis to the femur axis (m, ≥ 0).
-        femur, tibia: Femur and tibia lengths (m, > 0).
+        femur: Femur length (m, > 0).
+        tibia: Tibia length (m, > 0).
         z_offset: Height of the femur axis above the leg origin (m, signed).
         limits: Optional ``(lower, upper)`` arrays of 3; angles compared modulo 2π.
         tol: Distance (m) within which a target counts as on a boundary or on the yaw axis.
-        convention: ``"joint"`` (θ1, θ2, θ3) or ``"servo"`` (α, β, γ), for the solutions
+        convention: ``"joint"`` (θ1, θ2, θ3) or ``"lecture"`` (γ, α, β), for the solutions
             and the limits (see the module docstring).
 
     Returns:

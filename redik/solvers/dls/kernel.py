@@ -42,12 +42,12 @@ import numpy as np
 from redik.core.validate import MAX_COORDINATE
 from redik.kinematics.compiled import (
     COMPILE,
-    apply_inverse_v,
     chain_kinematics,
     pose_error,
     valid_target,
     world_jacobian,
 )
+from redik.lie import apply_inverse_v
 from redik.solvers.dls.damped import damped_solve_gram, gram
 from redik.solvers.dls.options import (
     BOUNDED,

@@ -95,7 +95,7 @@ class PoseResidual:
         """One FK and world Jacobian at ``q`` (MuJoCo's), and the error in this form."""
         robot = self.robot
         T, J = np.eye(4), np.empty((6, robot.dof))
-        robot.kinematics(self._full(q), self.frame, T, J)
+        robot.state.kinematics(self._full(q), self.frame, T, J)
         if self.form == "world":
             e = np.empty(6)
             np.subtract(self.T_target[:3, 3], T[:3, 3], out=e[:3])

@@ -1,17 +1,17 @@
 """What pose solves keep between calls, owned by the robot they solve for.
 
-One :class:`PoseCache` per robot, in its :attr:`redik.Robot.solver_cache` (so it lives and
+One :class:`PoseCache` per robot, in its :func:`~redik.solvers.cache.solver_cache` (so it lives and
 dies with the robot, and two robots never share one): per frame its
 :class:`~redik.solvers.pose.frame.PoseFrame` and, once ``"dls"`` has run, its compiled
 :class:`~redik.solvers.pose.dls_solver.DLSSolver`; on a whole-model robot, the chain to each frame;
-the :class:`~redik.solvers.problem.Problem` of ``"qp"`` per frame and settings
+the :class:`~redik.qp.problem.Problem` of ``"qp"`` per frame and settings
 (:func:`redik.solvers.pose.qp.solve_pose_qp`). Threads solving on one robot share the cache:
 each entry is built once, under the cache's lock, and read without one (what ``"dls"``
 needs; ``"qp"`` writes the robot's ``MjData`` and its problems are not shared safely).
 
 What it keeps is derived from the model (the compiled chain folds in ``body_pos``,
 ``site_pos``, the joint axes and anchors; the reach bound), from the values
-``robot.data.qpos`` holds for the joints the robot does not move, and from the robot's
+``robot.state.data.qpos`` holds for the joints the robot does not move, and from the robot's
 ``lower``, ``upper`` and ``home``. MuJoCo reads the model afresh at each forward kinematics,
 so a user may move a tool site or a link between solves; :meth:`PoseCache.of` and
 :meth:`PoseCache.known_dls` then find the cache out of date (a byte comparison of those
@@ -26,11 +26,12 @@ import threading
 import numpy as np
 
 from redik.kinematics.robot import Frame, Robot
+from redik.solvers.cache import solver_cache
 from redik.solvers.pose.dls_solver import DLSSolver
 from redik.solvers.pose.frame import PoseFrame
 
 _KEY = "pose"
-"""The cache's key in :attr:`redik.Robot.solver_cache`."""
+"""The cache's key in :func:`~redik.solvers.cache.solver_cache`."""
 
 _GEOMETRY = ("body_pos", "body_quat", "jnt_pos", "jnt_axis", "qpos0")
 """The model arrays the cached chains and reach bounds are built from (with the rows of
@@ -49,12 +50,10 @@ class PoseCache:
         self.chains: dict[Frame, tuple[Robot, np.ndarray]] = {}
         self.qp_problems: dict[tuple, object] = {}
         """``"qp"``'s problems, by (frame argument, respect_limits, damping, gain)."""
-        self.qp_chains: dict[Frame, tuple | None] = {}
-        """``"qp"``'s compiled chains for restart seeds, by frame (None: whole model)."""
         self._lock = threading.RLock()  # around every build-and-insert
         # Views of what the kept state is built from (module docstring): the model's
-        # geometry and, in contiguous runs, the held entries of robot.data.qpos.
-        model, qpos = robot.model, robot.data.qpos
+        # geometry and, in contiguous runs, the held entries of robot.state.data.qpos.
+        model, qpos = robot.model, robot.state.data.qpos
         held = np.setdiff1d(np.arange(model.nq), robot.qpos_indices)
         runs = np.split(held, np.flatnonzero(np.diff(held) != 1) + 1) if held.size else []
         sources = (
@@ -85,7 +84,7 @@ class PoseCache:
     @classmethod
     def of(cls, robot: Robot) -> PoseCache:
         """The robot's cache, made on first use."""
-        return robot.solver_cache.get_or_build(_KEY, lambda: cls(robot), PoseCache.is_current)
+        return solver_cache(robot).get_or_build(_KEY, lambda: cls(robot), PoseCache.is_current)
 
     @staticmethod
     def known_dls(robot: Robot, frame: object) -> DLSSolver | None:
@@ -94,7 +93,7 @@ class PoseCache:
         ``frame`` is None, a name or a :class:`Frame`. None when no solve made the solver or
         the cache is out of date: a look-up, the arguments unvalidated.
         """
-        cache = robot.solver_cache.get(_KEY)
+        cache = solver_cache(robot).get(_KEY)
         if cache is None or not cache.is_current():  # type: ignore[attr-defined]
             return None  # the full path starts a new cache
         try:
@@ -157,7 +156,7 @@ class PoseCache:
                     chain = robot.chain(frame, q_whole)
                     cached = self.chains[frame] = (chain, np.delete(qpos, chain.qpos_indices))
         chain = cached[0]
-        chain.data.qpos[:] = qpos
+        chain.state.data.qpos[:] = qpos
         return chain, qpos[chain.qpos_indices]
 
 

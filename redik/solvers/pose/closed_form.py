@@ -1,7 +1,7 @@
 """``solve_all(method="analytic")``: every solution of a robot's closed-form solver as results.
 
-:func:`redik.solvers.analytic.solver_for` gives the solver (a bundled family, the subproblem
-decomposition of the screws, or for a general 6R arm the Raghavan–Roth elimination); each of
+:func:`redik.solvers.analytic.solver_for` gives the solver (the class of the robot's screws
+solved by subproblems, or for a general 6R arm the Raghavan–Roth elimination); each of
 its solutions becomes an :class:`~redik.core.result.IKResult` like the numeric ones, ordered
 by the norm of the body error ``log(T⁻¹ T_d)``.
 """
@@ -14,6 +14,7 @@ from redik.core.exceptions import InvalidInput
 from redik.core.result import IKResult, Status
 from redik.kinematics.robot import Frame, Robot
 from redik.lie import inverse, pose_errors, se3_log
+from redik.solvers.cache import solver_cache
 
 
 def closed_form_solutions(
@@ -25,9 +26,9 @@ def closed_form_solutions(
 ) -> list[IKResult]:
     """Every solution of the robot's closed-form solver for the validated pose ``T_target``.
 
-    The solver is kept in ``robot.solver_cache``; each result's ``message`` carries the
-    solution's label (and singularity), ``method`` the solver's family
-    (``"analytic:general_6r"``, …).
+    The solver is kept in the robot's :func:`~redik.solvers.cache.solver_cache`; each
+    result's ``message`` carries the solution's label (and singularity), ``method`` the
+    solver's class (``"analytic:three_parallel_two_intersecting"``, ``"analytic:general"``, …).
 
     Raises:
         InvalidInput: An option was given (there are none), or ``frame`` is not the
@@ -43,11 +44,9 @@ def closed_form_solutions(
             "method 'analytic' solves for the end-effector the closed-form solver was built "
             f"for, not {frame!r}"
         )
-    solver = robot.solver_cache.get("analytic")
-    if solver is None:
-        solver = robot.solver_cache["analytic"] = solver_for(robot)
+    solver = solver_cache(robot).get_or_build("analytic", lambda: solver_for(robot))
     solutions = solver(T_target, limits="robot" if respect_limits else None)
-    method = f"analytic:{solver.family}"
+    method = f"analytic:{solver.kind}"
     results = []
     for solution in solutions:
         q = np.array(solution, dtype=float)

@@ -213,7 +213,7 @@ class DLSSolver:
             shifted = shift_into_limits(robot, q)
             if shifted is not q:
                 q, e, T = shifted, np.empty(6), np.eye(4)
-                robot.kinematics(q, self.frame.frame, T)
+                robot.state.kinematics(q, self.frame.frame, T)
                 position_error, rotation_error = world_error(T_target, T, e)
                 error = body_twist_norm(e)
             inside = robot.within_limits(q)

@@ -83,7 +83,7 @@ def finish(problem: PoseProblem, outcome: Outcome, method: str, reach: float) ->
     position_error, rotation_error = outcome.position_error, outcome.rotation_error
     if q is not outcome.q:
         T, e = np.eye(4), np.empty(6)
-        robot.kinematics(q, problem.frame, T)
+        robot.state.kinematics(q, problem.frame, T)
         position_error, rotation_error = world_error(problem.T_target, T, e)
     inside = robot.within_limits(q)
     success = problem.within(position_error, rotation_error) and (

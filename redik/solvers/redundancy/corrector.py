@@ -89,7 +89,7 @@ class Corrector:
     def pose_errors(self, q: np.ndarray) -> tuple[float, float]:
         """``(‖p_d − p‖, angle(Rᵀ R_d))`` at ``q`` (:func:`redik.lie.pose_errors`)."""
         T = np.eye(4)
-        self.robot.kinematics(q, self.frame, T)
+        self.robot.state.kinematics(q, self.frame, T)
         return pose_errors(T, self.T_target)
 
     def correct(

@@ -165,5 +165,5 @@ def evaluate_criteria(
         J = np.empty((len(samples), 6, robot.dof))
         T = np.eye(4)
         for k, q in enumerate(samples):
-            robot.kinematics(q, frame, T, J[k])
+            robot.state.kinematics(q, frame, T, J[k])
     return {c.name: np.asarray(c.values(robot, samples, J), dtype=float) for c in criteria}

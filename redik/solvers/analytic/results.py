@@ -13,19 +13,16 @@ Angles are wrapped to (−π, π] (:func:`redik.lie.wrap_angle`); prismatic join
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import NamedTuple, overload
 
-import numba
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
 from redik.core.result import Status
-from redik.kinematics.compiled import COMPILE
 from redik.lie import wrap_angle
-from redik.solvers.analytic._decomposed_kernels import _wrap
+from redik.solvers.analytic.finish import select_rows
 
 #: Default tolerance (metres) by which a target may lie outside the workspace and still be
 #: solved, clipped onto the boundary; also the size of a sine below which a configuration is
@@ -58,6 +55,7 @@ class JointSolution(np.ndarray):
         singular: str = "",
         family: SolutionFamily | None = None,
     ) -> JointSolution:
+        """A copy of ``q`` (float) carrying the label, singularity text and family."""
         solution = np.array(q, dtype=float).view(cls)
         solution.label = label
         solution.singular = singular
@@ -138,9 +136,8 @@ class IKSolutions(Sequence[JointSolution]):
 
     A solver hands over the (k, n) array with the labels (:meth:`from_arrays`); the
     :class:`JointSolution` objects are made on first use of :attr:`solutions` (indexing,
-    iteration), so that ``len``, :attr:`labels` and :meth:`as_array` cost no Python per
-    solution — making them was most of a single closed-form call. The public attributes are
-    read-only.
+    iteration), so that ``len``, :attr:`labels` and :meth:`as_array` take no Python step per
+    solution. The public attributes are read-only.
     """
 
     __slots__ = (
@@ -184,8 +181,11 @@ class IKSolutions(Sequence[JointSolution]):
         reason: str = "",
         preferred: str = "",
     ) -> IKSolutions:
-        """The result holding ``q`` (k, n; kept, not copied) with a label per row, and where
-        given a singularity text and family per row."""
+        """The result holding a (k, n) array of solutions.
+
+        The result holding ``q`` (k, n; kept, not copied) with a label per row, and where
+        given a singularity text and family per row.
+        """
         result = cls.__new__(cls)
         result._q, result._labels = q, tuple(labels)
         k = len(result._labels)
@@ -198,18 +198,22 @@ class IKSolutions(Sequence[JointSolution]):
 
     @property
     def n_joints(self) -> int:
+        """Length of each joint vector."""
         return self._n_joints
 
     @property
     def reachable(self) -> bool:
+        """Whether the target lies in the workspace (joint limits aside)."""
         return self._reachable
 
     @property
     def reason(self) -> str:
+        """Why there is no solution, when there is none."""
         return self._reason
 
     @property
     def preferred(self) -> str:
+        """The label of the hardware's conventional branch, or empty."""
         return self._preferred
 
     def __reduce__(self) -> tuple:
@@ -259,6 +263,7 @@ class IKSolutions(Sequence[JointSolution]):
 
     @property
     def labels(self) -> tuple[str, ...]:
+        """The label of each solution."""
         return self._labels
 
     @property
@@ -268,9 +273,12 @@ class IKSolutions(Sequence[JointSolution]):
 
     @property
     def status(self) -> Status:
-        """:class:`~redik.core.result.Status` ``CONVERGED`` with a solution, else
+        """Whether and why the target has solutions.
+
+        :class:`~redik.core.result.Status` ``CONVERGED`` with a solution, else
         ``UNREACHABLE`` (the target is outside the workspace) or ``LIMITS`` (solutions exist,
-        none within the joint limits); :attr:`reason` says why in words."""
+        none within the joint limits); :attr:`reason` says why in words.
+        """
         if len(self):
             return Status.CONVERGED
         return Status.LIMITS if self.reachable else Status.UNREACHABLE
@@ -298,8 +306,11 @@ class IKSolutions(Sequence[JointSolution]):
         return self.solutions[self._labels.index(label)]
 
     def nearest(self, q_ref: np.ndarray, revolute: np.ndarray | None = None) -> JointSolution:
-        """The solution closest to ``q_ref`` (angles compared modulo 2π, all joints if
-        ``revolute`` is None): the branch to follow along a trajectory."""
+        """The solution closest to a configuration.
+
+        The solution closest to ``q_ref`` (angles compared modulo 2π, all joints if
+        ``revolute`` is None): the branch to follow along a trajectory.
+        """
         if not len(self):
             raise InvalidInput(f"there is no solution to choose from: {self.reason}")
         q_ref = np.asarray(q_ref, dtype=float)
@@ -374,8 +385,11 @@ def limit_representatives(
 
 
 class Candidate(NamedTuple):
-    """A solution before :func:`finalize`: its joint values and what the solver knows of it
-    (the fields of a :class:`JointSolution`, without building the array subclass)."""
+    """A solution before :func:`finalize`.
+
+    A solution before :func:`finalize`: its joint values and what the solver knows of it
+    (the fields of a :class:`JointSolution`, without building the array subclass).
+    """
 
     q: Sequence[float] | np.ndarray
     label: str
@@ -390,8 +404,10 @@ def finalize(
     limits: tuple[np.ndarray, np.ndarray] | None,
     preferred: str = "",
 ) -> IKSolutions:
-    """Wrap angles, drop duplicates (modulo 2π, the first of equals is kept) and filter by
-    joint limits.
+    """The small solvers' selection: wrap, drop duplicates, filter by limits.
+
+    Wrap angles, drop duplicates (modulo 2π, the first of equals is kept) and filter by
+    joint limits, by the one selection rule of :func:`redik.solvers.analytic.finish.select_rows`.
 
     The candidates come from a reachable target; if the limits exclude all of them the result
     is empty with a reason naming the joints that are out of range. Regular solutions differ
@@ -400,33 +416,40 @@ def finalize(
     """
     q = np.array([c.q for c in candidates], dtype=float).reshape(-1, n_joints)
     singular = [c.singular for c in candidates]
-    if limits is not None and len(q):
-        # The usual case in one compiled call: numpy on arrays this small costs ~1 µs per
-        # operation, most of a closed-form call.
-        work = q.copy()  # q stays as it is for the explanation of an empty result below
-        keep = _wrap_select(work, revolute, limits[0], limits[1], any(singular), DUPLICATE_TOL)
-        if keep.any():
-            return _kept(work, np.flatnonzero(keep), candidates, singular, "", preferred)
-    q = np.where(revolute, wrap_angle(q), q)
+    if limits is None:
+        lower, upper = np.full(n_joints, -np.inf), np.full(n_joints, np.inf)
+    else:
+        lower, upper = limits
+    work = q.copy()  # q stays as it is for the explanation of an empty result below
+    keep = select_rows(work, np.asarray(revolute, bool), lower, upper, any(singular), DUPLICATE_TOL)
+    kept = np.flatnonzero(keep)
+    reason = ""
+    if limits is not None and not len(kept) and len(q):
+        reason = _outside_reason(q, revolute, limits, any(singular))
+    return _kept(work, kept, candidates, singular, reason, preferred)
+
+
+def _outside_reason(
+    q: np.ndarray, revolute: np.ndarray, limits: tuple[np.ndarray, np.ndarray], dedupe: bool
+) -> str:
+    """Why no candidate is kept.
+
+    Why no candidate is kept: how many distinct solutions, and which joints are out of
+    range in some of them.
+    """
+    wrapped = np.where(revolute, wrap_angle(q), q)
     distinct = np.ones(len(q), bool)
-    if any(c.singular for c in candidates):
-        difference = q[:, None, :] - q[None, :, :]
+    if dedupe:
+        difference = wrapped[:, None, :] - wrapped[None, :, :]
         difference[..., revolute] = wrap_angle(difference[..., revolute])
         same = np.all(np.abs(difference) < DUPLICATE_TOL, axis=-1)
         distinct = ~np.any(np.tril(same, k=-1), axis=1)
-    keep = distinct
-    if limits is not None:
-        q, inside = limit_representatives(q, limits[0], limits[1], revolute)
-        keep = distinct & inside.all(axis=1)
-    kept = np.flatnonzero(keep)
-    reason = ""
-    if limits is not None and not len(kept):
-        reason = (
-            f"none of the {int(distinct.sum())} solutions lies within the joint limits "
-            f"(joints out of range in some solution: "
-            f"{np.flatnonzero(~inside[distinct].all(axis=0)).tolist()})"
-        )
-    return _kept(q, kept, candidates, singular, reason, preferred)
+    _, inside = limit_representatives(wrapped, limits[0], limits[1], revolute)
+    return (
+        f"none of the {int(distinct.sum())} solutions lies within the joint limits "
+        f"(joints out of range in some solution: "
+        f"{np.flatnonzero(~inside[distinct].all(axis=0)).tolist()})"
+    )
 
 
 def _kept(
@@ -448,51 +471,6 @@ def _kept(
         reason=reason,
         preferred=preferred,
     )
-
-
-@numba.njit(**COMPILE)
-def _wrap_select(q, revolute, lower, upper, dedupe, duplicate_tol):
-    """:func:`finalize` on (k, n) ``q`` in place, compiled: revolute angles wrapped (by
-    :func:`._decomposed_kernels._wrap`, the compiled twin of :func:`redik.lie.wrap_angle`),
-    duplicates of an earlier row dropped when ``dedupe`` (modulo 2π for revolute joints),
-    each row moved into the limits as :func:`limit_representatives` does; returns which
-    rows are kept."""
-    two_pi = 2.0 * math.pi
-    k, n = q.shape
-    for row in range(k):
-        for j in range(n):
-            if revolute[j]:
-                q[row, j] = _wrap(q[row, j])
-    keep = np.ones(k, np.bool_)
-    if dedupe:
-        for row in range(k):
-            for other in range(row):  # every earlier row, as the numpy path compares
-                same = True
-                for j in range(n):
-                    difference = q[row, j] - q[other, j]
-                    if revolute[j]:
-                        difference = _wrap(difference)
-                    if abs(difference) >= duplicate_tol:
-                        same = False
-                        break
-                if same:
-                    keep[row] = False
-                    break
-    for row in range(k):
-        for j in range(n):
-            value = q[row, j]
-            turns = 0.0
-            if revolute[j]:
-                turns = min(
-                    max(np.ceil((lower[j] - value) / two_pi), 0.0),
-                    np.floor((upper[j] - value) / two_pi),
-                )
-            shifted = value + two_pi * turns
-            clipped = min(max(shifted, lower[j]), upper[j])
-            q[row, j] = clipped
-            if abs(clipped - shifted) > duplicate_tol:
-                keep[row] = False
-    return keep
 
 
 def unreachable(n_joints: int, reason: str) -> IKSolutions:

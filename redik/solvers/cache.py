@@ -1,20 +1,45 @@
-"""What solvers compile once per robot, owned by the robot and safe to share between threads.
+"""What solvers compile once per robot, kept as long as the robot lives, safe between threads.
 
 A solver that needs per-robot preparation (the compiled chain and buffers of
-:func:`redik.solve_pose`'s ``"dls"`` kernel, the chain a whole-model robot is solved on)
-keeps it in :attr:`Robot.solver_cache <redik.kinematics.robot.Robot.solver_cache>` under a key
-of its own, so it lives and dies with the robot rather than in a module-level table.
-:meth:`SolverCache.get_or_build` builds an entry at most once however many threads ask for it
-at the same moment.
+:func:`redik.solve_pose`'s ``"dls"`` kernel, the chain a whole-model robot is solved on, the
+closed-form solver of a robot) keeps it in :func:`solver_cache` ``(robot)`` under a key of its
+own. The caches are held by a :class:`weakref.WeakKeyDictionary` keyed by the robot, so each
+lives and dies with its robot, and two robots never share one. :meth:`SolverCache.get_or_build`
+builds an entry at most once however many threads ask for it at the same moment.
 """
 
 from __future__ import annotations
 
 import threading
+import weakref
 from collections.abc import Callable, Hashable, Iterator, MutableMapping
 from typing import Any, TypeVar
 
+from redik.kinematics.robot import Robot
+
 T = TypeVar("T")
+
+_CACHES: weakref.WeakKeyDictionary[Robot, SolverCache] = weakref.WeakKeyDictionary()
+_CACHES_LOCK = threading.Lock()
+
+
+def solver_cache(robot: Robot) -> SolverCache:
+    """The robot's solver cache, made on first use.
+
+    Args:
+        robot: The robot the cached state was built for.
+
+    Returns:
+        Its :class:`SolverCache`; every call for one robot returns the same one, whichever
+        thread asks first.
+    """
+    cache = _CACHES.get(robot)
+    if cache is None:
+        with _CACHES_LOCK:
+            cache = _CACHES.get(robot)
+            if cache is None:
+                cache = _CACHES[robot] = SolverCache()
+    return cache
 
 
 class SolverCache(MutableMapping[Hashable, Any]):
@@ -34,8 +59,17 @@ class SolverCache(MutableMapping[Hashable, Any]):
     def get_or_build(
         self, key: Hashable, build: Callable[[], T], valid: Callable[[T], bool] | None = None
     ) -> T:
-        """The entry under ``key``, built by ``build()`` and stored first when missing or
-        when ``valid(entry)`` is False (e.g. it was built for other held joint values)."""
+        """The entry under ``key``, built and stored first when missing or out of date.
+
+        Args:
+            key: The solver's key.
+            build: Makes the entry, called under the cache's lock.
+            valid: False for an entry that must be rebuilt (e.g. it was built for other held
+                joint values); every entry is valid when None.
+
+        Returns:
+            The entry.
+        """
         entry = self._entries.get(key)
         if entry is not None and (valid is None or valid(entry)):
             return entry
