@@ -28,7 +28,7 @@ rows = [  # a (m), d (m), α (rad)
 ]
 robot = redik.Robot.from_dh(rows, limits=[(-np.pi, np.pi)] * 6, name="general_6r")
 solver = analytic.solver_for(robot)
-print(f"{robot.name}: family {solver.family}, method {solver.method}")
+print(f"{robot.name}: class {solver.kind}, method {solver.method}")
 
 q_true = np.array([1.3, 2.2, 1.1, -0.8, 0.5, 0.4])
 T = robot.fk(q_true)

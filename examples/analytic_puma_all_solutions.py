@@ -1,8 +1,10 @@
 """All eight closed-form solutions of a PUMA 560 pose, checked against MuJoCo.
 
 Loads the bundled ``puma560`` scene, builds a target by forward kinematics, solves it in
-closed form (parameters read from the scene) and prints every solution with its label and
-pose error. Then shows a wrist singularity, an unreachable target and a batch.
+closed form (the class found from the robot's screw axes: a spherical wrist after two
+intersecting axes) and prints every solution with its label (left/right, elbow up/down,
+wrist flip, from each solution's geometry) and pose error. Then shows a wrist singularity, an
+unreachable target and a batch.
 """
 
 from __future__ import annotations
@@ -10,11 +12,11 @@ from __future__ import annotations
 import numpy as np
 
 import redik
-from redik.solvers.analytic import puma_batch, solver_for
+from redik.solvers.analytic import solver_for
 
 robot = redik.load("puma560")
-solve = solver_for(robot)  # reads a2, a3, d3, d4 from the model's custom numerics
-print(f"{robot.name}: " + ", ".join(f"{k} = {v:.5g} m" for k, v in solve.params.items()))
+solve = solver_for(robot)  # the class of its screw axes
+print(f"{robot.name}: {solve.kind}, labels {solve.labels[0]} … {solve.labels[-1]}")
 
 q_true = np.array([0.4, -0.9, 2.0, 0.3, 0.8, -0.5])
 T = robot.fk(q_true)
@@ -38,5 +40,5 @@ print(f"\nunreachable: {solve(far).reason}")
 
 rng = np.random.default_rng(0)
 targets = np.stack([robot.fk(q) for q in robot.random_q(rng, size=1000)])
-batch = puma_batch(targets, **solve.params)
+batch = solve.batch(targets, limits=None)  # threaded over the targets
 print(f"\nbatch of {len(batch)}: q {batch.q.shape}, {batch.valid.sum(axis=1).mean():.2f} per pose")

@@ -19,7 +19,7 @@ from redik.lie import inverse
 from redik.models.dh import DHRow, parse_convention, row_transform
 from redik.solvers import analytic
 from redik.solvers.analytic import general, wrap_angle
-from redik.solvers.analytic.decomposed import Chain, classify, screws_of
+from redik.solvers.analytic.geometry import Chain, classify, screws_of
 from redik.solvers.pose import solve_all
 
 FULL_TURN = [(-np.pi, np.pi)] * 6
@@ -85,7 +85,7 @@ def test_random_screw_arms_give_every_solution_verified_by_fk():
         robot = _random_screw_robot(rng, f"screws_{index}")
         solver = analytic.solver_for(robot)
         assert isinstance(solver, general.GeneralSolver)
-        assert (solver.family, solver.kind) == ("general_6r", "general")
+        assert (solver.method, solver.kind) == ("elimination", "general")
         counts += _check(robot, solver, 8, seed=index)
     assert max(counts) >= 6  # the poses are not all of the simplest kind
 
@@ -97,7 +97,7 @@ def test_dh_arms_with_every_parameter_nonzero():
         S, M = screws_of(robot)
         assert classify(S, M) is None
         solver = analytic.solver_for(robot)
-        assert solver.family == "general_6r"
+        assert solver.kind == "general"
         _check(robot, solver, 8, seed=10 + index)
 
 
@@ -112,7 +112,7 @@ def test_one_intersecting_or_parallel_pair_anywhere(special, joint):
     rows[joint] = DHRow(0.0, row.d, row.alpha) if special == "a" else DHRow(row.a, row.d, 0.0)
     robot = redik.Robot.from_dh(rows, limits=FULL_TURN, name="one_special_pair")
     solver = analytic.solver_for(robot)
-    assert solver.family == "general_6r"
+    assert solver.kind == "general"
     _check(robot, solver, 6, seed=joint)
 
 
@@ -136,7 +136,7 @@ def test_solve_all_analytic_uses_the_general_solver():
     results = solve_all(robot, T, method="analytic")
     exact = analytic.solver_for(robot)(T).as_array()
     assert len(results) == len(exact) >= 2
-    assert all(r.success and r.method == "analytic:general_6r" for r in results)
+    assert all(r.success and r.method == "analytic:general" for r in results)
     assert all(r.position_error < FK_TOL and r.rotation_error < FK_TOL for r in results)
     for r in results:
         assert min(_distance(r.q, e) for e in exact) < 1e-12
@@ -149,7 +149,7 @@ def test_solve_all_analytic_on_a_bundled_arm_gives_its_closed_form():
     T = robot.fk(np.array([0.3, -1.2, 1.4, -1.6, -1.5, 0.4]))
     results = solve_all(robot, T, method="analytic")
     assert len(results) == len(analytic.solver_for(robot)(T)) == 8
-    assert results[0].method == "analytic:ur"
+    assert results[0].method == "analytic:three_parallel_two_intersecting"
 
 
 def test_elimination_coefficients_equal_direct_evaluation():
@@ -214,7 +214,7 @@ def test_bad_input_and_degenerate_arms_are_refused():
     with pytest.raises(InvalidInput):
         solver(np.eye(4), limits="joints")
     with pytest.raises(ModelError, match="degenerate"):
-        analytic.solver_for(redik.load("puma560"), "general_6r")
+        analytic.solver_for(redik.load("puma560"), "elimination")
 
 
 def test_singular_targets_where_two_solutions_merge_are_found():

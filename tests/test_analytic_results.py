@@ -10,7 +10,7 @@ import pytest
 import redik
 from redik.core.exceptions import InvalidInput
 from redik.solvers.analytic import JointSolution, planar_2r, solver_for, wrap_angle
-from redik.solvers.analytic._solution import limit_representatives
+from redik.solvers.analytic.results import limit_representatives
 
 
 def test_wrap_angle_range_is_minus_pi_exclusive_to_pi_inclusive():
@@ -85,7 +85,7 @@ def test_results_are_built_lazily_immutable_and_picklable():
     on first use; the public attributes are read-only; pickling keeps rows and labels."""
     robot = redik.load("ur5e")
     T = robot.fk(np.array([0.3, -1.2, 1.4, -1.6, -1.5, 0.4]))
-    result = solver_for(robot, "decomposed")(T, limits=None)
+    result = solver_for(robot)(T, limits=None)
     assert len(result) == len(result.labels) == 8
     np.testing.assert_array_equal(result.as_array(), np.array([s.q for s in result]))
     assert result.solutions is result.solutions  # made once

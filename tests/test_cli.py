@@ -280,3 +280,18 @@ def test_info_describes_a_whole_model_robot_joint_by_joint(capsys):
     assert rows["shoulder"] == ["ball", "(1.0000", "0.0000", "0.0000", "0.0000)"]
     assert rows["elbow"] == ["revolute", "-2.0000", "0.5000", "0.0000", "rad"]
     assert "leaf bodies: forearm" in out and "end-effector pose" not in out
+
+
+def test_a_model_without_an_end_effector_is_described_whole_and_needs_ee_to_solve(tmp_path, capsys):
+    planar = _planar(tmp_path)  # no site called 'ee'
+    assert main(["info", planar]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("planar: 2 joints, whole model (no end-effector: pick one with --ee)")
+    assert "  sites:  tip" in out and "end-effector pose" not in out
+    batch = ["batch", planar, "--random", "2", "--out", str(tmp_path / "o.npz")]
+    explore = ["explore", planar, "--frames", "0", "--out", str(tmp_path / "e")]
+    for command in (batch, explore):
+        assert main(command) == 2
+        err = capsys.readouterr().err
+        assert "names no end-effector (no site 'ee'): pick one with --ee FRAME" in err
+        assert err.rstrip().endswith("the frames its joints move: tip, marker")

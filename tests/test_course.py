@@ -25,9 +25,8 @@ import redik
 from redik.core.exceptions import NearRotationWarning
 from redik.lie import euler_angles, inverse, se3_log, so3_exp
 from redik.models.scene_library import get_scene
-from redik.solvers.analytic import hexapod_leg, rrp_polar, spherical_wrist, stanford
+from redik.solvers.analytic import hexapod_leg, rrp_polar, solver_for, spherical_wrist
 from redik.solvers.analytic.hexapod import LECTURE
-from redik.solvers.analytic.stanford import COURSE, dh_rows
 from redik.solvers.iterative import finite_difference_jacobian, newton_raphson
 
 
@@ -208,28 +207,6 @@ def test_hexapod_lecture_family_members_are_in_lecture_angles():
     np.testing.assert_allclose(member[1:], under[0][1:], atol=1e-12)
 
 
-def test_stanford_course_angle_is_the_boom_elevation(rng):
-    d2, d6 = 0.154, 0.263
-    for _ in range(10):
-        q = np.array([rng.uniform(-2, 2), rng.uniform(0.2, 1.4), rng.uniform(0.3, 1.0),
-                      *rng.uniform(-2, 2, 3)])  # fmt: skip
-        T = redik.models.dh.forward(dh_rows(d2, d6), q, "standard")
-        course = stanford(T, d2, d6, convention="course")
-        dh = stanford(T, d2, d6)
-        np.testing.assert_allclose(COURSE.to_joints(course.as_array()), dh.as_array(), atol=1e-12)
-        centre = T[:3, 3] - d6 * T[:3, 2]
-        for solution in course:
-            X = math.cos(solution[0]) * centre[0] + math.sin(solution[0]) * centre[1]
-            assert solution[1] == pytest.approx(math.atan2(centre[2], X), abs=1e-9)
-        # Limits in course angles: a boom kept between horizontal-down and 60° up keeps
-        # exactly the solutions whose elevation β lies there (angles compare modulo 2π).
-        lower = [-np.inf, -math.pi / 2, -np.inf, -np.inf, -np.inf, -np.inf]
-        upper = [np.inf, math.radians(60), np.inf, np.inf, np.inf, np.inf]
-        limited = stanford(T, d2, d6, convention="course", limits=(lower, upper))
-        kept = [s.label for s in course if -math.pi / 2 <= s[1] <= math.radians(60)]
-        assert list(limited.labels) == kept
-
-
 def test_stanford_type_rrp_takes_the_boom_offset():
     """000 "Example 2: Stanford-Type Arms (RRP)": p_W = (θ3 + a2)(c2 c1, c2 s1, s2) + d1 ẑ, so
     θ3 = √(p_Wx² + p_Wy² + (p_Wz − d1)²) − a2 and θ2 = atan2(p_Wz − d1, ±√(p_Wx² + p_Wy²)):
@@ -244,6 +221,24 @@ def test_stanford_type_rrp_takes_the_boom_offset():
     assert np.round(notes, 4).tolist() == [[0.7854, 0.3398, 1.25], [-2.3562, 2.8018, 1.25]]
     result = rrp_polar(p_w, d1, a2=a2)
     np.testing.assert_allclose(result.as_array(), notes, atol=1e-12)
+    # The whole Stanford-type arm, its boom a2 long at θ3 = 0 and a ZYZ wrist ("similar to
+    # PUMA"): its closed form returns the notes' θ3 for the wrist centre p_W, no offset by hand.
+    rows = [
+        redik.models.dh.DHRow(0.0, d1, math.pi / 2),
+        redik.models.dh.DHRow(0.0, 0.0, math.pi / 2, math.pi / 2),
+        redik.models.dh.DHRow(0.0, a2, 0.0, 0.0, "prismatic"),
+        redik.models.dh.DHRow(0.0, 0.0, -math.pi / 2),
+        redik.models.dh.DHRow(0.0, 0.0, math.pi / 2),
+        redik.models.dh.DHRow(0.0, 0.0, 0.0),
+    ]
+    limits = [(-math.pi, math.pi), (-math.pi, math.pi), (-1.0, 2.0)] + [(-math.pi, math.pi)] * 3
+    robot = redik.Robot.from_dh(rows, limits=limits, name="stanford_type")
+    T = robot.fk(np.zeros(6))
+    T[:3, 3] = p_w
+    arm = {tuple(np.round(q[:3], 12)) for q in solver_for(robot)(T, limits=None)}
+    assert len(arm) == 4  # the notes' two, and the boom pointing back (θ3 + a2 < 0)
+    for row in notes:
+        assert min(np.abs(np.subtract(row, q)).max() for q in arm) < 1e-9
 
 
 @pytest.mark.parametrize("convention", ["ZYZ", "ZXZ"])
@@ -269,8 +264,6 @@ def test_spherical_wrist_takes_both_conventions_the_notes_name(convention):
 def test_unknown_convention_is_refused():
     with pytest.raises(redik.InvalidInput, match="convention must be one of"):
         hexapod_leg([0.15, 0.0, -0.12], 0.052, 0.082, 0.142, convention="servo")
-    with pytest.raises(redik.InvalidInput, match="convention must be one of"):
-        stanford(np.eye(4), 0.154, 0.263, convention="spong")
     with pytest.raises(redik.InvalidInput, match="must end in 3 values"):
         LECTURE.to_joints([0.1, 0.2])
     # Neither text, complex numbers nor NaN become angles (no raw numpy error, no silent NaN).

@@ -469,15 +469,9 @@ def test_analytic_solvers(ur5e, data, strict, limits):
     solver = redik.solvers.analytic.solver_for(ur5e)
     chosen = {"junk": (np.zeros(6), np.full(5, np.nan)), "robot": "robot", None: None}[limits]
     holds(lambda: solver(T, limits=chosen, strict=strict))
-    decomposed = redik.solvers.analytic.solver_for(ur5e, "decomposed")
-    holds(lambda: decomposed(T, limits=chosen, strict=strict))
-    holds(lambda: decomposed.raw(T, limits=chosen, strict=strict))
-    params = redik.solvers.analytic.UR5E
-    holds(lambda: redik.solvers.analytic.ur(T, *params, strict=strict))
-    holds(lambda: redik.solvers.analytic.puma(T, 0.43, 0.02, 0.15, 0.43, strict=strict))
-    holds(lambda: redik.solvers.analytic.stanford(T, 0.1, 0.1, strict=strict))
-    holds(lambda: redik.solvers.analytic.ur_batch([T], *params, strict=strict))
-    holds(lambda: redik.solvers.analytic.puma_batch(T, 0.43, 0.02, 0.15, 0.43))
+    holds(lambda: solver.raw(T, limits=chosen, strict=strict))
+    holds(lambda: solver.batch([T], limits=chosen, strict=strict))
+    holds(lambda: solver.batch(T, limits=chosen, strict=strict))
 
 
 @FUZZ
@@ -505,9 +499,9 @@ def test_analytic_small_solvers(R, p, length):
 
 
 @FUZZ
-@given(family=st.one_of(st.text(max_size=8), junk(), st.sampled_from(["ur", "puma", "planar_2r"])))
-def test_solver_for(ur5e, family):
-    holds(lambda: redik.solvers.analytic.solver_for(ur5e, family))
+@given(method=st.one_of(st.text(max_size=8), junk(), st.sampled_from(["closed_form", "ur"])))
+def test_solver_for(ur5e, method):
+    holds(lambda: redik.solvers.analytic.solver_for(ur5e, method))
 
 
 # --------------------------------------------------------------------------------------
@@ -585,7 +579,7 @@ def test_pose_translation_beyond_mjmaxval_is_refused_everywhere(panda, ur5e):
     with pytest.raises(redik.InvalidPose, match="beyond"):
         redik.solvers.analytic.solver_for(ur5e)(T)
     with pytest.raises(redik.InvalidPose, match="beyond"):
-        redik.solvers.analytic.ur_batch(T[None], *redik.solvers.analytic.UR5E)
+        redik.solvers.analytic.solver_for(ur5e).batch(T[None])
     result = redik.solve_batch(panda, T[None], restarts=0, max_iterations=1)
     assert result.status_names.tolist() == ["invalid"]
     T[2, 3] = 1e9  # far, but a number MuJoCo and the QP handle: an explicit status
@@ -627,7 +621,7 @@ def test_newton_and_gradient_refuse_junk_and_overflowing_input():
 def test_solver_for_and_analytic_targets_refuse_junk(ur5e):
     # Found by test_solver_for / test_analytic_solvers: a list as family name raised
     # "unhashable type"; a string target a raw ValueError.
-    with pytest.raises(redik.InvalidInput, match="no closed-form solver"):
+    with pytest.raises(redik.InvalidInput, match="method must be"):
         redik.solvers.analytic.solver_for(ur5e, [])  # type: ignore[arg-type]
     with pytest.raises(redik.InvalidInput, match="target must hold real numbers"):
         redik.solvers.analytic.solver_for(ur5e)("")

@@ -90,8 +90,8 @@ def test_the_compiled_twins_in_the_closed_form_kernels_equal_lie(rng):
     # The decomposition kernels (numba, one scalar at a time) wrap and rotate with their own
     # compiled twins of wrap_angle and so3_exp: equal to the references, bit for bit for the
     # wrap over the few turns a kernel angle spans.
-    from redik.solvers.analytic._decomposed_kernels import _wrap
-    from redik.solvers.analytic.subproblems import rotate
+    from redik.solvers.analytic.chain import wrap as _wrap
+    from redik.solvers.analytic.vectors import rotate
 
     turns = np.pi * np.arange(-9, 10, 2)
     angles = np.concatenate(

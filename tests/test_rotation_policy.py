@@ -132,7 +132,6 @@ def _families(strict: bool):
     """Each family's pose entry point, as ``accepts(T) -> bool`` (True: used, False: refused)."""
     robot = redik.load("ur5e")
     solver = redik.solvers.analytic.solver_for(robot)
-    decomposed = redik.solvers.analytic.solver_for(robot, "decomposed")
 
     def batch(T):
         result = redik.solve_batch(robot, T[None], restarts=0, max_iterations=1, strict=strict)
@@ -141,14 +140,8 @@ def _families(strict: bool):
     return {
         "as_pose": lambda T: as_pose(T, strict=strict),
         "analytic.solver_for": lambda T: solver(T, strict=strict),
-        "analytic decomposed": lambda T: decomposed(T, strict=strict),
-        "analytic decomposed raw": lambda T: decomposed.raw(T, strict=strict),
-        "analytic.ur": lambda T: redik.solvers.analytic.ur(
-            T, *redik.solvers.analytic.UR5E, strict=strict
-        ),
-        "analytic.ur_batch": lambda T: redik.solvers.analytic.ur_batch(
-            T[None], *redik.solvers.analytic.UR5E, strict=strict
-        ),
+        "analytic raw": lambda T: solver.raw(T, strict=strict),
+        "analytic batch": lambda T: solver.batch(T[None], strict=strict),
         "solve_pose": lambda T: redik.solve_pose(
             robot, T, method="newton", max_iterations=1, restarts=0, strict=strict
         ),

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import mujoco
 
+from redik.core.exceptions import UnknownFrame
 from redik.kinematics.robot import Robot, load
 from redik.models.loading import FLOATING_BASE_JOINT
 
@@ -49,7 +50,11 @@ def add_model_arguments(parser: argparse.ArgumentParser, optional: bool = False)
         help="bundled scene name, MJCF/URDF path, or example-robot-data:NAME / pybullet_data:NAME",
     )
     group = parser.add_argument_group("model")
-    group.add_argument("--ee", default=None, help="end-effector site or body (default: 'ee')")
+    group.add_argument(
+        "--ee", default=None, metavar="FRAME",
+        help="the site or body to solve for (default: the site 'ee' when the model has one; "
+        "else info describes the whole model)",
+    )  # fmt: skip
     group.add_argument(
         "--fixed", nargs="+", default=None, metavar="JOINT",
         help="joints held still (names or patterns, e.g. 'head_*'; a ball joint on the chain "
@@ -97,6 +102,23 @@ def load_robot(args: argparse.Namespace) -> Robot:
     note = floating_base_note(robot) if args.floating_base else ""
     if note:
         print(f"redik {args.command}: warning: {note}", file=sys.stderr)
+    return robot
+
+
+def load_chain(args: argparse.Namespace) -> Robot:
+    """:func:`load_robot`, for a command that solves for one frame: a chain to ``--ee``.
+
+    Raises:
+        UnknownFrame: the model names no end-effector and ``--ee`` was not given; the
+            message lists the frames the robot's joints move.
+    """
+    robot = load_robot(args)
+    if robot.ee is None:
+        suggested = robot.suggested_frames()
+        raise UnknownFrame(
+            f"{robot.name!r} names no end-effector (no site 'ee'): pick one with --ee FRAME; "
+            f"the frames its joints move: {', '.join(suggested) or '(none)'}"
+        )
     return robot
 
 

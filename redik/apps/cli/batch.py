@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from redik.apps.cli._model import add_model_arguments, load_robot
+from redik.apps.cli._model import add_model_arguments, load_chain
 from redik.apps.progress import progress_bar, wanted
 from redik.core.exceptions import InvalidInput
 from redik.solvers.batch import BATCH_STATUSES, ENGINES, Chain, forward_kinematics, solve_batch
@@ -54,7 +54,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Solve the targets, write the ``.npz`` and print the summary and the rate."""
-    robot = load_robot(args)
+    robot = load_chain(args)
     chain = Chain.from_robot(robot)
     extra: dict[str, np.ndarray] = {}
     q0 = None

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from redik.apps.cli._model import add_model_arguments, load_robot
+from redik.apps.cli._model import add_model_arguments, load_chain
 from redik.apps.progress import progress_bar, wanted
 from redik.core.rotation_policy import as_quaternion
 from redik.lie import make_pose, matrix_from_quat
@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     """Explore the self-motion of the pose and draw it; exit code 1 when nothing was found."""
     from redik.solvers.redundancy import explore_self_motion
 
-    robot = load_robot(args)
+    robot = load_chain(args)
     initial = None
     if args.pose is not None:
         quat = as_quaternion(np.array(args.pose[3:]), "--pose quaternion")

@@ -102,27 +102,18 @@ def _print_joints(robot: Robot) -> None:
 
 
 def _print_frames(robot: Robot) -> None:
-    """The frames ``--ee`` would name: sites and leaf bodies; then the other bodies."""
-    sites, leaves, others = pickable_frames(robot)
-    print("frames for --ee (sites and leaf bodies):")
-    print("  sites: ", ", ".join(sites) or "(none)")
-    print("  leaf bodies:", ", ".join(leaves) or "(none)")
+    """The frames ``--ee`` would name (:meth:`redik.Robot.suggested_frames`), then the rest.
+
+    The suggested frames are the sites and the leaf bodies the robot's joints move; the
+    other bodies are the links inside its chains and what the joints do not move.
+    """
+    suggested = robot.suggested_frames()
+    sites = set(robot.frame_names("site"))
+    print("frames for --ee (sites and leaf bodies the joints move):")
+    print("  sites: ", ", ".join(n for n in suggested if n in sites) or "(none)")
+    print("  leaf bodies:", ", ".join(n for n in suggested if n not in sites) or "(none)")
+    picked = {name.removeprefix("body:") for name in suggested}
+    others = [name for name in robot.frame_names("body") if name not in picked]
+    others = [name for name in others if name != "world"]
     if others:
         print("other bodies:", ", ".join(others))
-
-
-def pickable_frames(robot: Robot) -> tuple[list[str], list[str], list[str]]:
-    """``(sites, leaf bodies, other bodies)`` of the model, by name, in model order.
-
-    The frames a user names as an end-effector are the sites (placed for that purpose) and
-    the bodies at the tips of the kinematic trees (no child body); the other bodies are
-    links inside a chain.
-    """
-    model = robot.model
-    parents = set(model.body_parentid[1:].tolist())
-    leaves, others = [], []
-    for body in range(1, model.nbody):
-        name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body)
-        if name:
-            (others if body in parents else leaves).append(name)
-    return robot.frame_names("site"), leaves, others

@@ -152,3 +152,27 @@ def limits(
 
 def _shape(shape: tuple[int | None, ...]) -> str:
     return "(" + ", ".join("B" if n is None else str(n) for n in shape) + ")"
+
+
+def resolve_limits(
+    value: object, robot: tuple[np.ndarray, np.ndarray], n_joints: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ``limits=`` of a solver bound to a robot, as ``(lower, upper)``.
+
+    Args:
+        value: ``"robot"`` (the robot's limits), None (no limits) or ``(lower, upper)``.
+        robot: The robot's limits.
+        n_joints: The number of joints.
+
+    Raises:
+        InvalidInput: Any other string, or limits that :func:`limits` refuses.
+    """
+    if isinstance(value, str):
+        if value != "robot":
+            raise InvalidInput(f"limits must be 'robot', None or (lower, upper), got {value!r}")
+        return robot
+    if value is None:
+        return np.full(n_joints, -np.inf), np.full(n_joints, np.inf)
+    checked = limits(value, n_joints)  # type: ignore[arg-type]
+    assert checked is not None
+    return checked

@@ -7,9 +7,9 @@ another zero or in the other sense; both are affine per joint:
 .. math:: a_i = s_i\, q_i + c_i, \qquad q_i = s_i\, (a_i - c_i), \qquad s_i = ±1,
 
 so a student's numbers and the solver's are one exact map apart, in both directions, for
-solutions, limits and the members of a singular family alike. The hexapod leg's servo
-angles (:data:`redik.solvers.analytic.hexapod.LECTURE`) and the Stanford arm's course angles
-(:data:`redik.solvers.analytic.stanford.COURSE`) are instances; build another for another lecture.
+solutions, limits and the members of a singular family alike. The hexapod leg's lecture
+angles (:data:`redik.solvers.analytic.hexapod.LECTURE`) are an instance; build another for
+another lecture.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ import numpy as np
 from redik.core.exceptions import InvalidInput
 from redik.core.validate import real_array
 from redik.solvers.analytic import _checks
-from redik.solvers.analytic._solution import IKSolutions, JointSolution, SolutionFamily
+from redik.solvers.analytic.results import IKSolutions, JointSolution, SolutionFamily
 
 
 @dataclass(frozen=True)

@@ -60,7 +60,6 @@ by increasing θ3 of the chain the elimination ran on.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -69,8 +68,9 @@ import scipy.linalg
 from redik.core.exceptions import InvalidInput, ModelError
 from redik.lie import se3_exp, wrap_angle
 from redik.solvers.analytic import _checks
-from redik.solvers.analytic import _decomposed_kernels as kernels
-from redik.solvers.analytic._solution import (
+from redik.solvers.analytic.chain import hadamard_ratio, newton
+from redik.solvers.analytic.geometry import Chain, pack, perpendicular, screws_of
+from redik.solvers.analytic.results import (
     DEFAULT_TOL,
     DUPLICATE_TOL,
     Candidate,
@@ -78,14 +78,11 @@ from redik.solvers.analytic._solution import (
     finalize,
     unreachable,
 )
-from redik.solvers.analytic.decomposed import (
-    REVOLUTE,
-    VERIFY_TOL,
-    Chain,
-    _pack,
-    _perpendicular,
-    screws_of,
-)
+
+#: A solution's FK must match the target to this (m, and rotation-matrix entries).
+VERIFY_TOL = 1e-9
+
+REVOLUTE = np.ones(6, bool)
 
 if TYPE_CHECKING:
     from redik.kinematics.robot import Robot
@@ -188,7 +185,7 @@ def dh_of_chain(chain: Chain) -> DH:
     z = [h[0]]
     # Frame 0: on axis 1 at the foot of its common normal with axis 2, x0 any perpendicular.
     origin = _closest_on_first(a[0], h[0], a[1], h[1])
-    x = [_perpendicular(h[0])]
+    x = [perpendicular(h[0])]
     origins = [origin]
     d, lengths, alpha, offset = np.zeros(6), np.zeros(6), np.zeros(6), np.zeros(6)
     for i in range(1, 6):
@@ -347,7 +344,7 @@ class GeneralSolver:
         scale: The length (m) the chain is divided by before the elimination.
         elimination: Steps 1–3's target-independent part, on the scaled chain.
         lower, upper: The joint limits applied by default.
-        family: ``"general_6r"``; ``kind`` and ``method`` name the algorithm.
+        kind: ``"general"`` (no closed-form class); ``method``: ``"elimination"``.
     """
 
     chain: Chain
@@ -357,9 +354,8 @@ class GeneralSolver:
     geometry: np.ndarray
     lower: np.ndarray
     upper: np.ndarray
-    family: str = "general_6r"
     kind: str = "general"
-    method: str = "raghavan_roth_eigen"
+    method: str = "elimination"
 
     def __call__(
         self, target: Any, *, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
@@ -381,13 +377,6 @@ class GeneralSolver:
         ]
         bounded = np.isfinite(lower).any() or np.isfinite(upper).any()
         return finalize(candidates, 6, REVOLUTE, (lower, upper) if bounded else None)
-
-    @cached_property
-    def _scaled_geometry(self) -> np.ndarray:
-        """The packed chain with lengths divided by :attr:`scale`: a Jacobian of columns in
-        rad and (scaled) m whose condition number means the same on any arm size."""
-        chain = _scaled(self.chain, self.scale)
-        return _pack(chain, chain.a, chain.h[5])
 
     def raw(
         self, T: np.ndarray, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
@@ -415,13 +404,13 @@ class GeneralSolver:
             row = np.zeros(18)
             row[:6] = theta - dh.offset
             row[6:12], row[12:] = np.cos(row[:6]), np.sin(row[:6])
-            error = kernels.newton(self.geometry, row, target, -1, NEWTON_STEPS, NEWTON_STOP)
+            error = newton(self.geometry, row, target, -1, NEWTON_STEPS, NEWTON_STOP)
             if error > VERIFY_TOL:
                 continue
             q = np.arctan2(row[12:], row[6:12])
             if all(np.abs(wrap_angle(q - other)).max() > MERGE_TOL for other in found):
                 found.append(q)
-                conditions.append(kernels.condition(self._scaled_geometry, row))
+                conditions.append(hadamard_ratio(self.geometry, row, self.scale))
         q = np.array(found).reshape(-1, 6)
         return (q[:, ::-1].copy() if self.reversed else q), conditions
 
@@ -573,7 +562,7 @@ def general_solver(
         if not reason:
             lower = np.full(6, -np.inf) if lower is None else np.asarray(lower, float).copy()
             upper = np.full(6, np.inf) if upper is None else np.asarray(upper, float).copy()
-            geometry = _pack(candidate, candidate.a, candidate.h[5])
+            geometry = pack(candidate, candidate.a, candidate.h[5])
             solver = GeneralSolver(candidate, reverse, scale, elimination, geometry, lower, upper)
             reason = _misses(solver, S, M)
             if not reason:

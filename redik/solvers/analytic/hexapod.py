@@ -58,7 +58,9 @@ import numpy as np
 
 from redik.solvers.analytic import _checks
 from redik.solvers.analytic._numeric import SCALAR
-from redik.solvers.analytic._solution import (
+from redik.solvers.analytic.convention import AngleConvention, solve_in
+from redik.solvers.analytic.planar import two_link, two_link_candidates, two_link_reason
+from redik.solvers.analytic.results import (
     DEFAULT_TOL,
     IKSolutions,
     JointSolution,
@@ -67,8 +69,6 @@ from redik.solvers.analytic._solution import (
     unreachable,
     wrap_angle,
 )
-from redik.solvers.analytic.convention import AngleConvention, solve_in
-from redik.solvers.analytic.planar import two_link, two_link_candidates, two_link_reason
 
 KNEE_LABELS = ("knee-down", "knee-up")  # 2R slot 0 has θ3 ≥ 0
 PREFERRED = "knee-up"

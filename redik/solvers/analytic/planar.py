@@ -36,7 +36,7 @@ import numpy as np
 
 from redik.solvers.analytic import _checks
 from redik.solvers.analytic._numeric import ARRAY, SCALAR, Numeric, Value
-from redik.solvers.analytic._solution import (
+from redik.solvers.analytic.results import (
     DEFAULT_TOL,
     BatchSolutions,
     Candidate,

@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from redik.solvers.analytic import _checks
-from redik.solvers.analytic._solution import (
+from redik.solvers.analytic.results import (
     DEFAULT_TOL,
     IKSolutions,
     JointSolution,

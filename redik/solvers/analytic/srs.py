@@ -35,17 +35,9 @@ from redik.core.validate import integer
 from redik.kinematics.compiled import COMPILE
 from redik.lie import wrap_angle
 from redik.solvers.analytic import _checks
-from redik.solvers.analytic._decomposed_kernels import _row
-from redik.solvers.analytic.decomposed import (
-    Chain,
-    _common_point,
-    _on_axis,
-    _perpendicular,
-    screws_of,
-)
-from redik.solvers.analytic.subproblems import (
-    FREE,
-    OUT,
+from redik.solvers.analytic.geometry import Chain, perpendicular, screws_of
+from redik.solvers.analytic.subproblems import FREE, OUT, sp1, sp2_cs, sp3_cs
+from redik.solvers.analytic.vectors import (
     add,
     cross,
     dot,
@@ -53,11 +45,9 @@ from redik.solvers.analytic.subproblems import (
     rotate,
     rotate_cs,
     scale,
-    sp1,
-    sp2_cs,
-    sp3,
     sub,
 )
+from redik.solvers.analytic.vectors import row as _row
 
 if TYPE_CHECKING:
     from redik.kinematics.robot import Robot
@@ -83,7 +73,7 @@ class SRSArm:
 
     @classmethod
     def from_robot(cls, robot: Robot) -> SRSArm:
-        """Read the screw axes of a 7R robot (:func:`redik.solvers.analytic.decomposed.screws_of`).
+        """Read the screw axes of a 7R robot (:func:`redik.solvers.analytic.geometry.screws_of`).
 
         Raises:
             ModelError: The robot is not a 7R arm with a spherical shoulder and wrist.
@@ -92,14 +82,14 @@ class SRSArm:
             raise ModelError(f"{robot.name!r} is not a 7R arm (the arm angle needs 7 hinges)")
         S, M = screws_of(robot)
         chain = Chain.from_screws(S, M)
-        shoulder = _common_point(chain, 0, 1, 2)
-        wrist = _common_point(chain, 4, 5, 6)
+        shoulder = chain.common_point(0, 1, 2)
+        wrist = chain.common_point(4, 5, 6)
         if shoulder is None or wrist is None:
             raise ModelError(
                 f"{robot.name!r}: axes 1–3 and 5–7 must each meet in one point (a spherical "
                 "shoulder and wrist) for the arm-angle parameterisation"
             )
-        if _on_axis(chain, 3, shoulder) or _on_axis(chain, 3, wrist):
+        if chain.on_axis(3, shoulder) or chain.on_axis(3, wrist):
             raise ModelError(f"{robot.name!r}: the elbow axis passes through the shoulder or wrist")
         geometry = np.vstack(
             [
@@ -110,8 +100,8 @@ class SRSArm:
                 M[:3, 3],
                 M[:3, :3],
                 chain.h[0],
-                _perpendicular(chain.h[2]),
-                _perpendicular(chain.h[6]),
+                perpendicular(chain.h[2]),
+                perpendicular(chain.h[6]),
             ]
         )
         return cls(geometry, chain.a.copy())
@@ -161,76 +151,92 @@ def _fk_error(points, G, q, T):
 
 
 @numba.njit(**COMPILE)
-def _srs_slots(T, G, point_rows, psi):
-    points = [(point_rows[i, 0], point_rows[i, 1], point_rows[i, 2]) for i in range(7)]
-    h = [_row(G, i) for i in range(7)]
-    S, E, W, pM = _row(G, 7), _row(G, 8), _row(G, 9), _row(G, 10)
+def _wrist_target(T, G):
+    """``(Z, W_t)``: the rows of :math:`Z = R R_M^\top` and the target's wrist centre."""
     m0, m1, m2 = _row(G, 11), _row(G, 12), _row(G, 13)
-    reference, e3, e7 = _row(G, 14), _row(G, 15), _row(G, 16)
     rows = [(T[i, 0], T[i, 1], T[i, 2]) for i in range(3)]
     Z = [(dot(r, m0), dot(r, m1), dot(r, m2)) for r in rows]
-    n = psi.shape[0]
-    q = np.zeros((n, 8, 7))
-    valid = np.zeros((n, 8), np.bool_)
-    offset = sub(pM, W)
-    Wt = sub((T[0, 3], T[1, 3], T[2, 3]), (dot(Z[0], offset), dot(Z[1], offset), dot(Z[2], offset)))
+    offset = sub(_row(G, 10), _row(G, 9))
+    centre = (dot(Z[0], offset), dot(Z[1], offset), dot(Z[2], offset))
+    return Z, sub((T[0, 3], T[1, 3], T[2, 3]), centre)
+
+
+@numba.njit(**COMPILE)
+def _elbow_circle(G, Wt):
+    """The two θ4 (SP3) and the circle the elbow point lies on: ``(t4a, t4b, status, centre,
+    radius, n, m, sw)``, ``n, m`` the unit vectors of its plane (ψ = 0 along ``n``) and
+    ``sw = W_t − S``."""
+    S, E, W = _row(G, 7), _row(G, 8), _row(G, 9)
     sw = sub(Wt, S)
     d = norm(sw)
     u = scale(sw, 1.0 / d)
     a = sub(E, S)
-    t4a, t4b, elbow = sp3(h[3], sub(W, E), sub(S, E), d, 1e-10)
-    if elbow == OUT or elbow == FREE:
-        return q, valid
+    t4a, t4b, elbow, _, _, _, _ = sp3_cs(_row(G, 3), sub(W, E), sub(S, E), d, 1e-10)
     # The elbow circle: angle α between E − S and the shoulder–wrist line.
     length = norm(a)
     cos_alpha = (length * length + d * d - norm(sub(W, E)) ** 2) / (2.0 * length * d)
     cos_alpha = min(max(cos_alpha, -1.0), 1.0)
-    sin_alpha = math.sqrt(1.0 - cos_alpha * cos_alpha)
     centre = add(S, scale(u, length * cos_alpha))
-    nref = sub(reference, scale(u, dot(u, reference)))
-    if norm(nref) < 1e-6:  # the wrist on axis 1: measure ψ from axis 2 instead
-        nref = sub(h[1], scale(u, dot(u, h[1])))
-    nref = scale(nref, 1.0 / norm(nref))
-    mref = cross(u, nref)
-    Zh7 = (dot(Z[0], h[6]), dot(Z[1], h[6]), dot(Z[2], h[6]))
-    Ze7 = (dot(Z[0], e7), dot(Z[1], e7), dot(Z[2], e7))
+    reference = _row(G, 14)
+    n = sub(reference, scale(u, dot(u, reference)))
+    if norm(n) < 1e-6:  # the wrist on axis 1: measure ψ from axis 2 instead
+        n = sub(_row(G, 1), scale(u, dot(u, _row(G, 1))))
+    n = scale(n, 1.0 / norm(n))
+    radius = length * math.sqrt(1.0 - cos_alpha * cos_alpha)
+    return t4a, t4b, elbow, centre, radius, n, cross(u, n), sw
+
+
+@numba.njit(**COMPILE)
+def _branches(G, points, T, Z, target, t4, slot0, q, valid):
+    """The four configurations (shoulder × wrist roots) of one elbow root at one arm angle,
+    into ``q`` (8, 7) and ``valid`` (8,) from slot ``slot0``: ``target`` is the frame of
+    the elbow point and the wrist seen from the shoulder (:func:`_frame`)."""
+    S, E, W = _row(G, 7), _row(G, 8), _row(G, 9)
+    h1, h2, h3, h4 = _row(G, 0), _row(G, 1), _row(G, 2), _row(G, 3)
+    h5, h6, h7, e3, e7 = _row(G, 4), _row(G, 5), _row(G, 6), _row(G, 15), _row(G, 16)
+    a = sub(E, S)
+    home = _frame(a, add(a, rotate(h4, t4, sub(W, E))))
+    x3, y3 = _map(home, target, h3), _map(home, target, e3)
+    t1a, t2a, t1b, t2b, shoulder, _, trig = sp2_cs(scale(h1, -1.0), x3, h2, h3, 0.0, 0.0, 1e-10)
+    # R5 R6 R7 = (R123 R4)ᵀ Z: apply (R123 R4)ᵀ = R4ᵀ (home → target)ᵀ.
+    z7 = rotate(h4, -t4, _map(target, home, (dot(Z[0], h7), dot(Z[1], h7), dot(Z[2], h7))))
+    y7 = rotate(h4, -t4, _map(target, home, (dot(Z[0], e7), dot(Z[1], e7), dot(Z[2], e7))))
+    t5a, t6a, t5b, t6b, wrist, _, wtrig = sp2_cs(scale(h5, -1.0), z7, h6, h7, 0.0, 0.0, 1e-10)
+    if shoulder == OUT or wrist == OUT:
+        return
+    for s in range(2):
+        c1, s1, c2, s2 = trig[4 * s], trig[4 * s + 1], trig[4 * s + 2], trig[4 * s + 3]
+        t3, _ = sp1(h3, e3, rotate_cs(h2, c2, -s2, rotate_cs(h1, c1, -s1, y3)))
+        for w in range(2):
+            c5, s5 = wtrig[4 * w], wtrig[4 * w + 1]
+            c6, s6 = wtrig[4 * w + 2], wtrig[4 * w + 3]
+            t7, _ = sp1(h7, e7, rotate_cs(h6, c6, -s6, rotate_cs(h5, c5, -s5, y7)))
+            slot = slot0 + 2 * s + w
+            q[slot, 0], q[slot, 1] = (t1a, t2a) if s == 0 else (t1b, t2b)
+            q[slot, 2], q[slot, 3] = t3, t4
+            q[slot, 4], q[slot, 5] = (t5a, t6a) if w == 0 else (t5b, t6b)
+            q[slot, 6] = t7
+            valid[slot] = _fk_error(points, G, q[slot], T) <= VERIFY_TOL
+
+
+@numba.njit(**COMPILE)
+def _srs_slots(T, G, point_rows, psi):
+    """``q`` (N, 8, 7) and ``valid`` (N, 8): the configurations at each arm angle ψ (module
+    docstring), slot ``4·elbow + 2·shoulder + wrist``."""
+    points = [(point_rows[i, 0], point_rows[i, 1], point_rows[i, 2]) for i in range(7)]
+    n = psi.shape[0]
+    q = np.zeros((n, 8, 7))
+    valid = np.zeros((n, 8), np.bool_)
+    Z, Wt = _wrist_target(T, G)
+    t4a, t4b, elbow, centre, radius, nref, mref, sw = _elbow_circle(G, Wt)
+    if elbow == OUT or elbow == FREE:
+        return q, valid
+    S = _row(G, 7)
     for k in range(n):
         radial = add(scale(nref, math.cos(psi[k])), scale(mref, math.sin(psi[k])))
-        elbow_point = add(centre, scale(radial, length * sin_alpha))
-        target = _frame(sub(elbow_point, S), sw)
+        target = _frame(sub(add(centre, scale(radial, radius)), S), sw)
         for el in range(2):
-            t4 = t4a if el == 0 else t4b
-            v4 = add(a, rotate(h[3], t4, sub(W, E)))
-            home = _frame(a, v4)
-            x3 = _map(home, target, h[2])
-            y3 = _map(home, target, e3)
-            t1a, t2a, t1b, t2b, shoulder, _, trig = sp2_cs(
-                scale(h[0], -1.0), x3, h[1], h[2], 0.0, 0.0, 1e-10
-            )
-            # R5 R6 R7 = (R123 R4)ᵀ Z: apply (R123 R4)ᵀ = R4ᵀ (home → target)ᵀ.
-            z7 = rotate(h[3], -t4, _map(target, home, Zh7))
-            y7 = rotate(h[3], -t4, _map(target, home, Ze7))
-            t5a, t6a, t5b, t6b, wrist, _, wtrig = sp2_cs(
-                scale(h[4], -1.0), z7, h[5], h[6], 0.0, 0.0, 1e-10
-            )
-            for s in range(2):
-                if shoulder == OUT:
-                    continue
-                t1, t2 = (t1a, t2a) if s == 0 else (t1b, t2b)
-                c1, s1, c2, s2 = trig[4 * s], trig[4 * s + 1], trig[4 * s + 2], trig[4 * s + 3]
-                t3, _ = sp1(h[2], e3, rotate_cs(h[1], c2, -s2, rotate_cs(h[0], c1, -s1, y3)))
-                for w in range(2):
-                    if wrist == OUT:
-                        continue
-                    t5, t6 = (t5a, t6a) if w == 0 else (t5b, t6b)
-                    c5, s5 = wtrig[4 * w], wtrig[4 * w + 1]
-                    c6, s6 = wtrig[4 * w + 2], wtrig[4 * w + 3]
-                    t7, _ = sp1(h[6], e7, rotate_cs(h[5], c6, -s6, rotate_cs(h[4], c5, -s5, y7)))
-                    slot = 4 * el + 2 * s + w
-                    q[k, slot, 0], q[k, slot, 1], q[k, slot, 2] = t1, t2, t3
-                    q[k, slot, 3] = t4
-                    q[k, slot, 4], q[k, slot, 5], q[k, slot, 6] = t5, t6, t7
-                    valid[k, slot] = _fk_error(points, G, q[k, slot], T) <= VERIFY_TOL
+            _branches(G, points, T, Z, target, t4a if el == 0 else t4b, 4 * el, q[k], valid[k])
     return q, valid
 
 

@@ -1,7 +1,7 @@
 """``solve_all(method="analytic")``: every solution of a robot's closed-form solver as results.
 
-:func:`redik.solvers.analytic.solver_for` gives the solver (a bundled family, the subproblem
-decomposition of the screws, or for a general 6R arm the Raghavan–Roth elimination); each of
+:func:`redik.solvers.analytic.solver_for` gives the solver (the class of the robot's screws
+solved by subproblems, or for a general 6R arm the Raghavan–Roth elimination); each of
 its solutions becomes an :class:`~redik.core.result.IKResult` like the numeric ones, ordered
 by the norm of the body error ``log(T⁻¹ T_d)``.
 """
@@ -27,7 +27,7 @@ def closed_form_solutions(
     """Every solution of the robot's closed-form solver (kept in its
     :func:`~redik.solvers.cache.solver_cache`) for the validated pose ``T_target``;
     ``message`` carries the solution's label (and singularity), ``method`` the solver's
-    family (``"analytic:general_6r"``, …).
+    class (``"analytic:three_parallel_two_intersecting"``, ``"analytic:general"``, …).
 
     Raises:
         InvalidInput: An option was given (there are none), or ``frame`` is not the
@@ -45,7 +45,7 @@ def closed_form_solutions(
         )
     solver = solver_cache(robot).get_or_build("analytic", lambda: solver_for(robot))
     solutions = solver(T_target, limits="robot" if respect_limits else None)
-    method = f"analytic:{solver.family}"
+    method = f"analytic:{solver.kind}"
     results = []
     for solution in solutions:
         q = np.array(solution, dtype=float)

@@ -311,8 +311,8 @@ def solve_all(
     """The distinct solutions reached from ``n_starts`` starts: ``q0`` if given, then random.
 
     ``method="analytic"`` returns instead every solution of the robot's closed-form solver
-    (:func:`redik.solvers.analytic.solver_for`: a bundled family, the subproblem
-    decomposition, or for a general 6R arm the Raghavan–Roth elimination), exact to rounding
+    (:func:`redik.solvers.analytic.solver_for`: the subproblems of the class its screws
+    belong to, or for a general 6R arm the Raghavan–Roth elimination), exact to rounding
     and complete, with no starts (:mod:`.closed_form`); ``n_starts``, ``seed``, tolerances
     and ``cluster_tol`` do not apply, and a robot with no closed form raises its
     ``ModelError``/``InvalidInput``.

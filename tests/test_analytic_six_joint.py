@@ -1,10 +1,9 @@
-"""The subproblem-decomposition solver (redik.solvers.analytic.decomposed) on bundled and generated
-arms.
+"""The closed forms of the 6-joint classes (redik.solvers.analytic.six_joint) on bundled and
+generated arms.
 
 Every solution must reproduce the target by MuJoCo's FK (robot.fk, independent of the screw
-chain the solver reads), include the configuration that generated the target, equal the PUMA
-and UR solvers' sets where those apply, and equal what many random-seeded iterative solves
-find (nothing missed, nothing extra).
+chain the solver reads), include the configuration that generated the target, and equal what
+many random-seeded iterative solves find (nothing missed, nothing extra).
 """
 
 from __future__ import annotations
@@ -17,12 +16,36 @@ import redik
 from redik.core.exceptions import InvalidInput, InvalidPose, ModelError, NearRotationWarning
 from redik.models.dh import DHRow
 from redik.solvers import analytic
-from redik.solvers.analytic import decomposed, wrap_angle
-from redik.solvers.analytic.decomposed import Chain
-from redik.solvers.analytic.puma import dh_rows as puma_rows
-from redik.solvers.analytic.ur import UR5E
-from redik.solvers.analytic.ur import dh_rows as ur_rows
+from redik.solvers.analytic import wrap_angle
+from redik.solvers.analytic.geometry import Chain, screws_of
+from redik.solvers.analytic.six_joint import entry
 from redik.solvers.pose import solve_all
+
+HALF = np.pi / 2
+UR5E = (0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996)
+
+
+def puma_rows(a2, a3, d3, d4):
+    return (
+        DHRow(0.0, 0.0, -HALF),
+        DHRow(a2, 0.0, 0.0),
+        DHRow(a3, d3, HALF),
+        DHRow(0.0, d4, -HALF),
+        DHRow(0.0, 0.0, HALF),
+        DHRow(0.0, 0.0, 0.0),
+    )
+
+
+def ur_rows(d1, a2, a3, d4, d5, d6):
+    return (
+        DHRow(0.0, d1, HALF),
+        DHRow(a2, 0.0, 0.0),
+        DHRow(a3, 0.0, 0.0),
+        DHRow(0.0, d4, HALF),
+        DHRow(0.0, d5, -HALF),
+        DHRow(0.0, d6, 0.0),
+    )
+
 
 FULL_TURN = [(-np.pi, np.pi)] * 6
 FK_TOL = 1e-9
@@ -52,7 +75,7 @@ def _screw_robot(axes, points, M, name: str) -> redik.Robot:
 def _reversed_robot(robot: redik.Robot, name: str) -> redik.Robot:
     """The arm run backwards (its tool becomes the base): a spherical wrist becomes a
     spherical shoulder."""
-    S, M = decomposed.screws_of(robot)
+    S, M = screws_of(robot)
     chain = Chain.from_screws(S, M).reversed()
     return _screw_robot(chain.h, chain.a, chain.M, name)
 
@@ -139,42 +162,21 @@ def _check_poses(robot: redik.Robot, n_poses: int, seed: int) -> list[tuple[np.n
     return results
 
 
-@pytest.mark.parametrize(
-    ("name", "kind"),
-    [("puma560", "spherical_two_intersecting"), ("ur5e", "three_parallel_two_intersecting")],
-)
-def test_bundled_6r_scenes_equal_their_dedicated_solvers(name, kind):
-    robot = redik.load(name)
-    generic = analytic.solver_for(robot, "decomposed")
-    dedicated = analytic.solver_for(robot)
-    assert generic.kind == kind and not generic.reversed
-    rng = np.random.default_rng(14)
-    for _ in range(20):
-        T = robot.fk(robot.random_q(rng))
-        for limits in ("robot", None):
-            ours = generic(T, limits=limits).as_array()
-            theirs = dedicated(T, limits=limits).as_array()
-            assert _same_set(ours, theirs, 1e-9)
-            assert _same_set(generic.raw(T, limits=limits), theirs, 1e-9)
-
-
-def test_random_puma_arms_equal_the_puma_solver():
+def test_random_puma_arms_give_eight_solutions():
     rng = np.random.default_rng(1)
     for _ in range(4):
-        robot, params = _random_puma(rng)
-        for T, solutions in _check_poses(robot, 5, seed=int(rng.integers(1 << 30))):
-            reference = analytic.puma(T, *params)
-            assert _same_set(solutions.as_array(), reference.as_array(), 1e-9)
+        robot, _ = _random_puma(rng)
+        assert analytic.solver_for(robot).kind == "spherical_two_intersecting"
+        for _, solutions in _check_poses(robot, 5, seed=int(rng.integers(1 << 30))):
+            assert len(solutions) == 8
 
 
-def test_random_ur_arms_equal_the_ur_solver():
+def test_random_ur_arms_use_the_three_parallel_class():
     rng = np.random.default_rng(2)
     for _ in range(4):
-        robot, params = _random_ur(rng)
+        robot, _ = _random_ur(rng)
         assert analytic.solver_for(robot).kind == "three_parallel_two_intersecting"
-        for T, solutions in _check_poses(robot, 5, seed=int(rng.integers(1 << 30))):
-            reference = analytic.ur(T, *params)
-            assert _same_set(solutions.as_array(), reference.as_array(), 1e-9)
+        _check_poses(robot, 5, seed=int(rng.integers(1 << 30)))
 
 
 @pytest.mark.parametrize("wrist", ["ZYZ", "ZYX", "ZXZ"])
@@ -195,7 +197,7 @@ def test_offset_elbow_arms_use_the_two_parallel_class():
         _check_poses(robot, 5, seed=int(rng.integers(1 << 30)))
 
 
-def test_skew_arms_with_a_spherical_wrist_use_the_search():
+def test_skew_arms_with_a_spherical_wrist_use_sp5():
     rng = np.random.default_rng(4)
     for _ in range(3):
         robot = _general_spherical(rng)
@@ -263,7 +265,7 @@ def test_wrist_singularity_gives_a_family_whose_members_reach_the_target():
 
 def test_unreachable_target_is_empty_with_a_reason():
     robot = redik.load("puma560")
-    solver = analytic.solver_for(robot, "decomposed")
+    solver = analytic.solver_for(robot)
     T = robot.fk(robot.home)
     T[:3, 3] = (3.0, 0.0, 0.0)
     result = solver(T)
@@ -271,19 +273,8 @@ def test_unreachable_target_is_empty_with_a_reason():
     assert solver.raw(T).shape == (0, 6)
 
 
-def test_joint_limits_filter_like_the_dedicated_solver():
-    robot = redik.load("ur5e")
-    solver = analytic.solver_for(robot, "decomposed")
-    T = robot.fk(robot.random_q(np.random.default_rng(8)))
-    lower, upper = np.full(6, -1.0), np.full(6, 1.0)
-    ours = solver(T, limits=(lower, upper)).as_array()
-    theirs = analytic.solver_for(robot)(T, limits=(lower, upper)).as_array()
-    assert _same_set(ours, theirs, 1e-9)
-    assert all(np.all((q >= lower) & (q <= upper)) for q in solver.raw(T, limits=(lower, upper)))
-
-
 def test_bad_input_is_refused_with_redik_errors():
-    solver = analytic.solver_for(redik.load("ur5e"), "decomposed")
+    solver = analytic.solver_for(redik.load("ur5e"))
     T = np.eye(4)
     T[0, 0] = np.nan
     with pytest.raises(InvalidInput):
@@ -307,7 +298,7 @@ def test_raw_checks_a_pose_by_the_same_rule_as_redik_lie():
     a translation beyond MAX_COORDINATE is refused on the raw path too (it used to be solved
     and silently give no solution), and a bottom row within the tolerance is accepted."""
     robot = redik.load("ur5e")
-    solver = analytic.solver_for(robot, "decomposed")
+    solver = analytic.solver_for(robot)
     far = np.eye(4)
     far[0, 3] = 2e10
     with pytest.raises(InvalidPose, match="translation"):
@@ -322,7 +313,7 @@ def test_raw_checks_a_pose_by_the_same_rule_as_redik_lie():
 
 def test_a_near_rotation_is_projected_with_a_warning_on_both_paths():
     robot = redik.load("ur5e")
-    solver = analytic.solver_for(robot, "decomposed")
+    solver = analytic.solver_for(robot)
     T = robot.fk(robot.random_q(np.random.default_rng(11)))
     typed = T.copy()
     typed[:3, :3] = np.round(T[:3, :3], 4)  # a rotation typed with 4 decimals
@@ -334,21 +325,15 @@ def test_a_near_rotation_is_projected_with_a_warning_on_both_paths():
     assert all(np.abs(robot.fk(q)[:3, 3] - T[:3, 3]).max() < 1e-3 for q in raw)
 
 
-def test_arms_without_a_decomposition_are_refused():
-    S, M = decomposed.screws_of(redik.load("stanford_arm"))
-    with pytest.raises(ModelError, match="prismatic"):  # the slide first: no class fits
-        decomposed.decomposed_solver(S[:, [2, 0, 1, 3, 4, 5]], M)
-    with pytest.raises(InvalidInput, match="no closed-form solver for 'panda'"):
-        analytic.solver_for(redik.load("panda"))
-    rng = np.random.default_rng(9)
-    rows = tuple(
-        DHRow(rng.uniform(0.1, 0.4), rng.uniform(-0.2, 0.2), rng.uniform(0.3, 1.2))
-        for _ in range(6)
+def test_a_prismatic_joint_outside_the_stanford_class_has_no_closed_form():
+    S, M = screws_of(redik.load("stanford_arm"))
+    moved = redik.Robot.from_screws(
+        S[:, [2, 0, 1, 3, 4, 5]], M, limits=FULL_TURN, name="slide_first"
     )
-    robot = _dh_robot(rows, "general_6r")
-    with pytest.raises(ModelError, match="no closed-form decomposition"):
-        analytic.solver_for(robot, "decomposed")
-    assert analytic.solver_for(robot).family == "general_6r"  # the elimination instead
+    with pytest.raises(ModelError, match="no closed-form class fits"):
+        analytic.solver_for(moved, method="closed_form")
+    with pytest.raises(ModelError, match="prismatic"):
+        analytic.solver_for(moved)
 
 
 def test_ur5e_parameters_reach_eight_solutions():
@@ -377,19 +362,15 @@ def test_wrist_centre_on_the_first_axis_leaves_theta1_free():
             assert np.abs(robot.fk(member) - T).max() <= FK_TOL
 
 
-def test_ur_wrist_singularity_is_polished_and_equals_the_ur_solver():
-    """θ5 = 0 makes SP4 ill-conditioned (θ5 to √ε); the Gauss–Newton polish restores it."""
+def test_ur_wrist_singularity_is_polished_and_gives_theta6_families():
+    """θ5 = 0 makes SP4 ill-conditioned (θ5 to √ε); the polish restores the pose, and θ6 is
+    free on the two branches through the singular wrist."""
     robot = redik.load("ur5e")
     T = robot.fk(np.array([0.3, -1.0, 1.2, 0.4, 0.0, 0.7]))
-    ours = analytic.solver_for(robot, "decomposed")(T, limits=None)
-    theirs = analytic.solver_for(robot)(T, limits=None)
-    regular = np.array([q.q for q in ours if not q.singular])
-    assert _same_set(regular, np.array([q.q for q in theirs if not q.singular]), 1e-9)
-    # The singular representatives differ (θ6 is arbitrary): each of the UR solver's is the
-    # member of one of our families at its θ6.
-    assert len(ours.families) == 2 == len(theirs.families)
-    for q in (q for q in theirs if q.singular):
-        assert min(_distance(f.at(q[5]), q) for f in ours.families) < 1e-7
+    ours = analytic.solver_for(robot)(T, limits=None)
+    for solution in ours:
+        assert np.abs(robot.fk(solution.q) - T).max() <= FK_TOL
+    assert len(ours.families) == 2
     for family in ours.families:
         assert family.free == (5,)
         for t in (-1.0, 2.0):
@@ -424,10 +405,9 @@ def _arm_singular_configuration(robot: redik.Robot, q: np.ndarray) -> np.ndarray
     return None
 
 
-def test_search_finds_double_roots_where_two_arm_solutions_merge():
-    """At an arm singularity the search residual touches zero without changing sign; the
-    configuration that made the target must still be found (the sign-change scan alone
-    returned nothing for most of these targets)."""
+def test_sp5_finds_double_roots_where_two_arm_solutions_merge():
+    """At an arm singularity SP5's quartic has a double root (two arm solutions merge); the
+    configuration that made the target must still be found, and flagged singular."""
     rng = np.random.default_rng(12)
     checked = 0
     while checked < 4:
@@ -448,30 +428,28 @@ def test_search_finds_double_roots_where_two_arm_solutions_merge():
 
 def test_raw_takes_any_array_like_target_without_compiling_a_new_kernel():
     robot = redik.load("puma560")
-    solver = analytic.solver_for(robot, "decomposed")
+    solver = analytic.solver_for(robot)
     T = robot.fk(robot.random_q(np.random.default_rng(13)))
     expected = solver.raw(T, limits=None)
     for variant in (T.tolist(), np.asfortranarray(T), np.repeat(T, 2, axis=0)[::2]):
         assert _same_set(solver.raw(variant, limits=None), expected, 1e-12)
     # One compiled signature: other arrays are converted by the caller, not compiled for.
-    assert len(decomposed.kernels.solve_raw.signatures) == 1
+    assert len(entry(solver.kind).signatures) == 1
 
 
-def test_stanford_arm_by_decomposition_equals_the_stanford_solver():
+def test_stanford_arm_slides_both_ways():
     """RRPRRR: the slide's line meets a sphere about the shoulder point (d3 ±), then SP2 and
-    the wrist. Within the scene's limits (d3 ≥ 0.3) the set equals the Stanford family's;
-    without limits the d3 < 0 branches come too, each reaching the target by MuJoCo's FK."""
+    the wrist. Within the scene's limits (d3 ≥ 0.3) up to four solutions; without limits the
+    d3 < 0 branches come too, each reaching the target by MuJoCo's FK."""
     robot = redik.load("stanford_arm")
-    family = analytic.solver_for(robot)
-    solver = analytic.solver_for(robot, "decomposed")
-    assert (family.family, solver.kind) == ("stanford", "spherical_two_intersecting_prismatic")
+    solver = analytic.solver_for(robot)
+    assert solver.kind == "spherical_two_intersecting_prismatic"
     rng = np.random.default_rng(17)
     counts = []
     for q in robot.random_q(rng, size=200):
         T = robot.fk(q)
-        ours, theirs = solver(T), family(T)
-        assert _same_set(ours.as_array(), theirs.as_array(), 1e-9)
-        np.testing.assert_array_equal(solver.raw(T), ours.as_array())
+        ours = solver(T)
+        assert _same_set(solver.raw(T), ours.as_array(), 0.0)
         every = solver(T, limits=None)
         assert len(every) >= len(ours)
         assert any(q_ < 0.0 for q_ in every.as_array()[:, 2])
@@ -480,5 +458,6 @@ def test_stanford_arm_by_decomposition_equals_the_stanford_solver():
         assert (
             min(_distance(np.delete(s, 2), np.delete(q, 2)) + abs(s[2] - q[2]) for s in ours) < 1e-9
         )
+        assert all("-out-" in label for label in ours.labels)
         counts.append(len(ours))
     assert max(counts) == 4

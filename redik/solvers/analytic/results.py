@@ -13,19 +13,16 @@ Angles are wrapped to (−π, π] (:func:`redik.lie.wrap_angle`); prismatic join
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import NamedTuple, overload
 
-import numba
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
 from redik.core.result import Status
-from redik.kinematics.compiled import COMPILE
 from redik.lie import wrap_angle
-from redik.solvers.analytic._decomposed_kernels import _wrap
+from redik.solvers.analytic.finish import select_rows
 
 #: Default tolerance (metres) by which a target may lie outside the workspace and still be
 #: solved, clipped onto the boundary; also the size of a sine below which a configuration is
@@ -391,7 +388,7 @@ def finalize(
     preferred: str = "",
 ) -> IKSolutions:
     """Wrap angles, drop duplicates (modulo 2π, the first of equals is kept) and filter by
-    joint limits.
+    joint limits, by the one selection rule of :func:`redik.solvers.analytic.finish.select_rows`.
 
     The candidates come from a reachable target; if the limits exclude all of them the result
     is empty with a reason naming the joints that are out of range. Regular solutions differ
@@ -400,33 +397,37 @@ def finalize(
     """
     q = np.array([c.q for c in candidates], dtype=float).reshape(-1, n_joints)
     singular = [c.singular for c in candidates]
-    if limits is not None and len(q):
-        # The usual case in one compiled call: numpy on arrays this small costs ~1 µs per
-        # operation, most of a closed-form call.
-        work = q.copy()  # q stays as it is for the explanation of an empty result below
-        keep = _wrap_select(work, revolute, limits[0], limits[1], any(singular), DUPLICATE_TOL)
-        if keep.any():
-            return _kept(work, np.flatnonzero(keep), candidates, singular, "", preferred)
-    q = np.where(revolute, wrap_angle(q), q)
+    if limits is None:
+        lower, upper = np.full(n_joints, -np.inf), np.full(n_joints, np.inf)
+    else:
+        lower, upper = limits
+    work = q.copy()  # q stays as it is for the explanation of an empty result below
+    keep = select_rows(work, np.asarray(revolute, bool), lower, upper, any(singular), DUPLICATE_TOL)
+    kept = np.flatnonzero(keep)
+    reason = ""
+    if limits is not None and not len(kept) and len(q):
+        reason = _outside_reason(q, revolute, limits, any(singular))
+    return _kept(work, kept, candidates, singular, reason, preferred)
+
+
+def _outside_reason(
+    q: np.ndarray, revolute: np.ndarray, limits: tuple[np.ndarray, np.ndarray], dedupe: bool
+) -> str:
+    """Why no candidate is kept: how many distinct solutions, and which joints are out of
+    range in some of them."""
+    wrapped = np.where(revolute, wrap_angle(q), q)
     distinct = np.ones(len(q), bool)
-    if any(c.singular for c in candidates):
-        difference = q[:, None, :] - q[None, :, :]
+    if dedupe:
+        difference = wrapped[:, None, :] - wrapped[None, :, :]
         difference[..., revolute] = wrap_angle(difference[..., revolute])
         same = np.all(np.abs(difference) < DUPLICATE_TOL, axis=-1)
         distinct = ~np.any(np.tril(same, k=-1), axis=1)
-    keep = distinct
-    if limits is not None:
-        q, inside = limit_representatives(q, limits[0], limits[1], revolute)
-        keep = distinct & inside.all(axis=1)
-    kept = np.flatnonzero(keep)
-    reason = ""
-    if limits is not None and not len(kept):
-        reason = (
-            f"none of the {int(distinct.sum())} solutions lies within the joint limits "
-            f"(joints out of range in some solution: "
-            f"{np.flatnonzero(~inside[distinct].all(axis=0)).tolist()})"
-        )
-    return _kept(q, kept, candidates, singular, reason, preferred)
+    _, inside = limit_representatives(wrapped, limits[0], limits[1], revolute)
+    return (
+        f"none of the {int(distinct.sum())} solutions lies within the joint limits "
+        f"(joints out of range in some solution: "
+        f"{np.flatnonzero(~inside[distinct].all(axis=0)).tolist()})"
+    )
 
 
 def _kept(
@@ -448,51 +449,6 @@ def _kept(
         reason=reason,
         preferred=preferred,
     )
-
-
-@numba.njit(**COMPILE)
-def _wrap_select(q, revolute, lower, upper, dedupe, duplicate_tol):
-    """:func:`finalize` on (k, n) ``q`` in place, compiled: revolute angles wrapped (by
-    :func:`._decomposed_kernels._wrap`, the compiled twin of :func:`redik.lie.wrap_angle`),
-    duplicates of an earlier row dropped when ``dedupe`` (modulo 2π for revolute joints),
-    each row moved into the limits as :func:`limit_representatives` does; returns which
-    rows are kept."""
-    two_pi = 2.0 * math.pi
-    k, n = q.shape
-    for row in range(k):
-        for j in range(n):
-            if revolute[j]:
-                q[row, j] = _wrap(q[row, j])
-    keep = np.ones(k, np.bool_)
-    if dedupe:
-        for row in range(k):
-            for other in range(row):  # every earlier row, as the numpy path compares
-                same = True
-                for j in range(n):
-                    difference = q[row, j] - q[other, j]
-                    if revolute[j]:
-                        difference = _wrap(difference)
-                    if abs(difference) >= duplicate_tol:
-                        same = False
-                        break
-                if same:
-                    keep[row] = False
-                    break
-    for row in range(k):
-        for j in range(n):
-            value = q[row, j]
-            turns = 0.0
-            if revolute[j]:
-                turns = min(
-                    max(np.ceil((lower[j] - value) / two_pi), 0.0),
-                    np.floor((upper[j] - value) / two_pi),
-                )
-            shifted = value + two_pi * turns
-            clipped = min(max(shifted, lower[j]), upper[j])
-            q[row, j] = clipped
-            if abs(clipped - shifted) > duplicate_tol:
-                keep[row] = False
-    return keep
 
 
 def unreachable(n_joints: int, reason: str) -> IKSolutions:
