@@ -21,7 +21,7 @@ import redik
 from redik.apps.sim import TrackingWarning, simulate
 from redik.apps.trajectory import CircularPath
 from redik.limits import AccelerationLimit, ConfigurationLimit, VelocityLimit
-from redik.solvers.problem import Problem
+from redik.qp import Problem
 from redik.tasks import FrameTask, PostureTask
 
 robot = redik.load("panda")

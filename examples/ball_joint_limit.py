@@ -46,7 +46,7 @@ tasks = [redik.PositionTask("ee", target=target), redik.PostureTask(priority=1)]
 
 cone = redik.BallJointLimit().bind(robot)
 for limits in ([redik.ConfigurationLimit()], [redik.ConfigurationLimit(), cone]):
-    result = redik.Problem(robot, tasks, limits).solve(robot.home, max_iterations=200)
+    result = redik.solve_problem(redik.Problem(robot, tasks, limits), robot.home)
     miss = np.linalg.norm(robot.fk(result.q, "ee")[:3, 3] - target)
     largest = max(cone.angles_at(q)[0] for q in result.history)
     names = " + ".join(type(limit).__name__ for limit in limits)

@@ -34,7 +34,9 @@ print(robot, f"with {robot.model.nu} position servos")
 down = np.diag([1.0, -1.0, -1.0])
 left = redik.FrameTask("left_gripper", target=make_pose(down, [0.75, 0.25, 0.1]))
 right = redik.FrameTask("right_gripper", target=make_pose(down, [0.75, -0.25, 0.1]))
-q0 = redik.Problem(robot, [left, right, redik.PostureTask(priority=1)]).solve(robot.home).q
+q0 = redik.solve_problem(
+    redik.Problem(robot, [left, right, redik.PostureTask(priority=1)]), robot.home
+).q
 
 T_left = robot.fk(q0, "left_gripper")
 circle = CircularPath(T_left, T_left[:3, 3] + [0.0, 0.08, 0.0], normal=[0, 0, 1], duration=4.0)

@@ -33,7 +33,7 @@ collisions = redik.CollisionAvoidanceLimit(
 )
 problem = redik.Problem(robot, tasks, [redik.ConfigurationLimit(), collisions])
 
-result = problem.solve(robot.home, max_iterations=200)
+result = redik.solve_problem(problem, robot.home)
 print(result.summary())
 for frame, T in targets.items():
     p_err, r_err = pose_errors(robot.fk(result.q, frame), T)
@@ -49,7 +49,8 @@ close = [
     for side, y in (("left", 0.05), ("right", -0.05))
 ]
 for limits in ([redik.ConfigurationLimit()], [redik.ConfigurationLimit(), collisions]):
-    q = redik.Problem(robot, [*close, redik.PostureTask(priority=1)], limits).solve(robot.home).q
+    stack = redik.Problem(robot, [*close, redik.PostureTask(priority=1)], limits)
+    q = redik.solve_problem(stack, robot.home).q
     errors = [pose_errors(robot.fk(q, task.frame_name), task.target)[0] for task in close]
     closest = collisions.minimum_distance_at(q)[0]
     print(f"{len(limits) - 1} collision limit: closest {closest * 1000:+.1f} mm, ", end="")

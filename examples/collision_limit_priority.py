@@ -17,7 +17,7 @@ import mujoco
 
 import redik
 from redik.limits import CollisionAvoidanceLimit, ConfigurationLimit
-from redik.solvers.problem import Problem
+from redik.qp import Problem
 from redik.tasks import PositionTask, PostureTask
 
 XML = """
@@ -60,7 +60,7 @@ for priority in ("absent", None, 1, 2):
             )
         )
     tasks = [PositionTask("tip", target=[1.6, 1.2, 0.0]), PostureTask(priority=1)]
-    result = Problem(robot, tasks, limits).solve(robot.home, max_iterations=200)
+    result = redik.solve_problem(Problem(robot, tasks, limits), robot.home)
     label = "no collision limit" if priority == "absent" else f"priority={priority}"
     print(
         f"{label:>18}: {result.status:>9}, tip {result.position_error * 1000:6.1f} mm from "

@@ -33,7 +33,7 @@ collisions = redik.CollisionAvoidanceLimit(
 )
 problem = redik.Problem(robot, tasks, [redik.ConfigurationLimit(), collisions])
 
-result = problem.solve(q0, max_iterations=200)
+result = redik.solve_problem(problem, q0)
 print(result.summary())
 for frame, T in {**hands, **feet}.items():
     p_err, r_err = pose_errors(robot.fk(result.q, frame), T)
@@ -46,6 +46,6 @@ print("within joint limits:", robot.within_limits(result.q))
 
 # The same stack without the collision limit reaches the hands too, but a shoulder link ends
 # inside the torso (by 1.1 mm: the printed distance is negative).
-free = redik.Problem(robot, tasks).solve(q0, max_iterations=200)
+free = redik.solve_problem(redik.Problem(robot, tasks), q0)
 distance, pair = collisions.minimum_distance_at(free.q)
 print(f"without the limit: {free.summary()}; closest geoms {pair}: {distance * 1000:.1f} mm")

@@ -1,6 +1,6 @@
 """A Panda reaches a pose and, strictly below it, gets as close as it can to a nominal posture.
 
-``Problem.solve`` keeps iterating after the pose converges until the posture level is
+``redik.solve_problem`` keeps iterating after the pose converges until the posture level is
 stationary: its gradient, projected onto what the pose and the active limits leave free,
 vanishes. The result is the constrained optimum, min ½‖q − q_nom‖² s.t. pose(q) = T,
 which stopping at pose convergence is not. Run: python examples/qp_lower_level_optimum.py
@@ -9,7 +9,7 @@ which stopping at pose convergence is not. Run: python examples/qp_lower_level_o
 import numpy as np
 
 import redik
-from redik.solvers.problem import Problem
+from redik.qp import Problem
 from redik.tasks import FrameTask, PostureTask
 
 robot = redik.load("panda")
@@ -27,8 +27,9 @@ def posture_cost(q: np.ndarray) -> float:
     return 0.5 * float(np.sum((q - q_nominal) ** 2))
 
 
-early = problem.solve(q0, max_iterations=300, stationarity_tol=None)  # stop when the pose converges
-result = problem.solve(q0, max_iterations=300)  # ... and finish the posture level
+# Stop when the pose converges ... and finish the posture level.
+early = redik.solve_problem(problem, q0, redik.SolveOptions(stationarity_tol=None))
+result = redik.solve_problem(problem, q0)
 for name, r in (("stop at pose convergence", early), ("finish the lower level", result)):
     stationarity = problem.stationarity(r.q)[0]
     print(

@@ -7,7 +7,7 @@ import mink
 import numpy as np
 
 import redik
-from redik.solvers.problem import Problem
+from redik.qp import Problem
 from redik.tasks import FrameTask, JointLimitAvoidanceTask
 
 robot = redik.load("panda")
@@ -17,7 +17,7 @@ T_target = robot.fk(robot.random_q(np.random.default_rng(4)))
 frame = mink.FrameTask("ee", "site", position_cost=1.0, orientation_cost=1.0)
 frame.set_target(mink.SE3.from_matrix(T_target))
 problem = Problem(robot, [frame, JointLimitAvoidanceTask(priority=1)])
-print("redik Problem with a mink task:", problem.solve(robot.home, max_iterations=200).summary())
+print("redik Problem with a mink task:", redik.solve_problem(problem, robot.home).summary())
 
 # The other way round: a redik task, bound to the robot, inside mink.solve_ik.
 configuration = mink.Configuration(robot.model, robot.full_qpos(robot.home))

@@ -9,7 +9,7 @@ import numpy as np
 
 import redik
 from redik.limits import ConfigurationLimit, VelocityLimit
-from redik.solvers.problem import Problem
+from redik.qp import Problem
 from redik.tasks import FrameTask, JointLimitAvoidanceTask, PostureTask
 
 robot = redik.load("panda")
@@ -22,7 +22,7 @@ stack = [pose, JointLimitAvoidanceTask(gain=0.2), PostureTask(gain=0.2)]  # prio
 problem = Problem(robot, stack, backend="daqp")  # limits default: the position box
 
 q0 = np.clip(q_goal + rng.uniform(-0.4, 0.4, robot.dof), robot.lower, robot.upper)
-result = problem.solve(q0, pos_tol=1e-6, rot_tol=1e-5)
+result = redik.solve_problem(problem, q0, redik.SolveOptions(pos_tol=1e-6, rot_tol=1e-5))
 print(result.summary())
 print("within limits:", robot.within_limits(result.q))
 print("error per iteration:", np.array2string(result.error_history, precision=2))

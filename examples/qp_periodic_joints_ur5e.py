@@ -1,17 +1,18 @@
 """A UR5e whose shoulder starts near its −2π bound reaches a pose that the short way needs
 past that bound.
 
-Boxed, the iteration stops against the bound; with ``ConfigurationLimit(periodic=True)`` a joint
+Boxed, an attempt stops against the bound; with ``ConfigurationLimit(periodic=True)`` a joint
 whose range spans a full turn is not boxed and each iterate is turned back into range by
 2π — the same pose — so the solve goes on (``solve_pose(method="qp")`` does this by
-default). Run: python examples/qp_periodic_joints_ur5e.py
+default). One attempt each, without restarts, to show the stop.
+Run: python examples/qp_periodic_joints_ur5e.py
 """
 
 import numpy as np
 
 import redik
 from redik.limits import ConfigurationLimit
-from redik.solvers.problem import Problem
+from redik.qp import Problem
 from redik.tasks import FrameTask
 
 robot = redik.load("ur5e")
@@ -24,6 +25,8 @@ for name, limit in (
     ("boxed", ConfigurationLimit()),
     ("periodic", ConfigurationLimit(periodic=True)),
 ):
-    result = Problem(robot, [task], [limit]).solve(start)
+    result = redik.solve_problem(
+        Problem(robot, [task], [limit]), start, redik.SolveOptions(restarts=0)
+    )
     print(f"{name:<9} {result.summary()}; shoulder {result.q[0]:+.4f} rad, within limits: "
           f"{robot.within_limits(result.q)}")  # fmt: skip

@@ -18,7 +18,7 @@ import numpy as np
 import redik
 from redik.apps.render import render_frames, save_gif
 from redik.apps.selfmotion_plot import plot_joint_pairs
-from redik.solvers.problem import Problem
+from redik.qp import Problem
 from redik.solvers.redundancy import Manipulability, PostureDistance, explore_self_motion
 from redik.tasks import FrameTask
 from redik.tasks.posture_task import PostureTask

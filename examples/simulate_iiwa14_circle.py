@@ -18,7 +18,7 @@ from redik.apps.render import render_states, save_video
 from redik.apps.sim import plot_tracking, simulate
 from redik.apps.trajectory import CircularPath
 from redik.limits import ConfigurationLimit, VelocityLimit
-from redik.solvers.problem import Problem
+from redik.qp import Problem
 from redik.tasks import FrameTask, PostureTask
 
 robot = redik.load("iiwa14")

@@ -19,7 +19,7 @@ import redik
 from redik.apps.sim import TrackingWarning, joint_drives, simulate
 from redik.apps.trajectory import CircularPath
 from redik.limits import ConfigurationLimit, VelocityLimit
-from redik.solvers.problem import Problem
+from redik.qp import Problem
 from redik.tasks import FrameTask, PostureTask
 
 

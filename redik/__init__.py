@@ -38,6 +38,7 @@ from redik.core.exceptions import (
     RedikError,
     RedikWarning,
     TargetNotSet,
+    TaskError,
     TrackingWarning,
     UnknownFrame,
 )
@@ -51,19 +52,22 @@ from redik.limits import (
     VelocityLimit,
 )
 from redik.models.scenes import list_scenes
+from redik.qp.problem import Problem
 from redik.solvers.batch import BatchResult, solve_batch
 from redik.solvers.iterative import solve_equations
 from redik.solvers.pose import solve_all, solve_pose
-from redik.solvers.problem import Problem, QPResult
 from redik.solvers.redundancy import SelfMotion, explore_self_motion, nullspace_velocity
+from redik.solvers.task_stack import QPResult, SolveOptions, solve_problem
 from redik.tasks import (
     DampingTask,
+    EqualityConstraintTask,
     FrameTask,
     JointLimitAvoidanceTask,
     ManipulabilityTask,
     OrientationTask,
     PositionTask,
     PostureTask,
+    RelativeFrameTask,
 )
 
 # Loaded with redik so that ``redik.solvers.analytic.ur(...)`` or
@@ -91,6 +95,7 @@ __all__ = [
     "CollisionAvoidanceLimit",
     "ConfigurationLimit",
     "DampingTask",
+    "EqualityConstraintTask",
     "FrameTask",
     "IKResult",
     "InfeasibleProblem",
@@ -111,10 +116,13 @@ __all__ = [
     "QPResult",
     "RedikError",
     "RedikWarning",
+    "RelativeFrameTask",
     "Robot",
     "SelfMotion",
+    "SolveOptions",
     "Status",
     "TargetNotSet",
+    "TaskError",
     "TrackingWarning",
     "UnknownFrame",
     "VelocityLimit",
@@ -135,6 +143,7 @@ __all__ = [
     "solve_batch",
     "solve_equations",
     "solve_pose",
+    "solve_problem",
     "solvers",
     "tasks",
 ]

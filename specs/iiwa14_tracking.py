@@ -15,7 +15,7 @@ import redik
 from redik.apps.sim import plot_tracking, simulate
 from redik.apps.trajectory import CircularPath
 from redik.limits import ConfigurationLimit, VelocityLimit
-from redik.solvers.problem import Problem
+from redik.qp import Problem
 from redik.tasks import FrameTask, PostureTask
 
 CRITERIA = {

@@ -1,9 +1,12 @@
-"""``redik batch``: targets in, solutions out, errors reported as exit code 2."""
+"""``redik batch``: targets in, solutions out, errors reported as exit code 2; a run killed
+mid-batch resumes from its checkpoint."""
 
 from __future__ import annotations
 
 import io
+import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -11,6 +14,7 @@ import pytest
 import redik
 import redik.models.registry
 from redik.apps.cli import main
+from redik.solvers.batch.checkpoint import finished_chunks
 
 
 def test_random_targets_are_solved_and_written(tmp_path, capsys):
@@ -119,3 +123,44 @@ def test_the_progress_bar_is_drawn_on_a_terminal_only(tmp_path, monkeypatch):
     monkeypatch.setattr(sys, "stderr", piped)
     assert main(command) == 0
     assert piped.getvalue() == ""
+
+
+@pytest.mark.slow
+def test_a_killed_batch_resumes_from_its_checkpoint_without_solving_its_chunks_again(tmp_path):
+    checkpoint, resumed = tmp_path / "checkpoint", tmp_path / "resumed.npz"
+    batch = ["batch", "panda", "--random", "160000", "--seed", "3", "--chunk-size", "8000",
+             "--engine", "local", "--quiet"]  # fmt: skip
+    command = [
+        sys.executable, "-m", "redik", *batch, "--workers", "1", "--checkpoint", str(checkpoint)
+    ]  # fmt: skip
+    first = subprocess.Popen([*command, "--out", str(resumed)], stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 300
+    while finished_chunks(checkpoint) < 3:  # several chunks done, more in flight
+        assert first.poll() is None, first.communicate()[1].decode()
+        assert time.monotonic() < deadline
+        time.sleep(0.02)
+    first.kill()  # SIGKILL: no handler runs, a write may be cut short
+    first.wait()
+    before = {file.name: file.stat() for file in checkpoint.glob("chunk-*.npz")}
+    assert 3 <= len(before) < 20 and not resumed.exists()
+
+    done = subprocess.run(
+        [*command, "--out", str(resumed)], capture_output=True, text=True, timeout=600
+    )
+    assert done.returncode == 0, done.stderr
+    assert f"{len(before)} finished chunks are read, not solved" in done.stdout
+    after = {file.name: file.stat() for file in checkpoint.glob("chunk-*.npz")}
+    assert len(after) == 20
+    rewritten = [
+        name
+        for name, stat in before.items()
+        if (after[name].st_ino, after[name].st_mtime_ns) != (stat.st_ino, stat.st_mtime_ns)
+    ]
+    assert rewritten == []  # each chunk done before the kill was read back, not solved again
+
+    whole = tmp_path / "whole.npz"
+    assert main([*batch, "--out", str(whole)]) == 0  # the same batch, uninterrupted, all cores
+    with np.load(resumed) as got, np.load(whole) as expected:
+        assert sorted(got.files) == sorted(expected.files)
+        for name in expected.files:
+            np.testing.assert_array_equal(got[name], expected[name], err_msg=name)

@@ -406,7 +406,7 @@ def test_problem_and_task_targets(panda, data):
     holds(lambda: orientation.set_target(data.draw(st.one_of(rotations(), junk()))))
     holds(lambda: redik.PositionTask("ee", target=data.draw(st.one_of(junk(), poses()))))
     q = data.draw(configurations(panda))
-    holds(lambda: problem.solve(q, max_iterations=5), panda)
+    holds(lambda: redik.solve_problem(problem, q, redik.SolveOptions(max_iterations=5)), panda)
     holds(lambda: problem.step(q))
     cost = data.draw(mostly(st.just(1.0), number, junk()))
     gain = data.draw(mostly(st.just(0.5), number, junk()))
@@ -426,14 +426,19 @@ def test_problem_and_task_targets(panda, data):
     holds(lambda: redik.DampingTask(cost, priority))
     holds(lambda: redik.ManipulabilityTask(None, cost, gain, priority))
     holds(
-        lambda: redik.Problem(
-            panda,
-            data.draw(mostly(st.just([task]), st.just([]), junk())),
-            data.draw(mostly(st.none(), st.just([]), junk())),
-            data.draw(mostly(st.sampled_from(["daqp", "quadprog"]), junk())),
-            damping=data.draw(mostly(st.just(1e-6), number, junk())),
-        ).solve(
-            panda.home, max_iterations=data.draw(mostly(st.just(3), st.integers(-1, 2), junk()))
+        lambda: redik.solve_problem(
+            redik.Problem(
+                panda,
+                data.draw(mostly(st.just([task]), st.just([]), junk())),
+                data.draw(mostly(st.none(), st.just([]), junk())),
+                data.draw(mostly(st.sampled_from(["daqp", "quadprog"]), junk())),
+                damping=data.draw(mostly(st.just(1e-6), number, junk())),
+            ),
+            panda.home,
+            redik.SolveOptions(
+                max_iterations=data.draw(mostly(st.just(3), st.integers(-1, 2), junk())),
+                restarts=0,
+            ),
         ),
         panda,
     )
@@ -585,7 +590,8 @@ def test_pose_translation_beyond_mjmaxval_is_refused_everywhere(panda, ur5e):
     T[2, 3] = 1e9  # far, but a number MuJoCo and the QP handle: an explicit status
     task = redik.FrameTask("ee", target=T)
     problem = redik.Problem(panda, [task])
-    assert problem.solve(panda.home, max_iterations=3).status in ("max_iterations", "stalled")
+    result = redik.solve_problem(problem, panda.home, redik.SolveOptions(max_iterations=3))
+    assert result.status == "unreachable" and "beyond the reach" in result.message
 
 
 @pytest.mark.parametrize("q", [np.zeros(7) + 1j, np.array([""] * 7), np.full(7, 1e11)])
@@ -705,9 +711,11 @@ def test_problem_and_tasks_refuse_junk_arguments(panda):
         redik.Problem(panda, [task], damping="")  # type: ignore[arg-type]
     problem = redik.Problem(panda, [task])
     with pytest.raises(redik.InvalidInput, match="max_iterations"):
-        problem.solve(panda.home, max_iterations=None)  # type: ignore[arg-type]
+        redik.SolveOptions(max_iterations=None)  # type: ignore[arg-type]
     with pytest.raises(redik.InvalidInput, match="pos_tol"):
-        problem.solve(panda.home, pos_tol=math.nan)
+        redik.SolveOptions(pos_tol=math.nan)
+    with pytest.raises(redik.InvalidInput, match="options must be a SolveOptions"):
+        redik.solve_problem(problem, panda.home, {"max_iterations": 3})  # type: ignore[arg-type]
     with pytest.raises(redik.InvalidInput, match="gain"):
         redik.JointLimitAvoidanceTask(1.0, "")  # type: ignore[arg-type]
     with pytest.raises(redik.InvalidInput, match="priority"):

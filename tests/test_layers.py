@@ -12,8 +12,9 @@ higher one:
    the solvers share;
 5. **criteria** — secondary criteria, value and gradient;
 6. **tasks and limits** — what a QP step should achieve and may not do;
-7. **qp** — QP assembly, lexicographic hierarchy, back-ends;
-8. **solvers** — analytic, iterative, pose IK (and its QP driver), the ``Problem`` driver,
+7. **qp** — the differential IK ``Problem``, QP assembly, lexicographic hierarchy,
+   back-ends;
+8. **solvers** — analytic, iterative, pose IK (and its QP method), the task-stack driver,
    batch IK, redundancy;
 9. **applications** — trajectories, simulation, rendering, plots, workspace, specs,
    regression, demo, benchmarks, CLI;
@@ -56,15 +57,15 @@ everything in it; the most specific entry wins)."""
 
 SOLVER_PACKAGES = tuple(
     f"solvers.{name}"
-    for name in ("analytic", "iterative", "pose", "problem", "batch", "redundancy")
+    for name in ("analytic", "iterative", "pose", "task_stack", "batch", "redundancy")
 )
 
 SOLVER_ENTRY_POINTS = {
     "solvers.analytic": ("solvers.analytic", "solvers.analytic.srs"),
     "solvers.batch": ("solvers.batch",),
     "solvers.iterative": ("solvers.iterative",),
-    "solvers.pose": ("solvers.pose", "solvers.pose.qp"),
-    "solvers.problem": ("solvers.problem",),
+    "solvers.pose": ("solvers.pose", "solvers.pose.qp", "solvers.pose.frame"),
+    "solvers.task_stack": ("solvers.task_stack",),
     "solvers.redundancy": ("solvers.redundancy",),
 }
 """The modules through which one solver package may use another."""
@@ -192,14 +193,14 @@ def test_every_allowed_violation_still_exists():
         ("from ..solvers.pose.qp import solve_pose_qp\n", {"solvers.pose.qp"}),
         ("from .. import criteria\n", {"criteria"}),
         ("from .task import Task\n", {"tasks.task"}),
-        ("import redik.solvers.problem\n", {"solvers.problem"}),
+        ("import redik.solvers.task_stack\n", {"solvers.task_stack"}),
         ("from redik.solvers.batch import engines\n", {"solvers.batch.engines"}),
         (
             "from typing import TYPE_CHECKING\n"
-            "if TYPE_CHECKING:\n    from ..solvers.problem import P\n",
+            "if TYPE_CHECKING:\n    from ..solvers.task_stack import P\n",
             set(),
         ),
-        ("def f():\n    from ..solvers.problem import Problem\n", {"solvers.problem"}),
+        ("def f():\n    from ..solvers.task_stack import Problem\n", {"solvers.task_stack"}),
         ("import numpy\nfrom mink import Task\n", set()),
     ],
 )

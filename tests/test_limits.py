@@ -9,8 +9,7 @@ import pytest
 import redik
 from redik.core.exceptions import InfeasibleProblem, InvalidInput
 from redik.limits import ConfigurationLimit, InequalityLimit, MinkLimit, VelocityLimit
-from redik.qp import available_backends
-from redik.solvers.problem import Problem
+from redik.qp import Problem, available_backends
 from redik.tasks import FrameTask, PositionTask, PostureTask
 
 
@@ -53,13 +52,16 @@ def test_a_periodic_configuration_limit_leaves_full_turn_joints_unboxed_and_wrap
     assert not ConfigurationLimit().bind(ur5e).turning.any()
     with pytest.raises(InvalidInput, match="periodic"):
         ConfigurationLimit(periodic="yes")
-    # Problem.solve turns every iterate back into range.
+    # The driver turns every iterate back into range (one attempt each, no restart).
     T = ur5e.fk(np.array([-0.3, -1.2, 1.4, -1.8, -1.5, 0.4]))
     start = np.array([ur5e.lower[0] + 0.05, -1.2, 1.4, -1.8, -1.5, 0.4])
-    boxed = Problem(ur5e, [FrameTask("ee", target=T)]).solve(start)
-    periodic = Problem(
-        ur5e, [FrameTask("ee", target=T)], [ConfigurationLimit(periodic=True)]
-    ).solve(start)
+    once = redik.SolveOptions(restarts=0)
+    boxed = redik.solve_problem(Problem(ur5e, [FrameTask("ee", target=T)]), start, once)
+    periodic = redik.solve_problem(
+        Problem(ur5e, [FrameTask("ee", target=T)], [ConfigurationLimit(periodic=True)]),
+        start,
+        once,
+    )
     assert not boxed.success  # stuck against the shoulder's lower bound
     assert periodic.success and periodic.iterations < 10
     assert all(ur5e.within_limits(q) for q in periodic.history)
@@ -105,7 +107,9 @@ def test_returned_q_never_leaves_the_limits(backend, rng):
     problem = Problem(robot, [PositionTask("ee", target=[2.0, 0.0, 0.5]), posture], backend=backend)
     for _ in range(2):
         problem.tasks[0].set_target(rng.normal(size=3) * 2.0)
-        result = problem.solve(robot.random_q(rng), max_iterations=15)
+        result = redik.solve_problem(
+            problem, robot.random_q(rng), redik.SolveOptions(max_iterations=15)
+        )
         assert np.all(result.history >= lower) and np.all(result.history <= upper)
         q = robot.random_q(rng)
         for _ in range(5):
@@ -158,7 +162,8 @@ def test_no_iterate_leaves_the_limits_on_any_backend(backend):
         joints = rng.choice(robot.dof, size=2, replace=False)  # two joints at a limit
         q_target[joints] = np.where(rng.random(2) < 0.5, robot.lower[joints], robot.upper[joints])
         problem.tasks[0].set_target(robot.fk(q_target))
-        result = problem.solve(robot.random_q(rng), max_iterations=30)
+        options = redik.SolveOptions(max_iterations=30, restarts=0)
+        result = redik.solve_problem(problem, robot.random_q(rng), options)
         assert np.all(result.history >= robot.lower) and np.all(result.history <= robot.upper)
 
 
@@ -177,7 +182,7 @@ def test_a_row_refused_at_the_backend_set_up_is_infeasible_not_a_raw_error():
         with pytest.raises(InfeasibleProblem, match=r"'daqp'.*infeasible"):
             problem.step(robot.home)
     with pytest.raises(InfeasibleProblem, match=r"'daqp'.*infeasible"):
-        problem.solve(robot.home)
+        redik.solve_problem(problem, robot.home)
 
 
 # Limits at a priority (issue: a collision limit that the hand may override)
@@ -230,7 +235,7 @@ def _solve_with_collision_priority(robot, priority):
             )
         )
     tasks = [PositionTask("tip", target=[1.6, 1.2, 0.0]), PostureTask(priority=1)]
-    return Problem(robot, tasks, limits).solve(robot.home, max_iterations=200)
+    return redik.solve_problem(Problem(robot, tasks, limits), robot.home)
 
 
 def test_a_collision_limit_at_a_priority_yields_to_the_levels_above_only(planar_obstacles):

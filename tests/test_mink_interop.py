@@ -11,8 +11,8 @@ import pytest
 import redik
 from redik.core.exceptions import InvalidInput
 from redik.limits import ConfigurationLimit, MinkLimit
+from redik.qp import Problem
 from redik.qp.backends import QPSOLVERS_SETTINGS
-from redik.solvers.problem import Problem
 from redik.tasks import (
     DampingTask,
     FrameTask,
@@ -93,7 +93,9 @@ def test_mink_tasks_and_limits_inside_a_redik_problem_on_an_off_chain_model(arm,
         assert mixed.step(q).shape == (arm.dof,)
     com = mink.ComTask(cost=1.0)
     com.set_target(np.array([0.3, -0.1, 0.4]))
-    result = Problem(arm, [com, PostureTask()]).solve(arm.home, pos_tol=1e-3, max_iterations=50)
+    result = redik.solve_problem(
+        Problem(arm, [com, PostureTask()]), arm.home, redik.SolveOptions(pos_tol=1e-3)
+    )
     assert result.q.shape == (arm.dof,)
 
 
@@ -140,7 +142,7 @@ def test_mink_tasks_converge_on_their_cost_weighted_error():
     com = mink.ComTask(cost=[1.0, 1.0, 0.0])
     target = configuration.data.subtree_com[1] + [0.03, -0.02, 0.3]  # 30 cm too high
     com.set_target(target)
-    result = Problem(robot, [com]).solve(robot.home)
+    result = redik.solve_problem(Problem(robot, [com]), robot.home)
     assert result.status == "converged", result.message
     configuration.update(robot.full_qpos(result.q))
     reached = configuration.data.subtree_com[1]
@@ -150,7 +152,7 @@ def test_mink_tasks_converge_on_their_cost_weighted_error():
     T = robot.fk(robot.clip(robot.home + 0.2))
     frame.set_target(mink.SE3.from_matrix(T @ redik.lie.make_pose(redik.lie.so3_exp([0.3, 0, 0]),
                                                                   np.zeros(3))))  # fmt: skip
-    result = Problem(robot, [frame]).solve(robot.home)
+    result = redik.solve_problem(Problem(robot, [frame]), robot.home)
     assert result.status == "converged", result.message
     assert np.linalg.norm(robot.fk(result.q)[:3, 3] - T[:3, 3]) < 1e-6
 

@@ -160,7 +160,7 @@ def test_gradient_projection_keeps_the_pose_and_improves_the_criterion(panda, cr
 def test_qp_priority_level_equals_the_nullspace_formula(panda, rng):
     """Unconstrained, a FrameTask at priority 0 and a PostureTask at priority 1 give the
     textbook step ``Δq = J⁺ẋ + (I − J⁺J) q̇₀`` with ``ẋ = −e``, ``q̇₀ = −e_posture``."""
-    from redik.solvers.problem import Problem
+    from redik.qp import Problem
     from redik.tasks import FrameTask
     from redik.tasks.kinematics import KinematicState
     from redik.tasks.posture_task import PostureTask

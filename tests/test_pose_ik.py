@@ -442,16 +442,17 @@ def test_a_repeated_dls_call_still_refuses_what_the_first_call_would(rng):
         solve_pose(robot, T, q0, seed=0, respect_limits=1)
 
 
-def test_progress_is_one_rule_for_dls_and_qp():
-    """``progress`` is a fraction in (0, 1) for both methods that take it: "dls" clamped 1.5
-    to 1 (an attempt stalls unless ‖e‖² reaches 0) where "qp" (Problem.solve) refused it."""
+def test_progress_is_a_fraction_for_dls():
+    """``progress`` is a fraction in (0, 1): "dls" clamped 1.5 to 1 (an attempt stalls unless
+    ‖e‖² reaches 0); "qp" (the task-stack driver) takes no such option."""
     robot = redik.load("panda")
     T = robot.fk(robot.clip(robot.home + 0.1))
-    for method in ("dls", "qp"):
-        assert solve_pose(robot, T, method=method, seed=0, progress=np.float64(0.25)).success
-        for bad in (0.0, 1.0, 1.5, -0.5, float("nan"), True, "0.5"):
-            with pytest.raises(InvalidInput, match=r"progress must be a number in \(0, 1\)"):
-                solve_pose(robot, T, method=method, seed=0, progress=bad)
+    assert solve_pose(robot, T, method="dls", seed=0, progress=np.float64(0.25)).success
+    for bad in (0.0, 1.0, 1.5, -0.5, float("nan"), True, "0.5"):
+        with pytest.raises(InvalidInput, match=r"progress must be a number in \(0, 1\)"):
+            solve_pose(robot, T, method="dls", seed=0, progress=bad)
+    with pytest.raises(InvalidInput, match=r"unknown options \['progress'\] for method='qp'"):
+        solve_pose(robot, T, method="qp", seed=0, progress=0.25)
     with pytest.raises(InvalidInput, match=r"progress must be a number in \(0, 1\)"):
         BatchOptions(progress=1.0)  # the compiled kernel's options, as "dls" passes them
 

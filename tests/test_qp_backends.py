@@ -168,7 +168,7 @@ def test_persistent_proxsuite_follows_changing_problems(rng):
 
 def test_daqp_solves_every_step_of_ik_runs_with_the_default_regularisation(rng):
     """mink's 1e-12 damping lets DAQP call valid IK QPs infeasible; redik's 1e-6 must not."""
-    from redik.solvers.problem import Problem
+    from redik.qp import Problem
     from redik.tasks import FrameTask, JointLimitAvoidanceTask, PostureTask
 
     robot = redik.load("panda")

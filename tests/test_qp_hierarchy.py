@@ -8,9 +8,8 @@ import pytest
 
 import redik
 from redik.limits import ConfigurationLimit
-from redik.qp import QP, make_backend, solve_lexicographic
+from redik.qp import QP, Problem, make_backend, solve_lexicographic
 from redik.qp.hierarchy import SLACK_DAMPING, free_directions
-from redik.solvers.problem import Problem
 from redik.tasks import (
     DampingTask,
     FrameTask,
@@ -253,6 +252,31 @@ def test_the_one_variable_level_is_solved_exactly(rng):
     # A row without z (a = 0) that the previous level violated leaves z free, either way.
     assert _solve_one_variable(1.0, 1.0, [0.0], [-1.0], [-1e-12]) == -1.0
     assert _solve_one_variable(1.0, -1.0, [0.0], [1e-12], [1.0]) == 1.0
+
+
+def test_a_round_off_component_on_a_joint_at_its_bound_does_not_block_the_direction():
+    """A self-motion direction with an exact zero on a joint, computed as ±1e-16, while level
+    0 leaves that joint on its bound: the row moves by round-off only and must not stop the
+    whole motion at z = 0."""
+    from redik.qp.hierarchy import _solve_one_variable
+
+    for gain in (1e-16, -1e-16, 1e-12):
+        for upper, lower in ((0.0, -1.0), (1.0, 0.0)):
+            assert _solve_one_variable(1.0, -1.0, [gain, 1.0], [lower, -5.0], [upper, 5.0]) == 1.0
+    # A gain above the round-off still binds.
+    assert _solve_one_variable(1.0, -1.0, [1e-9], [-1.0], [0.0]) == 0.0
+    # Through the hierarchy: level 0 pins x0 on its bound; the one free direction of level 1
+    # carries a 1e-16 component on x0 and must still reach x1 = 3.
+    A0 = np.array([[1.0, 1e-16, 0.0], [0.0, 0.0, 1.0]])
+    eps = 1e-12
+    objectives = [
+        (A0.T @ A0 + eps * np.eye(3), -A0.T @ np.array([0.5, 0.0])),
+        (np.diag([0.0, 1.0, 0.0]) + eps * np.eye(3), -np.array([0.0, 3.0, 0.0])),
+    ]
+    lb, ub = np.array([-1.0, -10.0, -10.0]), np.array([0.5, 10.0, 10.0])
+    x = solve_lexicographic(objectives, [make_backend("daqp") for _ in objectives], lb, ub,
+                            damping=eps, rows0=A0)  # fmt: skip
+    np.testing.assert_allclose(x, [0.5, 3.0, 0.0], atol=1e-6)
 
 
 def test_a_one_dimensional_lower_level_with_rows_matches_the_general_path():

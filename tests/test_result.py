@@ -26,8 +26,9 @@ DRIVEN: dict[str, set[Status]] = {
     "test_solve_pose_reports_converged_unreachable_max_iterations_and_limits": {
         Status.CONVERGED, Status.UNREACHABLE, Status.MAX_ITERATIONS, Status.LIMITS
     },
-    "test_problem_reports_converged_max_iterations_and_stalled": {
-        Status.CONVERGED, Status.MAX_ITERATIONS, Status.STALLED
+    "test_solve_problem_reports_every_status_of_its": {
+        Status.CONVERGED, Status.SUBOPTIMAL, Status.UNREACHABLE, Status.MAX_ITERATIONS,
+        Status.STALLED,
     },
     "test_solve_batch_reports_converged_stalled_and_invalid_per_target": {
         Status.CONVERGED, Status.STALLED, Status.INVALID
@@ -141,15 +142,31 @@ def test_solve_pose_reports_converged_unreachable_max_iterations_and_limits(plan
     produced(redik.solve_pose(narrow, narrow.fk(np.array([0.3, 0.9])), seed=0), "converged")
 
 
-def test_problem_reports_converged_max_iterations_and_stalled(planar):
+def test_solve_problem_reports_every_status_of_its(planar, narrow):
     T = planar.fk(np.array([0.4, 1.1]))
     near = redik.Problem(planar, [redik.FrameTask("ee", orientation_cost=0.0, target=T)])
-    produced(near.solve(planar.home), "converged")
+    produced(redik.solve_problem(near, planar.home), "converged")
+    one_step = redik.SolveOptions(max_iterations=1, restarts=0)
+    produced(redik.solve_problem(near, planar.home, one_step), "max_iterations")
     far = redik.Problem(
         planar, [redik.FrameTask("ee", target=out_of_reach(planar), orientation_cost=0.0)]
     )
-    produced(far.solve(planar.home, max_iterations=2), "max_iterations")
-    produced(far.solve(planar.home, max_iterations=500, q_tol=1e-6), "stalled")
+    produced(redik.solve_problem(far, planar.home), "unreachable")
+    # The narrow elbow stops at its limit short of a pose that needs 2.9 rad: one attempt.
+    blocked = redik.Problem(
+        narrow, [redik.PositionTask("ee", target=narrow.fk(np.array([0.3, 2.9]))[:3, 3])]
+    )
+    produced(redik.solve_problem(blocked, narrow.home, redik.SolveOptions(restarts=0)), "stalled")
+    # On the pose from the first iteration; one iteration cannot finish the posture below it.
+    panda = redik.load("panda")
+    stack = redik.Problem(
+        panda,
+        [
+            redik.FrameTask("ee", target=panda.fk(panda.home)),
+            redik.PostureTask(panda.midrange, priority=1),
+        ],
+    )
+    produced(redik.solve_problem(stack, panda.home, one_step), "suboptimal")
 
 
 def test_solve_batch_reports_converged_stalled_and_invalid_per_target(planar):

@@ -27,7 +27,7 @@ from redik.apps.sim import (
 )
 from redik.apps.trajectory import CartesianPath, CircularPath
 from redik.limits import ConfigurationLimit, VelocityLimit
-from redik.solvers.problem import Problem
+from redik.qp import Problem
 from redik.tasks import FrameTask, PostureTask
 
 POSITION_BOUND, ROTATION_BOUND, FINAL_BOUND = 3e-3, 1e-2, 5e-5

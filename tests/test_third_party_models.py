@@ -60,7 +60,7 @@ def test_baxter_two_priority_stack_and_two_hand_stack(baxter):
     one_hand = redik.Problem(
         baxter, [redik.FrameTask("left_gripper", target=T_left), redik.PostureTask(priority=1)]
     )
-    result = one_hand.solve(baxter.home)
+    result = redik.solve_problem(one_hand, baxter.home)
     assert result.success
     right = [i for i, name in enumerate(baxter.joint_names) if name.startswith("right")]
     # The posture (priority 1) holds the arm that has no task at home.
@@ -72,8 +72,8 @@ def test_baxter_two_priority_stack_and_two_hand_stack(baxter):
         redik.FrameTask("right_gripper", target=T_right),
         redik.PostureTask(priority=1),
     ]
-    result = redik.Problem(baxter, tasks, [redik.ConfigurationLimit(), collisions]).solve(
-        baxter.home
+    result = redik.solve_problem(
+        redik.Problem(baxter, tasks, [redik.ConfigurationLimit(), collisions]), baxter.home
     )
     assert result.success, result.message
     for frame, T in (("left_gripper", T_left), ("right_gripper", T_right)):
@@ -89,10 +89,10 @@ def test_baxter_collision_limit_binds_where_the_free_solution_collides(baxter):
         redik.PostureTask(priority=1),
     ]
     checker = _arm_collisions().bind(baxter)
-    free = redik.Problem(baxter, tasks).solve(baxter.home)
+    free = redik.solve_problem(redik.Problem(baxter, tasks), baxter.home)
     assert checker.minimum_distance_at(free.q)[0] < 0.0
     guarded = redik.Problem(baxter, tasks, [redik.ConfigurationLimit(), _arm_collisions()])
-    result = guarded.solve(baxter.home)
+    result = redik.solve_problem(guarded, baxter.home)
     assert min(checker.minimum_distance_at(q)[0] for q in result.history) >= 0.01 - 1e-6
 
 
@@ -112,9 +112,9 @@ def test_baxter_carries_a_box_along_a_path(baxter):
     def solver(T, q):
         left.set_target(T)
         right.set_target(T @ offset)
-        return problem.solve(q)
+        return redik.solve_problem(problem, q)
 
-    q0 = problem.solve(baxter.home).q
+    q0 = redik.solve_problem(problem, baxter.home).q
     trajectory = follow_path(baxter, path, q0, solver, rate=20.0, frame="left_gripper")
     assert trajectory.success.all() and trajectory.continuous
     assert trajectory.position_error.max() < 1e-6
@@ -167,7 +167,7 @@ def test_g1_two_hands_with_feet_held_and_no_collision(g1):
     problem = redik.Problem(
         g1, [*tasks, redik.PostureTask(priority=1)], [redik.ConfigurationLimit(), collisions]
     )
-    result = problem.solve(g1.home, max_iterations=200)
+    result = redik.solve_problem(problem, g1.home)
     assert result.success, result.message
     for frame, T in targets.items():
         p_err, r_err = pose_errors(g1.fk(result.q, frame), T)
@@ -176,7 +176,7 @@ def test_g1_two_hands_with_feet_held_and_no_collision(g1):
     np.testing.assert_allclose(np.linalg.norm(result.q[3:7]), 1.0, atol=1e-12)
     assert g1.within_limits(result.q)
     assert collisions.minimum_distance_at(result.q)[0] >= 0.01 - 1e-6
-    free = redik.Problem(g1, [*tasks, redik.PostureTask(priority=1)]).solve(g1.home)
+    free = redik.solve_problem(redik.Problem(g1, [*tasks, redik.PostureTask(priority=1)]), g1.home)
     assert free.success and collisions.minimum_distance_at(free.q)[0] < 0.0  # shoulder in torso
 
     # A path: both hands rise 10 cm, the feet still held; warm-started QP solves.
@@ -187,7 +187,7 @@ def test_g1_two_hands_with_feet_held_and_no_collision(g1):
     def solver(T, q):
         tasks[0].set_target(T)
         tasks[1].set_target(T @ right_offset)
-        return problem.solve(q)
+        return redik.solve_problem(problem, q)
 
     trajectory = follow_path(g1, path, result.q, solver, rate=10.0, frame="left_rubber_hand")
     assert trajectory.success.all() and trajectory.continuous, trajectory.summary()
@@ -273,8 +273,8 @@ def test_third_party_model_stack_and_chain(spec):
     q_target = robot.with_scalar_values(q_target, values)
     targets = {frame: robot.fk(q_target, frame) for frame in frames}
     tasks = [redik.FrameTask(frame, target=T) for frame, T in targets.items()]
-    result = redik.Problem(robot, [*tasks, redik.PostureTask(priority=1)]).solve(
-        robot.home, max_iterations=200
+    result = redik.solve_problem(
+        redik.Problem(robot, [*tasks, redik.PostureTask(priority=1)]), robot.home
     )
     assert result.success, result.message
     assert robot.within_limits(result.q)

@@ -108,7 +108,7 @@ def replaying(joint_path: np.ndarray):
 
 
 def test_a_qp_stack_can_follow_the_path_too():
-    from redik.solvers.problem import Problem
+    from redik.qp import Problem
     from redik.tasks import FrameTask, PostureTask
 
     robot = redik.load("panda")
@@ -119,7 +119,7 @@ def test_a_qp_stack_can_follow_the_path_too():
 
     def qp(T, q):
         task.set_target(T)
-        return problem.solve(q)
+        return redik.solve_problem(problem, q)
 
     trajectory = follow_path(robot, path, robot.home, qp, rate=50.0)
     assert trajectory.success.all() and trajectory.continuous
@@ -165,7 +165,7 @@ def test_a_qp_stack_follows_the_path_alike_after_a_simulation():
 
     from redik.apps.sim import TrackingWarning, simulate
     from redik.limits import AccelerationLimit, ConfigurationLimit, VelocityLimit
-    from redik.solvers.problem import Problem
+    from redik.qp import Problem
     from redik.tasks import FrameTask, PostureTask
 
     # solve() looks for a static solution: an acceleration limit has no meaning between its
@@ -179,7 +179,14 @@ def test_a_qp_stack_follows_the_path_alike_after_a_simulation():
         posture = PostureTask(robot.home, cost=1e-2, priority=1)
         limits = [ConfigurationLimit(), VelocityLimit(2.0), *extra]
         problem = Problem(robot, [task, posture], limits)
-        return problem, task, lambda T, q: (task.set_target(T), problem.solve(q, dt=0.01))[1]
+        return (
+            problem,
+            task,
+            lambda T, q: (
+                task.set_target(T),
+                redik.solve_problem(problem, q, redik.SolveOptions(dt=0.01)),
+            )[1],
+        )
 
     problem, task, qp = stack(AccelerationLimit(20.0))
     with warnings.catch_warnings():

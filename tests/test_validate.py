@@ -28,12 +28,8 @@ def test_every_count_option_uses_the_one_check():
         "max_iterations": lambda v: redik.solve_pose(planar, T, max_iterations=v),
         "restarts": lambda v: redik.solve_pose(planar, T, restarts=v),
         "n_starts": lambda v: redik.solve_all(planar, T, n_starts=v),
-        "candidates": lambda v: redik.solve_pose(planar, T, method="qp", candidates=v),
         "chunk_size": lambda v: redik.solve_batch(planar, T[None], chunk_size=v),
         "workers": lambda v: redik.solve_batch(planar, T[None], workers=v),
-        "patience": lambda v: redik.Problem(planar, [redik.FrameTask("ee", target=T)]).solve(
-            planar.home, patience=v
-        ),
         "priority": lambda v: redik.PostureTask(priority=v),
         "max_samples": lambda v: redik.explore_self_motion(planar, T, max_samples=v),
     }

@@ -186,7 +186,7 @@ def test_two_hands_at_priority_0_posture_at_priority_1(whole):
         redik.FrameTask("right_ee", target=T_right, priority=0),
         redik.PostureTask(priority=1),
     ]
-    result = redik.Problem(whole, tasks).solve(whole.home, max_iterations=200)
+    result = redik.solve_problem(redik.Problem(whole, tasks), whole.home)
     assert result.success, result.message
     assert result.q.shape == (whole.nq,)
     for frame, T in (("left_ee", T_left), ("right_ee", T_right)):
@@ -200,7 +200,7 @@ def test_posture_reaches_a_floating_configuration(whole):
     """The posture error across the free and ball joints is mj_differentiatePos's."""
     q_nominal = whole.clip(whole.integrate(whole.home, 0.3 * np.ones(whole.dof)))
     problem = redik.Problem(whole, [redik.PostureTask(q_nominal, priority=0)])
-    result = problem.solve(whole.home, max_iterations=50)
+    result = redik.solve_problem(problem, whole.home)
     assert result.success
     np.testing.assert_allclose(whole.difference(q_nominal, result.q), 0.0, atol=1e-8)
 
@@ -242,7 +242,7 @@ def test_step_is_a_tangent_vector(whole):
     q = whole.home.copy()
     q[3:7] = 0.0
     with pytest.raises(redik.InvalidConfiguration, match="zero quaternion"):
-        problem.solve(q)
+        redik.solve_problem(problem, q)
     for bad in ("home", [*whole.home[:-1], "x"], whole.home + 0j):
         with pytest.raises(redik.InvalidConfiguration, match=r"q must .*real numbers"):
             whole.fk(bad, "left_ee")
@@ -265,7 +265,9 @@ def test_ball_joint_limit_keeps_every_iterate_inside_the_cone(whole):
     def _neck_angle(q):
         return float(limit.angles_at(q)[0])
 
-    free = redik.Problem(whole, posture, [redik.ConfigurationLimit()]).solve(whole.home)
+    free = redik.solve_problem(
+        redik.Problem(whole, posture, [redik.ConfigurationLimit()]), whole.home
+    )
     assert _neck_angle(free.q) == pytest.approx(1.5)
     # The default limits hold the cone (no margin): a box alone would not.
     default = redik.Problem(whole, posture)
@@ -273,7 +275,7 @@ def test_ball_joint_limit_keeps_every_iterate_inside_the_cone(whole):
         "ConfigurationLimit",
         "BallJointLimit",
     ]
-    held = default.solve(whole.home)
+    held = redik.solve_problem(default, whole.home)
     assert _neck_angle(held.q) == pytest.approx(1.2, abs=1e-6)
     assert max(_neck_angle(q) for q in held.history) <= 1.2
     assert [type(limit).__name__ for limit in redik.Problem(whole, posture, []).limits] == []
@@ -282,8 +284,10 @@ def test_ball_joint_limit_keeps_every_iterate_inside_the_cone(whole):
     theirs = redik.Problem(
         whole, posture, [redik.ConfigurationLimit(), mink.ConfigurationLimit(whole.model, gain=1.0)]
     )
-    assert max(_neck_angle(q) for q in theirs.solve(whole.home).history) > 1.4
-    result = redik.Problem(whole, posture, [redik.ConfigurationLimit(), limit]).solve(whole.home)
+    assert max(_neck_angle(q) for q in redik.solve_problem(theirs, whole.home).history) > 1.4
+    result = redik.solve_problem(
+        redik.Problem(whole, posture, [redik.ConfigurationLimit(), limit]), whole.home
+    )
     assert limit.joint_names == ("neck",)
     assert _neck_angle(result.q) == pytest.approx(1.15, abs=1e-6)
     assert max(_neck_angle(q) for q in result.history) <= 1.15 + 1e-9
@@ -400,9 +404,9 @@ def test_collision_limit_keeps_the_margin_the_unconstrained_solution_violates(mo
     _, guarded = _collision_problem(model, with_limit=True)
     checker = redik.CollisionAvoidanceLimit([(["left_hand", "left_fore", "left_upper"], ["table"])])
     checker.bind(arm)
-    unconstrained = free.solve(arm.home, max_iterations=100)
+    unconstrained = redik.solve_problem(free, arm.home)
     assert checker.minimum_distance_at(unconstrained.q)[0] < 0.0  # it collides
-    constrained = guarded.solve(arm.home, max_iterations=100)
+    constrained = redik.solve_problem(guarded, arm.home)
     distance, pair = checker.minimum_distance_at(constrained.q)
     assert distance >= 0.01 - 1e-3, pair
     assert not constrained.success  # the target is inside the table
@@ -481,7 +485,7 @@ def test_mink_tasks_and_mink_interop_on_a_floating_base(whole):
     left = mink.FrameTask("left_ee", "site", position_cost=1.0, orientation_cost=1.0)
     left.set_target(mink.SE3.from_matrix(T_left))
     tasks = [left, redik.FrameTask("right_ee", target=T_right), redik.PostureTask(priority=1)]
-    result = redik.Problem(whole, tasks).solve(whole.home, max_iterations=200)
+    result = redik.solve_problem(redik.Problem(whole, tasks), whole.home)
     assert result.success, result.message
     assert pose_errors(whole.fk(result.q, "left_ee"), T_left)[0] < 1e-6
 

@@ -2,7 +2,7 @@
 
 1. **Target.** A pose of the Dexter-style 8R arm (``dexter8r``), reached by a configuration
    away from ``home``, so the answer is not the start.
-2. **QP solve.** :class:`redik.solvers.problem.Problem` with the pose task at priority 0 and, at
+2. **QP solve.** :class:`redik.qp.problem.Problem` with the pose task at priority 0 and, at
    priority 1 (strictly inside the pose task's null space), joint-limit avoidance and a
    nominal posture (``home``), iterated from ``home`` to 1e-6 m / 1e-5 rad.
 3. **Self-motion.** :func:`redik.solvers.redundancy.explore_self_motion` covers the 2-D surface of
@@ -31,14 +31,15 @@ from redik.apps.selfmotion_plot import plot_joint_pairs
 from redik.core.result import IKResult
 from redik.kinematics.robot import Robot, load
 from redik.lie import pose_errors
+from redik.qp import Problem
 from redik.solvers.pose import solve_pose
-from redik.solvers.problem import Problem
 from redik.solvers.redundancy import (
     SelfMotion,
     default_criteria,
     evaluate_criteria,
     explore_self_motion,
 )
+from redik.solvers.task_stack import solve_problem
 from redik.tasks import FrameTask, JointLimitAvoidanceTask, PostureTask
 
 SCENE = "dexter8r"
@@ -85,7 +86,7 @@ def run_demo(
         ],
     )
     started = time.perf_counter()
-    solution = problem.solve(robot.home, max_iterations=200)
+    solution = solve_problem(problem, robot.home)
     solve_seconds = time.perf_counter() - started
     position_error, rotation_error = pose_errors(robot.fk(solution.q), target)
 

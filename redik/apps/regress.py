@@ -292,10 +292,10 @@ def warm_up() -> None:
     paths.
     """
     from redik.kinematics.robot import Robot, load
+    from redik.qp import Problem
     from redik.solvers.analytic import solver_for
     from redik.solvers.batch import solve_batch
     from redik.solvers.pose import solve_pose
-    from redik.solvers.problem import Problem
     from redik.tasks import FrameTask
 
     robot = Robot.from_dh([(1.0, 0.0, 0.0), (1.0, 0.0, 0.0)], name="warm_up")

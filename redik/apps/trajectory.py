@@ -388,10 +388,10 @@ def follow_path(
         solver: ``solver(T_target, q_start) -> IKResult``. Default: damped least squares
             (:func:`redik.solvers.pose.solve_pose`) without restarts — a restart would jump to a
             random seed and break continuity. A QP stack works too, e.g.
-            ``lambda T, q: (task.set_target(T), problem.solve(q))[1]``: ``solve`` keeps no
-            state between calls (acceleration limits are left out of it,
-            :meth:`redik.Problem.solve`), so such a run does not depend on what the problem
-            did before (a :func:`~redik.apps.sim.simulate`, a loop of ``step``).
+            ``lambda T, q: (task.set_target(T), redik.solve_problem(problem, q))[1]``: the
+            driver keeps no state between calls (acceleration limits are left out of it,
+            :meth:`redik.Problem.static_step`), so such a run does not depend on what the
+            problem did before (a :func:`~redik.apps.sim.simulate`, a loop of ``step``).
         rate: Sampling rate in Hz.
         jump_tol: Largest joint change per sample (rad or m) still counted as continuous.
         singular_tol: ``σ_min(J)`` below which a sample counts as singular.

@@ -38,6 +38,13 @@ class InvalidPose(InvalidInput):
     """A 4×4 matrix that should be a rigid transform is not."""
 
 
+class CheckpointMismatch(InvalidInput):
+    """A checkpoint directory belongs to another batch, or is no checkpoint at all.
+
+    See :mod:`redik.solvers.batch.checkpoint`; the message names what differs.
+    """
+
+
 class TargetNotSet(RedikError):
     """A task was used before its target was set (mink's ``TargetNotSet``)."""
 
@@ -59,6 +66,10 @@ class BackendError(RedikError):
 
 class InfeasibleProblem(RedikError):
     """The hard constraints of a problem admit no solution."""
+
+
+class TaskError(RedikError):
+    """A foreign (mink) task or limit raised; the message names it, the cause is chained."""
 
 
 class RedikWarning(UserWarning):

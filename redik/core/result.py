@@ -29,14 +29,20 @@ class Status(str, Enum):
                         the joint limits when they are respected). For a closed-form solver
                         (:class:`~redik.solvers.analytic.IKSolutions`): at least one solution.
                         For :func:`~redik.solvers.redundancy.explore_self_motion`: every
-                        component found was sampled to its end.
+                        component found was sampled to its end. For
+                        :func:`redik.solve_problem`: level 0's targets are met and every lower
+                        level is stationary within ``stationarity_tol``.
+    ``SUBOPTIMAL``      :func:`redik.solve_problem` only, a success: level 0's targets are met
+                        but a lower level is not stationary within ``stationarity_tol`` (the
+                        budget ran out, or no step lowers it further); ``q`` is a solution of
+                        level 0, not the constrained optimum of the levels below.
     ``STALLED``         The iteration stopped making progress above the tolerance: the step
                         fell below ``q_tol``, the relative change below ``rel_tol``, or no
                         Armijo step decreased the error (root finders of
-                        :mod:`redik.solvers.iterative`); no acceptable step or too slow a
-                        decrease (:meth:`redik.Problem.solve`); an attempt's damped step made
-                        no progress (:func:`redik.solve_batch`). ``q`` is then (near) a
-                        stationary point of the error, not a root.
+                        :mod:`redik.solvers.iterative`); neither the descent nor its escape
+                        lowered the error in any attempt (:func:`redik.solve_problem`); an
+                        attempt's damped step made no progress (:func:`redik.solve_batch`).
+                        ``q`` is then (near) a stationary point of the error, not a root.
     ``MAX_ITERATIONS``  The iteration (or sample) budget ran out: every iterative solver;
                         :func:`redik.solve_pose` when no attempt converged and no better
                         explanation applies; :func:`redik.explore_self_motion` when
@@ -48,7 +54,8 @@ class Status(str, Enum):
                         attempt diverged; :func:`redik.solve_batch`).
     ``UNREACHABLE``     The target lies outside the reachable workspace as far as can be told:
                         beyond the chain's reach, or every attempt stopped at the same error
-                        with a vanishing gradient (:func:`redik.solve_pose`); no start reached
+                        with a vanishing gradient (:func:`redik.solve_pose`,
+                        :func:`redik.solve_problem`); no start reached
                         the pose (:func:`redik.explore_self_motion`); no closed-form solution
                         exists (:class:`~redik.solvers.analytic.IKSolutions`).
     ``LIMITS``          The target is reached only outside the joint limits: solutions exist,
@@ -64,6 +71,7 @@ class Status(str, Enum):
     """
 
     CONVERGED = "converged"
+    SUBOPTIMAL = "suboptimal"
     STALLED = "stalled"
     MAX_ITERATIONS = "max_iterations"
     SINGULAR = "singular"

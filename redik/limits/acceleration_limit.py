@@ -1,5 +1,6 @@
-r"""The joint acceleration box: bound the change of joint velocity from one control tick to
-the next.
+r"""The joint acceleration box.
+
+Bound the change of joint velocity from one control tick to the next.
 
 With :math:`v_{k-1} = Δq_{k-1}/dt_{k-1}` the velocity of the previous step
 :meth:`redik.Problem.step` returned and :math:`a` the bound (rad/s², m/s²),
@@ -42,7 +43,7 @@ The limit has memory: :meth:`redik.Problem.step` reports each step it returns
 (:meth:`advance`); :meth:`reset` forgets it (a new motion, from rest by default), and
 :meth:`redik.Problem.reset` resets every limit of a problem — the loop drivers
 (:func:`redik.apps.sim.simulate`) call it at the start of each run.
-:meth:`redik.Problem.solve` (iterative IK towards a static solution, not a motion) leaves
+:func:`redik.solve_problem` (iterative IK towards a static solution, not a motion) leaves
 the limit out: it neither applies it to its iterates nor changes its state.
 """
 
@@ -56,8 +57,9 @@ from redik.limits.limit import BoxLimit
 
 
 class AccelerationLimit(BoxLimit):
-    """Bound each joint's acceleration between control ticks (each tangent coordinate of a
-    ball or free joint alike).
+    """Bound each joint's acceleration between control ticks.
+
+    Each tangent coordinate of a ball or free joint is bounded alike.
 
     Args:
         max_acceleration: A scalar, one value per tangent coordinate, or a mapping from
@@ -77,6 +79,7 @@ class AccelerationLimit(BoxLimit):
         self._set_priority(priority)
 
     def bind(self, robot: Robot, tolerance: float = 0.0) -> AccelerationLimit:
+        """Prepare for ``robot`` (the base class's contract); returns self."""
         bound = self.positive_per_dof(self._spec, robot, "max_acceleration", "AccelerationLimit")
         self.max_acceleration = bound
         self.velocity = np.zeros(robot.dof)
@@ -107,6 +110,7 @@ class AccelerationLimit(BoxLimit):
     def bounds_into(
         self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
     ) -> None:
+        """Intersect this box with ``[lower, upper]`` in place (:meth:`BoxLimit.bounds_into`)."""
         if dt is None:
             raise InvalidInput(
                 "AccelerationLimit needs the step duration: call problem.step(q, dt)"

@@ -16,9 +16,9 @@ mink's ``ConfigurationLimit`` uses the same row (with a gain). At the identity
 (:math:`θ = 0`) the row is undefined and left out, as mink does, so a long first step
 could leave the cone (mink's own limit does: a posture 1.5 rad away from a 1.2 rad cone
 is reached in one step from the identity). :meth:`BallJointLimit.admits` checks the true
-angle of a trial configuration, and :meth:`redik.Problem.solve` shortens the step until
+angle of a trial configuration, and :func:`redik.solve_problem` shortens the step until
 every angle is inside (or, for a joint already outside, no farther out). Sliding along
-the cone's rim costs second-order overshoot that ``solve`` also shortens: it may stall
+the cone's rim costs second-order overshoot that the driver also shortens: it may stall
 there, inside the cone, rather than leave it.
 """
 
@@ -70,6 +70,7 @@ class BallJointLimit(InequalityLimit):
         self.max_angle = np.empty(0)
 
     def bind(self, robot: Robot, tolerance: float = 0.0) -> BallJointLimit:
+        """Prepare for ``robot`` (the base class's contract); returns self."""
         model = robot.model
         joints = limited_ball_joints(robot)
         self.joint_names = tuple(robot.joint_names[list(robot.joint_ids).index(j)] for j in joints)
@@ -105,6 +106,7 @@ class BallJointLimit(InequalityLimit):
         return float(np.linalg.norm(self._rotation))
 
     def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
+        """``(G, h)`` at the current state, or None when inactive."""
         qpos = self.robot.state.data.qpos
         G, h = self._G, self._h
         count = 0
@@ -122,9 +124,12 @@ class BallJointLimit(InequalityLimit):
         return G[:count].copy(), h[:count].copy()
 
     def admits(self) -> bool:
-        """Every angle within its bound at the current state, or no farther out than at the
-        last linearisation (an angle out by no more than the tolerance, an earlier step's
-        slack, is held to its bound again: else the slack compounds step after step)."""
+        """Whether every cone angle holds at the current state (module docstring).
+
+        Every angle within its bound at the current state, or no farther out than at the last
+        linearisation (an angle out by no more than the tolerance, an earlier step's slack, is held
+        to its bound again: else the slack compounds step after step).
+        """
         qpos = self.robot.state.data.qpos
         for i in range(len(self._columns)):
             bound = self.max_angle[i]

@@ -37,9 +37,9 @@ obstacle gets there) and the rest of the arm keeps clear as far as they allow
 **Long steps.** The rows are first order and exist only for pairs closer than
 :math:`d_i`, so one long step (an iterative solve far from its target) could carry a
 geom through another. :meth:`CollisionAvoidanceLimit.admits` therefore checks the true
-distances of a trial configuration, and :meth:`redik.Problem.solve` halves the step until
+distances of a trial configuration, and :func:`redik.solve_problem` halves the step until
 no pair ends closer than :math:`d_s` (or, for a pair already inside the margin, closer
-than it was): every iterate ``solve`` returns keeps the margin. ``Problem.step`` returns
+than it was): every iterate the driver returns keeps the margin. ``Problem.step`` returns
 the damped step only, as mink does; at a control rate the steps are short.
 """
 
@@ -126,6 +126,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         self.pairs = np.empty((0, 2), dtype=int)
 
     def bind(self, robot: Robot, tolerance: float = 0.0) -> CollisionAvoidanceLimit:
+        """Prepare for ``robot`` (the base class's contract); returns self."""
         model = robot.model
         mover = _moving_ancestor(robot)
         if self.geom_pairs is None:
@@ -170,8 +171,10 @@ class CollisionAvoidanceLimit(InequalityLimit):
         return np.flatnonzero(~self._bounded | (gap < distmax))
 
     def distances(self, distmax: float = 1.0) -> np.ndarray:
-        """Signed distance of every pair at the robot's current state (capped at
-        ``distmax``); call ``robot.state.update(q)`` (or ``fk``) first."""
+        """Signed distance of every pair at the robot's current state.
+
+        Capped at ``distmax``; call ``robot.state.update(q)`` (or ``fk``) first.
+        """
         self._require_bound()
         data = self.robot.state.data
         out = np.full(len(self.pairs), distmax)
@@ -193,6 +196,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         return float(distances[i]), names
 
     def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
+        """``(G, h)`` at the current state, or None when inactive."""
         robot = self.robot
         model, data = robot.model, robot.state.data
         fromto, normal, jac1, jac2, row = (
@@ -231,8 +235,10 @@ class CollisionAvoidanceLimit(InequalityLimit):
         return G[:count].copy(), h[:count].copy()
 
     def admits(self) -> bool:
-        """No pair closer than ``minimum_distance`` at the current state, unless it was
-        already closer at the last linearisation and has not come closer still.
+        """Whether no pair is closer than ``minimum_distance`` at the current state.
+
+        No pair closer than ``minimum_distance`` at the current state, unless it was already closer
+        at the last linearisation and has not come closer still.
 
         A pair that was inside by no more than the tolerance (the slack an earlier step was
         allowed) is held to ``minimum_distance`` again, not to its own distance: else the
@@ -276,8 +282,11 @@ def _geom_name(model: mujoco.MjModel, geom: int) -> str:
 
 
 def _moving_ancestor(robot: Robot) -> np.ndarray:
-    """Per body: the nearest body (itself or an ancestor) with a joint of the robot, 0 if
-    none. Two bodies with the same one move as one rigid body under the robot's joints."""
+    """Per body.
+
+    The nearest body (itself or an ancestor) with a joint of the robot, 0 if none. Two bodies with
+    the same one move as one rigid body under the robot's joints.
+    """
     model = robot.model
     joint_body = set(int(model.jnt_bodyid[j]) for j in robot.joint_ids)
     mover = np.zeros(model.nbody, dtype=int)
@@ -304,12 +313,14 @@ def _apart_at_home(
 def _collidable_pairs(
     model: mujoco.MjModel, mover: np.ndarray, a: np.ndarray, b: np.ndarray
 ) -> list[tuple[int, int]]:
-    """The pairs ``(min, max)`` of geoms ``a[i]``, ``b[i]`` that the robot's joints can move
-    relative to each other (different moving ancestors) and that MuJoCo's own filters let
-    collide (``mj_collision``'s broad phase): contype/conaffinity, not the same weld, not a
-    parent and child weld unless the parent is the world (or ``filterparent`` is disabled),
-    not an ``<exclude>`` body pair. mink applies the first three, and drops the world's
-    children too."""
+    """The geom pairs the robot can move relative to each other and MuJoCo lets collide.
+
+    The pairs ``(min, max)`` of geoms ``a[i]``, ``b[i]`` that the robot's joints can move relative
+    to each other (different moving ancestors) and that MuJoCo's own filters let collide
+    (``mj_collision``'s broad phase): contype/conaffinity, not the same weld, not a parent and child
+    weld unless the parent is the world (or ``filterparent`` is disabled), not an ``<exclude>`` body
+    pair. mink applies the first three, and drops the world's children too.
+    """
     body = model.geom_bodyid
     body_a, body_b = body[a], body[b]
     keep = mover[body_a] != mover[body_b]

@@ -1,5 +1,6 @@
-r"""The configuration limit (mink's and pink's name), the joint position box: keep
-:math:`q + Δq` inside :math:`[q_{min}, q_{max}]`.
+r"""The configuration limit (mink's and pink's name), the joint position box.
+
+Keep :math:`q + Δq` inside :math:`[q_{min}, q_{max}]`.
 
 .. math::
 
@@ -16,7 +17,7 @@ does neither, and its steps overshoot by up to the solver tolerance (≈5e-5 rad
 
 **Full turns, for IK.** With ``periodic=True`` a revolute joint whose range spans a full
 turn or more (the UR arms' ±2π) gets no box: every angle has a representative in its range,
-so :meth:`Problem.solve <redik.Problem.solve>` turns it back into the range by a multiple
+so :func:`redik.solve_problem` turns it back into the range by a multiple
 of 2π after each step (:meth:`wrap`) — the same pose, and no stop against a bound that the
 pose does not need (as ``solve_pose``'s ``"dls"`` wraps such joints). This is for finding a
 configuration, not for motion: a real joint of ±2π range cannot jump a turn (cables), and a
@@ -68,6 +69,7 @@ class ConfigurationLimit(BoxLimit):
         self._range_lower = self._range_upper = np.empty(0)
 
     def bind(self, robot: Robot, tolerance: float = 0.0) -> ConfigurationLimit:
+        """Prepare for ``robot`` (the base class's contract); returns self."""
         span = robot.upper - robot.lower
         shrink = np.minimum(self.margin + tolerance, np.where(np.isfinite(span), span / 4, 0.0))
         self.lower = robot.lower + shrink
@@ -83,8 +85,11 @@ class ConfigurationLimit(BoxLimit):
         return super().bind(robot, tolerance)
 
     def wrap(self, q: np.ndarray) -> np.ndarray:
-        """``q`` with each turning joint moved by the multiple of 2π that brings it into its
-        (shrunk) range; ``q`` itself when none is outside."""
+        """``q`` with each turning joint brought into its range by multiples of 2π.
+
+        ``q`` with each turning joint moved by the multiple of 2π that brings it into its (shrunk)
+        range; ``q`` itself when none is outside.
+        """
         if not self.turning.any():
             return q
         robot = self.robot
@@ -101,11 +106,13 @@ class ConfigurationLimit(BoxLimit):
     def bounds_into(
         self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
     ) -> None:
+        """Intersect this box with ``[lower, upper]`` in place (:meth:`BoxLimit.bounds_into`)."""
         np.maximum(lower, self.lower - q, out=lower)
         np.minimum(upper, self.upper - q, out=upper)
 
     def set_bounds(
         self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
     ) -> None:
+        """Overwrite ``lower``, ``upper`` with this box."""
         np.subtract(self.lower, q, out=lower)
         np.subtract(self.upper, q, out=upper)

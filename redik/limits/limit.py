@@ -51,9 +51,9 @@ The slack level is damped (:data:`redik.qp.hierarchy.SLACK_DAMPING` ``ρ``, as
 Levenberg–Marquardt damps a least-squares step): one step removes the fraction
 :math:`σ^2/(σ^2 + ρ)` of a violation the free directions can remove with gain :math:`σ`
 (96 % at 0.5 m/rad, and a small :math:`σ` no longer calls for a huge step), and the
-iteration (``solve``, or a control loop) converges to the least violation itself.
+iteration (the driver, or a control loop) converges to the least violation itself.
 
-Iterative solves (:meth:`redik.Problem.solve`) shorten a step by
+Iterative solves (:func:`redik.solve_problem`) shorten a step by
 :meth:`InequalityLimit.admits` only for the limits no task outranks (hard, or ranked at or
 above the first level): a limit ranked below a task must let that task's steps through. A
 prioritised position box does not clip :math:`q + Δq`: the levels above it may move the
@@ -93,12 +93,17 @@ class Limit:
         return self
 
     def advance(self, dq: np.ndarray, dt: float | None) -> None:
-        """Called by :meth:`redik.Problem.step` with the step it returns; a limit with memory
-        (:class:`~redik.limits.acceleration_limit.AccelerationLimit`) records it."""
+        """Record the step :meth:`redik.Problem.step` returns (a limit with memory).
+
+        Called by :meth:`redik.Problem.step` with the step it returns; a limit with memory
+        (:class:`~redik.limits.acceleration_limit.AccelerationLimit`) records it.
+        """
 
     def reset(self, velocity: np.ndarray | None = None) -> None:
-        """Forget what earlier steps recorded (:meth:`advance`): the next step starts a new
-        motion with joint velocity ``velocity`` (``robot.dof``,; None: at rest).
+        """Forget what earlier steps recorded (:meth:`advance`).
+
+        The next step starts a new motion with joint velocity ``velocity`` (``robot.dof``,; None: at
+        rest).
 
         Called by :meth:`redik.Problem.reset`, which the loop drivers
         (:func:`redik.apps.sim.simulate`) call at the start of each run. A memoryless limit
@@ -130,10 +135,11 @@ class BoxLimit(Limit, abc.ABC):
 
     @staticmethod
     def positive_per_dof(spec, robot: Robot, name: str, owner: str) -> np.ndarray:
-        """A bound given as a scalar, one value per tangent coordinate, or a mapping from
-        joint name to value (joints not named: unbounded), as one value per tangent
-        coordinate of ``robot`` (a ball or free joint's value applies to each of its
-        coordinates), every one > 0.
+        """A per-coordinate bound from a scalar, an array or a mapping from joint name.
+
+        A bound given as a scalar, one value per tangent coordinate, or a mapping from joint name to
+        value (joints not named: unbounded), as one value per tangent coordinate of ``robot`` (a
+        ball or free joint's value applies to each of its coordinates), every one > 0.
 
         Raises:
             InvalidInput: a joint the robot does not move, a wrong shape, text or None, or a
@@ -179,10 +185,12 @@ class InequalityLimit(Limit, abc.ABC):
         """``(G, h)`` with ``G`` of shape (m, ``robot.dof``), or None when inactive."""
 
     def admits(self) -> bool:
-        """Whether the robot's current state (a trial ``q ⊕ αΔq``, after forward kinematics)
-        respects the limit itself, not only its linearisation at ``q``.
+        """Whether the current state respects the limit itself, not only its linearisation.
 
-        :meth:`redik.Problem.solve` shortens (backtracks) a step until every limit admits
+        Whether the robot's current state (a trial ``q ⊕ αΔq``, after forward kinematics) respects
+        the limit itself, not only its linearisation at ``q``.
+
+        :func:`redik.solve_problem` shortens (backtracks) a step until every limit admits
         it. Rows linear in ``Δq`` are exact (True); a limit linearised at ``q`` — a distance
         — checks the nonlinear quantity here.
         """

@@ -13,6 +13,7 @@ import numpy as np
 
 from redik.core.validate import positive
 from redik.limits.limit import InequalityLimit
+from redik.tasks.foreign import foreign_call
 
 
 class MinkLimit(InequalityLimit):
@@ -34,7 +35,9 @@ class MinkLimit(InequalityLimit):
         self._set_priority(priority)
 
     def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
-        constraint = self.limit.compute_qp_inequalities(state, self.dt if dt is None else dt)
+        """``(G, h)`` at the current state, or None when inactive."""
+        dt = self.dt if dt is None else dt
+        constraint = foreign_call(self.limit, "compute_qp_inequalities", state, dt)
         if constraint.G is None or constraint.h is None:
             return None
         G = np.atleast_2d(constraint.G)[:, self.robot.dof_indices]

@@ -29,6 +29,7 @@ class VelocityLimit(BoxLimit):
         self._set_priority(priority)
 
     def bind(self, robot: Robot, tolerance: float = 0.0) -> VelocityLimit:
+        """Prepare for ``robot`` (the base class's contract); returns self."""
         self.max_velocity = self.positive_per_dof(
             self._spec, robot, "max_velocity", "VelocityLimit"
         )
@@ -37,6 +38,7 @@ class VelocityLimit(BoxLimit):
     def bounds_into(
         self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
     ) -> None:
+        """Intersect this box with ``[lower, upper]`` in place (:meth:`BoxLimit.bounds_into`)."""
         if dt is None:
             raise InvalidInput("VelocityLimit needs the step duration: call problem.step(q, dt)")
         np.maximum(lower, -self.max_velocity * dt, out=lower)

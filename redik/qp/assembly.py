@@ -35,6 +35,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from redik.kinematics.robot import Robot
+from redik.tasks.foreign import foreign_call
 from redik.tasks.joint_space_task import JointSpaceTask
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import ResidualTask, Task
@@ -91,6 +92,10 @@ class LevelAssembly:
         self._diagonal = self.H.reshape(n * n)[:: n + 1]  # a view: H's diagonal
         self._joint_versions: list = []
         self._joint_ready = False
+        # The version of the joint-space sums H's diagonal was last filled from (-1: H was
+        # changed since, e.g. by a damping term, and must be refilled).
+        self._terms_version = 0
+        self._hessian_version = -1
         self._joint_hessian = np.full(n, damping)
         self._joint_factor = np.zeros(n)
         self._joint_offset = np.zeros(n)
@@ -104,13 +109,17 @@ class LevelAssembly:
         """Every task of the level."""
         return self.residual_tasks + self.joint_tasks + self.other_tasks
 
-    def _refresh_joint_terms(self) -> bool:
-        """Σ of the joint-space tasks' ``w²d²`` (+ damping), ``α w²d²`` and, on a flat
-        robot, ``α w²d² r`` (else each task's ``α w²d²``, kept for :meth:`_joint_gradient`);
-        True when they changed (a task's target or cost was set) since the last call."""
+    def _refresh_joint_terms(self) -> None:
+        """Re-sum the joint-space terms when a task's target, cost or gain changed.
+
+        The sums are the tasks' ``w²d²`` (+ damping), ``α w²d²`` and, on a flat robot,
+        ``α w²d² r`` (else each task's ``α w²d²``, kept for :meth:`_joint_gradient`); each
+        re-sum bumps the level's terms version, which :meth:`build` compares with the one
+        ``H`` was filled from.
+        """
         versions = [(id(task), task.version) for task in self.joint_tasks]
         if versions == self._joint_versions and self._joint_ready:
-            return False
+            return
         self._joint_hessian[:] = self.damping
         self._joint_factor[:] = 0.0
         self._joint_offset[:] = 0.0
@@ -125,7 +134,7 @@ class LevelAssembly:
                 self._joint_factors.append((task, factor))
         self._joint_versions = versions
         self._joint_ready = True
-        return True
+        self._terms_version += 1
 
     def build(self, state: KinematicState, configuration, columns: np.ndarray) -> None:
         """Fill ``H`` (regularised by ``damping``) and ``c`` at ``state``.
@@ -133,7 +142,7 @@ class LevelAssembly:
         ``configuration`` is the ``mink.Configuration`` mink tasks read (else None).
         """
         H, c = self.H, self.c
-        changed = self._refresh_joint_terms()
+        self._refresh_joint_terms()
         if self._blocks:
             for task, A, b in self._blocks:
                 task.weighted_residual_into(state, A, b)
@@ -145,17 +154,44 @@ class LevelAssembly:
             self._joint_gradient(state, c, fresh=False)
         else:
             # No residual rows: H is the diagonal alone, which does not depend on q —
-            # rebuilt only when a task changed (a posture level then costs two vector
-            # operations).
-            if changed or self.other_tasks:
+            # refilled only when the sums changed or H was (a posture level then costs two
+            # vector operations).
+            if self._hessian_version != self._terms_version or self.other_tasks:
                 H.fill(0.0)
                 self._diagonal += self._joint_hessian
+                self._hessian_version = self._terms_version
             self._joint_gradient(state, c, fresh=True)
         self._add_other_tasks(state, configuration, columns)
 
+    def add_to_diagonal(self, value: float) -> None:
+        """Add ``value`` to the diagonal of ``H`` until the next :meth:`build`.
+
+        Add ``value`` to the diagonal of ``H`` (a Levenberg–Marquardt term) until the next
+        :meth:`build`, which refills it.
+        """
+        self._diagonal += value
+        self._hessian_version = -1
+
+    def value(self, state: KinematicState, configuration) -> float:
+        """The value the level's tasks descend at ``state``.
+
+        The sum of their :meth:`~redik.tasks.task.Task.objective_value` (mink tasks: ``½‖cost ⊙
+        e‖²``).
+        """
+        total = 0.0
+        for task in self.tasks:
+            if isinstance(task, Task):
+                total += task.objective_value(state)
+            else:
+                total += mink_task_value(task, configuration)
+        return total
+
     def weighted_rows_into(self, state: KinematicState, A: np.ndarray, b: np.ndarray) -> None:
-        """The stacked weighted residual rows at ``state`` into ``A``, ``b`` (of the shapes
-        of :attr:`A`, :attr:`b`) rather than the level's own buffers."""
+        """Write the stacked weighted residual rows at ``state`` into ``A``, ``b``.
+
+        The stacked weighted residual rows at ``state`` into ``A``, ``b`` (of the shapes of
+        :attr:`A`, :attr:`b`) rather than the level's own buffers.
+        """
         start = 0
         for task, rows, _ in self._blocks:
             stop = start + rows.shape[0]
@@ -195,11 +231,22 @@ class LevelAssembly:
                 add_mink_objective(task, configuration, columns, H, c)
 
 
+def mink_task_value(task, configuration) -> float:
+    """``½‖cost ⊙ e‖²`` of a mink task at ``configuration`` (0 for a task without an error)."""
+    if not hasattr(task, "compute_error"):
+        return 0.0
+    error = foreign_call(task, "compute_error", configuration)
+    weighted = np.asarray(task.cost) * error
+    return 0.5 * float(weighted @ weighted)
+
+
 def add_mink_objective(task, configuration, columns: np.ndarray, H: np.ndarray, c: np.ndarray):
     """Add a mink task's objective, restricted to the chain's velocity ``columns``."""
-    residual = task.compute_qp_residual(configuration)
+    residual = None
+    if hasattr(task, "compute_qp_residual"):
+        residual = foreign_call(task, "compute_qp_residual", configuration)
     if residual is None:
-        H_task, c_task = task.compute_qp_objective(configuration)
+        H_task, c_task = foreign_call(task, "compute_qp_objective", configuration)
         H += H_task[np.ix_(columns, columns)]
         c += c_task[columns]
         return

@@ -132,9 +132,11 @@ class Backend(abc.ABC):
         """The minimiser ``x`` (a fresh array)."""
 
     def reset(self) -> None:  # noqa: B027 - a stateless back-end has nothing to override
-        """Forget the state kept from earlier QPs (a workspace, a warm start): the next
-        solve starts cold, as on a fresh instance, and returns bit for bit what that would
-        (:meth:`redik.Problem.reset`). A stateless back-end has nothing to forget."""
+        """Forget the state kept from earlier QPs (a workspace, a warm start).
+
+        The next solve starts cold, as on a fresh instance, and returns bit for bit what that would
+        (:meth:`redik.Problem.reset`). A stateless back-end has nothing to forget.
+        """
 
     def _error(self, reason: str, qp: QP) -> BackendError:
         return BackendError(f"QP back-end {self.name!r} failed ({reason}) on a QP with {qp.size()}")
@@ -171,6 +173,7 @@ class DaqpBackend(Backend):
         self._dims: tuple | None = None
 
     def solve(self, qp: QP) -> np.ndarray:
+        """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         n = qp.n
         if qp.C is None and qp.A is None:
             upper, lower = (qp.ub, qp.lb) if qp.lb is not None else (np.empty(0), np.empty(0))
@@ -217,6 +220,7 @@ class DaqpBackend(Backend):
         return self._checked(x, qp)
 
     def reset(self) -> None:
+        """Forget the state kept from earlier QPs: the next solve starts cold."""
         self._model = None
 
     def _check(self, exitflag: int, qp: QP, stage: str) -> None:
@@ -262,6 +266,7 @@ class ProxsuiteBackend(Backend):
         self.settings = {"eps_abs": eps_abs, "eps_rel": 0.0, **settings}
 
     def solve(self, qp: QP) -> np.ndarray:
+        """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         proxqp = self._proxqp
         box = qp.lb is not None
         dims = (qp.n, qp.n_eq, qp.n_rows, box)
@@ -305,6 +310,7 @@ class ProxsuiteBackend(Backend):
         return self._qp.results.info.status
 
     def reset(self) -> None:
+        """Forget the state kept from earlier QPs: the next solve starts cold."""
         self._qp = None
 
 
@@ -328,6 +334,7 @@ class QpsolversBackend(Backend):
         self.settings = {**QPSOLVERS_SETTINGS.get(solver, {}), **settings}
 
     def solve(self, qp: QP) -> np.ndarray:
+        """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         if self.solver in NATIVE_BOUNDS:
             G, h = qp.one_sided()
             problem = self._qpsolvers.Problem(qp.H, qp.c, G, h, qp.A, qp.b, qp.lb, qp.ub)
@@ -351,8 +358,10 @@ class QpsolversBackend(Backend):
 
 
 class CvxpyBackend(Backend):
-    """The QP as a cvxpy program (Diamond & Boyd 2016), solved by Clarabel unless
-    ``solver=`` names another."""
+    """The QP as a cvxpy program (Diamond & Boyd 2016).
+
+    Solved by Clarabel unless ``solver=`` names another.
+    """
 
     name = "cvxpy"
     tolerance = 1e-7
@@ -364,6 +373,7 @@ class CvxpyBackend(Backend):
         self.settings = {"solver": "CLARABEL", **QPSOLVERS_SETTINGS["clarabel"], **settings}
 
     def solve(self, qp: QP) -> np.ndarray:
+        """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         cp = self._cp
         x = cp.Variable(qp.n)
         H = 0.5 * (qp.H + qp.H.T)
@@ -409,6 +419,7 @@ class FallbackChain(Backend):
         self.last_used: str | None = None
 
     def solve(self, qp: QP) -> np.ndarray:
+        """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         failures: list[Exception] = []
         for backend in self.backends:
             try:
@@ -429,6 +440,7 @@ class FallbackChain(Backend):
         )
 
     def reset(self) -> None:
+        """Forget the state kept from earlier QPs: the next solve starts cold."""
         for backend in self.backends:
             backend.reset()
 
@@ -438,8 +450,10 @@ _NATIVE_MODULES = {"daqp": "daqp", "proxsuite": "proxsuite", "cvxpy": "cvxpy"}
 
 
 def available_backends() -> list[str]:
-    """Every name :func:`make_backend` accepts on this machine: the back-ends whose module
-    imports, and the solvers qpsolvers found."""
+    """Every name :func:`make_backend` accepts on this machine.
+
+    The back-ends whose module imports, and the solvers qpsolvers found.
+    """
     names = [name for name, module in _NATIVE_MODULES.items() if _importable(module)]
     try:
         import qpsolvers
@@ -459,8 +473,10 @@ def _importable(module: str) -> bool:
 
 
 def make_backend(spec: str | Sequence[str] | Backend, **settings) -> Backend:
-    """A fresh back-end from a name or a list of names (fallback chain); a :class:`Backend`
-    instance is returned as it is (it is the caller's, with its state).
+    """A fresh back-end from a name or a list of names (a fallback chain).
+
+    A fresh back-end from a name or a list of names (fallback chain); a :class:`Backend` instance is
+    returned as it is (it is the caller's, with its state).
 
     ``settings`` go to the solver (e.g. ``eps_abs`` for proxqp). Raises
     :class:`BackendError` for an unknown or uninstalled name.

@@ -32,9 +32,9 @@ so a lower level can never change a higher level's objective. Each level's Hessi
 arrives regularised, :math:`\tilde H_k = H_k + εI` (``damping``: it picks the smallest step
 among equals and keeps the Hessian definite for active-set solvers); as :math:`εI` shifts
 every eigenvalue alike, the null space is that of the undamped :math:`H_k` with the
-eigenvalues read as :math:`λ - ε`. The constraints of level :math:`k+1` are relaxed by the previous
-solution's own violation (at most the back-end tolerance) so that :math:`z = 0` stays
-feasible — so a lower level can always be solved; should its back-end still fail (a
+eigenvalues read as :math:`λ - ε`. The constraints of level :math:`k+1` are relaxed by the
+previous solution's own violation (at most the back-end tolerance) so that :math:`z = 0`
+stays feasible — so a lower level can always be solved; should its back-end still fail (a
 degenerate face confuses some), the level and those below it are skipped and counted.
 Levels after the freedom is used up are skipped.
 
@@ -55,27 +55,26 @@ directions :math:`N` are unchanged (an inequality fixes a polyhedron, not a subs
 levels above never saw the rows. Kanoun et al.'s inequality tasks, one QP each (rather
 than Escande et al.'s active-set HQP).
 
-**Cost.** A strict level should cost little more than a weighted one. When level 0 is a
-pure least-squares level (:math:`H_0 = A_0^\top A_0 + εI`, e.g. a pose task), its null
-space comes from one Householder QR of :math:`A_0^\top` (:func:`row_null_space`) instead
-of an eigendecomposition, and a level left with a single free direction (a 7-joint arm
-under a 6-D pose) is a one-variable QP, solved in closed form instead of by a back-end.
-Such a level 0 is also the worst-conditioned QP of the stack (:math:`H_0` is singular but
-for :math:`ε` along its null space), where a tolerance-based back-end (ProxQP, an interior
-point) spends the most iterations: when its damped least-squares minimiser violates no
-bound and no row, it is the QP's minimiser, found by one m × m Cholesky solve
-(:func:`least_squares_minimiser`) — exact, and no back-end call. Measured on the panda
-stack of ``redik bench qp`` (pose > (posture, limits)): the proxsuite two-level step went
-from 1.57× to 1.32× the one-level step (45 % of its level-0 QPs had no binding bound); an
-active-set back-end (daqp, quadprog) is as fast as the check and gets the QP directly.
+**Special structure.** When level 0 is a pure least-squares level
+(:math:`H_0 = A_0^\top A_0 + εI`, e.g. a pose task), its null space comes from one
+Householder QR of :math:`A_0^\top` (:func:`row_null_space`) instead of an
+eigendecomposition; on a back-end that is not active-set its minimiser, when no bound or
+row binds it, is the damped least-squares solution (:func:`least_squares_minimiser`), exact
+where such a back-end stops at its tolerance along the near-null directions of
+:math:`H_0`. A lower level left with a single free direction (a 7-joint arm under a 6-D
+pose) is a one-variable QP, solved in closed form (:func:`_solve_one_variable`).
 
-This is the priority API other drivers build on: any objective :math:`(H, c)` given as a
-level below the task levels (e.g. a null-space motion) is optimised without disturbing
-them.
+:func:`solve_lexicographic` runs the levels in these named steps: the ranked groups before
+level 0 (:func:`_rank_before_level0`), level 0 (:func:`_solve_level0`), its free
+directions (:func:`_level0_free_directions`), then per lower level the ranked groups just
+above it (:func:`_apply_ranked`) and the level itself (:func:`_solve_lower_level`). Any
+objective :math:`(H, c)` given as a level below the task levels (a null-space motion) is
+optimised this way without disturbing them.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Sequence
 
@@ -94,7 +93,6 @@ CURVATURE_MARGIN = 0.01
 """A second-order term is used only while the reduced model keeps this fraction of level 1's
 own reduced Hessian (a step at most 1/0.01 = 100 times level 1's own Newton step)."""
 
-
 SLACK_DAMPING = 1e-2
 """``ρ`` of a ranked inequality's slack level, ``½‖w‖² + ½ρ‖z‖²`` (row units² per unit² of
 ``Δq``: a radian of motion weighs as 0.1 m of violation): Levenberg–Marquardt damping of the
@@ -106,10 +104,73 @@ Levenberg–Marquardt the damping shapes the step, not the stationary points: a 
 which the slack level does not move (``z* = 0``) satisfies ``(GN)ᵀw = 0``, the first-order
 condition of the least violation itself."""
 
+ROW_GAIN_TOL = 1e-12
+"""A constraint row whose gain ``|a_i|`` along a lone free direction is at most this does not
+block that direction (:func:`_solve_one_variable`): it moves the row by round-off only (a
+self-motion direction has exact zeros on some joints, computed as ±1e-16), while a joint
+sitting on its bound would otherwise stop the whole motion at ``z = 0``."""
+
+Curvature = Callable[[np.ndarray], np.ndarray]
+"""``N ↦ NᵀMN``: a second-order term of level 1 in the coordinates of a basis ``N``."""
+
+Ranked = tuple[int, np.ndarray, np.ndarray, Backend]
+"""A ranked inequality group ``(k, G, h, backend)``: the rows ``G x ≤ h`` just before level
+``k``, solved by ``backend``."""
+
+
+@dataclasses.dataclass(slots=True)
+class Constraints:
+    """The hard constraints every level is solved under.
+
+    Bounds ``lb ≤ x ≤ ub`` and rows ``l ≤ C x ≤ u``, each pair None when absent.
+    """
+
+    lb: np.ndarray | None = None
+    ub: np.ndarray | None = None
+    C: np.ndarray | None = None
+    l: np.ndarray | None = None
+    u: np.ndarray | None = None
+
+    def with_rows(self, G: np.ndarray, bound: np.ndarray) -> Constraints:
+        """These constraints and the rows ``G x ≤ bound``."""
+        free = np.full(G.shape[0], -np.inf)
+        if self.C is None:
+            return dataclasses.replace(self, C=G, l=free, u=bound)
+        return dataclasses.replace(
+            self,
+            C=np.vstack([self.C, G]),
+            l=np.concatenate([self.l, free]),
+            u=np.concatenate([self.u, bound]),
+        )
+
+    def around(self, x: np.ndarray, N: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The constraints ``x + N z ∈ 𝒳`` as rows on ``z``: ``(rows, lower, upper)``.
+
+        They are relaxed by ``x``'s own violation so that ``z = 0`` stays feasible; ``rows``
+        is empty without constraints.
+        """
+        rows, lower, upper = [], [], []
+        if self.lb is not None:
+            rows.append(N)
+            lower.append(self.lb - x)
+            upper.append(self.ub - x)
+        if self.C is not None:
+            Cx = self.C @ x
+            rows.append(self.C @ N)
+            lower.append(self.l - Cx)
+            upper.append(self.u - Cx)
+        if not rows:
+            return np.empty((0, N.shape[1])), np.empty(0), np.empty(0)
+        lower_all = np.minimum(np.concatenate(lower), 0.0)
+        upper_all = np.maximum(np.concatenate(upper), 0.0)
+        return np.vstack(rows), lower_all, upper_all
+
 
 def free_directions(H: np.ndarray, c: np.ndarray, rank_tol: float, shift: float = 0.0):
-    """Orthonormal basis (n × r) of ``ker [H − shift·I; cᵀ]`` for symmetric ``H``:
-    :func:`kernel_directions` less the direction of ``c`` (:func:`without_gradient`)."""
+    """Orthonormal basis (n × r) of ``ker [H − shift·I; cᵀ]`` for symmetric ``H``.
+
+    :func:`kernel_directions` less the direction of ``c`` (:func:`without_gradient`).
+    """
     return without_gradient(kernel_directions(H, rank_tol, shift), c, rank_tol)
 
 
@@ -130,12 +191,12 @@ def kernel_directions(H: np.ndarray, rank_tol: float, shift: float = 0.0) -> np.
 
 
 def without_gradient(N: np.ndarray, c: np.ndarray, rank_tol: float) -> np.ndarray:
-    """The columns of ``N`` (orthonormal) less the direction along which the linear term
-    ``c`` still changes the objective: a basis of ``{N z : cᵀ N z = 0}``.
+    """A basis of ``{N z : cᵀ N z = 0}``: the columns of ``N`` less the direction of ``c``.
 
-    The reflection ``P = I − 2vvᵀ/vᵀv``, ``v = u − e₁`` (``u = Nᵀc/‖Nᵀc‖``) maps ``e₁`` to
-    ``u``, so its other columns span ``u⊥`` (Golub & Van Loan §5.1.2). ``N`` is returned as
-    it is when ``‖Nᵀc‖ ≤ rank_tol · max(‖c‖, 1)``.
+    ``N`` is orthonormal; the direction removed is the one along which the linear term ``c``
+    still changes the objective. The reflection ``P = I − 2vvᵀ/vᵀv``, ``v = u − e₁``
+    (``u = Nᵀc/‖Nᵀc‖``) maps ``e₁`` to ``u``, so its other columns span ``u⊥`` (Golub &
+    Van Loan §5.1.2). ``N`` is returned as it is when ``‖Nᵀc‖ ≤ rank_tol · max(‖c‖, 1)``.
     """
     if N.shape[1] == 0:
         return N
@@ -152,9 +213,9 @@ def without_gradient(N: np.ndarray, c: np.ndarray, rank_tol: float) -> np.ndarra
 
 
 def row_null_space(A: np.ndarray, rank_tol: float) -> np.ndarray | None:
-    """Orthonormal basis (n × (n − m)) of ``ker A`` for a wide ``A`` (m < n) of full row rank,
-    from one Householder QR of ``Aᵀ`` — cheaper than the eigendecomposition of ``AᵀA``.
+    """Orthonormal basis (n × (n − m)) of ``ker A`` for a wide ``A`` of full row rank.
 
+    One Householder QR of ``Aᵀ`` — cheaper than the eigendecomposition of ``AᵀA``.
     ``Aᵀ = Q R``: the last ``n − m`` columns of ``Q`` span ``range(Aᵀ)⊥ = ker A``
     (Golub & Van Loan §5.2). Returns None (use :func:`free_directions`) when ``A`` is not
     wide or LAPACK's estimate of ``R``'s reciprocal condition number is within a factor 10
@@ -195,16 +256,18 @@ def least_squares_minimiser(
     l: np.ndarray | None,
     u: np.ndarray | None,
 ) -> np.ndarray | None:
-    r"""The minimiser of :math:`\tfrac12\|Ax - b\|^2 + \tfrac{s}{2}\|x\|^2` (``A`` wide)
-    subject to the bounds and rows when none of them binds it, else None.
+    r"""The minimiser of a damped least-squares level when no bound or row binds it, else None.
+
+    The level is :math:`\tfrac12\|Ax - b\|^2 + \tfrac{s}{2}\|x\|^2` with ``A`` wide, subject
+    to the bounds ``lb ≤ x ≤ ub`` and the rows ``l ≤ C x ≤ u`` (None when absent).
 
     The unconstrained minimiser :math:`A^\top (AA^\top + sI)^{-1} b` (the push-through
     identity: an m × m Cholesky solve whose condition is that of :math:`AA^\top`, not the
     :math:`σ_{max}^2/s` of :math:`H = A^\top A + sI` along :math:`\ker A`) satisfies the
     KKT conditions with zero multipliers whenever it is feasible, and is then *the*
     minimiser (Nocedal & Wright §16.1): exact, without a back-end call. Feasible means
-    within the bounds and rows exactly. Used for tolerance-based back-ends, for which this
-    ill-conditioned level costs the most (:attr:`redik.qp.backends.Backend.active_set`).
+    within the bounds and rows exactly. Used for back-ends that are not active-set
+    (:attr:`redik.qp.backends.Backend.active_set`).
     """
     m, n = A.shape
     if m >= n:
@@ -227,22 +290,26 @@ def least_squares_minimiser(
 def _solve_one_variable(
     h: float, g: float, a: list, lower: list, upper: list, offset: list | None = None
 ) -> float:
-    """``argmin ½ h z² + g z`` s.t. ``min(l, 0) ≤ a z ≤ max(u, 0)`` with ``l = lower − offset``,
+    """The one-variable QP ``argmin ½ h z² + g z`` subject to relaxed rows, in closed form.
+
+    The rows are ``min(l, 0) ≤ a z ≤ max(u, 0)`` with ``l = lower − offset``,
     ``u = upper − offset`` (``offset`` default 0; h > 0; the relaxation keeps ``z = 0``
     feasible): the unconstrained minimiser ``−g/h``, pulled back to the first row it crosses
-    on its way from 0 — exact, no back-end needed. A plain loop over Python floats: at a
-    handful of rows it is several times faster than numpy's per-call overhead.
+    on its way from 0 — exact, no back-end needed. A row with ``|a_i| ≤`` :data:`ROW_GAIN_TOL`
+    holds for every ``z`` (it moves by round-off only). A plain loop over Python floats: at
+    a handful of rows it is several times faster than numpy's per-call overhead.
     """
     z = -g / h
     if offset is None:
         offset = [0.0] * len(a)
     for a_i, lower_i, upper_i, offset_i in zip(a, lower, upper, offset, strict=True):
+        if -ROW_GAIN_TOL <= a_i <= ROW_GAIN_TOL:
+            continue
         # The side of row i that z moves towards: a_i z grows when a_i and z share a sign.
-        # A row without z (a_i = 0) holds for every z: the relaxation keeps 0 inside it.
         if (a_i > 0.0) == (z > 0.0):
-            if a_i * z > upper_i - offset_i and a_i != 0.0:
+            if a_i * z > upper_i - offset_i:
                 z = max(upper_i - offset_i, 0.0) / a_i
-        elif a_i * z < lower_i - offset_i and a_i != 0.0:
+        elif a_i * z < lower_i - offset_i:
             z = min(lower_i - offset_i, 0.0) / a_i
     return z
 
@@ -252,11 +319,7 @@ def _least_violation(
     N: np.ndarray | None,
     G: np.ndarray,
     h: np.ndarray,
-    lb: np.ndarray | None,
-    ub: np.ndarray | None,
-    C: np.ndarray | None,
-    l: np.ndarray | None,
-    u: np.ndarray | None,
+    constraints: Constraints,
     backend: Backend,
     shift: float,
 ) -> np.ndarray:
@@ -264,44 +327,248 @@ def _least_violation(
 
     ``N`` None: the full space from ``x = 0`` with the constraints as given (before level
     0); else they are relaxed by ``x``'s own violation so that ``z = 0`` stays feasible, as
-    for a lower level."""
+    for a lower level.
+    """
     n = x.shape[0]
     r = n if N is None else N.shape[1]
     m = G.shape[0]
     H = np.zeros((r + m, r + m))
     H.flat[: r * (r + m) : r + m + 1] = max(shift, SLACK_DAMPING)
     H.flat[r * (r + m) + r :: r + m + 1] = 1.0  # ½‖w‖²
-    GN = G if N is None else G @ N
-    rows = [np.hstack([GN, -np.eye(m)])]
-    lower = [np.full(m, -np.inf)]
-    upper = [h - G @ x]
-    if lb is not None:
-        rows.append(np.hstack([np.eye(n) if N is None else N, np.zeros((n, m))]))
-        lower.append(lb - x)
-        upper.append(ub - x)
-    if C is not None:
-        rows.append(np.hstack([C if N is None else C @ N, np.zeros((C.shape[0], m))]))
-        Cx = C @ x
-        lower.append(l - Cx)
-        upper.append(u - Cx)
-    low, up = np.concatenate(lower), np.concatenate(upper)
-    if N is not None:
-        low[m:] = np.minimum(low[m:], 0.0)
-        up[m:] = np.maximum(up[m:], 0.0)
-    qp = QP(H, np.zeros(r + m), C=np.vstack(rows), l=low, u=up)
-    z = backend.solve(qp)[:r]
-    return x + (z if N is None else N @ z)
-
-
-def _with_rows(C, l, u, G, bound):
-    """``C, l, u`` with the rows ``G x ≤ bound`` appended."""
-    if C is None:
-        return G, np.full(G.shape[0], -np.inf), bound
-    return (
-        np.vstack([C, G]),
-        np.concatenate([l, np.full(G.shape[0], -np.inf)]),
-        (np.concatenate([u, bound])),
+    basis = np.eye(n) if N is None else N
+    rows, lower, upper = constraints.around(x, basis)
+    if N is None and rows.shape[0]:
+        # Before level 0 the constraints hold as given: no relaxation around x = 0.
+        lower, upper = _unrelaxed(constraints)
+    stacked = np.vstack(
+        [np.hstack([G @ basis, -np.eye(m)]), np.hstack([rows, np.zeros((rows.shape[0], m))])]
     )
+    low = np.concatenate([np.full(m, -np.inf), lower])
+    up = np.concatenate([h - G @ x, upper])
+    qp = QP(H, np.zeros(r + m), C=stacked, l=low, u=up)
+    z = backend.solve(qp)[:r]
+    return x + basis @ z
+
+
+def _unrelaxed(constraints: Constraints) -> tuple[np.ndarray, np.ndarray]:
+    """The bounds of :meth:`Constraints.around` at ``x = 0`` without the relaxation."""
+    lower, upper = [], []
+    if constraints.lb is not None:
+        lower.append(constraints.lb)
+        upper.append(constraints.ub)
+    if constraints.C is not None:
+        lower.append(constraints.l)
+        upper.append(constraints.u)
+    return np.concatenate(lower), np.concatenate(upper)
+
+
+def _skipped(stats: dict | None) -> None:
+    """Count a lower level whose back-end failed (its step is then zero)."""
+    if stats is not None:
+        stats["skipped_levels"] = stats.get("skipped_levels", 0) + 1
+
+
+def _rank_before_level0(
+    ranked: list[Ranked], constraints: Constraints, n: int, shift: float
+) -> Constraints:
+    """The constraints with the ranked groups placed before level 0 (popped from ``ranked``).
+
+    Each group is solved from ``x = 0`` and appended to the hard constraints, relaxed by its
+    least violation.
+    """
+    while ranked and ranked[0][0] == 0:
+        _, G, h, backend = ranked.pop(0)
+        point = _least_violation(np.zeros(n), None, G, h, constraints, backend, shift)
+        constraints = constraints.with_rows(G, np.maximum(G @ point, h))
+    return constraints
+
+
+def _solve_level0(
+    objective: tuple[np.ndarray, np.ndarray],
+    backend: Backend,
+    constraints: Constraints,
+    rows0: np.ndarray | None,
+    rhs0: np.ndarray | None,
+    shift: float,
+) -> np.ndarray:
+    """Level 0's minimiser.
+
+    The damped least-squares solution when no constraint binds it and the back-end is not
+    active-set (module docstring), else the back-end's.
+    """
+    x = None
+    c = constraints
+    if rows0 is not None and rhs0 is not None and not backend.active_set:
+        x = least_squares_minimiser(rows0, rhs0, shift, c.lb, c.ub, c.C, c.l, c.u)
+    if x is None:
+        H0, c0 = objective
+        x = backend.solve(QP(H0, c0, c.lb, c.ub, c.C, c.l, c.u))
+    return x
+
+
+def _level0_free_directions(
+    objective: tuple[np.ndarray, np.ndarray],
+    rows0: np.ndarray | None,
+    kernel0: np.ndarray | None,
+    rank_tol: float,
+    shift: float,
+) -> np.ndarray:
+    """Orthonormal basis of the directions level 0 leaves free.
+
+    ``kernel0`` (given), the QR of its rows (a least-squares level), or its Hessian's
+    eigendecomposition; less the direction of its gradient.
+    """
+    H0, c0 = objective
+    if kernel0 is not None:
+        return without_gradient(kernel0, c0, rank_tol)
+    N = None if rows0 is None else row_null_space(rows0, rank_tol)
+    return free_directions(H0, c0, rank_tol, shift) if N is None else N
+
+
+def _apply_ranked(
+    ranked: list[Ranked],
+    level: int,
+    x: np.ndarray,
+    N: np.ndarray,
+    constraints: Constraints,
+    shift: float,
+    stats: dict | None,
+) -> tuple[np.ndarray, Constraints, bool]:
+    """The ranked groups placed just before ``level`` (popped from ``ranked``).
+
+    Returns ``(x, the constraints with their rows, whether the hierarchy goes on)``; a group
+    whose back-end fails ends it there, counted as a skipped level.
+    """
+    while ranked and ranked[0][0] == level:
+        _, G, h, backend = ranked.pop(0)
+        try:
+            x = _least_violation(x, N, G, h, constraints, backend, shift)
+        except (BackendError, InfeasibleProblem):
+            _skipped(stats)
+            return x, constraints, False
+        constraints = constraints.with_rows(G, np.maximum(G @ x, h))
+    return x, constraints, True
+
+
+def _curved_model(
+    Hz: np.ndarray, cz: np.ndarray, M: np.ndarray, Nx: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The reduced model with the second-order term ``M``, when it stays convex enough.
+
+    ``Hz + M`` is used when it keeps :data:`CURVATURE_MARGIN` of ``Hz`` (positive definite),
+    else ``Hz`` alone; the model's gradient is taken at ``x`` (``Nx = Nᵀx``).
+    """
+    try:
+        np.linalg.cholesky(Hz + M - CURVATURE_MARGIN * Hz)
+    except np.linalg.LinAlgError:
+        return Hz, cz  # not convex enough in the free directions: level 1's own Hessian
+    return Hz + M, cz + M @ Nx
+
+
+def _one_direction_level(
+    H_k: np.ndarray,
+    c_k: np.ndarray,
+    x: np.ndarray,
+    v: np.ndarray,
+    constraints: Constraints,
+    curvature: Curvature | None,
+) -> tuple[float, float, float] | None:
+    """Level ``k`` along its one free direction ``v``, in closed form.
+
+    Returns ``(z, h, g)`` with ``x + z v`` its minimiser (:func:`_solve_one_variable`),
+    ``h = vᵀH_k v`` and ``g`` the model's slope at ``x``; None when ``h ≤ 0`` (the general
+    path decides).
+    """
+    Hv = H_k @ v
+    h = float(v @ Hv)
+    if h <= 0.0:
+        return None
+    h_model, m = h, 0.0
+    if curvature is not None:
+        m = float(curvature(v[:, None])[0, 0])
+        if h * (1.0 - CURVATURE_MARGIN) + m > 0.0:
+            h_model = h + m
+        else:
+            m = 0.0
+    # The model's gradient at x: level 0's x may carry a component along v (a
+    # tolerance-based back-end's, along its near-null directions).
+    g = float(x @ Hv) + float(c_k @ v) + m * float(v @ x)
+    a, lower, upper, offset = [], [], [], []
+    if constraints.lb is not None:
+        a += v.tolist()
+        lower += constraints.lb.tolist()
+        upper += constraints.ub.tolist()
+        offset += x.tolist()
+    if constraints.C is not None:
+        a += (constraints.C @ v).tolist()
+        lower += constraints.l.tolist()
+        upper += constraints.u.tolist()
+        offset += (constraints.C @ x).tolist()
+    return _solve_one_variable(h_model, g, a, lower, upper, offset), h, g
+
+
+def _reduced_level(
+    H_k: np.ndarray,
+    c_k: np.ndarray,
+    x: np.ndarray,
+    N: np.ndarray,
+    constraints: Constraints,
+    curvature: Curvature | None,
+    backend: Backend,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Level ``k`` in the coordinates ``z`` of ``x + N z``.
+
+    Returns ``(z, Hz, cz)``: ``Hz``, ``cz`` are the reduced level without the second-order
+    term, for the next free directions.
+
+    Raises:
+        BackendError, InfeasibleProblem: from the back-end.
+    """
+    HN = H_k @ N
+    Hz = N.T @ HN
+    cz = (x @ HN) + (c_k @ N)
+    qp = QP(Hz, cz)
+    if curvature is not None:
+        qp.H, qp.c = _curved_model(Hz, cz, curvature(N), N.T @ x)
+    rows, lower, upper = constraints.around(x, N)
+    if rows.shape[0]:
+        qp.C, qp.l, qp.u = rows, lower, upper
+    return backend.solve(qp), Hz, cz
+
+
+def _solve_lower_level(
+    objective: tuple[np.ndarray, np.ndarray],
+    backend: Backend,
+    x: np.ndarray,
+    N: np.ndarray,
+    constraints: Constraints,
+    curvature: Curvature | None,
+    rank_tol: float,
+    shift: float,
+    last: bool,
+) -> tuple[np.ndarray, np.ndarray | None] | None:
+    """One lower level within ``x + range(N)``.
+
+    Returns ``(x, N)`` after it (the point and the directions it leaves free; None for the
+    ``last`` level, whose are not needed), or None when its back-end failed (``z = 0`` is
+    feasible by construction, so the failure is the back-end's: a degenerate face confuses
+    some).
+    """
+    H_k, c_k = objective
+    if N.shape[1] == 1:
+        solved = _one_direction_level(H_k, c_k, x, N[:, 0], constraints, curvature)
+        if solved is not None:
+            z, h, g = solved
+            x = x + z * N[:, 0]
+            if last:
+                return x, None
+            return x, N @ free_directions(np.array([[h]]), np.array([g]), rank_tol, shift)
+    try:
+        z, Hz, cz = _reduced_level(H_k, c_k, x, N, constraints, curvature, backend)
+    except (BackendError, InfeasibleProblem):
+        return None
+    x = x + N @ z
+    return x, None if last else N @ free_directions(Hz, cz, rank_tol, shift)
 
 
 def solve_lexicographic(
@@ -317,17 +584,20 @@ def solve_lexicographic(
     stats: dict | None = None,
     rows0: np.ndarray | None = None,
     kernel0: np.ndarray | None = None,
-    curvature1: Callable[[np.ndarray], np.ndarray] | None = None,
+    curvature1: Curvature | None = None,
     rhs0: np.ndarray | None = None,
-    ranked: Sequence[tuple[int, np.ndarray, np.ndarray, Backend]] = (),
+    ranked: Sequence[Ranked] = (),
 ) -> np.ndarray:
     """Solve the levels ``objectives`` (highest first) lexicographically; returns ``x``.
 
     Args:
         objectives: ``(H_k + εI, c_k)`` per level, already regularised; not modified.
         backends: One back-end per level (they may keep per-level state).
-        lb, ub: Bounds on ``x`` (or None).
-        C, l, u: Rows ``l ≤ C x ≤ u`` (or None).
+        lb: Lower bounds on ``x`` (or None).
+        ub: Upper bounds on ``x`` (or None with ``lb``).
+        C: Rows ``l ≤ C x ≤ u`` (or None).
+        l: Lower bounds of the rows.
+        u: Upper bounds of the rows.
         damping: The ``ε`` the Hessians carry (discounted when finding null spaces): one
             value for every level, or one per level (e.g. a Levenberg–Marquardt term on
             level 0 only).
@@ -337,156 +607,57 @@ def solve_lexicographic(
         rows0: The stacked rows ``A₀`` when level 0 is a pure least-squares level,
             ``H₀ = A₀ᵀA₀ + εI``: its null space then comes from a QR of ``A₀ᵀ``
             (:func:`row_null_space`) rather than an eigendecomposition.
+        kernel0: An orthonormal basis of ``ker A₀`` (or of ``ker (H₀ − εI)``) the caller
+            already has; ``c₀``'s direction is still removed here.
+        curvature1: ``N ↦ NᵀMN``, the second-order term of level 1 in the coordinates of
+            the basis ``N`` of level 0's optimal set: added to level 1's reduced Hessian
+            when ``NᵀH₁N + NᵀMN − ρ NᵀH₁N`` (``ρ`` = :data:`CURVATURE_MARGIN`) is positive
+            definite, else ignored (the curvature of level 0's constraint weighted by level
+            1's multipliers: the Hessian of the Lagrangian of sequential quadratic
+            programming, :mod:`redik.qp.curvature`).
         rhs0: With ``rows0``, the right-hand side ``b₀`` of level 0 (``c₀ = −A₀ᵀb₀``): its
             minimiser, when no constraint binds it, is then the damped least-squares
             solution (:func:`least_squares_minimiser`) on a back-end that is not
             active-set.
-        kernel0: An orthonormal basis of ``ker A₀`` (or of ``ker (H₀ − εI)``) the caller
-            already has (:meth:`redik.Problem.solve` computes it once for its stationarity
-            test and this step); ``c₀``'s direction is still removed here.
-        curvature1: ``N ↦ NᵀMN``, the second-order term of level 1 in the coordinates of
-            the basis ``N`` of level 0's optimal set: added to level 1's reduced Hessian
-            when ``NᵀH₁N + NᵀMN − ρ NᵀH₁N`` (``ρ`` = :data:`CURVATURE_MARGIN`) is positive
-            definite, else ignored (see :meth:`redik.Problem.solve`: the curvature of level
-            0's constraint weighted by level 1's multipliers, the Hessian of the Lagrangian
-            of sequential quadratic programming).
         ranked: Ranked inequality groups ``(k, G, h, backend)``, in order: the rows
             ``G x ≤ h`` as a slack level just before level ``k`` (``k = len(objectives)``:
             after the last), solved by ``backend`` (module docstring). A group at 0 that the
             hard constraints leave no point for raises as level 0 does; a later group whose
             back-end fails ends the hierarchy there, counted as a skipped level.
 
+    Returns:
+        The step ``x``.
+
     Raises:
         InfeasibleProblem, BackendError: from the back-end of level 0.
     """
-    if isinstance(damping, int | float | np.number):
-        shifts = [damping] * len(objectives)
-    else:
-        shifts = list(damping)
-    H0, c0 = objectives[0]
+    shifts = [damping] * len(objectives) if np.isscalar(damping) else list(damping)
     ranked = list(ranked)
-    n = H0.shape[0]
-    while ranked and ranked[0][0] == 0:
-        _, G, h, backend = ranked.pop(0)
-        point = _least_violation(np.zeros(n), None, G, h, lb, ub, C, l, u, backend, shifts[0])
-        C, l, u = _with_rows(C, l, u, G, np.maximum(G @ point, h))
-    x = None
-    if rows0 is not None and rhs0 is not None and not backends[0].active_set:
-        x = least_squares_minimiser(rows0, rhs0, shifts[0], lb, ub, C, l, u)
-    if x is None:
-        x = backends[0].solve(QP(H0, c0, lb, ub, C, l, u))
+    n = objectives[0][1].shape[0]
+    constraints = _rank_before_level0(ranked, Constraints(lb, ub, C, l, u), n, shifts[0])
+    x = _solve_level0(objectives[0], backends[0], constraints, rows0, rhs0, shifts[0])
     if len(objectives) == 1 and not ranked:
         return x
-    if kernel0 is not None:
-        N = without_gradient(kernel0, c0, rank_tol)
-    else:
-        N = None if rows0 is None else row_null_space(rows0, rank_tol)
-        if N is None:
-            N = free_directions(H0, c0, rank_tol, shifts[0])
-    # The last level whose free directions are used: the last objective, or the level before
+    N = _level0_free_directions(objectives[0], rows0, kernel0, rank_tol, shifts[0])
+    # The last level whose free directions are needed: the last objective, or the one before
     # trailing ranked groups.
     last = len(objectives) - (0 if ranked and ranked[-1][0] == len(objectives) else 1)
-    for level, ((H_k, c_k), backend, shift) in enumerate(
-        zip(
-            [*objectives[1:], (None, None)],
-            [*backends[1:], None],
-            [*shifts[1:], shifts[-1]],
-            strict=True,
-        ),
-        start=1,
-    ):
+    for level in range(1, len(objectives) + 1):
+        shift = shifts[min(level, len(shifts) - 1)]
         if N.shape[1] == 0:
             break
-        while ranked and ranked[0][0] == level:
-            _, G, h, ranked_backend = ranked.pop(0)
-            try:
-                x = _least_violation(x, N, G, h, lb, ub, C, l, u, ranked_backend, shift)
-            except (BackendError, InfeasibleProblem):
-                if stats is not None:
-                    stats["skipped_levels"] = stats.get("skipped_levels", 0) + 1
-                return x
-            C, l, u = _with_rows(C, l, u, G, np.maximum(G @ x, h))
-        if H_k is None:
-            break  # after the trailing ranked groups
-        if N.shape[1] == 1:
-            # One free direction (a 7-joint arm under a 6-D pose): a one-variable QP, solved
-            # in closed form on Python floats.
-            v = N[:, 0]
-            Hv = H_k @ v
-            h = float(v @ Hv)
-            h_model, m = h, 0.0
-            if level == 1 and curvature1 is not None and h > 0.0:
-                m = float(curvature1(N)[0, 0])
-                if h * (1.0 - CURVATURE_MARGIN) + m > 0.0:
-                    h_model = h + m
-                else:
-                    m = 0.0
-            if h > 0.0:
-                # The model's gradient at x: level 0's x may carry a component along v (a
-                # tolerance-based back-end's, along its near-null directions).
-                g = float(x @ Hv) + float(c_k @ v) + m * float(v @ x)
-                if C is None and lb is None:
-                    z = -g / h_model
-                elif C is None:
-                    z = _solve_one_variable(
-                        h_model, g, v.tolist(), lb.tolist(), ub.tolist(), x.tolist()
-                    )
-                else:
-                    a, lower, upper, offset = [], [], [], []
-                    if lb is not None:
-                        a += v.tolist()
-                        lower += lb.tolist()
-                        upper += ub.tolist()
-                        offset += x.tolist()
-                    Cx = C @ x
-                    a += (C @ v).tolist()
-                    lower += l.tolist()
-                    upper += u.tolist()
-                    offset += Cx.tolist()
-                    z = _solve_one_variable(h_model, g, a, lower, upper, offset)
-                x = x + z * v
-                if level == last:
-                    break
-                N = N @ free_directions(np.array([[h]]), np.array([g]), rank_tol, shift)
-                continue
-        HN = H_k @ N
-        Hz = N.T @ HN
-        cz = (x @ HN) + (c_k @ N)
-        qp = QP(Hz, cz)
-        if level == 1 and curvature1 is not None:
-            M = curvature1(N)
-            try:
-                np.linalg.cholesky(Hz + M - CURVATURE_MARGIN * Hz)
-            except np.linalg.LinAlgError:
-                pass  # not convex enough in the free directions: level 1's own Hessian
-            else:
-                qp.H = Hz + M
-                qp.c = cz + M @ (N.T @ x)  # the model's gradient at x (as above)
-        rows, lower, upper = [], [], []
-        if lb is not None:
-            rows.append(N)
-            lower.append(lb - x)
-            upper.append(ub - x)
-        if C is not None:
-            rows.append(C @ N)
-            Cx = C @ x
-            lower.append(l - Cx)
-            upper.append(u - Cx)
-        if rows:
-            qp.C = np.vstack(rows)
-            # Keep z = 0 feasible despite the previous level's tolerance-sized violation.
-            qp.l = np.minimum(np.concatenate(lower), 0.0)
-            qp.u = np.maximum(np.concatenate(upper), 0.0)
-        try:
-            z = backend.solve(qp)
-        except (BackendError, InfeasibleProblem):
-            # z = 0 is feasible by construction, so a failure here is the back-end's (a
-            # degenerate face confuses some); keep the higher levels' step.
-            if stats is not None:
-                stats["skipped_levels"] = stats.get("skipped_levels", 0) + 1
+        x, constraints, going_on = _apply_ranked(ranked, level, x, N, constraints, shift, stats)
+        if not going_on or level == len(objectives):
             break
-        x = x + N @ z
-        if level == last:
-            break  # no level below: its free directions would go unused
-        N = N @ free_directions(Hz, cz, rank_tol, shift)
+        curvature = curvature1 if level == 1 else None
+        solved = _solve_lower_level(
+            objectives[level], backends[level], x, N, constraints, curvature, rank_tol, shift,
+            last=level == last,
+        )  # fmt: skip
+        if solved is None:
+            _skipped(stats)
+            break
+        x, N = solved
+        if N is None:
+            break
     return x

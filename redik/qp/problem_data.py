@@ -56,8 +56,11 @@ class QP:
         )
 
     def one_sided(self, bounds: bool = False) -> tuple[np.ndarray | None, np.ndarray | None]:
-        """``(G, h)`` of the rows ``l ≤ C x ≤ u`` (and of the bounds, if ``bounds``) as
-        ``G x ≤ h``, finite sides only."""
+        """``(G, h)``: the rows (and bounds) as one-sided rows ``G x ≤ h``.
+
+        ``(G, h)`` of the rows ``l ≤ C x ≤ u`` (and of the bounds, if ``bounds``) as ``G x ≤ h``,
+        finite sides only.
+        """
         blocks, sides = [], []
         if bounds and self.lb is not None:
             eye = np.eye(self.n)

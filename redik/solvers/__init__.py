@@ -6,7 +6,8 @@
 - :mod:`~redik.solvers.iterative`: root finding on a user function, ``solve_equations``
   (``newton_raphson``, ``gradient_descent``, ``gradient_then_newton``: the textbook
   iterations);
-- :mod:`~redik.solvers.problem`: the differential ``Problem`` (tasks and limits stacked into
+- :mod:`~redik.solvers.task_stack`: ``solve_problem``, the one driver that iterates a
+  :class:`redik.Problem` (tasks and limits stacked into
   per-step QPs, costs and strict priorities);
 - :mod:`~redik.solvers.analytic`: closed forms with every solution;
 - :mod:`~redik.solvers.batch`: many targets at once, compiled, on every core;

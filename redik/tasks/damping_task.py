@@ -29,6 +29,7 @@ class DampingTask(JointSpaceTask):
         super().__init__(cost, gain=0.0, priority=priority)
 
     def bind(self, robot: Robot) -> DampingTask:
+        """Prepare for ``robot`` (the base class's contract); returns self."""
         super().bind(robot)
         self.jacobian_diagonal = np.ones(robot.dof)
         # No reference (the gain is 0); a configuration, so that q ⊖ r is defined.
@@ -36,5 +37,6 @@ class DampingTask(JointSpaceTask):
         return self
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+        """Write the error into ``e`` and its Jacobian into ``J`` (module docstring)."""
         super().residual_into(state, e, J)
         e[:] = 0.0  # no reference to chase: the desired step is zero

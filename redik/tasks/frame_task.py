@@ -1,5 +1,6 @@
-r"""Regulate the full pose of a frame (mink's ``FrameTask``): :math:`e = \log(T^{-1} T_d)`,
-a body twist.
+r"""Regulate the full pose of a frame (mink's ``FrameTask``).
+
+:math:`e = \log(T^{-1} T_d)`, a body twist.
 
 .. math::
 
@@ -39,8 +40,11 @@ from redik.tasks.task import as_cost
 
 
 def as_target_pose(target, name: str = "target", *, strict: bool = False) -> np.ndarray:
-    """A 4 × 4 target pose from an array or anything with ``as_matrix()`` (``mink.SE3``),
-    under :mod:`~redik.core.rotation_policy`."""
+    """A 4 × 4 target pose from an array or anything with ``as_matrix()``.
+
+    A 4 × 4 target pose from an array or anything with ``as_matrix()`` (``mink.SE3``), under
+    :mod:`~redik.core.rotation_policy`.
+    """
     if hasattr(target, "as_matrix"):
         target = target.as_matrix()
     return as_pose(target, name=name, strict=strict).copy()
@@ -48,6 +52,8 @@ def as_target_pose(target, name: str = "target", *, strict: bool = False) -> np.
 
 _ONES = np.ones(6)
 _MINUS_ONES = -_ONES
+_NO_COLUMNS = np.empty((6, 0))
+"""A Jacobian without columns: :func:`pose_residual` then computes the error alone."""
 
 
 @numba.njit(cache=True)
@@ -87,8 +93,9 @@ def pose_residual(R, p, R_d, p_d, J_world, row_scale, error_scale, A, b):
 
 
 class FrameTask(SingleFrameTask):
-    """Drive a frame to a target pose ``T_d`` (4 × 4, world frame): mink's ``FrameTask``,
-    with mink's signature.
+    """Drive a frame to a target pose ``T_d`` (4 × 4, world frame).
+
+    Mink's ``FrameTask``, with mink's signature.
 
     Error ``log(T⁻¹ T_d)`` (a body twist) and its Jacobian are those of ``mink.FrameTask``
     (equal to 1e-12, ``tests/test_mink_interop.py``), so code written for mink reads the
@@ -159,9 +166,12 @@ class FrameTask(SingleFrameTask):
         self._p_d = self.target[:3, 3].copy()
 
     def set_target_from_configuration(self, configuration) -> None:
-        """mink's: the target is the frame's current pose in ``configuration`` (a
-        ``mink.Configuration``). A task bound to a robot reads it through the robot; an
-        unbound one needs ``frame_type`` (mink's lookup by name and type)."""
+        """The target is the frame's current pose in ``configuration`` (mink's setter).
+
+        mink's: the target is the frame's current pose in ``configuration`` (a
+        ``mink.Configuration``). A task bound to a robot reads it through the robot; an unbound one
+        needs ``frame_type`` (mink's lookup by name and type).
+        """
         if self.robot is None and self.frame_type is not None:
             if not hasattr(configuration, "get_transform_frame_to_world"):
                 raise InvalidInput(
@@ -176,7 +186,7 @@ class FrameTask(SingleFrameTask):
 
     @property
     def transform_target_to_world(self):
-        """mink's name of the target: a ``mink.SE3``, or None before one is set."""
+        """The target as a ``mink.SE3`` (mink's name), or None before one is set."""
         from mink import SE3  # redik tasks already depend on mink; imported where used
 
         return None if self.target is None else SE3.from_matrix(self.target)
@@ -188,13 +198,22 @@ class FrameTask(SingleFrameTask):
             self._scales_version = self.version
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+        """Write the error into ``e`` and its Jacobian into ``J`` (module docstring)."""
         if self.target is None:
             self._require_target()
         R, p = state.pose(self.frame)
         jacobian = state.jacobian(self.frame)
         pose_residual(R, p, self._R_d, self._p_d, jacobian, _MINUS_ONES, _ONES, J, e)
 
+    def error_into(self, state: KinematicState, e: np.ndarray) -> None:
+        """Write the error ``log(T⁻¹ T_d)`` alone into ``e`` (no Jacobian computed)."""
+        if self.target is None:
+            self._require_target()
+        R, p = state.pose(self.frame)
+        pose_residual(R, p, self._R_d, self._p_d, _NO_COLUMNS, _MINUS_ONES, _ONES, _NO_COLUMNS, e)
+
     def weighted_residual_into(self, state: KinematicState, A: np.ndarray, b: np.ndarray) -> None:
+        """Write ``A = W J`` and ``b = −α W e`` (the hot path)."""
         if self.target is None:
             self._require_target()
         self._refresh_scales()
@@ -204,8 +223,17 @@ class FrameTask(SingleFrameTask):
             R, p, self._R_d, self._p_d, jacobian, self._row_scale, self._error_scale, A, b
         )
 
-    def pose_errors(self, state: KinematicState) -> tuple[float, float]:
+    def pose_errors(self, state: KinematicState) -> tuple[float | None, float | None]:
+        """``(‖p_d − p‖, angle(Rᵀ R_d))`` at ``state``; None for a part of zero cost.
+
+        A task with ``orientation_cost=0`` (mink's way to ask for a position only) does not
+        wait for the orientation, and one with ``position_cost=0`` not for the position.
+        """
         if self.target is None:
             self._require_target()
         R, p = state.pose(self.frame)
-        return pose_error(self._R_d, self._p_d, R, p, self._scratch)
+        position, rotation = pose_error(self._R_d, self._p_d, R, p, self._scratch)
+        return (
+            position if self.cost[:3].any() else None,
+            rotation if self.cost[3:].any() else None,
+        )

@@ -47,6 +47,7 @@ class JointLimitAvoidanceTask(JointSpaceTask):
         self.scale = np.empty(0)
 
     def bind(self, robot: Robot) -> JointLimitAvoidanceTask:
+        """Prepare for ``robot`` (the base class's contract); returns self."""
         super().bind(robot)
         self.scale, middle = criteria.joint_limit_scaling(robot.lower, robot.upper)
         if robot.flat:

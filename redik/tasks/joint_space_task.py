@@ -47,11 +47,13 @@ class JointSpaceTask(ResidualTask):
         self.reference = np.empty(0)
 
     def bind(self, robot: Robot) -> JointSpaceTask:
+        """Prepare for ``robot`` (the base class's contract); returns self."""
         self._set_size(robot.dof)
         self._rows = np.arange(robot.dof)
         return super().bind(robot)
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+        """Write the error into ``e`` and its Jacobian into ``J`` (module docstring)."""
         if state.robot.flat:
             np.subtract(state.q, self.reference, out=e)
         else:

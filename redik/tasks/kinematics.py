@@ -80,6 +80,18 @@ class KinematicState:
             views = self._views[frame] = frame_pose_views(self.data, frame)
         return views
 
+    def point_jacobian(self, body: int, point: np.ndarray) -> np.ndarray:
+        """The world Jacobian (6 × ``n_columns``, fresh) of a point fixed to ``body``.
+
+        Rows ``ṗ`` then ``ω`` in world axes (``mj_jac``) at the world point ``point``.
+        """
+        mujoco.mj_jac(self.model, self.data, self._jacp, self._jacr, point, body)
+        J = np.empty((6, self.n_columns))
+        columns = slice(None) if self._full else self.robot.dof_indices
+        J[:3] = self._jacp[:, columns]
+        J[3:] = self._jacr[:, columns]
+        return J
+
     def jacobian(self, frame: Frame) -> np.ndarray:
         """The world Jacobian (6 × ``n_columns``) of ``frame``; do not modify it."""
         J = self._jacobians.get(frame)

@@ -55,6 +55,7 @@ class ManipulabilityTask(Task):
             raise InvalidInput(f"gain must be finite and >= 0, got {gain}")
 
     def bind(self, robot: Robot) -> ManipulabilityTask:
+        """Prepare for ``robot`` (the base class's contract); returns self."""
         if not robot.is_chain:
             raise InvalidInput(
                 f"ManipulabilityTask's gradient is that of a serial chain; {robot!r} is a "
@@ -74,7 +75,12 @@ class ManipulabilityTask(Task):
         J = state.jacobian(self.frame)[:, state.chain_columns]
         return criteria.manipulability(J), criteria.manipulability_gradient(J)
 
+    def objective_value(self, state: KinematicState) -> float:
+        """``−mean(w²) w(q)``: the manipulability the task ascends, as a value to descend."""
+        return -float(np.mean(self.cost**2)) * self.value_and_gradient(state)[0]
+
     def add_objective(self, state: KinematicState, H: np.ndarray, c: np.ndarray) -> None:
+        """Add ``H = W²`` and ``c = −α W² ∇w`` at ``state`` (module docstring)."""
         _, gradient = self.value_and_gradient(state)
         columns = state.chain_columns
         cost2 = self.cost**2

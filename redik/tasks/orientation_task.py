@@ -24,8 +24,11 @@ from redik.tasks.single_frame_task import SingleFrameTask
 
 
 def as_target_rotation(target, *, strict: bool = False) -> np.ndarray:
-    """A 3 × 3 rotation from a matrix, a unit quaternion ``(w, x, y, z)`` or ``mink.SO3``,
-    under :mod:`~redik.core.rotation_policy`."""
+    """A 3 × 3 rotation from a matrix, a unit quaternion or ``mink.SO3``.
+
+    A 3 × 3 rotation from a matrix, a unit quaternion ``(w, x, y, z)`` or ``mink.SO3``, under
+    :mod:`~redik.core.rotation_policy`.
+    """
     if hasattr(target, "as_matrix"):
         target = target.as_matrix()
     target = real_array(target, "target_rotation", InvalidRotation)
@@ -76,6 +79,7 @@ class OrientationTask(SingleFrameTask):
         )
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+        """Write the error into ``e`` and its Jacobian into ``J`` (module docstring)."""
         if self.target is None:
             self._require_target()
         R, _ = state.pose(self.frame)
@@ -86,6 +90,7 @@ class OrientationTask(SingleFrameTask):
         np.matmul(Jinv @ Rt, state.jacobian(self.frame)[3:], out=J)
 
     def pose_errors(self, state: KinematicState) -> tuple[None, float]:
+        """``(‖p_d − p‖, angle(Rᵀ R_d))`` at ``state``; None for what the task ignores."""
         if self.target is None:
             self._require_target()
         R, _ = state.pose(self.frame)

@@ -48,6 +48,7 @@ class PositionTask(SingleFrameTask):
         self.target = as_vector(target_position, 3, "target_position").copy()
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+        """Write the error into ``e`` and its Jacobian into ``J`` (module docstring)."""
         if self.target is None:
             self._require_target()
         _, p = state.pose(self.frame)
@@ -55,6 +56,7 @@ class PositionTask(SingleFrameTask):
         J[:] = state.jacobian(self.frame)[:3]
 
     def pose_errors(self, state: KinematicState) -> tuple[float, None]:
+        """``(‖p_d − p‖, angle(Rᵀ R_d))`` at ``state``; None for what the task ignores."""
         if self.target is None:
             self._require_target()
         _, p = state.pose(self.frame)

@@ -31,6 +31,7 @@ class PostureTask(JointSpaceTask):
         self._q_nominal_given = q_nominal
 
     def bind(self, robot: Robot) -> PostureTask:
+        """Prepare for ``robot`` (the base class's contract); returns self."""
         super().bind(robot)
         self.jacobian_diagonal = np.ones(robot.dof)
         if self._q_nominal_given is None:

@@ -1,5 +1,6 @@
-r"""The base class of the tasks on one frame's target: :class:`SingleFrameTask`, and the
-log-map Jacobians they share.
+r"""The base class of the tasks on one frame's target.
+
+:class:`SingleFrameTask`, and the log-map Jacobians they share.
 
 :class:`~redik.tasks.FrameTask`, :class:`~redik.tasks.PositionTask` and
 :class:`~redik.tasks.OrientationTask` regulate one frame (a site, body or geom, named as in
@@ -33,13 +34,15 @@ from redik.tasks.task import ResidualTask
 
 
 class SingleFrameTask(ResidualTask):
-    """Base class of the tasks that drive one frame to a target: :class:`~redik.tasks.FrameTask`,
-    :class:`~redik.tasks.PositionTask`, :class:`~redik.tasks.OrientationTask`.
+    """Base class of the tasks that drive one frame to a target.
+
+    :class:`~redik.tasks.FrameTask`, :class:`~redik.tasks.PositionTask`,
+    :class:`~redik.tasks.OrientationTask`.
 
     Not a task of its own: subclasses set the target and implement
     :meth:`~redik.tasks.task.ResidualTask.residual_into` and :meth:`pose_errors`. The base
     resolves the frame on bind, refuses to run without a target, and reports the frame's
-    pose errors (what :meth:`redik.Problem.solve` tests convergence on).
+    pose errors (what :func:`redik.solve_problem` tests convergence on).
 
     Attributes:
         frame_name: The site, body or geom name.
@@ -74,6 +77,7 @@ class SingleFrameTask(ResidualTask):
         self.target = None
 
     def bind(self, robot: Robot) -> SingleFrameTask:
+        """Prepare for ``robot`` (the base class's contract); returns self."""
         name = self.frame_name
         self.frame = robot.frame(name if self.frame_type is None else f"{self.frame_type}:{name}")
         return super().bind(robot)

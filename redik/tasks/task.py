@@ -55,8 +55,7 @@ is what priorities are for."""
 
 
 def as_cost(cost, size: int, name: str) -> np.ndarray:
-    """A finite cost in ``[0, MAX_COST]``, scalar or per component, as a (``size``,)
-    array."""
+    """A finite cost in ``[0, MAX_COST]``, scalar or per component, as a (``size``,) array."""
     array = np.atleast_1d(real_array(cost, name))
     if array.ndim != 1 or array.shape[0] not in (1, size):
         raise InvalidInput(f"{name} must be a scalar or have shape ({size},), got {array.shape}")
@@ -98,8 +97,9 @@ class Task(BaseTask):
         return self
 
     def reset(self, velocity: np.ndarray | None = None) -> None:
-        """Forget what earlier steps of a :class:`redik.Problem` left in the task: the next
-        step starts a new motion with joint velocity ``velocity`` (``robot.dof``,; None: at
+        """Forget what earlier steps of a :class:`redik.Problem` left in the task.
+
+        The next step starts a new motion with joint velocity ``velocity`` (``robot.dof``,; None: at
         rest).
 
         Called by :meth:`redik.Problem.reset` at the start of each run of a loop driver
@@ -124,8 +124,17 @@ class Task(BaseTask):
     def add_objective(self, state: KinematicState, H: np.ndarray, c: np.ndarray) -> None:
         """Add this task's ``(H, c)`` (``n × n``, ``n``) at ``state`` into ``H`` and ``c``."""
 
+    def objective_value(self, state: KinematicState) -> float:
+        """The value the task descends at ``state``, whose gradient its ``c`` follows.
+
+        A driver compares it between two configurations to accept a step on a lower level
+        (:func:`redik.solve_problem`). This default, 0, suits a task without one: its level
+        is then judged by its projected gradient alone.
+        """
+        return 0.0
+
     def compute_qp_objective(self, configuration) -> Objective:
-        """mink protocol: the pair ``(H, c)`` over the model's ``nv`` velocity columns."""
+        """The pair ``(H, c)`` over the model's ``nv`` velocity columns (mink's protocol)."""
         state = self._state(configuration)
         H = np.zeros((state.n_columns, state.n_columns))
         c = np.zeros(state.n_columns)
@@ -173,7 +182,7 @@ class ResidualTask(Task, MinkTask):
 
     @property
     def lm_damping(self) -> float:
-        """mink's Levenberg–Marquardt scale ``λ`` (read-only: see the class docstring)."""
+        """The Levenberg–Marquardt scale ``λ`` of mink (read-only: see the class docstring)."""
         return self._lm_damping
 
     @property
@@ -192,14 +201,24 @@ class ResidualTask(Task, MinkTask):
         self.version += 1
 
     def set_cost(self, cost) -> None:
-        """Replace the cost (scalar or per component). Use it rather than editing ``cost``
-        in place: cached products are refreshed through :attr:`version`."""
+        """Replace the cost (scalar or per component).
+
+        Use it rather than editing ``cost`` in place: cached products are refreshed through
+        :attr:`version`.
+        """
         self.cost[:] = as_cost(cost, self.k, f"{type(self).__name__} cost")
         self.version += 1
 
     @abc.abstractmethod
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
         """Write the error (``k``,) into ``e`` and its Jacobian (``k × n``) into ``J``."""
+
+    def error_into(self, state: KinematicState, e: np.ndarray) -> None:
+        """Write the error (``k``,) alone into ``e`` (a subclass skips the Jacobian if it can)."""
+        J = getattr(self, "_error_scratch", None)
+        if J is None or J.shape[1] != state.n_columns:
+            J = self._error_scratch = np.empty((self.k, state.n_columns))
+        self.residual_into(state, e, J)
 
     def weighted_residual_into(self, state: KinematicState, A: np.ndarray, b: np.ndarray) -> None:
         """Write ``A = W J`` and ``b = −α W e``, the rows of ``½‖A Δq − b‖²`` (hot path)."""
@@ -209,6 +228,7 @@ class ResidualTask(Task, MinkTask):
         b *= -self.gain
 
     def add_objective(self, state: KinematicState, H: np.ndarray, c: np.ndarray) -> None:
+        """Add this task's ``(H, c)`` at ``state`` into ``H`` and ``c``."""
         A = np.empty((self.k, state.n_columns))
         b = np.empty(self.k)
         self.weighted_residual_into(state, A, b)
@@ -216,6 +236,12 @@ class ResidualTask(Task, MinkTask):
         c -= A.T @ b
         if self._lm_damping > 0.0:
             H.flat[:: H.shape[0] + 1] += self._lm_damping * float(b @ b)
+
+    def objective_value(self, state: KinematicState) -> float:
+        """``½‖W e‖²`` at ``state``; the objective's gradient at ``Δq = 0`` is ``α`` times its."""
+        e, _ = self.error_and_jacobian(state)
+        weighted = self.cost * e
+        return 0.5 * float(weighted @ weighted)
 
     def error_and_jacobian(self, state: KinematicState) -> tuple[np.ndarray, np.ndarray]:
         """Fresh arrays ``(e, J)`` at ``state``."""
@@ -225,19 +251,23 @@ class ResidualTask(Task, MinkTask):
         return e, J
 
     def compute_error(self, configuration) -> np.ndarray:
-        """mink protocol: the error :math:`e(q)` at a ``mink.Configuration``."""
+        """The error :math:`e(q)` at a ``mink.Configuration`` (mink's protocol)."""
         return self.error_and_jacobian(self._state(configuration))[0]
 
     def compute_jacobian(self, configuration) -> np.ndarray:
-        """mink protocol: :math:`J(q)` over the model's ``nv`` velocity columns."""
+        """The Jacobian :math:`J(q)` over the model's ``nv`` columns (mink's protocol)."""
         return self.error_and_jacobian(self._state(configuration))[1]
 
     def compute_qp_objective(self, configuration) -> Objective:
+        """The pair ``(H, c)`` over the model's ``nv`` columns (mink's protocol)."""
         return Task.compute_qp_objective(self, configuration)
 
     def compute_qp_residual(self, configuration) -> tuple[np.ndarray, np.ndarray, float]:
-        """mink protocol: ``(W J, −α W e, μ)``, the weighted residual mink stacks and its
-        Levenberg–Marquardt term ``μ = λ ‖α W e‖²``."""
+        """The weighted residual mink stacks, ``(W J, −α W e, μ)`` (mink's protocol).
+
+        mink protocol: ``(W J, −α W e, μ)``, the weighted residual mink stacks and its
+        Levenberg–Marquardt term ``μ = λ ‖α W e‖²``.
+        """
         state = self._state(configuration)
         A = np.empty((self.k, state.n_columns))
         b = np.empty(self.k)

@@ -19,6 +19,18 @@ Part 1b times the same three tasks as one weighted level and as two strict level
 then posture and joint-limit avoidance), interleaved at the same ``q``: the price of strict
 priorities, as a ratio.
 
+Part 4 is the whole-body case: multi-frame pose targets (every frame's pose at a
+configuration drawn inside the limits) on the third-party humanoids and bimanual robots
+(G1, Talos, Baxter, PR2; example-robot-data, ``meshes=False``), solved from ``home`` by
+:func:`redik.solve_problem` (a :class:`~redik.tasks.FrameTask` per frame at priority 0, a
+posture at priority 1) and by mink's plain loop on the same targets (a ``mink.FrameTask``
+per frame, ``mink.ConfigurationLimit``, daqp, ``lm_damping=1``, ``damping=1e-3`` as mink's
+examples; ``integrate_inplace`` until every frame meets the tolerances or 500 iterations).
+Each model is reduced to the joints redik moves (the others deleted, held at 0) so that both
+solve on one ``MjModel``. Strict success (1e-6 m, 1e-5 rad, inside the limits) is checked by
+forward kinematics; times are medians and 95th percentiles over all targets, failures
+included, interleaved target by target.
+
 Part 3 is the latency of ``solve_pose(method="qp")`` with its defaults (restarts included)
 over ``--latency-targets`` random reachable targets per robot, from ``home`` and from
 random seeds: success, p50/p95/p99/max of the CPU time of the calling thread (on a
@@ -42,10 +54,11 @@ import numpy as np
 
 from redik import lie
 from redik.core.exceptions import BackendError, InfeasibleProblem
-from redik.kinematics.robot import load
+from redik.kinematics.robot import Robot, load
 from redik.limits import ConfigurationLimit
+from redik.qp import Problem
 from redik.qp.backends import QPSOLVERS_SETTINGS, available_backends
-from redik.solvers.problem import Problem
+from redik.solvers.task_stack import SolveOptions, solve_problem
 from redik.tasks import FrameTask, JointLimitAvoidanceTask, PostureTask
 
 MINK_SOLVER = {"daqp": "daqp", "proxsuite": "proxqp", "qpsolvers:daqp": "daqp", "cvxpy": None}
@@ -53,6 +66,7 @@ MINK_SOLVER = {"daqp": "daqp", "proxsuite": "proxqp", "qpsolvers:daqp": "daqp", 
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The benchmark's command-line options."""
     parser.add_argument("--robot", default="panda")
     parser.add_argument("--backends", nargs="+", default=None, help="default: all installed")
     parser.add_argument("--steps", type=int, default=400, help="timed steps per back-end")
@@ -65,6 +79,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--latency-robots", nargs="*", default=["panda", "iiwa14", "ur5e"])
     parser.add_argument("--latency-targets", type=int, default=200)
+    parser.add_argument("--multiframe-robots", nargs="*", default=list(WHOLE_BODIES))
+    parser.add_argument("--multiframe-targets", type=int, default=20)
 
 
 class _MinkStack:
@@ -146,8 +162,11 @@ def _time_steps(robot, backend: str, solver: str | None, args, targets) -> tuple
 
 
 def _time_priorities(robot, backend: str, args, targets) -> tuple[float, float]:
-    """Median step time of the same three tasks as one weighted level and as two strict
-    levels (pose, then posture + joint-limit avoidance), interleaved at the same ``q``."""
+    """Median step time of one weighted level and of two strict levels.
+
+    Median step time of the same three tasks as one weighted level and as two strict levels (pose,
+    then posture + joint-limit avoidance), interleaved at the same ``q``.
+    """
     one = _redik_problem(robot, args.cost, backend, strict=False)
     two = _redik_problem(robot, args.cost, backend, strict=True)
     times: tuple[list, list] = ([], [])
@@ -175,7 +194,8 @@ def _converge_redik(robot, backend, args, targets, strict: bool) -> dict:
     for T in targets:
         problem.tasks[0].set_target(T)
         start = time.perf_counter()
-        result = problem.solve(robot.home, args.pos_tol, args.rot_tol, args.max_iterations)
+        options = SolveOptions(args.pos_tol, args.rot_tol, args.max_iterations)
+        result = solve_problem(problem, robot.home, options)
         elapsed = time.perf_counter() - start
         results.append((result.success, result.iterations, elapsed))
         over = np.maximum(robot.lower - result.history, result.history - robot.upper)
@@ -276,18 +296,142 @@ def _load() -> str:
     return " ".join(f"{value:.2f}" for value in os.getloadavg())
 
 
+# Part 4: multi-frame targets on whole-body models
+
+WHOLE_BODIES = {
+    "g1": ("g1", True, "all", None,
+           ("left_rubber_hand", "right_rubber_hand", "left_ankle_roll_link",
+            "right_ankle_roll_link")),
+    "talos": ("talos_box", True, "all", ["gripper_*", "head_*"],
+              ("gripper_left_base_link", "gripper_right_base_link", "left_sole_link",
+               "right_sole_link")),
+    "baxter": ("baxter", False, ["left_[sew][0-9]", "right_[sew][0-9]"], None,
+               ("left_gripper", "right_gripper")),
+    "pr2": ("pr2", False,
+            ["torso_lift_joint", "[rl]_shoulder_*", "[rl]_upper_arm*", "[rl]_elbow*",
+             "[rl]_forearm_roll*", "[rl]_wrist_*"],
+            None, ("r_gripper_tool_frame", "l_gripper_tool_frame")),
+}  # fmt: skip
+"""Part 4's models: example-robot-data name, floating base, joints moved, joints held, and the
+frames given pose tasks (those ``tests/test_task_stack.py`` solves)."""
+
+MINK_ITERATIONS = 500
+"""The budget of mink's plain loop in part 4."""
+
+
+def _whole_body(key: str) -> tuple[Robot, tuple[str, ...]]:
+    """The reduced model of ``WHOLE_BODIES[key]``, its robot and its frames.
+
+    The joints redik does not move are deleted, so that mink moves the same ones; the robot
+    moves all of the rest.
+    """
+    from redik.models import example_robot_data
+    from redik.models.loading import compile_spec, load_spec
+
+    name, floating, joints, fixed, frames = WHOLE_BODIES[key]
+    path = example_robot_data(name)
+    full = Robot(compile_spec(load_spec(path, meshes=False, floating_base=floating)),
+                 joints=joints, fixed=fixed)  # fmt: skip
+    spec = load_spec(path, meshes=False, floating_base=floating)
+    for joint in [j for j in spec.joints if j.name not in set(full.joint_names)]:
+        spec.delete(joint)
+    for equality in list(spec.equalities):  # some name the joints just deleted
+        spec.delete(equality)
+    return Robot(compile_spec(spec), joints="all"), frames
+
+
+def _strict(robot: Robot, q: np.ndarray, goal: dict, args) -> bool:
+    """Every frame within the tolerances, ``q`` inside the limits (by forward kinematics)."""
+    if not robot.within_limits(q):
+        return False
+    for frame, T in goal.items():
+        p_err, r_err = lie.pose_errors(robot.fk(q, frame), T)
+        if p_err > args.pos_tol or r_err > args.rot_tol:
+            return False
+    return True
+
+
+def _redik_whole_body(robot: Robot, goal: dict, args) -> np.ndarray:
+    tasks = [FrameTask(frame, target=T) for frame, T in goal.items()]
+    options = SolveOptions(args.pos_tol, args.rot_tol)
+    problem = Problem(robot, [*tasks, PostureTask(priority=1)])
+    return solve_problem(problem, robot.home, options).q
+
+
+def _mink_kind(model, frame: str) -> str:
+    import mujoco
+
+    return "site" if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, frame) >= 0 else "body"
+
+
+def _mink_whole_body(robot: Robot, goal: dict, args) -> np.ndarray:
+    """The final ``q`` of mink's plain loop from home (module docstring)."""
+    model = robot.model
+    configuration = mink.Configuration(model, robot.full_qpos(robot.home))
+    tasks = []
+    for frame, T in goal.items():
+        task = mink.FrameTask(frame, _mink_kind(model, frame), 1.0, 1.0, lm_damping=1.0)
+        task.set_target(mink.SE3.from_matrix(T))
+        tasks.append(task)
+    limits = [mink.ConfigurationLimit(model)]
+    for _ in range(MINK_ITERATIONS):
+        q = robot.q_of(configuration.q)
+        if _strict(robot, q, goal, args):
+            break
+        try:
+            velocity = mink.solve_ik(configuration, tasks, 1.0, "daqp", 1e-3, limits=limits)
+        except mink.exceptions.NoSolutionFound:
+            break  # the loop has no answer to a failed QP
+        configuration.integrate_inplace(velocity, 1.0)
+    return robot.q_of(configuration.q)
+
+
+def _multiframe(key: str, args) -> dict:
+    """Success and time of both loops on the same targets, interleaved target by target."""
+    robot, frames = _whole_body(key)
+    rng = np.random.default_rng(args.seed)
+    goals = []
+    for _ in range(args.multiframe_targets):
+        q = robot.random_q(rng)
+        goals.append({frame: robot.fk(q, frame) for frame in frames})
+    runners = {"redik": _redik_whole_body, "mink": _mink_whole_body}
+    for run in runners.values():
+        run(robot, goals[0], args)  # warm-up: compilation, caches
+    rows = {name: ([], []) for name in runners}
+    for goal in goals:
+        for name, run in runners.items():
+            start = time.perf_counter()
+            q = run(robot, goal, args)
+            rows[name][1].append(time.perf_counter() - start)
+            rows[name][0].append(_strict(robot, q, goal, args))
+    return {
+        name: {
+            "success": float(np.mean(ok)),
+            "p50": float(np.median(seconds)) * 1e3,
+            "p95": float(np.percentile(seconds, 95)) * 1e3,
+        }
+        for name, (ok, seconds) in rows.items()
+    } | {"robot": robot, "frames": len(frames)}
+
+
 def run(args: argparse.Namespace) -> int:
+    """Run the four parts (module docstring)."""
     with warnings.catch_warnings():
         # qpsolvers warns on every dense-to-sparse conversion mink's calls make.
         warnings.simplefilter("ignore")
-        return _run(args)
+        robot = load(args.robot)
+        rng = np.random.default_rng(args.seed)
+        targets = [robot.fk(q) for q in robot.random_q(rng, size=args.targets)]
+        backends = args.backends or available_backends()
+        _print_steps(robot, backends, args, targets)
+        _print_priorities(robot, backends, args, targets)
+        _print_convergence(robot, args, targets)
+        _print_latency(args)
+        _print_multiframe(args)
+    return 0
 
 
-def _run(args: argparse.Namespace) -> int:
-    robot = load(args.robot)
-    rng = np.random.default_rng(args.seed)
-    targets = [robot.fk(q) for q in robot.random_q(rng, size=args.targets)]
-    backends = args.backends or available_backends()
+def _print_steps(robot, backends, args, targets) -> None:
     print(
         f"{robot!r}: per-step time, weighted stack (cost {args.cost}), medians, "
         f"load average {_load()}"
@@ -306,6 +450,8 @@ def _run(args: argparse.Namespace) -> int:
         else:
             print(f"{backend:<16}{'-':<13}{redik_us:>10.1f}{'-':>10}{'-':>8}")
 
+
+def _print_priorities(robot, backends, args, targets) -> None:
     print(
         f"\nstrict priorities: one weighted level vs pose > (posture, limits), medians, "
         f"load average {_load()}"
@@ -319,12 +465,14 @@ def _run(args: argparse.Namespace) -> int:
             continue
         print(f"{backend:<16}{one_us:>12.1f}{two_us:>13.1f}{two_us / one_us:>7.2f}x")
 
+
+def _print_convergence(robot, args, targets) -> None:
     print(
         f"\n{len(targets)} FK targets from home, pos_tol {args.pos_tol:g} m, rot_tol "
-        f"{args.rot_tol:g} rad, max_iterations {args.max_iterations}"
+        f"{args.rot_tol:g} rad, max_iterations {args.max_iterations} (redik: per attempt, "
+        f"restarts included)"
     )
-    header = f"{'loop':<34}{'success':>9}{'iters':>7}{'ms/solve':>10}{'overshoot':>11}"
-    print(header)
+    print(f"{'loop':<34}{'success':>9}{'iters':>7}{'ms/solve':>10}{'overshoot':>11}")
     for backend in args.converge_backends:
         solver = MINK_SOLVER.get(backend, backend)
         rows = [
@@ -332,31 +480,61 @@ def _run(args: argparse.Namespace) -> int:
             (f"redik {backend} (strict)", _converge_redik(robot, backend, args, targets, 1)),
         ]
         if solver:
-            mink_row = _converge_mink(robot, solver, args, targets)
-            rows.append((f"mink {solver} (weighted 1e-4)", mink_row))
+            rows.append(
+                (f"mink {solver} (weighted 1e-4)", _converge_mink(robot, solver, args, targets))
+            )
         for name, s in rows:
             print(
                 f"{name:<34}{s['success']:>8.1%}{s['iterations']:>7}{s['time_ms']:>10.2f}"
                 f"{s['overshoot']:>11.1e}"
             )
 
-    if args.latency_robots:
+
+def _print_latency(args) -> None:
+    if not args.latency_robots:
+        return
+    print(
+        f"\nsolve_pose(method='qp') latency, {args.latency_targets} random reachable "
+        f"targets per robot, defaults (restarts included), CPU time of the thread, "
+        f"load average {_load()}"
+    )
+    print(
+        f"{'robot':<9}{'seed':<8}{'success':>8}{'p50 ms':>8}{'p95 ms':>8}{'p99 ms':>8}"
+        f"{'max ms':>8}{'p99 it':>8}{'p99/step':>10}{'wall p99':>10}"
+    )
+    for name in args.latency_robots:
+        for row in _latency(load(name), args):
+            print(
+                f"{name:<9}{row['mode']:<8}{row['success']:>7.1%}{row['p50']:>8.2f}"
+                f"{row['p95']:>8.2f}{row['p99']:>8.2f}{row['max']:>8.2f}"
+                f"{row['iterations_p99']:>8.0f}{row['p99_steps']:>9.0f}x"
+                f"{row['wall_p99']:>10.2f}"
+            )
+
+
+def _print_multiframe(args) -> None:
+    if not args.multiframe_robots:
+        return
+    try:
+        import cmeel  # noqa: F401 - example-robot-data's models come with it
+    except ImportError:
+        print("\nmulti-frame targets: example-robot-data is not installed (redik[models])")
+        return
+    print(
+        f"\nmulti-frame targets from home, {args.multiframe_targets} per robot (strict: "
+        f"{args.pos_tol:g} m, {args.rot_tol:g} rad, inside the limits); redik.solve_problem "
+        f"vs mink's loop (lm_damping 1, damping 1e-3, {MINK_ITERATIONS} iterations); time "
+        f"over all targets; load average {_load()}"
+    )
+    print(
+        f"{'robot':<8}{'frames':>7}{'nq':>5}{'redik':>8}{'p50 ms':>9}{'p95 ms':>9}"
+        f"{'mink':>8}{'p50 ms':>9}{'p95 ms':>9}"
+    )
+    for key in args.multiframe_robots:
+        row = _multiframe(key, args)
+        redik_row, mink_row = row["redik"], row["mink"]
         print(
-            f"\nsolve_pose(method='qp') latency, {args.latency_targets} random reachable "
-            f"targets per robot, defaults (restarts included), CPU time of the thread, "
-            f"load average {_load()}"
+            f"{key:<8}{row['frames']:>7}{row['robot'].nq:>5}{redik_row['success']:>7.0%}"
+            f"{redik_row['p50']:>9.1f}{redik_row['p95']:>9.1f}{mink_row['success']:>7.0%}"
+            f"{mink_row['p50']:>9.1f}{mink_row['p95']:>9.1f}"
         )
-        print(
-            f"{'robot':<9}{'seed':<8}{'success':>8}{'p50 ms':>8}{'p95 ms':>8}{'p99 ms':>8}"
-            f"{'max ms':>8}{'p99 it':>8}{'p99/step':>10}{'wall p99':>10}"
-        )
-        for name in args.latency_robots:
-            latency_robot = load(name)
-            for row in _latency(latency_robot, args):
-                print(
-                    f"{name:<9}{row['mode']:<8}{row['success']:>7.1%}{row['p50']:>8.2f}"
-                    f"{row['p95']:>8.2f}{row['p99']:>8.2f}{row['max']:>8.2f}"
-                    f"{row['iterations_p99']:>8.0f}{row['p99_steps']:>9.0f}x"
-                    f"{row['wall_p99']:>10.2f}"
-                )
-    return 0

@@ -5,6 +5,12 @@ Targets come from ``--targets FILE.npz`` (array ``T``, ``B × 4 × 4``, and opti
 solutions go to ``--out FILE.npz``: ``T``, ``q``, ``success``, ``position_error``,
 ``rotation_error``, ``iterations``, ``restarts``, ``status`` (codes) and ``statuses`` (the
 names of the codes), plus ``q_sampled`` with ``--random``.
+
+With ``--checkpoint DIR`` every finished chunk is written to ``DIR`` as it arrives; the same
+command run again after a crash (or a kill) reads those chunks back instead of solving them,
+and writes the same ``--out`` an uninterrupted run would have. ``DIR`` belongs to one batch:
+another batch (other targets, options, robot or redik version) is refused, naming what
+differs. See :mod:`redik.solvers.batch.checkpoint`.
 """
 
 from __future__ import annotations
@@ -20,6 +26,7 @@ from redik.apps.cli._model import add_model_arguments, load_chain
 from redik.apps.progress import progress_bar, wanted
 from redik.core.exceptions import InvalidInput
 from redik.solvers.batch import BATCH_STATUSES, ENGINES, Chain, forward_kinematics, solve_batch
+from redik.solvers.batch.checkpoint import finished_chunks
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -48,6 +55,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--rot-tol", type=float, default=1e-5, help="radians")
     parser.add_argument("--restarts", type=int, default=defaults["restarts"].default)
     parser.add_argument("--chunk-size", type=int, default=None, help="default: automatic")
+    parser.add_argument(
+        "--checkpoint",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="write finished chunks to DIR; run the same command again to resume",
+    )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
@@ -69,6 +83,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         T, q0 = _read_targets(args.targets)
 
+    if args.checkpoint is not None and (resumed := finished_chunks(args.checkpoint)):
+        print(f"resuming from {args.checkpoint}: {resumed} finished chunks are read, not solved")
     bar = progress_bar(total=len(T), desc="batch IK", unit="pose", enabled=wanted(args.quiet))
     start = time.perf_counter()
     with bar:
@@ -85,6 +101,7 @@ def run(args: argparse.Namespace) -> int:
             address=args.address,
             chunk_size=args.chunk_size,
             progress=bar.update,
+            checkpoint=args.checkpoint,
         )
     elapsed = time.perf_counter() - start
 

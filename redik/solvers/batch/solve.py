@@ -24,6 +24,7 @@ rot_tol`` and ``q`` within the limits, checked by a fresh FK of the returned ``q
 from __future__ import annotations
 
 import dataclasses
+import os
 from collections.abc import Callable
 
 import numba
@@ -39,6 +40,7 @@ from redik.kinematics.chain import Chain
 from redik.kinematics.compiled import valid_targets
 from redik.kinematics.dls import BatchOptions
 from redik.kinematics.robot import Robot
+from redik.solvers.batch.checkpoint import Checkpoint, batch_fingerprint
 from redik.solvers.batch.engines import ENGINES, Engine, as_engine
 
 BATCH_STATUSES = (
@@ -250,6 +252,7 @@ def solve_batch(
     max_iterations: int = 60,
     progress: Callable[[int], None] | None = None,
     strict: bool = False,
+    checkpoint: str | os.PathLike | None = None,
 ) -> BatchResult:
     """Solve ``B`` pose targets at once; strict success per target (see the module docstring).
 
@@ -270,8 +273,13 @@ def solve_batch(
             ``"process"`` (a pool of single-threaded processes, started on first use and
             kept until exit) or ``"ray"``; see :mod:`redik.solvers.batch.engines`.
         workers: Threads, processes or Ray CPUs of a named engine; default every core.
-        address: Ray cluster address of a named engine (``"ray"``); default a local Ray
-            instance.
+        address: Ray cluster address of a named engine (``"ray"``), ``"HEAD_IP:PORT"`` of a
+            cluster started with ``ray start --head``; default a local Ray instance. A cluster
+            with token authentication (Ray 2.60 asks joining nodes for one) needs
+            ``RAY_AUTH_MODE=token`` and its token, from ``ray get-auth-token --generate`` on
+            the head, in ``RAY_AUTH_TOKEN`` in the environment of every ``ray start
+            --address`` and of this process before Ray is imported
+            (:mod:`~redik.solvers.batch.engines` gives the commands).
         chunk_size: Targets per chunk, the unit of work (and of memory) of every engine;
             default a quarter of the batch within :data:`CHUNK_SIZE_RANGE`. Results do not
             depend on it.
@@ -279,6 +287,12 @@ def solve_batch(
         progress: Called with the number of targets in each finished chunk.
         strict: Report near-rotation targets as ``"invalid"`` instead of projecting them
             onto SO(3) with a warning (:mod:`~redik.core.rotation_policy`).
+        checkpoint: A directory where each finished chunk is written as it arrives
+            (:mod:`~redik.solvers.batch.checkpoint`). Called again with the same arguments
+            after a crash, ``solve_batch`` reads the chunks found there instead of solving
+            them again (``progress`` is called for them first) and returns the result an
+            uninterrupted run would have. Engine, workers and address may change between
+            runs; anything else that changes the results may not.
 
     Returns:
         A :class:`BatchResult` with one row per target.
@@ -286,6 +300,10 @@ def solve_batch(
     Raises:
         InvalidInput: ``T_targets`` is not ``B × 4 × 4``, a bad ``q0``, method, engine or
             tolerance, a closed engine, or ``workers``/``address`` beside an ``Engine``.
+        CheckpointMismatch: ``checkpoint`` holds the checkpoint of another batch (the message
+            names what differs: targets, seeds, robot, options, seed or redik version).
+        BackendError: Ray cannot be imported or reached, or a chunk's worker died more often
+            than the engine retries it (:class:`~redik.solvers.batch.engines.Engine`).
     """
     if not isinstance(method, str) or method not in METHODS:
         raise InvalidInput(f"method must be one of {METHODS}, got {method!r}")
@@ -306,28 +324,63 @@ def solve_batch(
     seeds = check_seeds(chain, q0, size)
     if chunk_size is None:
         chunk_size = int(np.clip(-(-size // 4), *CHUNK_SIZE_RANGE))
-    starts = range(0, max(size, 1), chunk_size)  # an empty batch is one empty chunk
     root = np.random.SeedSequence(seed)
     key = int(root.generate_state(1, np.uint64)[0])
-    chunks = (
-        (T[start : start + chunk_size], seeds[start : start + chunk_size], start)
-        for start in starts
-    )
+    store = None
+    if checkpoint is not None:
+        settings = dataclasses.asdict(options) | {
+            "method": method,
+            "chunk_size": chunk_size,
+            "seed": seed,
+        }
+        store = Checkpoint.open(checkpoint, batch_fingerprint(chain, T, seeds, settings), key)
+        key = store.key
     parallel = runner.kind == "local"
     threads = numba.get_num_threads()
     if parallel:
         numba.set_num_threads(min(runner.workers, numba.config.NUMBA_NUM_THREADS))
     try:
         with numba.parallel_chunksize(1):  # hand out blocks of targets as threads free up
-            parts = runner.map(
-                _solve_chunk_task,
-                (chain, options, key, parallel),
-                chunks,
-                on_result=None if progress is None else lambda part: progress(len(part)),
+            parts = _solve_chunks(
+                runner, (chain, options, key, parallel), T, seeds, chunk_size, store, progress
             )
     finally:
         numba.set_num_threads(threads)
     return BatchResult.concatenate(parts)
+
+
+def _solve_chunks(
+    runner: Engine,
+    shared: tuple[Chain, BatchOptions, int, bool],
+    T: np.ndarray,
+    seeds: np.ndarray,
+    chunk_size: int,
+    store: Checkpoint | None,
+    progress: Callable[[int], None] | None,
+) -> list[BatchResult]:
+    """The results of every chunk in order.
+
+    Each is read from ``store``, or solved on ``runner`` and then written to ``store``.
+    """
+    starts = range(0, max(len(T), 1), chunk_size)  # an empty batch is one empty chunk
+    parts = {} if store is None else {i: BatchResult(**a) for i, a in store.finished().items()}
+    todo = [start for start in starts if start not in parts]
+    arriving = iter(todo)  # map reports results in chunk order
+
+    def finished(part: BatchResult) -> None:
+        first = next(arriving)
+        if store is not None:
+            store.save(first, {f.name: getattr(part, f.name) for f in dataclasses.fields(part)})
+        parts[first] = part
+        if progress is not None:
+            progress(len(part))
+
+    if progress is not None:
+        for part in parts.values():
+            progress(len(part))
+    chunks = ((T[i : i + chunk_size], seeds[i : i + chunk_size], i) for i in todo)
+    runner.map(_solve_chunk_task, shared, chunks, on_result=finished)
+    return [parts[start] for start in starts]
 
 
 def _solve_chunk_task(

@@ -67,7 +67,8 @@ Methods
         the compiled kernel of :mod:`redik.kinematics.dls` — the same code as
         :func:`redik.solvers.batch.solve_batch` — on the robot's chain compiled once per frame.
     ``"qp"``
-        Dispatched to :func:`redik.solvers.pose.qp.solve_pose_qp` (the QP core).
+        The task-stack driver :func:`redik.solve_problem` on a one-task
+        :class:`redik.Problem` (:func:`redik.solvers.pose.qp.solve_pose_qp`).
 
 Error
     ``"transpose"``, ``"hybrid"`` and ``"dls"`` drive the world-frame error

@@ -4,7 +4,7 @@ One :class:`PoseCache` per robot, in its :func:`~redik.solvers.cache.solver_cach
 dies with the robot, and two robots never share one): per frame its
 :class:`~redik.solvers.pose.frame.PoseFrame` and, once ``"dls"`` has run, its compiled
 :class:`~redik.solvers.pose.dls.DLSSolver`; on a whole-model robot, the chain to each frame;
-the :class:`~redik.solvers.problem.Problem` of ``"qp"`` per frame and settings
+the :class:`~redik.qp.problem.Problem` of ``"qp"`` per frame and settings
 (:func:`redik.solvers.pose.qp.solve_pose_qp`). Threads solving on one robot share the cache:
 each entry is built once, under the cache's lock, and read without one (what ``"dls"``
 needs; ``"qp"`` writes the robot's ``MjData`` and its problems are not shared safely).
@@ -50,8 +50,6 @@ class PoseCache:
         self.chains: dict[Frame, tuple[Robot, np.ndarray]] = {}
         self.qp_problems: dict[tuple, object] = {}
         """``"qp"``'s problems, by (frame argument, respect_limits, damping, gain)."""
-        self.qp_chains: dict[Frame, tuple | None] = {}
-        """``"qp"``'s compiled chains for restart seeds, by frame (None: whole model)."""
         self._lock = threading.RLock()  # around every build-and-insert
         # Views of what the kept state is built from (module docstring): the model's
         # geometry and, in contiguous runs, the held entries of robot.state.data.qpos.
