@@ -79,6 +79,8 @@ def test_the_lower_level_ends_at_the_constrained_optimum(panda, rng):
         result = solve_problem(problem, q0)
         early = solve_problem(problem, q0, SolveOptions(stationarity_tol=None))
         assert result.status == "converged" and result.stationary
+        np.testing.assert_array_equal(result.history[-1], result.q)  # the path ends at q
+        assert result.error_history.shape == (result.history.shape[0],)
         assert early.success and not early.stationary and early.stationarity == []
         assert problem.stationarity(early.q)[0] > 1e-6
 

@@ -77,7 +77,7 @@ FEASIBILITY_TOL = 1e-9
 accepts."""
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclasses.dataclass(slots=True)
 class Measurement:
     """Level 0 at one configuration (:meth:`Problem.measure`).
 

@@ -65,6 +65,7 @@ FULL_TURN = [(-np.pi, np.pi)] * 6
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The benchmark's options on ``redik bench analytic``'s parser."""
     parser.add_argument("--n", type=int, default=300, help="poses per scene (default 300)")
     parser.add_argument("--batch", type=int, default=2000, help="targets batched (default 2000)")
     parser.add_argument("--repeats", type=int, default=3, help="repeats (default 3)")
@@ -76,10 +77,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="seed of the arms and targets")
     parser.add_argument("--clock", choices=sorted(CLOCKS), default="wall", help="wall or cpu")
     parser.add_argument("--no-dls", action="store_true", help="skip the iterative reference")
-    parser.add_argument("--tables", nargs="+", type=int, default=[1, 2, 3, 4], help="which")
+    parser.add_argument(
+        "--tables", nargs="+", type=int, default=[1, 2, 3, 4], help="the tables to print (1-4)"
+    )
 
 
 def run(args: argparse.Namespace) -> int:
+    """Print the tables of the module docstring that ``--tables`` names; returns 0."""
     clock = CLOCKS[args.clock]
     print(f"redik bench analytic ({args.clock} clock); {load_average('load')}")
     try:
@@ -158,16 +162,22 @@ _SHADOW_FIRST_FINGER = """
 
 
 def shadow_first_finger() -> Robot:
-    """The wrist and first finger of MuJoCo Menagerie's right Shadow hand as one 6R chain
+    """The Shadow hand's wrist and first finger as one 6R chain.
+
+    The wrist and first finger of MuJoCo Menagerie's right Shadow hand as one 6R chain
     (WRJ2, WRJ1, FFJ4, FFJ3, FFJ2, FFJ1; body poses and axes from ``shadow_hand/
-    right_hand.xml``, ranges opened to a full turn): axes 3∩4 and 4∥5∥6."""
+    right_hand.xml``, ranges opened to a full turn): axes 3∩4 and 4∥5∥6.
+    """
     return Robot.from_xml_string(_SHADOW_FIRST_FINGER, name="shadow_first_finger")
 
 
 def two_special_arms(seed: int = 12) -> list[tuple[str, Robot]]:
-    """Random DH arms with two special consecutive pairs (``a_k = 0``: axes k+1, k+2 meet;
+    """Random DH arms with two special consecutive axis pairs.
+
+    Random DH arms with two special consecutive pairs (``a_k = 0``: axes k+1, k+2 meet;
     ``α_k = 0``: parallel), one per combination of two of the first five links and of the
-    kind of each: 40 arms, named like ``"1∩2 & 5∥6"``."""
+    kind of each: 40 arms, named like ``"1∩2 & 5∥6"``.
+    """
     rng = np.random.default_rng(seed)
     arms = []
     for j, k in itertools.combinations(range(5), 2):
@@ -189,9 +199,12 @@ def two_special_arms(seed: int = 12) -> list[tuple[str, Robot]]:
 
 
 def random_arm(kind: str, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-    """``(h, p)`` of a random arm of an IK-Geo class, as ik-geo's setups make them: unit axes
+    """A random arm of an IK-Geo class, as ik-geo's own setups make one.
+
+    ``(h, p)`` of a random arm of an IK-Geo class, as ik-geo's setups make them: unit axes
     ``h`` (6, 3) and offsets ``p`` (7, 3) uniform in [−1, 1]³ (axis i through
-    ``p_0 + … + p_{i−1}``)."""
+    ``p_0 + … + p_{i−1}``).
+    """
     h = rng.normal(size=(6, 3))
     h /= np.linalg.norm(h, axis=1)[:, None]
     p = rng.uniform(-1.0, 1.0, (7, 3))
@@ -218,11 +231,14 @@ def robot_of(h: np.ndarray, p: np.ndarray, name: str = "ik_geo_arm") -> Robot:
 
 
 def ik_geo_arm(robot: Robot, kind: str, ik_geo: Any) -> Callable[[np.ndarray], list]:
-    """ik-geo's solver of class ``kind`` for the robot's screw chain: ``T -> [(q, least
+    """ik-geo's solver of a class, for the robot's screw chain.
+
+    ik-geo's solver of class ``kind`` for the robot's screw chain: ``T -> [(q, least
     squares), …]``. IK-Geo writes the chain as offsets between points of consecutive axes and
     reads intersections from zero offsets, so a point where two consecutive axes meet is used
     for both; its chain ends with the identity rotation at q = 0 and takes the target's
-    rotation as a list of columns."""
+    rotation as a list of columns.
+    """
     chain = Chain.from_screws(*screws_of(robot))
     points = chain.a.copy()
     for i in range(5):
@@ -251,8 +267,11 @@ def multistart(robot: Robot, T: np.ndarray, seed: int) -> np.ndarray:
 
 
 def compare_roots(found: np.ndarray, numeric: np.ndarray, tol: float = 1e-5) -> tuple[int, int]:
-    """``(missing, extra)``: multistart roots not in ``found``, and roots of ``found`` the
-    multistart did not reach."""
+    """How a root set and a multistart's differ.
+
+    ``(missing, extra)``: multistart roots not in ``found``, and roots of ``found`` the
+    multistart did not reach.
+    """
     missing = sum(min((distance(x, s) for s in found), default=np.inf) > tol for x in numeric)
     extra = sum(min((distance(s, x) for x in numeric), default=np.inf) > tol for s in found)
     return int(missing), int(extra)
@@ -268,8 +287,11 @@ def interleaved(
     repeats: int,
     clock: Callable[[], float],
 ) -> dict[str, float]:
-    """Median µs of each call over every target and repeat, the calls in rotating order on
-    each target (whichever runs first pays for bringing the target into cache)."""
+    """Median µs of each call, interleaved on the same targets.
+
+    Median µs of each call over every target and repeat, the calls in rotating order on
+    each target (whichever runs first pays for bringing the target into cache).
+    """
     names = list(calls)
     samples: dict[str, list[float]] = {name: [] for name in names}
     for repeat in range(repeats):

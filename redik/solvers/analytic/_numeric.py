@@ -67,8 +67,11 @@ ARRAY = Numeric(
 
 
 def pose_entries(T: np.ndarray) -> tuple[Any, Numeric]:
-    """The entries ``M[i][j]`` of a validated 4×4 pose (floats) or (B, 4, 4) stack ((B,)
-    arrays), with the :class:`Numeric` that goes with them."""
+    """The entries of one pose or a stack, with their arithmetic.
+
+    The entries ``M[i][j]`` of a validated 4×4 pose (floats) or (B, 4, 4) stack ((B,)
+    arrays), with the :class:`Numeric` that goes with them.
+    """
     if T.ndim == 2:
         return T.tolist(), SCALAR
     return T.transpose(1, 2, 0), ARRAY

@@ -54,8 +54,11 @@ def is_prismatic(G, i):
 
 @numba.njit(**COMPILE)
 def target_of(T, G):
-    """The target as the kernels read it: ``(z0, z1, z2, p)``, the rows of
-    :math:`Z = R R_M^\\top = R_1 ⋯ R_6` and the position."""
+    r"""The target as the kernels read it.
+
+    Returns ``(z0, z1, z2, p)``: the rows of :math:`Z = R R_M^\top = R_1 ⋯ R_6` and the
+    position.
+    """
     m0, m1, m2 = row(G, TIP_ROTATION), row(G, TIP_ROTATION + 1), row(G, TIP_ROTATION + 2)
     r0, r1, r2 = (
         (T[0, 0], T[0, 1], T[0, 2]),
@@ -101,9 +104,12 @@ def fk_error(G, slot, T):
 
 @numba.njit(**COMPILE)
 def wrap(angle):
-    """``angle`` wrapped to (−π, π], equal bit for bit to :func:`redik.lie.wrap_angle`: within
+    """An angle wrapped to (−π, π].
+
+    ``angle`` wrapped to (−π, π], equal bit for bit to :func:`redik.lie.wrap_angle`: within
     a few turns (every kernel angle) by exact shifts of 2π, which is what ``fmod`` then one
-    shift give there, and beyond by that algorithm itself."""
+    shift give there, and beyond by that algorithm itself.
+    """
     if -math.pi < angle <= math.pi:
         return angle
     two_pi = 2.0 * math.pi
@@ -144,7 +150,9 @@ def _times_rotation(R, k, c, s):
 
 @numba.njit(**COMPILE)
 def axes_at(G, slot, axes, points):
-    """The world axes and a point on each at a slot row: fills ``axes`` and ``points`` (6, 3)
+    """The world axes and a point on each at a slot row.
+
+    The world axes and a point on each at a slot row: fills ``axes`` and ``points`` (6, 3)
     and returns ``(R, p)``, the rows of :math:`R_1 ⋯ R_6` and the tip point.
 
     The point of axis i is where ``a_i`` is carried by the joints before it (for a prismatic
@@ -208,9 +216,12 @@ def _pivot_to(A, col):
 
 @numba.njit(**COMPILE)
 def eliminate(A, x):
-    """Solve the 6 × 7 augmented system ``A`` (destroyed) into ``x`` by Gaussian elimination
+    """Solve a 6 × 7 augmented system by Gaussian elimination.
+
+    Solve the 6 × 7 augmented system ``A`` (destroyed) into ``x`` by Gaussian elimination
     with partial pivoting; a pivot below :data:`PIVOT_TOL` of the largest entry (a singular
-    direction) takes no step. Returns the product of the pivots (``det`` up to sign)."""
+    direction) takes no step. Returns the product of the pivots (``det`` up to sign).
+    """
     largest = np.abs(A[:, :6]).max()
     determinant = 1.0
     for col in range(6):
@@ -232,9 +243,12 @@ def eliminate(A, x):
 
 @numba.njit(**COMPILE)
 def _damped_step(A, fixed, x):
-    r"""The Levenberg–Marquardt step :math:`(J^\top J + λ^2 I)\,Δq = J^\top e` of the
+    r"""One damped least-squares (Levenberg–Marquardt) step.
+
+    The Levenberg–Marquardt step :math:`(J^\top J + λ^2 I)\,Δq = J^\top e` of the
     augmented ``A = [J | e]`` into ``x`` (column ``fixed`` of J zeroed first, unless −1),
-    ``λ`` = :data:`DAMPING` times the largest column norm of J."""
+    ``λ`` = :data:`DAMPING` times the largest column norm of J.
+    """
     if fixed >= 0:
         for r in range(6):
             A[r, fixed] = 0.0
@@ -298,7 +312,9 @@ def newton(G, slot, T, fixed, steps, stop):
 
 @numba.njit(**COMPILE)
 def hadamard_ratio(G, slot, length):
-    r"""How far a slot row is from a singularity: :math:`|\det J| / \prod_i ‖J_i‖ \in [0, 1]`
+    r"""How far a slot row is from a singularity, in [0, 1].
+
+    How far a slot row is from a singularity: :math:`|\det J| / \prod_i ‖J_i‖ \in [0, 1]`
     (Hadamard's inequality), with the Jacobian's linear rows divided by ``length`` (m) so
     that every column is of order 1. It is 0 exactly at a singular configuration and, near a
     simple singularity, proportional to the smallest singular value.

@@ -58,6 +58,7 @@ class AngleConvention:
 
     @property
     def n_joints(self) -> int:
+        """The number of joints."""
         return len(self.symbols)
 
     def from_joints(self, q: np.ndarray) -> np.ndarray:
@@ -73,8 +74,11 @@ class AngleConvention:
     def limits_to_joints(
         self, limits: tuple[np.ndarray, np.ndarray] | None
     ) -> tuple[np.ndarray, np.ndarray] | None:
-        """``(lower, upper)`` given in the convention, as DH joint limits (a flipped sign
-        swaps the bounds)."""
+        """Limits given in the convention, as DH joint limits.
+
+        ``(lower, upper)`` given in the convention, as DH joint limits (a flipped sign
+        swaps the bounds).
+        """
         if limits is None:
             return None
         if len(limits) != 2:
@@ -132,9 +136,12 @@ def solve_in(
     n_joints: int,
     solve: Callable[[tuple[np.ndarray, np.ndarray] | None], IKSolutions],
 ) -> IKSolutions:
-    """``solve(joint_limits)`` in the convention named ``convention`` among a solver's (None:
+    """Solve in the DH angles and map the result into a convention.
+
+    ``solve(joint_limits)`` in the convention named ``convention`` among a solver's (None:
     its DH angles): resolve it, check the ``limits`` (given in it) and convert them to DH joint
-    limits, solve, and map the solutions back into it."""
+    limits, solve, and map the solutions back into it.
+    """
     if convention not in conventions:
         raise InvalidInput(
             f"{solver} convention must be one of {sorted(conventions)}, got {convention!r}"

@@ -62,10 +62,13 @@ _TWO_PI = 2.0 * math.pi
 
 @numba.njit(**COMPILE)
 def begin(T, plan):
-    """``(valid, target, G, tol, fix_joint, fix_value)``: whether ``T`` is a 4 × 4 finite rigid
+    """Read a plan and check the target.
+
+    ``(valid, target, G, tol, fix_joint, fix_value)``: whether ``T`` is a 4 × 4 finite rigid
     transform to use as it is (:func:`redik.kinematics.compiled.valid_target` at the rotation
     policy's tolerance), the target the chain is solved for (``T⁻¹`` for a chain run
-    backwards), the geometry, the subproblems' tolerance and the chain's fixed joint."""
+    backwards), the geometry, the subproblems' tolerance and the chain's fixed joint.
+    """
     G = plan[:GEOMETRY_SIZE].reshape(19, 3)
     fix_joint, reverse = int(plan[FIX_JOINT]), plan[REVERSE] != 0.0
     if fix_joint >= 0 and reverse:
@@ -85,8 +88,11 @@ def labelled(plan):
 
 @numba.njit(**COMPILE)
 def verify(target, G, plan, q, status, free, stage):
-    """Empty every slot whose FK misses ``target`` by more than the plan's ``verify``
-    tolerance (stage 4), after polishing the slots within reach (module docstring)."""
+    """Verify every slot by forward kinematics, polishing the near ones.
+
+    Empty every slot whose FK misses ``target`` by more than the plan's ``verify``
+    tolerance (stage 4), after polishing the slots within reach (module docstring).
+    """
     for slot in range(q.shape[0]):
         if status[slot] == EMPTY:
             continue
@@ -99,8 +105,11 @@ def verify(target, G, plan, q, status, free, stage):
 
 @numba.njit(**COMPILE)
 def shift_into(value, lower, upper, tol):
-    """An angle moved by the smallest multiple of 2π into ``[lower, upper]``, and whether
-    there is one (a value outside by at most ``tol`` is clipped onto the limit)."""
+    """Move an angle by whole turns into its limits.
+
+    An angle moved by the smallest multiple of 2π into ``[lower, upper]``, and whether
+    there is one (a value outside by at most ``tol`` is clipped onto the limit).
+    """
     if lower <= value <= upper:
         return value, True
     # The turns k with lower ≤ q + 2πk ≤ upper run from ceil((lower − q)/2π) to
@@ -139,9 +148,12 @@ def _place(values, revolute, lower, upper, tol):
 
 @numba.njit(**COMPILE)
 def select_rows(q, revolute, lower, upper, dedupe, tol):
-    """The selection rule on a (k, n) ``q`` in place: each row wrapped and shifted into the
+    """The selection rule on rows of joint values.
+
+    The selection rule on a (k, n) ``q`` in place: each row wrapped and shifted into the
     limits, and, when ``dedupe``, dropped if equal to an earlier kept row. Returns which rows
-    are kept."""
+    are kept.
+    """
     keep = np.zeros(q.shape[0], np.bool_)
     for r in range(q.shape[0]):
         if not _place(q[r], revolute, lower, upper, tol):
@@ -157,8 +169,11 @@ def select_rows(q, revolute, lower, upper, dedupe, tol):
 
 @numba.njit(**COMPILE)
 def _robot_row(plan, q, status, free, stage, codes, slot, out, r):
-    """Write slot ``slot`` into row ``r`` of ``out`` in the robot's joint order (the joint
-    values only when ``out`` has 6 columns)."""
+    """Write one slot as a result row.
+
+    Write slot ``slot`` into row ``r`` of ``out`` in the robot's joint order (the joint
+    values only when ``out`` has 6 columns).
+    """
     reverse = plan[REVERSE] != 0.0
     for j in range(6):
         out[r, Q + j] = q[slot, 5 - j if reverse else j]
@@ -183,10 +198,13 @@ def _revolute(G, plan):
 
 @numba.njit(**COMPILE)
 def select(G, plan, q, status, free, stage, codes):
-    """The entry's result (module docstring): the non-empty slots moved into the limits,
+    """The entry's result rows.
+
+    The entry's result (module docstring): the non-empty slots moved into the limits,
     without duplicates, in label order; with ``keep_all`` every slot in slot order, wrapped
     only (for a family member or the reason of an empty result). Without labels and
-    ``keep_all``, the joint values alone: (k, 6)."""
+    ``keep_all``, the joint values alone: (k, 6).
+    """
     keep_all = plan[KEEP_ALL] != 0.0
     out = np.empty((q.shape[0], WIDTH if keep_all or labelled(plan) else 6))
     revolute = _revolute(G, plan)
@@ -235,8 +253,11 @@ def invalid():
 
 @numba.njit(**COMPILE)
 def scatter(out, b, q, valid, singular):
-    """Write an entry's rows for target ``b`` of a batch into ``q`` (B, S, 6), ``valid`` and
-    ``singular`` (B, S) at their label codes (the first row of a code wins)."""
+    """Write one target's rows into a batch.
+
+    Write an entry's rows for target ``b`` of a batch into ``q`` (B, S, 6), ``valid`` and
+    ``singular`` (B, S) at their label codes (the first row of a code wins).
+    """
     for r in range(out.shape[0]):
         code = int(out[r, LABEL]) % SINGULAR_CODE
         if valid[b, code]:

@@ -74,9 +74,12 @@ class Chain:
 
     @classmethod
     def from_screws(cls, S: np.ndarray, M: np.ndarray) -> Chain:
-        """From space screws ``S`` (6 × 6, columns (ω, v), Modern Robotics order): the axis is
+        """The chain of space screws.
+
+        From space screws ``S`` (6 × 6, columns (ω, v), Modern Robotics order): the axis is
         ω and its point nearest the origin ω × v (v = −ω × a); a prismatic joint (ω = 0)
-        slides along v through the origin (any point would do)."""
+        slides along v through the origin (any point would do).
+        """
         S = np.asarray(S, dtype=float)
         prismatic = np.linalg.norm(S[:3], axis=0) < 0.5
         h = np.where(prismatic[:, None], S[3:].T, S[:3].T)
@@ -84,9 +87,12 @@ class Chain:
         return cls(h, a, np.asarray(M, dtype=float), prismatic)
 
     def reversed(self) -> Chain:
-        r"""The chain run backwards: :math:`T^{-1} = M^{-1} e^{-[S_6]q_6} ⋯ e^{-[S_1]q_1}
+        r"""The chain run backwards.
+
+        The chain run backwards: :math:`T^{-1} = M^{-1} e^{-[S_6]q_6} ⋯ e^{-[S_1]q_1}
         = e^{[S'_1]q_6} ⋯ e^{[S'_6]q_1} M^{-1}` with :math:`S'_k = -\mathrm{Ad}_{M^{-1}}
-        S_{7-k}`: axes ``−R_Mᵀ h`` through the points ``R_Mᵀ (a − p_M)``, reversed."""
+        S_{7-k}`: axes ``−R_Mᵀ h`` through the points ``R_Mᵀ (a − p_M)``, reversed.
+        """
         R, p = self.M[:3, :3], self.M[:3, 3]
         M_inverse = np.eye(4)
         M_inverse[:3, :3], M_inverse[:3, 3] = R.T, -R.T @ p
@@ -136,8 +142,11 @@ class Chain:
         return Chain(self.h, self.a / length, M, self.prismatic)
 
     def length(self) -> float:
-        """A length of the arm (m): the largest distance of an axis point or the tip from the
-        first axis point (at least 1e-6)."""
+        """A length of the arm (m).
+
+        A length of the arm (m): the largest distance of an axis point or the tip from the
+        first axis point (at least 1e-6).
+        """
         points = np.vstack([self.a, self.M[:3, 3]])
         return max(float(np.abs(points - self.a[0]).max()), 1e-6)
 
@@ -150,8 +159,11 @@ def perpendicular(axis: np.ndarray) -> np.ndarray:
 
 
 def pack(chain: Chain, points: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """The (19, 3) array ``G`` of :mod:`.chain`: axes, the kernel's points, ``p_M``, ``R_M``,
-    a unit vector perpendicular to ``reference``, and the prismatic flags."""
+    """The packed geometry ``G`` of :mod:`.chain`.
+
+    The (19, 3) array ``G`` of :mod:`.chain`: axes, the kernel's points, ``p_M``, ``R_M``,
+    a unit vector perpendicular to ``reference``, and the prismatic flags.
+    """
     flags = chain.prismatic.astype(float).reshape(2, 3)
     return np.ascontiguousarray(
         np.vstack(
@@ -210,8 +222,7 @@ def _parallel_classes(chain: Chain) -> tuple[str, np.ndarray] | None:
 
 
 def _prismatic_class(chain: Chain) -> tuple[str, np.ndarray] | None:
-    """The Stanford arm's class (axes 1, 2 meeting, joint 3 sliding, spherical wrist), or
-    None."""
+    """The Stanford arm's class (axes 1, 2 meeting, joint 3 sliding, spherical wrist), or None."""
     if not np.array_equal(chain.prismatic, [False, False, True, False, False, False]):
         return None
     if chain.parallel(3, 4) or chain.parallel(4, 5) or chain.parallel(0, 1):
@@ -225,8 +236,11 @@ def _prismatic_class(chain: Chain) -> tuple[str, np.ndarray] | None:
 
 
 def classify(S: np.ndarray, M: np.ndarray) -> Classification | None:
-    """The closed-form class of the 6-joint chain ``(S, M)`` (module docstring), forwards
-    first, then backwards; None when no class fits."""
+    """The closed-form class of a 6-joint chain.
+
+    The closed-form class of the 6-joint chain ``(S, M)`` (module docstring), forwards
+    first, then backwards; None when no class fits.
+    """
     chain = Chain.from_screws(S, M)
     for reverse, candidate in ((False, chain), (True, chain.reversed())):
         if candidate.prismatic.any():
@@ -239,7 +253,9 @@ def classify(S: np.ndarray, M: np.ndarray) -> Classification | None:
 
 
 def screws_of(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
-    """``(S, M)`` of a robot: the space Jacobian at q = 0 (its columns are the screw axes,
+    """The screw axes and home pose of a robot.
+
+    ``(S, M)`` of a robot: the space Jacobian at q = 0 (its columns are the screw axes,
     swapped to (ω, v)) and the end-effector pose there; checked against ``robot.fk`` at two
     other configurations.
 

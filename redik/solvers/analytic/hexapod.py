@@ -106,7 +106,8 @@ def hexapod_leg(
     Args:
         p: Foot position (3,) in the leg frame (metres), see the module docstring.
         coxa: Coxa length, from the yaw axis to the femur axis (m, ≥ 0).
-        femur, tibia: Femur and tibia lengths (m, > 0).
+        femur: Femur length (m, > 0).
+        tibia: Tibia length (m, > 0).
         z_offset: Height of the femur axis above the leg origin (m, signed).
         limits: Optional ``(lower, upper)`` arrays of 3; angles compared modulo 2π.
         tol: Distance (m) within which a target counts as on a boundary or on the yaw axis.

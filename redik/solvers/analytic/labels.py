@@ -85,8 +85,11 @@ def _closest(p1, u1, p2, u2):
 
 @numba.njit(**COMPILE)
 def _flip(G, slot):
-    r"""1 for a *flip* wrist, 0 for *noflip*: the sign of :math:`(ω_4 × ω_6)·ω_5`, which in the
-    frame after joints 1–4 is :math:`(h_4 × \mathrm{rot}(h_5, θ_5) h_6)·h_5`."""
+    r"""Whether the wrist flips.
+
+    1 for a *flip* wrist, 0 for *noflip*: the sign of :math:`(ω_4 × ω_6)·ω_5`, which in the
+    frame after joints 1–4 is :math:`(h_4 × \mathrm{rot}(h_5, θ_5) h_6)·h_5`.
+    """
     h4, h5, h6 = row(G, AXES + 3), row(G, AXES + 4), row(G, AXES + 5)
     last = rotate_cs(h5, slot[10], slot[16], h6)
     return 0 if dot(cross(h4, last), h5) >= 0.0 else 1
@@ -94,10 +97,13 @@ def _flip(G, slot):
 
 @numba.njit(**COMPILE)
 def _shoulder_frame(target, G, wrist_point):
-    """What the shoulder rule needs of a target, in the chain's frame at q = 0:
+    """What the shoulder rule needs of a target.
+
+    What the shoulder rule needs of a target, in the chain's frame at q = 0:
     ``(o, s, e0, w − a1)``, the feet of the common normals of axes 1–2 on axis 1 (``o``) and
     on axis 2 (``s``), of axes 2–3 on axis 3 at q = 0 (``e0``), and the wrist point (row
-    ``wrist_point`` of ``G`` carried to the target) relative to ``a1``."""
+    ``wrist_point`` of ``G`` carried to the target) relative to ``a1``.
+    """
     z0, z1, z2, p = target_of(target, G)
     a1, a2, a3 = row(G, POINTS), row(G, POINTS + 1), row(G, POINTS + 2)
     h1, h2, h3 = row(G, AXES), row(G, AXES + 1), row(G, AXES + 2)
@@ -108,8 +114,11 @@ def _shoulder_frame(target, G, wrist_point):
 
 @numba.njit(**COMPILE)
 def _left(G, slot, frame, size):
-    """Whether the shoulder is on the *left* (module docstring), evaluated in the frame that
-    undoes joint 1 (a rotation about axis 1, which keeps ``o``, ω1 and every sign)."""
+    """Whether the shoulder is on the left.
+
+    Whether the shoulder is on the *left* (module docstring), evaluated in the frame that
+    undoes joint 1 (a rotation about axis 1, which keeps ``o``, ω1 and every sign).
+    """
     o, _, _, w = frame
     h1, h2 = row(G, AXES), row(G, AXES + 1)
     d = sub(add(row(G, POINTS), rotate_cs(h1, slot[6], -slot[12], w)), o)
@@ -121,8 +130,11 @@ def _left(G, slot, frame, size):
 
 @numba.njit(**COMPILE)
 def _elbow_end(G, slot, frame, end_on_axis4):
-    """The two-link's end ``x`` in the frame that undoes joint 1: the wrist point, or the
-    point of axis 4 carried by joints 2 and 3."""
+    """The end of the elbow's two-link.
+
+    The two-link's end ``x`` in the frame that undoes joint 1: the wrist point, or the
+    point of axis 4 carried by joints 2 and 3.
+    """
     h1, h2, h3 = row(G, AXES), row(G, AXES + 1), row(G, AXES + 2)
     a1, a2, a3, a4 = row(G, POINTS), row(G, POINTS + 1), row(G, POINTS + 2), row(G, POINTS + 3)
     if not end_on_axis4:
@@ -142,7 +154,8 @@ def shoulder_elbow_wrist(target, G, q, status, wrist_point, end_on_axis4, codes)
     Args:
         target: The target the chain is solved for.
         G: The packed chain.
-        q: The slot rows (S, 18); ``status`` (S,) which are empty.
+        q: The slot rows (S, 18).
+        status: (S,) which slots are empty.
         wrist_point: The row of the wrist point among ``G``'s points (3: the wrist centre;
             4: the point where axes 5 and 6 meet).
         end_on_axis4: Whether the two-link ends on axis 4 (the three-parallel class) rather
@@ -165,8 +178,11 @@ def shoulder_elbow_wrist(target, G, q, status, wrist_point, end_on_axis4, codes)
 
 @numba.njit(**COMPILE)
 def shoulder_slide_wrist(target, G, q, status, codes):
-    """Label codes ``4·right + 2·in + flip`` of the Stanford class (module docstring): *out*
-    when :math:`(w - o)·ω_3 > 0`, in the frame that undoes joint 1 :math:`ω_3 = R_2 h_3`."""
+    """Label codes of the Stanford class.
+
+    Label codes ``4·right + 2·in + flip`` of the Stanford class (module docstring): *out*
+    when :math:`(w - o)·ω_3 > 0`, in the frame that undoes joint 1 :math:`ω_3 = R_2 h_3`.
+    """
     frame = _shoulder_frame(target, G, 3)
     size = size_of(G)
     h1, h2, h3 = row(G, AXES), row(G, AXES + 1), row(G, AXES + 2)
@@ -181,8 +197,11 @@ def shoulder_slide_wrist(target, G, q, status, codes):
 
 @numba.njit(**COMPILE)
 def arm_and_wrist(G, q, status, codes):
-    """Label codes ``2·(arm − 1) + flip``: the arm solution's rank (slot pairs, in the
-    kernel's order by θ1) and the wrist's flip."""
+    """Label codes of the SP5 class.
+
+    Label codes ``2·(arm − 1) + flip``: the arm solution's rank (slot pairs, in the
+    kernel's order by θ1) and the wrist's flip.
+    """
     for slot in range(q.shape[0]):
         if status[slot] != EMPTY:
             codes[slot] = 2 * (slot // 2) + _flip(G, q[slot])
@@ -190,9 +209,12 @@ def arm_and_wrist(G, q, status, codes):
 
 @numba.njit(**COMPILE)
 def arm_and_elbow(G, q, status, codes):
-    """Label codes ``2·(arm − 1) + down`` of the three-parallel class: the arm solution's rank
+    """Label codes of the three-parallel class.
+
+    Label codes ``2·(arm − 1) + down`` of the three-parallel class: the arm solution's rank
     and the turn of the two-link of axes 2, 3, 4 about their direction ``h``,
-    :math:`((a_3 - a_2) × ((a_3 - a_2) + R_3 (a_4 - a_3)))·h` in the frame of joint 2."""
+    :math:`((a_3 - a_2) × ((a_3 - a_2) + R_3 (a_4 - a_3)))·h` in the frame of joint 2.
+    """
     h = row(G, AXES + 1)
     a2, a3, a4 = row(G, POINTS + 1), row(G, POINTS + 2), row(G, POINTS + 3)
     link = sub(a3, a2)
@@ -206,8 +228,11 @@ def arm_and_elbow(G, q, status, codes):
 
 @numba.njit(**COMPILE)
 def size_of(G):
-    """A length of the arm (m): the largest distance of a kernel point or the tip from the
-    first point."""
+    """A length of the arm (m).
+
+    A length of the arm (m): the largest distance of a kernel point or the tip from the
+    first point.
+    """
     first = row(G, POINTS)
     size = 0.0
     for i in range(POINTS + 1, TIP + 1):

@@ -70,8 +70,11 @@ class TwoLink:
 
 
 def two_link(x: Value, y: Value, l1: float, l2: float, tol: float, num: Numeric = ARRAY) -> TwoLink:
-    """Solve :math:`(x, y) = l_1 (c_1, s_1) + l_2 (c_{12}, s_{12})` for ``l1, l2 > 0``
-    (law of cosines, module docstring), elementwise in :mod:`._numeric`'s sense."""
+    """Both branches of a 2R subproblem.
+
+    Solve :math:`(x, y) = l_1 (c_1, s_1) + l_2 (c_{12}, s_{12})` for ``l1, l2 > 0``
+    (law of cosines, module docstring), elementwise in :mod:`._numeric`'s sense.
+    """
     radius = num.hypot(x, y)
     outer, inner = l1 + l2, abs(l1 - l2)
     reachable = (radius <= outer + tol) & (radius >= inner - tol)
@@ -135,8 +138,10 @@ def planar_2r(
     """Every joint vector ``(θ1, θ2)`` of a planar 2R arm that puts its tip at ``(x, y)``.
 
     Args:
-        x, y: Tip position in the arm's base frame (metres).
-        l1, l2: Link lengths (metres, > 0).
+        x: Tip position along the base x axis (metres).
+        y: Tip position along the base y axis (metres).
+        l1: First link length (metres, > 0).
+        l2: Second link length (metres, > 0).
         limits: Optional ``(lower, upper)`` arrays of 2 (angles compared modulo 2π).
         tol: Distance (m) within which a target counts as on the workspace boundary.
 
@@ -157,10 +162,11 @@ def planar_2r_solutions(
     limits: tuple[np.ndarray, np.ndarray] | None,
     tol: float = DEFAULT_TOL,
 ) -> IKSolutions:
-    """:func:`planar_2r` on a checked target and limits (the lengths are checked here):
-    for a caller that validates at its own boundary
-    (:class:`redik.solvers.analytic.AnalyticSolver`; the limits check alone cost a fifth of
-    a call)."""
+    """:func:`planar_2r` on a checked target and limits.
+
+    The lengths are checked here; the target and limits are the caller's, which validates
+    them at its own boundary (:class:`redik.solvers.analytic.SmallArmSolver`).
+    """
     l1, l2 = _checks.length(l1, "l1"), _checks.length(l2, "l2")
     checked_limits = limits
     solution = two_link(x, y, l1, l2, tol, SCALAR)
@@ -206,8 +212,11 @@ def batch_result(
     revolute: np.ndarray,
     limits: tuple[np.ndarray, np.ndarray] | None,
 ) -> BatchSolutions:
-    """Wrap the angles of a batch to (−π, π], apply the joint limits and blank the invalid
-    slots with NaN."""
+    """A batch's angles wrapped, limits applied, invalid slots blanked.
+
+    Wrap the angles of a batch to (−π, π], apply the joint limits and blank the invalid
+    slots with NaN.
+    """
     q = np.where(revolute, wrap_angle(q), q)
     if limits is not None:
         q, inside = limit_representatives(q, limits[0], limits[1], revolute)
@@ -280,12 +289,14 @@ class Planar3RFamily:
     def __call__(
         self, phi: float, *, limits: tuple[np.ndarray, np.ndarray] | None = None
     ) -> IKSolutions:
+        """The solutions at heading ``phi`` (:func:`planar_3r`)."""
         return planar_3r(
             self.x, self.y, phi, self.l1, self.l2, self.l3, limits=limits, tol=self.tol
         )
 
     @property
     def reachable(self) -> bool:
+        """Whether some heading reaches the point."""
         return bool(self.phi_intervals)
 
     def contains(self, phi: float) -> bool:

@@ -81,8 +81,11 @@ def _value_and_slope(coefficients, start, x):
 
 @numba.njit(**COMPILE)
 def _newton(coefficients, start, x):
-    """Two Newton steps on ``coefficients[start:]`` from ``x``, each kept only if it lowers
-    ``|p|``: next to a double root p' vanishes and a step could jump to another root."""
+    """Refine a root by guarded Newton steps.
+
+    Two Newton steps on ``coefficients[start:]`` from ``x``, each kept only if it lowers
+    ``|p|``: next to a double root p' vanishes and a step could jump to another root.
+    """
     value, slope = _value_and_slope(coefficients, start, x)
     for _ in range(2):
         if slope == 0.0 or value == 0.0:
@@ -179,9 +182,12 @@ def real_roots(coefficients, out):
 
 @numba.njit(**COMPILE)
 def near_double(coefficients, x, tol):
-    r"""Whether ``x`` is, within ``tol`` (relative), a double root of the quartic
+    r"""Whether a root is a double root.
+
+    Whether ``x`` is, within ``tol`` (relative), a double root of the quartic
     ``coefficients`` (highest power first): :math:`|p'(x)| \le \mathrm{tol} \sum_k k
-    |c_k x^{k-1}|`, the derivative against the size of its terms."""
+    |c_k x^{k-1}|`, the derivative against the size of its terms.
+    """
     slope = 0.0
     size = 0.0
     power = 1.0  # x^(d − 1) for the term of degree d

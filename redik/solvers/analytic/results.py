@@ -55,6 +55,7 @@ class JointSolution(np.ndarray):
         singular: str = "",
         family: SolutionFamily | None = None,
     ) -> JointSolution:
+        """A copy of ``q`` (float) carrying the label, singularity text and family."""
         solution = np.array(q, dtype=float).view(cls)
         solution.label = label
         solution.singular = singular
@@ -135,9 +136,8 @@ class IKSolutions(Sequence[JointSolution]):
 
     A solver hands over the (k, n) array with the labels (:meth:`from_arrays`); the
     :class:`JointSolution` objects are made on first use of :attr:`solutions` (indexing,
-    iteration), so that ``len``, :attr:`labels` and :meth:`as_array` cost no Python per
-    solution — making them was most of a single closed-form call. The public attributes are
-    read-only.
+    iteration), so that ``len``, :attr:`labels` and :meth:`as_array` take no Python step per
+    solution. The public attributes are read-only.
     """
 
     __slots__ = (
@@ -181,8 +181,11 @@ class IKSolutions(Sequence[JointSolution]):
         reason: str = "",
         preferred: str = "",
     ) -> IKSolutions:
-        """The result holding ``q`` (k, n; kept, not copied) with a label per row, and where
-        given a singularity text and family per row."""
+        """The result holding a (k, n) array of solutions.
+
+        The result holding ``q`` (k, n; kept, not copied) with a label per row, and where
+        given a singularity text and family per row.
+        """
         result = cls.__new__(cls)
         result._q, result._labels = q, tuple(labels)
         k = len(result._labels)
@@ -195,18 +198,22 @@ class IKSolutions(Sequence[JointSolution]):
 
     @property
     def n_joints(self) -> int:
+        """Length of each joint vector."""
         return self._n_joints
 
     @property
     def reachable(self) -> bool:
+        """Whether the target lies in the workspace (joint limits aside)."""
         return self._reachable
 
     @property
     def reason(self) -> str:
+        """Why there is no solution, when there is none."""
         return self._reason
 
     @property
     def preferred(self) -> str:
+        """The label of the hardware's conventional branch, or empty."""
         return self._preferred
 
     def __reduce__(self) -> tuple:
@@ -256,6 +263,7 @@ class IKSolutions(Sequence[JointSolution]):
 
     @property
     def labels(self) -> tuple[str, ...]:
+        """The label of each solution."""
         return self._labels
 
     @property
@@ -265,9 +273,12 @@ class IKSolutions(Sequence[JointSolution]):
 
     @property
     def status(self) -> Status:
-        """:class:`~redik.core.result.Status` ``CONVERGED`` with a solution, else
+        """Whether and why the target has solutions.
+
+        :class:`~redik.core.result.Status` ``CONVERGED`` with a solution, else
         ``UNREACHABLE`` (the target is outside the workspace) or ``LIMITS`` (solutions exist,
-        none within the joint limits); :attr:`reason` says why in words."""
+        none within the joint limits); :attr:`reason` says why in words.
+        """
         if len(self):
             return Status.CONVERGED
         return Status.LIMITS if self.reachable else Status.UNREACHABLE
@@ -295,8 +306,11 @@ class IKSolutions(Sequence[JointSolution]):
         return self.solutions[self._labels.index(label)]
 
     def nearest(self, q_ref: np.ndarray, revolute: np.ndarray | None = None) -> JointSolution:
-        """The solution closest to ``q_ref`` (angles compared modulo 2π, all joints if
-        ``revolute`` is None): the branch to follow along a trajectory."""
+        """The solution closest to a configuration.
+
+        The solution closest to ``q_ref`` (angles compared modulo 2π, all joints if
+        ``revolute`` is None): the branch to follow along a trajectory.
+        """
         if not len(self):
             raise InvalidInput(f"there is no solution to choose from: {self.reason}")
         q_ref = np.asarray(q_ref, dtype=float)
@@ -371,8 +385,11 @@ def limit_representatives(
 
 
 class Candidate(NamedTuple):
-    """A solution before :func:`finalize`: its joint values and what the solver knows of it
-    (the fields of a :class:`JointSolution`, without building the array subclass)."""
+    """A solution before :func:`finalize`.
+
+    A solution before :func:`finalize`: its joint values and what the solver knows of it
+    (the fields of a :class:`JointSolution`, without building the array subclass).
+    """
 
     q: Sequence[float] | np.ndarray
     label: str
@@ -387,7 +404,9 @@ def finalize(
     limits: tuple[np.ndarray, np.ndarray] | None,
     preferred: str = "",
 ) -> IKSolutions:
-    """Wrap angles, drop duplicates (modulo 2π, the first of equals is kept) and filter by
+    """The small solvers' selection: wrap, drop duplicates, filter by limits.
+
+    Wrap angles, drop duplicates (modulo 2π, the first of equals is kept) and filter by
     joint limits, by the one selection rule of :func:`redik.solvers.analytic.finish.select_rows`.
 
     The candidates come from a reachable target; if the limits exclude all of them the result
@@ -413,8 +432,11 @@ def finalize(
 def _outside_reason(
     q: np.ndarray, revolute: np.ndarray, limits: tuple[np.ndarray, np.ndarray], dedupe: bool
 ) -> str:
-    """Why no candidate is kept: how many distinct solutions, and which joints are out of
-    range in some of them."""
+    """Why no candidate is kept.
+
+    Why no candidate is kept: how many distinct solutions, and which joints are out of
+    range in some of them.
+    """
     wrapped = np.where(revolute, wrap_angle(q), q)
     distinct = np.ones(len(q), bool)
     if dedupe:

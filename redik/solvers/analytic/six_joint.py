@@ -148,17 +148,23 @@ class SixJointSolver:
     def raw(
         self, T: Any, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
     ) -> np.ndarray:
-        """Every solution as a (k, 6) array: verified by FK, wrapped to (−π, π] (or moved by
+        """Every solution as a (k, 6) array.
+
+        Every solution as a (k, 6) array: verified by FK, wrapped to (−π, π] (or moved by
         2π into the limits), within ``limits`` (``"robot"``, None or ``(lower, upper)``),
         duplicates dropped. No labels or families. ``strict`` refuses a near-rotation instead
-        of projecting it (:mod:`~redik.core.rotation_policy`)."""
+        of projecting it (:mod:`~redik.core.rotation_policy`).
+        """
         return self._solve(T, self._plan_for(limits, tol, False), strict)[1]
 
     def __call__(
         self, target: Any, *, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
     ) -> IKSolutions:
-        """Every solution of a world-frame target pose, labelled, with families at
-        singularities (see :meth:`raw` for the arguments)."""
+        """Every solution of a world-frame target pose, labelled.
+
+        Every solution of a world-frame target pose, labelled, with families at
+        singularities (see :meth:`raw` for the arguments).
+        """
         plan = self._plan_for(limits, tol)
         T, out = self._solve(target, plan, strict)
         if not len(out):
@@ -189,9 +195,12 @@ class SixJointSolver:
         return BatchSolutions(q, valid, singular, self.labels)
 
     def _solve(self, target: Any, plan: np.ndarray, strict: bool) -> tuple[np.ndarray, np.ndarray]:
-        """``(T, rows)`` of the compiled entry, the target checked only when the entry cannot
+        """The compiled entry's rows for a target.
+
+        ``(T, rows)`` of the compiled entry, the target checked only when the entry cannot
         take it as it is (then a near-rotation is projected, or the error names what is
-        wrong)."""
+        wrong).
+        """
         try:
             out = self._entry(target, plan)
         except (TypeError, ValueError):  # not a C-contiguous float64 array (no other is
@@ -212,8 +221,11 @@ class SixJointSolver:
         return {float(code): name for code, name in enumerate(self.labels)}
 
     def _plan_for(self, limits: Any, tol: Any, labels: bool = True) -> np.ndarray:
-        """The plan of these limits and tolerance, with or without labels: the common calls
-        take two identity tests to a plan made once; anything else is checked."""
+        """The plan of these limits and tolerance.
+
+        The plan of these limits and tolerance, with or without labels: the common calls
+        take two identity tests to a plan made once; anything else is checked.
+        """
         if tol is DEFAULT_TOL:
             if limits is None:
                 return self._unbounded_plan if labels else self._raw_unbounded_plan
@@ -235,8 +247,11 @@ class SixJointSolver:
         return plan
 
     def _every_slot(self, T: np.ndarray, fix_joint: int = -1, value: float = 0.0) -> np.ndarray:
-        """Every slot of the entry, unfiltered and in slot order, without limits; joint
-        ``fix_joint`` (a family's free joint) held at ``value``."""
+        """Every slot of the entry, unfiltered.
+
+        Every slot of the entry, unfiltered and in slot order, without limits; joint
+        ``fix_joint`` (a family's free joint) held at ``value``.
+        """
         plan = self._unbounded_plan.copy()
         plan[FIX_JOINT], plan[FIX_VALUE], plan[KEEP_ALL] = fix_joint, value, 1.0
         return self._entry(T, plan)
@@ -284,8 +299,11 @@ class SixJointSolver:
         return text, SolutionFamily((free,), text, member)
 
     def _nothing(self, T: np.ndarray, plan: np.ndarray) -> IKSolutions:
-        """The empty result: unreachable (the stage that failed), or every solution outside
-        the limits of ``plan`` (the joints out of range named)."""
+        """The empty result and why.
+
+        The empty result: unreachable (the stage that failed), or every solution outside
+        the limits of ``plan`` (the joints out of range named).
+        """
         every = self._every_slot(T)
         solved = every[every[:, STATUS] != EMPTY]
         if not len(solved):

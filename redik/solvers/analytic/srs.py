@@ -107,8 +107,11 @@ class SRSArm:
         return cls(geometry, chain.a.copy())
 
     def at(self, T: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The 8 configurations at each arm angle: ``q`` (N, 8, 7) wrapped to (−π, π] and
-        ``valid`` (N, 8) (solved and checked by FK to :data:`VERIFY_TOL`)."""
+        """The 8 configurations at each arm angle.
+
+        The 8 configurations at each arm angle: ``q`` (N, 8, 7) wrapped to (−π, π] and
+        ``valid`` (N, 8) (solved and checked by FK to :data:`VERIFY_TOL`).
+        """
         T = _checks.pose(T, "T")
         psi = np.atleast_1d(np.asarray(psi, dtype=float))
         q, valid = _srs_slots(T, self.geometry, self.points, psi)
@@ -152,7 +155,7 @@ def _fk_error(points, G, q, T):
 
 @numba.njit(**COMPILE)
 def _wrist_target(T, G):
-    """``(Z, W_t)``: the rows of :math:`Z = R R_M^\top` and the target's wrist centre."""
+    r"""``(Z, W_t)``: the rows of :math:`Z = R R_M^\top` and the target's wrist centre."""
     m0, m1, m2 = _row(G, 11), _row(G, 12), _row(G, 13)
     rows = [(T[i, 0], T[i, 1], T[i, 2]) for i in range(3)]
     Z = [(dot(r, m0), dot(r, m1), dot(r, m2)) for r in rows]
@@ -163,9 +166,12 @@ def _wrist_target(T, G):
 
 @numba.njit(**COMPILE)
 def _elbow_circle(G, Wt):
-    """The two θ4 (SP3) and the circle the elbow point lies on: ``(t4a, t4b, status, centre,
+    """The elbow: its two θ4 and the circle its point lies on.
+
+    The two θ4 (SP3) and the circle the elbow point lies on: ``(t4a, t4b, status, centre,
     radius, n, m, sw)``, ``n, m`` the unit vectors of its plane (ψ = 0 along ``n``) and
-    ``sw = W_t − S``."""
+    ``sw = W_t − S``.
+    """
     S, E, W = _row(G, 7), _row(G, 8), _row(G, 9)
     sw = sub(Wt, S)
     d = norm(sw)
@@ -188,9 +194,12 @@ def _elbow_circle(G, Wt):
 
 @numba.njit(**COMPILE)
 def _branches(G, points, T, Z, target, t4, slot0, q, valid):
-    """The four configurations (shoulder × wrist roots) of one elbow root at one arm angle,
+    """The four configurations of one elbow root at one arm angle.
+
+    The four configurations (shoulder × wrist roots) of one elbow root at one arm angle,
     into ``q`` (8, 7) and ``valid`` (8,) from slot ``slot0``: ``target`` is the frame of
-    the elbow point and the wrist seen from the shoulder (:func:`_frame`)."""
+    the elbow point and the wrist seen from the shoulder (:func:`_frame`).
+    """
     S, E, W = _row(G, 7), _row(G, 8), _row(G, 9)
     h1, h2, h3, h4 = _row(G, 0), _row(G, 1), _row(G, 2), _row(G, 3)
     h5, h6, h7, e3, e7 = _row(G, 4), _row(G, 5), _row(G, 6), _row(G, 15), _row(G, 16)
@@ -221,8 +230,11 @@ def _branches(G, points, T, Z, target, t4, slot0, q, valid):
 
 @numba.njit(**COMPILE)
 def _srs_slots(T, G, point_rows, psi):
-    """``q`` (N, 8, 7) and ``valid`` (N, 8): the configurations at each arm angle ψ (module
-    docstring), slot ``4·elbow + 2·shoulder + wrist``."""
+    """The configurations at each arm angle.
+
+    ``q`` (N, 8, 7) and ``valid`` (N, 8): the configurations at each arm angle ψ (module
+    docstring), slot ``4·elbow + 2·shoulder + wrist``.
+    """
     points = [(point_rows[i, 0], point_rows[i, 1], point_rows[i, 2]) for i in range(7)]
     n = psi.shape[0]
     q = np.zeros((n, 8, 7))
@@ -243,7 +255,9 @@ def _srs_slots(T, G, point_rows, psi):
 def self_motion_curves(
     robot: Robot, T: np.ndarray, spacing: float = 0.05, samples: int = 720
 ) -> list[np.ndarray]:
-    """The self-motion loops of ``T`` (limits ignored), each an (N, 7) array of consecutive
+    """The self-motion loops of a pose.
+
+    The self-motion loops of ``T`` (limits ignored), each an (N, 7) array of consecutive
     configurations at most ``spacing`` apart (angles compared modulo 2π), closing on itself.
 
     The 8 branches are evaluated at ``samples`` arm angles, followed by continuity (each
@@ -281,9 +295,12 @@ def self_motion_curves(
 
 
 def _thin(curve: np.ndarray, spacing: float) -> np.ndarray:
-    """Drop samples while the gap between kept neighbours stays within ``spacing`` (the ψ grid
+    """Drop samples closer than the spacing.
+
+    Drop samples while the gap between kept neighbours stays within ``spacing`` (the ψ grid
     is dense where the joints move slowly); the last sample is kept, so the loop still closes
-    within one original step."""
+    within one original step.
+    """
     kept = [0]
     for k in range(1, len(curve)):
         following = curve[(k + 1) % len(curve)]
@@ -297,8 +314,11 @@ def _torus(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _follow(q: np.ndarray) -> np.ndarray:
-    """(8, N, 7): each branch followed from ψ = −π by the nearest configuration at each next
-    ψ (greedy matching, closest pairs first)."""
+    """Follow each branch by continuity.
+
+    (8, N, 7): each branch followed from ψ = −π by the nearest configuration at each next
+    ψ (greedy matching, closest pairs first).
+    """
     n = q.shape[0]
     tracks = np.empty((BRANCHES, n, 7))
     tracks[:, 0] = q[0]
@@ -318,8 +338,11 @@ def _follow(q: np.ndarray) -> np.ndarray:
 def _refine(
     arm: SRSArm, T: np.ndarray, psi: np.ndarray, track: np.ndarray, spacing: float
 ) -> np.ndarray:
-    """``track`` with configurations inserted (bisecting ψ, the branch chosen by nearness)
-    until consecutive ones are at most ``spacing`` apart (or ψ steps fall below 1e-9)."""
+    """Refine a track until its samples are close enough.
+
+    ``track`` with configurations inserted (bisecting ψ, the branch chosen by nearness)
+    until consecutive ones are at most ``spacing`` apart (or ψ steps fall below 1e-9).
+    """
     out = [track[0]]
     for k in range(1, len(track)):
         stack = [(psi[k - 1], track[k - 1], psi[k], track[k])]

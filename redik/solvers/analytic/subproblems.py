@@ -150,7 +150,9 @@ def sp3_cs(k, p1, p2, d, tol):
 
 @numba.njit(**COMPILE)
 def sp4_cs(h, k, p, d, tol):
-    """SP4: θ with ``h · rot(k, θ) p = d``; ``C`` within ``tol`` of ``±r`` is moved onto it
+    """SP4: θ with ``h · rot(k, θ) p = d``.
+
+    SP4: θ with ``h · rot(k, θ) p = d``; ``C`` within ``tol`` of ``±r`` is moved onto it
     (status BOUNDARY: one root).
 
     Returns:
@@ -251,9 +253,12 @@ def _circle(p0, k, p, axis):
 
 @numba.njit(**COMPILE)
 def _line_cut(ax, ay, value, sign):
-    """The point ``x = (cos, sin)`` of the unit circle with ``x·α = value`` on the branch
+    """Cut the unit circle by a line.
+
+    The point ``x = (cos, sin)`` of the unit circle with ``x·α = value`` on the branch
     ``sign``, and the slack ``‖α‖² − value²`` (negative: the line misses the circle; the
-    tangent point is returned)."""
+    tangent point is returned).
+    """
     a2 = ax * ax + ay * ay
     slack = a2 - value * value
     root = math.sqrt(max(slack, 0.0))
@@ -262,8 +267,11 @@ def _line_cut(ax, ay, value, sign):
 
 @numba.njit(**COMPILE)
 def _length_of_height(g, ax, ay, n, bx, by):
-    """``(l1, l0, M, Q)`` with ``‖v‖² = l1 H + l0 + σ M √Q(H)`` on a circle at height H,
-    ``Q = (−1, 2g, ‖α‖² − g²)`` (coefficients of H², H, 1)."""
+    """A circle's squared length as a function of its height.
+
+    ``(l1, l0, M, Q)`` with ``‖v‖² = l1 H + l0 + σ M √Q(H)`` on a circle at height H,
+    ``Q = (−1, 2g, ‖α‖² − g²)`` (coefficients of H², H, 1).
+    """
     a2 = ax * ax + ay * ay
     l1 = 2.0 * (bx * ax + by * ay) / a2
     return l1, n - l1 * g, 2.0 * (by * ax - bx * ay) / a2, (-1.0, 2.0 * g, a2 - g * g)
@@ -280,10 +288,13 @@ def _times(a, b):
 
 @numba.njit(**COMPILE)
 def _heights(first, third, roots, double):
-    """The heights H where the two circles' lengths can match: the real roots of
+    """The heights where SP5's two circles can match.
+
+    The heights H where the two circles' lengths can match: the real roots of
     ``G² − 4 D² E₁`` (``D = L₁ − L₃``, ``E = M² Q``, ``G = D² + E₁ − E₃``), or of the quadratic
     it is the square of when one circle has M = 0. Writes ``roots`` and whether each is a
-    double root (``double``); returns how many."""
+    double root (``double``); returns how many.
+    """
     l1, l0, M1, Q1 = _length_of_height(first[3], first[4], first[5], first[6], first[7], first[8])
     m1, m0, M3, Q3 = _length_of_height(third[3], third[4], third[5], third[6], third[7], third[8])
     d1, d0 = l1 - m1, l0 - m0
@@ -312,8 +323,11 @@ def _heights(first, third, roots, double):
 
 @numba.njit(**COMPILE)
 def _emit(first, x1, third, x3, k2, tangent, out, found):
-    """Write ``(θ1, θ2, θ3, tangent)`` of the circle points x1, x3 into ``out[found]`` (θ2 by
-    SP1 about k2, from v3 to v1); returns ``found + 1``."""
+    """Write one row of SP5.
+
+    Write ``(θ1, θ2, θ3, tangent)`` of the circle points x1, x3 into ``out[found]`` (θ2 by
+    SP1 about k2, from v3 to v1); returns ``found + 1``.
+    """
     v1 = add(first[0], add(scale(first[1], x1[0]), scale(first[2], x1[1])))
     v3 = add(third[0], add(scale(third[1], x3[0]), scale(third[2], x3[1])))
     out[found, 0] = math.atan2(x1[1], x1[0])
@@ -325,9 +339,12 @@ def _emit(first, x1, third, x3, k2, tangent, out, found):
 
 @numba.njit(**COMPILE)
 def _sp5_flat(first, third, flat_first, k2, scale2, out):
-    """SP5 when one circle keeps a constant height (its axis ∥ k2): H is that height; the
+    """SP5 when one circle keeps a constant height.
+
+    SP5 when one circle keeps a constant height (its axis ∥ k2): H is that height; the
     other circle is cut at H (two points), and the flat circle is cut where its length
-    matches (two points each). Returns how many rows were written."""
+    matches (two points each). Returns how many rows were written.
+    """
     moving = third if flat_first else first
     fixed = first if flat_first else third
     H = fixed[3]
@@ -352,8 +369,11 @@ def _sp5_flat(first, third, flat_first, k2, scale2, out):
 
 @numba.njit(**COMPILE)
 def _sp5_at_height(first, third, H, double, k2, scale2, out, found):
-    """The rows of SP5 at one height H (``double``: a double root of the quartic): each pair
-    of branches (σ1, σ3) whose lengths match. Returns the new count."""
+    """The rows of SP5 at one height.
+
+    The rows of SP5 at one height H (``double``: a double root of the quartic): each pair
+    of branches (σ1, σ3) whose lengths match. Returns the new count.
+    """
     for s1 in (1.0, -1.0):
         x1c, x1s, q1 = _line_cut(first[4], first[5], H - first[3], s1)
         if q1 < -SP5_TANGENT * scale2:
@@ -375,8 +395,13 @@ def sp5(p0, k1, p1, k2, p2, k3, p3, out):
     """SP5: ``p0 + rot(k1, θ1) p1 = rot(k2, θ2)(p2 + rot(k3, θ3) p3)`` (module docstring).
 
     Args:
-        p0, p1, p2, p3: Vectors (3-tuples).
-        k1, k2, k3: Unit axes.
+        p0: The offset of the first circle's centre (3-tuple).
+        k1: The first unit axis.
+        p1: The vector it turns.
+        k2: The unit axis of the middle rotation.
+        p2: The offset inside the middle rotation.
+        k3: The third unit axis.
+        p3: The vector it turns.
         out: A (4, 4) array for the rows ``(θ1, θ2, θ3, tangent)``, ``tangent`` 1 where two
             solutions merge (a double root of the quartic, or a line touching its circle).
 
@@ -413,8 +438,11 @@ def _linear(h, k, v):
 
 @numba.njit(**COMPILE)
 def _conic_quartic(N, m):
-    """The quartic in ``t = tan(φ/2)``, ``φ = θ − ω`` (ω = :data:`SP6_OFFSET`), of
-    ``‖m + N (cos θ, sin θ)‖² = 1``, highest power first."""
+    """SP6's quartic in the half-angle tangent.
+
+    The quartic in ``t = tan(φ/2)``, ``φ = θ − ω`` (ω = :data:`SP6_OFFSET`), of
+    ``‖m + N (cos θ, sin θ)‖² = 1``, highest power first.
+    """
     co, so = math.cos(SP6_OFFSET), math.sin(SP6_OFFSET)
     P00, P01 = N[0] * co + N[1] * so, -N[0] * so + N[1] * co
     P10, P11 = N[2] * co + N[3] * so, -N[2] * so + N[3] * co
@@ -432,7 +460,9 @@ def _conic_quartic(N, m):
 
 @numba.njit(**COMPILE)
 def sp6_linear(A, b, out):
-    """SP6 in its linear form: ``(θ1, θ2)`` with ``A[:, 0:2] u1 + A[:, 2:4] u2 = b`` on the
+    """SP6 in its linear form.
+
+    SP6 in its linear form: ``(θ1, θ2)`` with ``A[:, 0:2] u1 + A[:, 2:4] u2 = b`` on the
     unit circles ``u_i = (cos θ_i, sin θ_i)`` (module docstring).
 
     Args:
@@ -474,12 +504,26 @@ def sp6_linear(A, b, out):
 
 @numba.njit(**COMPILE)
 def sp6(h1, k1, p1, h2, k2, p2, h3, k3, p3, h4, k4, p4, d1, d2, out):
-    """SP6: ``(θ1, θ2)`` with ``h1·rot(k1, θ1) p1 + h2·rot(k2, θ2) p2 = d1`` and
+    """SP6: two angles from two equations in both.
+
+    SP6: ``(θ1, θ2)`` with ``h1·rot(k1, θ1) p1 + h2·rot(k2, θ2) p2 = d1`` and
     ``h3·rot(k3, θ1) p3 + h4·rot(k4, θ2) p4 = d2`` (module docstring).
 
     Args:
-        h1, k1, p1, h2, k2, p2, h3, k3, p3, h4, k4, p4: Vectors (3-tuples; k unit axes).
-        d1, d2: The right-hand sides.
+        h1: The direction the first term of the first equation is read along.
+        k1: The unit axis θ1 turns in it.
+        p1: The vector θ1 turns.
+        h2: The direction of the first equation's second term.
+        k2: The unit axis θ2 turns in it.
+        p2: The vector θ2 turns.
+        h3: As h1 for the second equation.
+        k3: As k1 for the second equation.
+        p3: As p1 for the second equation.
+        h4: As h2 for the second equation.
+        k4: As k2 for the second equation.
+        p4: As p2 for the second equation.
+        d1: The first right-hand side.
+        d2: The second right-hand side.
         out: A (4, 3) array for the rows ``(θ1, θ2, tangent)`` (:func:`sp6_linear`).
 
     Returns:

@@ -57,8 +57,11 @@ WRIST_LABELS = ("noflip", "flip")
 
 
 def zyz_angles(R: np.ndarray) -> np.ndarray:
-    """Both ZYZ solutions of rotations ``R`` (..., 3, 3) as (..., 2, 3): [noflip, flip],
-    with ``sin θ5 ≥ 0`` for noflip. At ``sin θ5 = 0`` noflip has θ4 = 0."""
+    """Both ZYZ solutions of rotations.
+
+    Both ZYZ solutions of rotations ``R`` (..., 3, 3) as (..., 2, 3): [noflip, flip],
+    with ``sin θ5 ≥ 0`` for noflip. At ``sin θ5 = 0`` noflip has θ4 = 0.
+    """
     columns = (R[..., 0, 0], R[..., 1, 0], R[..., 2, 0], R[..., 0, 2], R[..., 1, 2], R[..., 2, 2])
     noflip, flip = zyz_pair(*columns, ARRAY)
     return wrap_angle(np.stack([np.stack(noflip, axis=-1), np.stack(flip, axis=-1)], axis=-2))
@@ -70,8 +73,11 @@ Angles = tuple[Value, Value, Value]
 def zyz_pair(
     r00: Value, r10: Value, r20: Value, r02: Value, r12: Value, r22: Value, num: Numeric
 ) -> tuple[Angles, Angles]:
-    """:func:`zyz_angles` from the first and last columns of ``R``, elementwise in
-    :mod:`._numeric`'s sense: ``((θ4, θ5, θ6) noflip, (θ4, θ5, θ6) flip)``, not wrapped."""
+    """Both ZYZ solutions from two columns of R.
+
+    :func:`zyz_angles` from the first and last columns of ``R``, elementwise in
+    :mod:`._numeric`'s sense: ``((θ4, θ5, θ6) noflip, (θ4, θ5, θ6) flip)``, not wrapped.
+    """
     theta5 = num.atan2(num.hypot(r02, r12), r22)
     theta4 = num.atan2(r12, r02)
     c4, s4 = num.cos(theta4), num.sin(theta4)
@@ -82,14 +88,20 @@ def zyz_pair(
 
 
 def zxz_angles(R: np.ndarray) -> np.ndarray:
-    """Both ZXZ solutions of rotations ``R`` (..., 3, 3) as (..., 2, 3): :func:`zyz_angles`
-    with the first angle turned by +π/2 and the last by −π/2 (module docstring)."""
+    """Both ZXZ solutions of rotations.
+
+    Both ZXZ solutions of rotations ``R`` (..., 3, 3) as (..., 2, 3): :func:`zyz_angles`
+    with the first angle turned by +π/2 and the last by −π/2 (module docstring).
+    """
     return wrap_angle(zyz_angles(R) + np.array([np.pi / 2.0, 0.0, -np.pi / 2.0]))
 
 
 def zyx_angles(R: np.ndarray) -> np.ndarray:
-    """Both ZYX (yaw, pitch, roll) solutions of ``R`` (..., 3, 3) as (..., 2, 3):
-    [noflip, flip], with ``cos β ≥ 0`` for noflip. At ``cos β = 0`` noflip has α = 0."""
+    """Both ZYX (yaw, pitch, roll) solutions of rotations.
+
+    Both ZYX (yaw, pitch, roll) solutions of ``R`` (..., 3, 3) as (..., 2, 3):
+    [noflip, flip], with ``cos β ≥ 0`` for noflip. At ``cos β = 0`` noflip has α = 0.
+    """
     beta = np.arctan2(-R[..., 2, 0], np.hypot(R[..., 0, 0], R[..., 1, 0]))
     alpha = np.arctan2(R[..., 1, 0], R[..., 0, 0])
     ca, sa = np.cos(alpha), np.sin(alpha)
@@ -105,8 +117,11 @@ def zyx_angles(R: np.ndarray) -> np.ndarray:
 
 
 def wrist_singularity(angles: np.ndarray, convention: Convention) -> tuple[str, SolutionFamily]:
-    """Describe the singular wrist whose representative is ``angles`` (first angle 0 or any),
-    and the family through it: the first angle is free, the third follows."""
+    """Describe a singular wrist and its family.
+
+    Describe the singular wrist whose representative is ``angles`` (first angle 0 or any),
+    and the family through it: the first angle is free, the third follows.
+    """
     a, b, c = (float(v) for v in angles)
     if convention in ("ZYZ", "ZXZ"):
         same_sign = np.cos(b) > 0.0  # θ5 = 0: θ4 + θ6 fixed; θ5 = π: θ4 − θ6 fixed

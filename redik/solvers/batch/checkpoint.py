@@ -4,16 +4,16 @@ A checkpoint is a directory that belongs to one batch:
 
 - ``batch.json`` — the batch's *fingerprint*: what it solves (digests of the targets, the seeds
   and the robot's chain, the robot's name and the batch size), how (every solve option, the
-  chunk size and the seed), the version of redik that solves it, and the key its random
-  streams derive from;
+  chunk size and the seed), the version of redik that solves it and the fields of its
+  result, and the key its random streams derive from;
 - ``chunk-<first>.npz`` — one file per finished chunk, ``first`` being the index in the batch
   of the chunk's first target, holding the chunk's result arrays.
 
 **Safe against a kill.** Every file is written under a temporary name, flushed to disk
-(``fsync``) and renamed onto its final name (:func:`os.replace`, atomic on POSIX and Windows),
-so a process killed in the middle of a write leaves either the whole file or none of it. The
-temporaries such a kill leaves behind are removed the next time the checkpoint is opened; one
-run at a time may use a checkpoint.
+(``fsync``) and renamed onto its final name (:func:`os.replace`, atomic on POSIX file
+systems), so a process killed in the middle of a write leaves either the whole file or none of
+it. The temporaries such a kill leaves behind are removed the next time the checkpoint is
+opened; one run at a time may use a checkpoint.
 
 **The same batch, or none.** :meth:`Checkpoint.open` compares the fingerprint it is given with
 the stored one entry by entry and raises

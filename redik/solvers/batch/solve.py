@@ -263,7 +263,8 @@ def solve_batch(
             finite rigid transform is reported with status ``"invalid"``; the others are solved.
         q0: Seeds, ``(n,)`` for all or ``(B, n)``; default the robot's home configuration.
         method: ``"dls"``, damped least squares (Levenberg–Marquardt).
-        pos_tol, rot_tol: Position (m) and rotation (rad) tolerances.
+        pos_tol: Position tolerance (m).
+        rot_tol: Rotation tolerance (rad).
         restarts: Random re-seeds allowed per target after its first attempt.
         seed: Seed of the re-seeds; the same seed gives the same result on every engine,
             worker count and chunk size.
@@ -332,6 +333,7 @@ def solve_batch(
             "method": method,
             "chunk_size": chunk_size,
             "seed": seed,
+            "result": [field.name for field in dataclasses.fields(BatchResult)],
         }
         store = Checkpoint.open(checkpoint, batch_fingerprint(chain, T, seeds, settings), key)
         key = store.key
@@ -351,7 +353,7 @@ def solve_batch(
 
 def _solve_chunks(
     runner: Engine,
-    shared: tuple[Chain, BatchOptions, int, bool],
+    shared: tuple,
     T: np.ndarray,
     seeds: np.ndarray,
     chunk_size: int,
@@ -360,7 +362,8 @@ def _solve_chunks(
 ) -> list[BatchResult]:
     """The results of every chunk in order.
 
-    Each is read from ``store``, or solved on ``runner`` and then written to ``store``.
+    Each is read from ``store``, or solved on ``runner`` (``shared`` as
+    :func:`_solve_chunk_task` takes it) and then written to ``store``.
     """
     starts = range(0, max(len(T), 1), chunk_size)  # an empty batch is one empty chunk
     parts = {} if store is None else {i: BatchResult(**a) for i, a in store.finished().items()}

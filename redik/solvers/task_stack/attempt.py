@@ -144,25 +144,40 @@ def run_attempt(
     point = measure(problem, q, options)
     search = Search([point.merit], [point.merit], point, options.lm_damping, **search_settings)
     history, errors = [point.q], [point.error]
+    status, iterations = None, options.max_iterations
     for iteration in range(options.max_iterations):
         if point.converged:
             point, status = _optimise(problem, point, options)
         else:
             point, status = _approach(problem, point, search, options)
         if status is not None:
-            return Attempt(
-                point, status, iteration, point.stationarity or [], start, history, errors
-            )
+            iterations = iteration
+            break
         search.record(point)
         history.append(point.q)
         errors.append(point.error)
-    if point.converged:
-        point = restore(problem, point, options) if point.values is None else point
-        stationarity = _stationarity(problem, point, options)
-        status = Status.CONVERGED if _stationary(stationarity, options) else Status.SUBOPTIMAL
-        return Attempt(point, status, options.max_iterations, stationarity, start, history, errors)
-    best = search.best_point
-    return Attempt(best, Status.MAX_ITERATIONS, options.max_iterations, [], start, history, errors)
+    else:
+        point, status = _out_of_iterations(problem, point, search, options)
+    if point.q is not history[-1]:  # the returned point ends the history (a restored or best one)
+        history.append(point.q)
+        errors.append(point.error)
+    stationarity = (point.stationarity or []) if point.converged else []
+    return Attempt(point, status, iterations, stationarity, start, history, errors)
+
+
+def _out_of_iterations(
+    problem: Problem, point: Point, search: Search, options: SolveOptions
+) -> tuple[Point, Status]:
+    """The verdict when the budget ran out: on level 0, stationary or not; else the best point."""
+    if not point.converged:
+        return search.best_point, Status.MAX_ITERATIONS
+    if options.stationarity_tol is None or not _optimised_levels(problem):
+        return point, Status.CONVERGED
+    if point.values is None:
+        point = restore(problem, point, options)
+    stationarity = _stationarity(problem, point, options)
+    status = Status.CONVERGED if _stationary(stationarity, options) else Status.SUBOPTIMAL
+    return point, status
 
 
 def _optimise(problem: Problem, point: Point, options: SolveOptions) -> tuple[Point, Status | None]:
@@ -170,6 +185,8 @@ def _optimise(problem: Problem, point: Point, options: SolveOptions) -> tuple[Po
 
     ``converged`` when stationary, else an optimise step, or ``suboptimal`` when none is acceptable.
     """
+    if options.stationarity_tol is None or not _optimised_levels(problem):
+        return point, Status.CONVERGED  # level 0 met is all there is to ask
     if point.values is None:
         point = restore(problem, point, options)  # the first point on level 0
     stationarity = _stationarity(problem, point, options)
@@ -228,6 +245,11 @@ def _stationarity(problem: Problem, point: Point, options: SolveOptions) -> list
     if point.stationarity is None:
         point.stationarity = problem.stationarity(point.q, options.dt)
     return point.stationarity
+
+
+def _optimised_levels(problem: Problem) -> int:
+    """How many levels are optimised below level 0's targets (all of them without targets)."""
+    return len(problem.levels) - (1 if problem.has_targets else 0)
 
 
 def _stationary(stationarity: list[float], options: SolveOptions) -> bool:

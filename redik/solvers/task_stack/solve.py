@@ -48,6 +48,11 @@ def solve_problem(
     (:mod:`~redik.solvers.task_stack.starts`). A target beyond its chain's reach gets at most
     :data:`RESTARTS_BEYOND_REACH` restarts, each a descent to the closest stretched posture.
 
+    Level 0's targets are its frame, position, orientation, equality and mink tasks; a
+    regulariser beside them at priority 0 (a posture) shapes the steps but is not optimised
+    once the targets are met — put it at priority 1 to have it finished. A level 0 without
+    targets is optimised like the lower levels.
+
     Args:
         problem: The tasks and limits (:class:`redik.Problem`); only its steps are used.
         q0: The first start (``robot.nq``,), clipped into the limits.

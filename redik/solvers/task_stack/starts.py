@@ -130,6 +130,8 @@ def _chain_robot(robot: Robot, task: SingleFrameTask, held: set[str]) -> Robot |
     The serial chain to ``task``'s frame over the robot's hinges and slides not in ``held`` (None
     when no such joint moves the frame).
     """
+    if not held and robot.is_chain and task.frame == robot.ee:
+        return robot  # the robot is that chain: its own solver cache serves every restart
     model = robot.model
     moved = set(robot.joint_names)
     fixed = []

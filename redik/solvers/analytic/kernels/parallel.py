@@ -61,8 +61,11 @@ def _tail(G, c5, s5, c6, s6):
 
 @numba.njit(**COMPILE)
 def _last_two(G, Z, one, five, fix_joint, fix_value, tol):
-    """θ6 and θ234 after θ1 and θ5 (module docstring): ``(t6, c6, s6, t234, c234, s234,
-    wrist_free)``."""
+    """θ6 and θ234 after θ1 and θ5.
+
+    θ6 and θ234 after θ1 and θ5 (module docstring): ``(t6, c6, s6, t234, c234, s234,
+    wrist_free)``.
+    """
     z0, z1, z2 = Z
     h, h5, h6, e = row(G, AXES + 1), row(G, AXES + 4), row(G, AXES + 5), row(G, PERPENDICULAR)
     R1h = rotate_cs(row(G, AXES), one[1], one[2], h)
@@ -169,8 +172,11 @@ def three_parallel_two_intersecting(T, G, fix_joint, fix_value, tol, q, status, 
 
 @numba.njit(**COMPILE)
 def _sp6_roots(G, Z, p, pairs):
-    """θ1, θ5 of the three-parallel class by SP6 (module docstring) into ``pairs`` (4, 3:
-    θ1, θ5, tangent), in increasing θ1; returns how many."""
+    """θ1, θ5 of the three-parallel class by SP6.
+
+    θ1, θ5 of the three-parallel class by SP6 (module docstring) into ``pairs`` (4, 3:
+    θ1, θ5, tangent), in increasing θ1; returns how many.
+    """
     z0, z1, z2 = Z
     h1, h, h5, h6 = row(G, AXES), row(G, AXES + 1), row(G, AXES + 4), row(G, AXES + 5)
     a1, a5, a6 = row(G, POINTS), row(G, POINTS + 4), row(G, POINTS + 5)
@@ -217,8 +223,11 @@ def three_parallel(T, G, fix_joint, fix_value, tol, q, status, free, stage):
 
 @numba.njit(**COMPILE)
 def solve_three_parallel_two_intersecting(T, plan):
-    """The closed form of ``three_parallel_two_intersecting``
-    (:mod:`redik.solvers.analytic.finish`)."""
+    """The closed form of ``three_parallel_two_intersecting``.
+
+    The closed form of ``three_parallel_two_intersecting``
+    (:mod:`redik.solvers.analytic.finish`).
+    """
     valid, target, G, tol, fix_joint, fix_value = begin(T, plan)
     if not valid:
         return invalid()
@@ -247,15 +256,21 @@ def solve_three_parallel(T, plan):
 
 @numba.njit(parallel=True, **COMPILE)
 def batch_three_parallel_two_intersecting(T, plan, q, valid, singular):
-    """:func:`solve_three_parallel_two_intersecting` on every target of a (B, 4, 4) stack,
-    threaded, into ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code."""
+    """The UR class on a stack of targets, threaded.
+
+    :func:`solve_three_parallel_two_intersecting` on every target of a (B, 4, 4) stack,
+    threaded, into ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
+    """
     for b in numba.prange(T.shape[0]):
         scatter(solve_three_parallel_two_intersecting(T[b], plan), b, q, valid, singular)
 
 
 @numba.njit(parallel=True, **COMPILE)
 def batch_three_parallel(T, plan, q, valid, singular):
-    """:func:`solve_three_parallel` on every target of a (B, 4, 4) stack, threaded, into
-    ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code."""
+    """The three-parallel class on a stack of targets, threaded.
+
+    :func:`solve_three_parallel` on every target of a (B, 4, 4) stack, threaded, into
+    ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
+    """
     for b in numba.prange(T.shape[0]):
         scatter(solve_three_parallel(T[b], plan), b, q, valid, singular)

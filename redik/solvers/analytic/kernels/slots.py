@@ -28,8 +28,11 @@ STAGES = {
 
 @numba.njit(**COMPILE)
 def new_slots(count):
-    """``(q, status, free, stage, codes)`` for ``count`` empty slots (``codes``: their label
-    codes, :mod:`redik.solvers.analytic.labels`)."""
+    """Empty slots.
+
+    ``(q, status, free, stage, codes)`` for ``count`` empty slots (``codes``: their label
+    codes, :mod:`redik.solvers.analytic.labels`).
+    """
     q = np.zeros((count, 18))
     flags = np.zeros((4, count), np.int64)
     flags[1] = -1

@@ -75,7 +75,9 @@ def _wrist_target(T, G):
 
 @numba.njit(**COMPILE)
 def _shoulder_then_wrist(G, wrist_frame, o, u, e, third, fix_joint, fix_value, tol, slots):
-    """Slots ``4·shoulder + 2·e + wrist`` of an arm whose axes 1, 2 meet at ``o`` and whose
+    """The shoulder (SP2) and the wrist of an arm with axes 1, 2 meeting.
+
+    Slots ``4·shoulder + 2·e + wrist`` of an arm whose axes 1, 2 meet at ``o`` and whose
     third joint has placed the wrist centre at ``o + R1 R2 u``:
     ``rot(−h1, θ1)(p_w − o) = rot(h2, θ2) u`` gives θ1, θ2 (SP2, shoulder ±), then the wrist.
 
@@ -190,8 +192,11 @@ def _by_first_angle(arm, count):
 
 @numba.njit(**COMPILE)
 def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
-    """Spherical wrist and any axes 1–3 by SP5 (module docstring); slot = 2·(arm solution by
-    increasing θ1) + wrist."""
+    """Spherical wrist and any axes 1–3, by SP5.
+
+    Spherical wrist and any axes 1–3 by SP5 (module docstring); slot = 2·(arm solution by
+    increasing θ1) + wrist.
+    """
     pw, z, y = _wrist_target(T, G)
     h1, h2, h3 = row(G, AXES), row(G, AXES + 1), row(G, AXES + 2)
     a1, a2, a3, w = row(G, POINTS), row(G, POINTS + 1), row(G, POINTS + 2), row(G, POINTS + 3)
@@ -209,8 +214,11 @@ def spherical(T, G, fix_joint, fix_value, tol, q, status, free, stage):
 
 @numba.njit(**COMPILE)
 def spherical_two_intersecting_prismatic(T, G, fix_joint, fix_value, tol, q, status, free, stage):
-    """Axes 1, 2 meeting, joint 3 sliding, spherical wrist: the Stanford arm's class (module
-    docstring). Slot = 4·shoulder + 2·slide + wrist."""
+    """The Stanford arm's class.
+
+    Axes 1, 2 meeting, joint 3 sliding, spherical wrist: the Stanford arm's class (module
+    docstring). Slot = 4·shoulder + 2·slide + wrist.
+    """
     frame = _wrist_target(T, G)
     h3 = row(G, AXES + 2)
     o, w = row(G, POINTS), row(G, POINTS + 3)
@@ -280,8 +288,11 @@ def solve_spherical(T, plan):
 
 @numba.njit(**COMPILE)
 def solve_spherical_two_intersecting_prismatic(T, plan):
-    """The closed form of ``spherical_two_intersecting_prismatic``
-    (:mod:`redik.solvers.analytic.finish`)."""
+    """The closed form of ``spherical_two_intersecting_prismatic``.
+
+    The closed form of ``spherical_two_intersecting_prismatic``
+    (:mod:`redik.solvers.analytic.finish`).
+    """
     valid, target, G, tol, fix_joint, fix_value = begin(T, plan)
     if not valid:
         return invalid()
@@ -296,32 +307,44 @@ def solve_spherical_two_intersecting_prismatic(T, plan):
 
 @numba.njit(parallel=True, **COMPILE)
 def batch_spherical_two_intersecting(T, plan, q, valid, singular):
-    """:func:`solve_spherical_two_intersecting` on every target of a (B, 4, 4) stack, threaded, into
-    ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code."""
+    """The PUMA class on a stack of targets, threaded.
+
+    :func:`solve_spherical_two_intersecting` on every target of a (B, 4, 4) stack, threaded, into
+    ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
+    """
     for b in numba.prange(T.shape[0]):
         scatter(solve_spherical_two_intersecting(T[b], plan), b, q, valid, singular)
 
 
 @numba.njit(parallel=True, **COMPILE)
 def batch_spherical_two_parallel(T, plan, q, valid, singular):
-    """:func:`solve_spherical_two_parallel` on every target of a (B, 4, 4) stack, threaded, into
-    ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code."""
+    """The offset-elbow class on a stack of targets, threaded.
+
+    :func:`solve_spherical_two_parallel` on every target of a (B, 4, 4) stack, threaded, into
+    ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
+    """
     for b in numba.prange(T.shape[0]):
         scatter(solve_spherical_two_parallel(T[b], plan), b, q, valid, singular)
 
 
 @numba.njit(parallel=True, **COMPILE)
 def batch_spherical(T, plan, q, valid, singular):
-    """:func:`solve_spherical` on every target of a (B, 4, 4) stack, threaded, into
-    ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code."""
+    """The SP5 class on a stack of targets, threaded.
+
+    :func:`solve_spherical` on every target of a (B, 4, 4) stack, threaded, into
+    ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
+    """
     for b in numba.prange(T.shape[0]):
         scatter(solve_spherical(T[b], plan), b, q, valid, singular)
 
 
 @numba.njit(parallel=True, **COMPILE)
 def batch_spherical_two_intersecting_prismatic(T, plan, q, valid, singular):
-    """:func:`solve_spherical_two_intersecting_prismatic` on every target of a (B, 4, 4)
-    stack, threaded, into ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code."""
+    """The Stanford class on a stack of targets, threaded.
+
+    :func:`solve_spherical_two_intersecting_prismatic` on every target of a (B, 4, 4)
+    stack, threaded, into ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
+    """
     for b in numba.prange(T.shape[0]):
         rows = solve_spherical_two_intersecting_prismatic(T[b], plan)
         scatter(rows, b, q, valid, singular)

@@ -23,8 +23,11 @@ from redik.solvers.analytic.vectors import neg, rotate_cs, row
 
 @numba.njit(**COMPILE)
 def _arm_inverse(G, cs, v):
-    """``R3ᵀ R2ᵀ R1ᵀ v`` for the arm angles' cosines and sines ``cs = (c1, s1, c2, s2, c3, s3)``
-    (a slide's "cosine and sine" are 1 and 0)."""
+    """Undo the arm's three rotations.
+
+    ``R3ᵀ R2ᵀ R1ᵀ v`` for the arm angles' cosines and sines ``cs = (c1, s1, c2, s2, c3, s3)``
+    (a slide's "cosine and sine" are 1 and 0).
+    """
     h1, h2, h3 = row(G, AXES), row(G, AXES + 1), row(G, AXES + 2)
     return rotate_cs(
         h3, cs[4], -cs[5], rotate_cs(h2, cs[2], -cs[3], rotate_cs(h1, cs[0], -cs[1], v))
@@ -41,11 +44,14 @@ def wrist(G, z, y, t, cs, fix_joint, fix_value, tol, slot, q, status, free, stag
         y: ``Z e``, the target's image of the perpendicular ``e`` (row 16 of ``G``).
         t: The arm's values ``(θ1, θ2, θ3)``.
         cs: Their cosines and sines ``(c1, s1, c2, s2, c3, s3)``.
-        fix_joint, fix_value: A joint held at a value (a family member), or −1.
+        fix_joint: A joint held at ``fix_value`` (a family member), or −1.
+        fix_value: Its value (rad).
         tol: The subproblems' tolerance (m).
         slot: The first of the two slots.
-        q, status, free, stage: The slot arrays (:mod:`.slots`); ``free[slot]`` already
-            holds the arm's free joint.
+        q: The slot rows (:mod:`.slots`).
+        status: The slots' status codes.
+        free: The slots' free joints; ``free[slot]`` already holds the arm's.
+        stage: The stage at which an empty slot failed.
         arm_status: REGULAR or SINGULAR, what the arm's subproblems found.
     """
     h4, h5, h6, e = row(G, AXES + 3), row(G, AXES + 4), row(G, AXES + 5), row(G, PERPENDICULAR)
