@@ -60,7 +60,11 @@ def test_joint_limits_hold_for_every_target(panda):
     result = solve_batch(panda, T_far, seed=0, engine="local", restarts=2)
     assert np.all(result.q >= panda.lower) and np.all(result.q <= panda.upper)
     assert not result.success[::4].any()
-    assert np.all(np.isin(result.status_names[::4], ("stalled", "max_iterations")))
+    centre, radius = Chain.from_robot(panda).reach()
+    beyond = np.linalg.norm(T_far[::4, :3, 3] - centre, axis=1) > radius
+    assert beyond.any() and not beyond.all()
+    assert np.all(result.status_names[::4][beyond] == "unreachable")
+    assert np.all(np.isin(result.status_names[::4][~beyond], ("stalled", "max_iterations")))
 
 
 def test_slide_and_unlimited_joints():

@@ -55,7 +55,8 @@ class Status(str, Enum):
     ``UNREACHABLE``     The target lies outside the reachable workspace as far as can be told:
                         beyond the chain's reach, or every attempt stopped at the same error
                         with a vanishing gradient (:func:`redik.solve_pose`,
-                        :func:`redik.solve_problem`); no start reached
+                        :func:`redik.solve_problem`; beyond the chain's reach for
+                        :func:`redik.solve_batch`, per target); no start reached
                         the pose (:func:`redik.explore_self_motion`); no closed-form solution
                         exists (:class:`~redik.solvers.analytic.IKSolutions`).
     ``LIMITS``          The target is reached only outside the joint limits: solutions exist,

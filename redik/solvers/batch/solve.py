@@ -49,10 +49,12 @@ BATCH_STATUSES = (
     Status.MAX_ITERATIONS,
     Status.INVALID,
     Status.DIVERGED,
+    Status.UNREACHABLE,
 )
 """The :class:`~redik.core.result.Status` of each code of :mod:`redik.solvers.dls` (the
 compiled kernel reports integers); ``INVALID`` marks a target that is not a finite rigid
-transform (it is not solved)."""
+transform (it is not solved), ``UNREACHABLE`` one beyond the chain's reach
+(:meth:`~redik.kinematics.chain.Chain.reach`, the bound :func:`redik.solve_pose` tests)."""
 
 METHODS = ("dls",)
 """Methods of :func:`solve_batch`: damped least squares (Levenberg–Marquardt)."""
@@ -210,18 +212,13 @@ def solve_chunk(
     """
     T = np.ascontiguousarray(T_targets, dtype=float)
     size = len(T)
-    results = (
-        np.empty((size, chain.dof)),
-        np.empty(size, dtype=np.int8),
-        np.empty(size, dtype=np.int64),
-        np.empty(size, dtype=np.int64),
-        np.empty(size),
-        np.empty(size),
-    )
+    results = dls.batch_results(size, chain.dof)
     settings, counts = options.kernel_settings()
     solve = dls.solve_parallel if parallel else dls.solve_serial
+    centre, radius = chain.reach()
+    reach = np.array([*centre, radius])
     solve(
-        chain.kernel_arrays(), T, np.ascontiguousarray(q0, dtype=float),
+        chain.kernel_arrays(), reach, T, np.ascontiguousarray(q0, dtype=float),
         np.int64(first), np.uint64(key), settings, counts, results,
     )  # fmt: skip
     q, status, iterations, restarts, position, rotation = results

@@ -20,11 +20,16 @@ re-solve for the rest of the error (the clamping loop of Chan & Dubey 1995, with
 limited hinge whose range spans a full turn is wrapped by 2π instead. An attempt ends
 converged (``‖p_d − p‖ ≤ pos_tol`` and ``angle ≤ rot_tol``), stalled (``λ`` past
 ``λ_max``, or ``‖e‖`` not cut to ``required`` times its value ``patience`` iterations
-earlier), diverged (a non-finite step) or at ``max_iterations``. A target that failed
-restarts from random configurations drawn uniformly within the sampling bounds by its own
-generator (splitmix64 seeded from the key and the target's index), so a result does not
-depend on chunking, threads or processes. The best attempt wins: a converged one, else the
-smallest ``‖e‖``. The batch entry points finally check each target strictly by a fresh FK of
+earlier), diverged (a non-finite step) or at ``max_iterations``. An attempt that stalled
+or ran out within ``POLISH_ERROR`` of the target is polished by undamped Gauss–Newton steps
+with backtracking (:func:`_polish`: the damped steps suppress the weak singular direction a
+target near a singularity needs). A target that failed restarts from random configurations
+drawn within the sampling bounds (the nearest in pose of a few, or around the best ``q``
+after a near miss; :func:`_restart_seed`) by its own generator (splitmix64 seeded from the
+key and the target's index), so a result does not depend on chunking, threads or processes.
+The best attempt wins: a converged one, else the smallest ``‖e‖``. A target beyond the
+chain's reach (:func:`reach_excess`) gets at most two restarts and, unsolved, the status
+``UNREACHABLE``. The batch entry points finally check each target strictly by a fresh FK of
 its returned ``q``.
 
 The settings arrive as two arrays indexed by the constants of
@@ -57,6 +62,9 @@ from redik.solvers.dls.options import (
     MAX_ITERATIONS,
     MIN_DAMPING,
     PATIENCE,
+    POLISH_DAMPING,
+    POLISH_ERROR,
+    POLISH_ITERATIONS,
     POS_TOL,
     REACH,
     REQUIRED,
@@ -65,9 +73,16 @@ from redik.solvers.dls.options import (
     TARGET_TOL,
 )
 
-CONVERGED, STALLED, EXHAUSTED, INVALID, DIVERGED = range(5)
+CONVERGED, STALLED, EXHAUSTED, INVALID, DIVERGED, UNREACHABLE = range(6)
 """Status codes, shared with :data:`redik.solvers.batch.solve.BATCH_STATUSES` (``EXHAUSTED`` is
-``"max_iterations"``: the iteration budget ran out)."""
+``"max_iterations"``: the iteration budget ran out; ``UNREACHABLE``: the target lies beyond
+the chain's reach, :func:`reach_excess`)."""
+
+_NEAREST, _AROUND_BEST = range(2)
+"""The kinds of restart start (:func:`_restart_seed`)."""
+
+PERTURBATION = 0.1
+"""Half-width of a start around the best ``q``, as a fraction of each joint's sampling range."""
 
 _BLOCK = 16
 """Targets per parallel work item: small enough to balance the threads on hard tails."""
@@ -162,10 +177,7 @@ def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
             qt[j] = qc[j] + dq[j]
             outside = True if qt[j] < lower[j] or qt[j] > upper[j] else outside
         if bounded and outside:
-            for j in range(n):  # a turn of 2π is the same pose: wrap instead of stopping
-                wrap = periodic[j] and (qt[j] < lower[j] or qt[j] > upper[j])
-                qt[j] = lower[j] + np.mod(qt[j] - lower[j], 2.0 * np.pi) if wrap else qt[j]
-            _clamp(J, ec, damping, qc, qt, lower, upper, ws)
+            _into_limits(J, ec, damping, qc, qt, lower, upper, periodic, ws)
         chain_kinematics(base, links, revolute, qt, Rt, pt, at, ot)
         trial_position, trial_angle = pose_error(Rd, pd, Rt, pt, et)
         E_trial = trial_position * trial_position + trial_angle * trial_angle
@@ -194,6 +206,103 @@ def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
     first[:] = qc  # the caller reads the result from the first row
     met = not ended and position <= pos_tol and angle <= rot_tol  # at the budget's end
     return CONVERGED if met else status, iterations, E, _limit_gradient(J, ec, qc, lower, upper)
+
+
+@numba.njit(**COMPILE)
+def _into_limits(J, e, damping, q, trial, lower, upper, periodic, ws):
+    """Bring ``trial``, a damped step from ``q``, into the joint limits.
+
+    A hinge whose range spans a full turn is wrapped by 2π (the same pose); any other joint
+    that would leave its range stops at the limit (:func:`_clamp`).
+    """
+    for j in range(q.shape[0]):
+        if periodic[j] and (trial[j] < lower[j] or trial[j] > upper[j]):
+            trial[j] = lower[j] + np.mod(trial[j] - lower[j], 2.0 * np.pi)
+    _clamp(J, e, damping, q, trial, lower, upper, ws)
+
+
+@numba.njit(**COMPILE)
+def _polish(chain, Rd, pd, settings, counts, ws, errors, history, record, iterations):
+    r"""Undamped Gauss–Newton steps with backtracking from ``q[0]`` of the workspace.
+
+    Near a singularity the damped attempt stalls a few µm from a reachable target: the
+    weakest singular direction ``v`` of ``J`` (``σ ≪ 1``) turns with ``q``, so the full step
+    overshoots along it, the trial is rejected, ``μ`` grows, and once ``λ ≫ σ²`` the step
+    along ``v``, ``σ uᵀe / λ``, is the part damping suppresses. Each polish step keeps the
+    Gauss–Newton direction ``Δq = Jᵀ(JJᵀ + λ_p I)⁻¹ e`` (``λ_p`` only keeps the system
+    regular) and shortens it instead, ``q + 2⁻ᵏ Δq`` for the first ``k ≤ 10`` that lowers
+    ``‖e‖`` (Nocedal & Wright §10.3, line-search Gauss–Newton; Deuflhard, *Newton Methods for
+    Nonlinear Problems*, §4.3), the joints clamped at their limits as in :func:`_attempt`.
+
+    It ends when ``‖e‖`` was not cut to ``REQUIRED`` times its value ``PATIENCE`` polish
+    iterations earlier, the attempt's own progress test (Gauss–Newton converges quadratically
+    near a root of full rank; slower progress means a stationary point of ``‖e‖`` that is
+    not a root). Continues the attempt's ``errors`` and ``history`` from index ``iterations``.
+
+    Returns:
+        ``(converged, iterations, ‖e‖², ‖Jᵀe‖ without the components that push against a
+        limit)`` at the polished ``q`` (left in ``q[0]``).
+    """
+    base, links, revolute, lower, upper, _, _, periodic = chain
+    R, p, axes, origins, e, q = ws[_R][0], ws[_P][0], ws[_AXES][0], ws[_ORIGINS][0], ws[_E], ws[_Q]
+    A, y, dq, free, G, J = ws[_A], ws[_Y], ws[_DQ], ws[_FREE], ws[_G], ws[_J][0]
+    damping, stop = settings[POLISH_DAMPING], iterations + counts[POLISH_ITERATIONS]
+    chain_kinematics(base, links, revolute, q[0], R, p, axes, origins)
+    position, angle = pose_error(Rd, pd, R, p, e[0])
+    E = position * position + angle * angle
+    met = position <= settings[POS_TOL] and angle <= settings[ROT_TOL]
+    while not met and iterations < stop:
+        world_jacobian(revolute, p, axes, origins, J)
+        gram(J, G)
+        free[:] = True
+        damped_solve_gram(J, G, free, e[0], damping, A, y, dq)
+        for j in range(q.shape[1]):
+            q[1, j] = q[0, j] + dq[j]
+        if counts[BOUNDED] != 0:
+            _into_limits(J, e[0], damping, q[0], q[1], lower, upper, periodic, ws)
+        E_trial = _backtrack(chain, Rd, pd, ws, E)
+        if not E_trial < E:
+            break
+        q[0] = q[1]
+        chain_kinematics(base, links, revolute, q[0], R, p, axes, origins)
+        position, angle = pose_error(Rd, pd, R, p, e[0])
+        E = position * position + angle * angle
+        met = position <= settings[POS_TOL] and angle <= settings[ROT_TOL]
+        iterations += 1
+        errors[iterations] = math.sqrt(E)
+        if record:
+            history[iterations] = q[0]
+        if iterations - stop + counts[POLISH_ITERATIONS] >= counts[PATIENCE] and (
+            errors[iterations] > settings[REQUIRED] * errors[iterations - counts[PATIENCE]]
+        ):
+            break  # linear progress at best: the attempt is at a stationary point, not a root
+    world_jacobian(revolute, p, axes, origins, J)
+    return met, iterations, E, _limit_gradient(J, e[0], q[0], lower, upper)
+
+
+@numba.njit(**COMPILE)
+def _backtrack(chain, Rd, pd, ws, E):
+    """The first ``q[0] + 2⁻ᵏ (q[1] − q[0])``, ``k = 0 … 10``, whose ``‖e‖²`` is below ``E``.
+
+    Leaves it in ``q[1]`` and returns its ``‖e‖²`` (the last one tried when none is below).
+    Every fraction of a step inside the limits stays inside them.
+    """
+    base, links, revolute = chain[0], chain[1], chain[2]
+    R, p, axes, origins, e, q, dq = (
+        ws[_R][1], ws[_P][1], ws[_AXES][1], ws[_ORIGINS][1], ws[_E][1], ws[_Q], ws[_DQ]
+    )  # fmt: skip
+    for j in range(q.shape[1]):
+        dq[j] = q[1, j] - q[0, j]
+    E_trial = np.inf
+    for k in range(11):
+        for j in range(q.shape[1]):
+            q[1, j] = q[0, j] + dq[j] * 0.5**k
+        chain_kinematics(base, links, revolute, q[1], R, p, axes, origins)
+        position, angle = pose_error(Rd, pd, R, p, e)
+        E_trial = position * position + angle * angle
+        if E_trial < E:
+            break
+    return E_trial
 
 
 @numba.njit(**COMPILE)
@@ -245,22 +354,56 @@ def _limit_gradient(J, e, q, lower, upper):
 
 
 @numba.njit(**COMPILE)
-def _restart_seed(chain, Rd, pd, state, candidates, bounded, ws):
-    """Into ``ws`` q[0]: the nearest in pose of ``candidates`` random configurations.
+def _polished_attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
+    """:func:`_attempt`, then :func:`_polish` when it ended within ``POLISH_ERROR`` unsolved."""
+    status, iterations, E, gradient = _attempt(
+        chain, Rd, pd, settings, counts, ws, errors, history, record
+    )
+    if (status == STALLED or status == EXHAUSTED) and E <= settings[POLISH_ERROR] ** 2:
+        met, iterations, E, gradient = _polish(
+            chain, Rd, pd, settings, counts, ws, errors, history, record, iterations
+        )
+        status = CONVERGED if met else status
+    return status, iterations, E, gradient
 
-    Distance ``‖p − p_d‖² + (w ‖R − R_d‖_F)²`` with ``w`` = 0.5 m, a reach-sized weight that
-    puts radians on the scale of metres: a start near the target converges more often than
-    a uniform one, at the price of a few FKs (a fraction of one iteration each).
+
+@numba.njit(**COMPILE)
+def _kind(attempt, best_E, settings):
+    """The kind of start of restart ``attempt`` (:func:`_restart_seed`).
+
+    The nearest of random configurations; once an attempt has ended within ``POLISH_ERROR``,
+    every third restart starts around the best ``q`` instead.
+    """
+    if best_E <= settings[POLISH_ERROR] ** 2 and attempt % 3 == 0:
+        return _AROUND_BEST
+    return _NEAREST
+
+
+@numba.njit(**COMPILE)
+def _restart_seed(chain, Rd, pd, state, kind, counts, best, ws):
+    """Into ``ws`` q[0]: the start of a restart, by ``kind``.
+
+    - ``_NEAREST``: the nearest in pose of ``counts[CANDIDATES]`` random configurations,
+      distance ``‖p − p_d‖² + (w ‖R − R_d‖_F)²`` with ``w`` = 0.5 m, a reach-sized weight
+      that puts radians on the scale of metres: a start near the target converges more
+      often than a uniform one, at the price of a few FKs (a fraction of one iteration each);
+    - ``_AROUND_BEST``: ``best`` moved by up to ``±PERTURBATION`` of each joint's sampling
+      range: an attempt that stopped near a singularity a few µm away is most often beside
+      a solution on the other side of it.
+
+    Every start is clipped into the limits when they are respected.
     """
     base, links, revolute, lower, upper, sampling_lower, sampling_upper, _ = chain
     R, p, axes, origins, q = ws[_R][1], ws[_P][1], ws[_AXES][1], ws[_ORIGINS][1], ws[_Q]
-    n = revolute.shape[0]
-    best = np.inf
+    bounded = counts[BOUNDED] != 0
+    candidates = counts[CANDIDATES] if kind == _NEAREST else 1
+    nearest = np.inf
     for _ in range(candidates):
-        for j in range(n):
-            value = sampling_lower[j] + (sampling_upper[j] - sampling_lower[j]) * (
-                _next_uniform(state)
-            )
+        for j in range(revolute.shape[0]):
+            span = sampling_upper[j] - sampling_lower[j]
+            value = sampling_lower[j] + span * _next_uniform(state)
+            if kind == _AROUND_BEST:
+                value = best[j] + PERTURBATION * span * (2.0 * _next_uniform(state) - 1.0)
             q[1, j] = min(max(value, lower[j]), upper[j]) if bounded else value
         if candidates == 1:
             q[0] = q[1]
@@ -271,8 +414,8 @@ def _restart_seed(chain, Rd, pd, state, candidates, bounded, ws):
             distance += (p[a] - pd[a]) ** 2
             for b in range(3):
                 distance += 0.25 * (R[a, b] - Rd[a, b]) ** 2
-        if distance < best:
-            best = distance
+        if distance < nearest:
+            nearest = distance
             q[0] = q[1]
 
 
@@ -285,7 +428,6 @@ def _solve_target(chain, Rd, pd, q0, state, settings, counts, ws, out, history, 
     every attempt diverged)`` over the attempts, for the caller's unreachable diagnosis.
     """
     q = ws[_Q]
-    bounded = counts[BOUNDED] != 0
     restarts = counts[RESTARTS]
     best_status, best_E, best_length = DIVERGED, np.inf, 0
     total, attempts = 0, 0
@@ -296,10 +438,10 @@ def _solve_target(chain, Rd, pd, q0, state, settings, counts, ws, out, history, 
         if attempts == 0:
             q[0] = q0
         else:
-            _restart_seed(chain, Rd, pd, state, counts[CANDIDATES], bounded, ws)
+            _restart_seed(chain, Rd, pd, state, _kind(attempts, best_E, settings), counts, out, ws)
         if record:
             work_history[0] = q[0]
-        status, iterations, E, gradient = _attempt(
+        status, iterations, E, gradient = _polished_attempt(
             chain, Rd, pd, settings, counts, ws, work_errors, work_history, record
         )
         attempts += 1
@@ -318,8 +460,25 @@ def _solve_target(chain, Rd, pd, q0, state, settings, counts, ws, out, history, 
             break
         if attempts == 1 and settings[REACH] > 0.0:
             restarts = min(restarts, 2)  # beyond reach: a closest q is all there is to find
+    if best_status != CONVERGED and settings[REACH] > 0.0:
+        best_status = UNREACHABLE
     summary = (error_min, error_max, all_stationary, all_diverged)
     return best_status, total, attempts - 1, best_length, summary
+
+
+@numba.njit(**COMPILE)
+def reach_excess(reach, pd):
+    """How far (m) ``pd`` lies beyond the ball ``reach = (a_x, a_y, a_z, r)`` (0 inside it).
+
+    No ``q`` puts the frame farther than ``r`` from ``a``
+    (:func:`redik.solvers.pose.frame.reach_bound`, :meth:`redik.kinematics.chain.Chain.reach`);
+    an excess within round-off (``1e-9 max(1, r)``) counts as inside.
+    """
+    if not math.isfinite(reach[3]):
+        return 0.0
+    dx, dy, dz = pd[0] - reach[0], pd[1] - reach[1], pd[2] - reach[2]
+    excess = math.sqrt(dx * dx + dy * dy + dz * dz) - reach[3]
+    return excess if excess > 1e-9 * max(1.0, reach[3]) else 0.0
 
 
 @numba.njit(**COMPILE)
@@ -351,12 +510,7 @@ def solve_one(chain, columns, reach, T, q0, key, settings, counts, out, history,
         if not abs(q0[j]) <= MAX_COORDINATE:  # also refuses NaN
             return INVALID, 0, 0, 0, no_summary
     Rd, pd = T[:3, :3], T[:3, 3]
-    excess = 0.0
-    if math.isfinite(reach[3]):
-        dx, dy, dz = pd[0] - reach[0], pd[1] - reach[1], pd[2] - reach[2]
-        distance = math.sqrt(dx * dx + dy * dy + dz * dz)
-        if distance - reach[3] > 1e-9 * max(1.0, reach[3]):
-            excess = distance - reach[3]
+    excess = reach_excess(reach, pd)
     local = settings.copy()
     local[REACH] = excess
     ws = _workspace(n)
@@ -381,17 +535,14 @@ def solve_one(chain, columns, reach, T, q0, key, settings, counts, out, history,
 
 
 @numba.njit(**COMPILE)
-def _solve_range(chain, T, q0, first, key, settings, counts, start, stop, results):
+def _solve_range(chain, reach, T, q0, first, key, settings, counts, start, stop, results):
     q_out, status, iterations, restarts, position_error, rotation_error = results
-    base, links, revolute, lower, upper = chain[0], chain[1], chain[2], chain[3], chain[4]
-    n = revolute.shape[0]
+    n = chain[2].shape[0]
     ws = _workspace(n)
     state = np.empty(1, dtype=np.uint64)
-    errors = np.empty((2, counts[MAX_ITERATIONS] + 1))
+    errors = np.empty((2, counts[MAX_ITERATIONS] + counts[POLISH_ITERATIONS] + 1))
     history = np.empty((2, 1, n))  # not recorded
-    R, p = np.empty((3, 3)), np.empty(3)
-    axes, origins = np.empty((n, 3)), np.empty((n, 3))
-    e = np.empty(6)
+    local = settings.copy()
     for t in range(start, stop):
         q_out[t] = q0[t]
         if not valid_target(T[t], settings[TARGET_TOL]):
@@ -402,17 +553,12 @@ def _solve_range(chain, T, q0, first, key, settings, counts, start, stop, result
         # The generator of target t depends on the key and t's index in the whole batch only.
         state[0] = key + np.uint64(first + t) * _STREAM
         Rd, pd = T[t, :3, :3], T[t, :3, 3]
+        local[REACH] = reach_excess(reach, pd)
         code, count, used, _, _ = _solve_target(
-            chain, Rd, pd, q0[t], state, settings, counts, ws, q_out[t], history, errors, False
+            chain, Rd, pd, q0[t], state, local, counts, ws, q_out[t], history, errors, False
         )
-        # Strict success: a fresh FK of the returned q, its errors, and the limits.
-        chain_kinematics(base, links, revolute, q_out[t], R, p, axes, origins)
-        position, angle = pose_error(Rd, pd, R, p, e)
-        inside = True
-        for j in range(n):
-            inside = inside and lower[j] <= q_out[t, j] <= upper[j]
-        solved = inside and position <= settings[POS_TOL] and angle <= settings[ROT_TOL]
-        if solved:
+        position, angle, inside = _check(chain, Rd, pd, q_out[t], ws)
+        if inside and position <= settings[POS_TOL] and angle <= settings[ROT_TOL]:
             code = CONVERGED
         elif code == CONVERGED:
             code = EXHAUSTED
@@ -421,21 +567,54 @@ def _solve_range(chain, T, q0, first, key, settings, counts, start, stop, result
 
 
 @numba.njit(**COMPILE)
-def solve_serial(chain, T, q0, first, key, settings, counts, results):
+def _check(chain, Rd, pd, q, ws):
+    """``(position error, rotation error, inside the limits)`` of ``q`` by a fresh FK.
+
+    The strict verdict on a returned ``q`` (``ws`` rows 1 are overwritten).
+    """
+    base, links, revolute, lower, upper = chain[0], chain[1], chain[2], chain[3], chain[4]
+    R, p, axes, origins, e = ws[_R][1], ws[_P][1], ws[_AXES][1], ws[_ORIGINS][1], ws[_E][1]
+    chain_kinematics(base, links, revolute, q, R, p, axes, origins)
+    position, angle = pose_error(Rd, pd, R, p, e)
+    inside = True
+    for j in range(q.shape[0]):
+        inside = inside and lower[j] <= q[j] <= upper[j]
+    return position, angle, inside
+
+
+def batch_results(size: int, n: int) -> tuple[np.ndarray, ...]:
+    """Output arrays of :func:`solve_serial` and :func:`solve_parallel` for ``size`` targets.
+
+    ``(q (size × n), status (int8), iterations, restarts (int64), position error,
+    rotation error)``.
+    """
+    return (
+        np.empty((size, n)),
+        np.empty(size, dtype=np.int8),
+        np.empty(size, dtype=np.int64),
+        np.empty(size, dtype=np.int64),
+        np.empty(size),
+        np.empty(size),
+    )
+
+
+@numba.njit(**COMPILE)
+def solve_serial(chain, reach, T, q0, first, key, settings, counts, results):
     """Solve every target of a chunk on this thread (see :func:`solve_parallel`)."""
-    _solve_range(chain, T, q0, first, key, settings, counts, 0, T.shape[0], results)
+    _solve_range(chain, reach, T, q0, first, key, settings, counts, 0, T.shape[0], results)
 
 
 @numba.njit(parallel=True, **COMPILE)
-def solve_parallel(chain, T, q0, first, key, settings, counts, results):
+def solve_parallel(chain, reach, T, q0, first, key, settings, counts, results):
     """Solve every target of a chunk, blocks of targets spread over numba's threads.
 
-    ``T`` (B × 4 × 4) are targets ``first … first + B − 1`` of the batch; ``results`` are
-    the output arrays ``(q, status, iterations, restarts, position error, rotation error)``.
+    ``T`` (B × 4 × 4) are targets ``first … first + B − 1`` of the batch; ``reach`` the
+    chain's reach ``(a_x, a_y, a_z, r)`` (:func:`reach_excess`); ``results`` are the output
+    arrays ``(q, status, iterations, restarts, position error, rotation error)``.
     """
     size = T.shape[0]
     blocks = (size + _BLOCK - 1) // _BLOCK
     for block in numba.prange(blocks):
         start = block * _BLOCK
         stop = min(size, start + _BLOCK)
-        _solve_range(chain, T, q0, first, key, settings, counts, start, stop, results)
+        _solve_range(chain, reach, T, q0, first, key, settings, counts, start, stop, results)

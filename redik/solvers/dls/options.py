@@ -12,8 +12,9 @@ from redik.core.rotation_policy import ROTATION_TOLERANCE
 from redik.core.validate import fraction, integer
 
 # Indices into the float and integer settings arrays (few arguments keep the call cheap).
-POS_TOL, ROT_TOL, DAMPING, MIN_DAMPING, MAX_DAMPING, REQUIRED, REACH, TARGET_TOL = range(8)
-MAX_ITERATIONS, RESTARTS, PATIENCE, BOUNDED, CANDIDATES = range(5)
+(POS_TOL, ROT_TOL, DAMPING, MIN_DAMPING, MAX_DAMPING, REQUIRED, REACH, TARGET_TOL,
+ POLISH_ERROR, POLISH_DAMPING) = range(10)  # fmt: skip
+MAX_ITERATIONS, RESTARTS, PATIENCE, BOUNDED, CANDIDATES, POLISH_ITERATIONS = range(6)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -32,7 +33,12 @@ class DLSOptions:
         progress: An attempt whose ``‖e‖²`` fell by less than this fraction (in (0, 1)) over
             the last ``patience`` iterations has stalled.
         candidates: Each restart starts from the nearest in pose of this many random
-            configurations (1: a uniform random start).
+            configurations (1: a uniform random start), or around the best ``q`` found
+            (:func:`redik.solvers.dls.kernel._restart_seed`).
+        polish_iterations: Gauss–Newton steps of the polish stage that follows an attempt
+            which ended short of the tolerances (0: no polish).
+        polish_error: The polish runs when the attempt ended with ``‖e‖`` below this.
+        polish_damping: ``λ`` of the polish steps, which only keeps their system regular.
 
     The defaults are those that solve the random reachable targets of ``redik bench batch``
     (panda, iiwa14, ur5e) in the fewest iterations at full success: a small initial ``μ``
@@ -54,18 +60,37 @@ class DLSOptions:
     patience: int = 8
     progress: float = 0.5
     candidates: int = 16
+    polish_iterations: int = 30
+    polish_error: float = 1e-3
+    polish_damping: float = 1e-12
 
     def __post_init__(self) -> None:
         fraction(self.progress, "progress")  # 1 would ask ‖e‖² to reach 0
-        for name in ("pos_tol", "rot_tol", "damping", "min_damping", "max_damping"):
+        for name in (
+            "pos_tol",
+            "rot_tol",
+            "damping",
+            "min_damping",
+            "max_damping",
+            "polish_error",
+            "polish_damping",
+        ):
             value = getattr(self, name)
             if isinstance(value, bool) or not (
                 isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0
             ):
                 raise InvalidInput(f"{name} must be a positive number, got {value!r}")
-        integers = (("max_iterations", 1), ("restarts", 0), ("patience", 1), ("candidates", 1))
+        integers = (
+            ("max_iterations", 1), ("restarts", 0), ("patience", 1), ("candidates", 1),
+            ("polish_iterations", 0),
+        )  # fmt: skip
         for name, minimum in integers:
             integer(getattr(self, name), name, minimum)
+
+    @property
+    def history_length(self) -> int:
+        """The most iterates one attempt records: its start, its iterations and its polish."""
+        return 1 + self.max_iterations + self.polish_iterations
 
     def kernel_settings(self, bounded: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """The float and integer settings arrays of the compiled kernel.
@@ -81,7 +106,7 @@ class DLSOptions:
         Returns:
             ``(floats, counts)``, indexed by this module's constants.
         """
-        settings = np.empty(8)
+        settings = np.empty(10)
         settings[POS_TOL] = self.pos_tol
         settings[ROT_TOL] = self.rot_tol
         settings[DAMPING] = self.damping
@@ -90,10 +115,13 @@ class DLSOptions:
         settings[REQUIRED] = math.sqrt(1.0 - self.progress)
         settings[REACH] = 0.0
         settings[TARGET_TOL] = ROTATION_TOLERANCE
-        counts = np.empty(5, dtype=np.int64)
+        settings[POLISH_ERROR] = self.polish_error
+        settings[POLISH_DAMPING] = self.polish_damping
+        counts = np.empty(6, dtype=np.int64)
         counts[CANDIDATES] = self.candidates
         counts[MAX_ITERATIONS] = self.max_iterations
         counts[RESTARTS] = self.restarts
         counts[PATIENCE] = self.patience
         counts[BOUNDED] = int(bounded)
+        counts[POLISH_ITERATIONS] = self.polish_iterations
         return settings, counts

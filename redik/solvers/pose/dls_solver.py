@@ -96,13 +96,15 @@ class DLSSolver:
                 return settings
         except TypeError:  # an unhashable option value: DLSOptions names it below
             pass
-        floats, counts = DLSOptions(
+        dls_options = DLSOptions(
             pos_tol=pos_tol, rot_tol=rot_tol, max_iterations=max_iterations, restarts=restarts,
             **{**DLS_OPTIONS, **options},
-        ).kernel_settings(respect_limits)  # fmt: skip
+        )  # fmt: skip
+        floats, counts = dls_options.kernel_settings(respect_limits)
         if len(self.settings) >= _SETTINGS_KEPT:
             self.settings.clear()
-        settings = (floats, counts, pos_tol, rot_tol, respect_limits, max_iterations + 1)
+        length = dls_options.history_length
+        settings = (floats, counts, pos_tol, rot_tol, respect_limits, length)
         self.settings[arguments] = settings
         return settings
 

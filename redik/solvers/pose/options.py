@@ -26,7 +26,17 @@ RESTARTS = {"newton": 20, "transpose": 5, "hybrid": 20, "dls": 200, "qp": 20}
 
 DLS_OPTIONS = {
     name: getattr(DLSOptions, name)
-    for name in ("damping", "min_damping", "max_damping", "patience", "progress", "candidates")
+    for name in (
+        "damping",
+        "min_damping",
+        "max_damping",
+        "patience",
+        "progress",
+        "candidates",
+        "polish_iterations",
+        "polish_error",
+        "polish_damping",
+    )
 }
 """The options of ``"dls"`` and their defaults: those of the compiled kernel's
 :class:`~redik.solvers.dls.DLSOptions`, which validates them."""

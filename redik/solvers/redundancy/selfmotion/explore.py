@@ -133,7 +133,8 @@ def explore_self_motion(
         or [np.empty(0, dtype=int)]
     )
     errors = np.array([corrector.pose_errors(q) for q in samples]).reshape(-1, 2)
-    status, message = _status(explorer, seeds, closest, len(extra) + n_starts, max_samples)
+    excess = 0.0 if seeds else _reach_excess(robot, resolved, T_target)
+    status, message = _status(explorer, seeds, closest, len(extra) + n_starts, max_samples, excess)
     return SelfMotion(
         T_target=T_target.copy(),
         frame=resolved.name,
@@ -177,8 +178,12 @@ def _status(
     closest: tuple[float | None, float | None],
     attempts: int,
     max_samples: int,
+    excess: float,
 ) -> tuple[Status, str]:
-    """The status and message of an exploration (see :class:`SelfMotion`)."""
+    """The status and message of an exploration (see :class:`SelfMotion`).
+
+    ``excess`` is how far the target lies beyond the chain's reach (0 within it).
+    """
     if not seeds:
         if attempts == 0:
             return (
@@ -186,9 +191,14 @@ def _status(
                 "no start: n_starts is 0 and no initial configuration was given",
             )
         position, rotation = closest
+        beyond = (
+            f"the target is {excess:.3g} m beyond the reach of the chain from its first joint; "
+            if excess > 0.0
+            else ""
+        )
         return Status.UNREACHABLE, (
-            f"none of {attempts} IK starts reached the pose (joint limits ignored); the closest "
-            f"ended {position:.3g} m and {rotation:.3g} rad away"
+            f"{beyond}none of {attempts} IK starts reached the pose (joint limits ignored); the "
+            f"closest ended {position:.3g} m and {rotation:.3g} rad away"
         )
     if not explorer.parts:
         return Status.LIMITS, (
@@ -200,6 +210,13 @@ def _status(
             f"max_samples={max_samples} ran out before every component was sampled"
         )
     return Status.CONVERGED, ""
+
+
+def _reach_excess(robot: Robot, frame: Frame, T_target: np.ndarray) -> float:
+    """How far the target lies beyond the chain's reach, as :func:`redik.solve_pose` tests it."""
+    from redik.solvers.pose.frame import PoseFrame
+
+    return PoseFrame(robot, frame).reach_excess(T_target[:3, 3])
 
 
 # --------------------------------------------------------------------------------------
