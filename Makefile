@@ -22,11 +22,14 @@ export PYOPENGL_PLATFORM ?= egl
 env: $(STAMP)
 
 # PIP_CONSTRAINT (not only -c) so that the isolated build of redik's own wheel (hatchling and
-# its dependencies) is pinned too.
+# its dependencies) is pinned too. The last step compiles the damped least-squares kernel that
+# solve_pose, solve_batch and the task stack's warm start call into numba's cache, so that
+# the first solve does not compile (tools/first_run.py times both).
 $(STAMP): pyproject.toml $(LOCK)
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	PIP_CONSTRAINT=$(CURDIR)/$(LOCK) $(BIN)/python -m pip install --quiet pip
 	PIP_CONSTRAINT=$(CURDIR)/$(LOCK) $(BIN)/python -m pip install --quiet -e ".[test]"
+	$(BIN)/python -m redik.solvers.dls.compile
 	touch $(STAMP)
 
 demo: $(STAMP)
