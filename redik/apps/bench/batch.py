@@ -10,6 +10,11 @@ over ``--repeats`` runs of wall-clock time; the CPU-time rate (this process's CP
 shown for the in-process runs) is less disturbed by other load on a shared machine, and the
 load average is printed at start and end. The target: at least 100,000 strict 7-DoF solves
 per second on every core at ≥ 99.99 % strict success.
+
+Two ratios follow each robot, each from runs alternated in one loop (medians): the
+per-thread throughput of ``solve_batch`` (the kernel on one thread, in this process) over
+that of the ``solve_pose`` loop on the same ``--single`` targets, by CPU time (goal ≥ 4),
+and the wall-clock rate of two threads over one on the largest batch (goal ≥ 1.8).
 """
 
 from __future__ import annotations
@@ -17,17 +22,23 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
+from collections.abc import Callable
 
+import numba
 import numpy as np
 
 from redik.apps.bench import load_average
-from redik.kinematics.robot import load
+from redik.kinematics.robot import Robot, load
 from redik.solvers.batch import Chain, forward_kinematics, solve_batch
 from redik.solvers.batch.engines import default_workers
 from redik.solvers.pose import solve_pose
 
 TARGET_RATE = 100_000
 TARGET_SUCCESS = 0.9999
+TARGET_PER_THREAD = 4.0
+"""Goal of ``solve_batch`` on one thread over the ``solve_pose`` loop, per target."""
+TARGET_TWO_THREADS = 1.8
+"""Goal of ``solve_batch`` on two threads over one."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -36,7 +47,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--sizes", nargs="+", type=int, default=[1_000, 10_000, 100_000])
     parser.add_argument("--repeats", type=int, default=3, help="runs per case; median reported")
     parser.add_argument("--workers", type=int, default=None, help="processes (default: all)")
-    parser.add_argument("--single", type=int, default=200, help="targets for the solve_pose loop")
+    parser.add_argument("--single", type=int, default=2000, help="targets for the solve_pose loop")
     parser.add_argument("--seed", type=int, default=0)
 
 
@@ -67,6 +78,49 @@ def _single_loop(robot, T: np.ndarray, seed: int) -> tuple[float, float]:
     )
     solved = sum(r.success for r in results)
     return solved / wall, solved / len(T)
+
+
+def _alternated(
+    runs: dict[object, Callable[[], object]], repeats: int, part: int
+) -> dict[object, float]:
+    """Median of ``_timed(fn)[part]`` (0: wall, 1: CPU seconds) of each run, alternated."""
+    times: dict[object, list[float]] = {label: [] for label in runs}
+    for _ in range(repeats):
+        for label, fn in runs.items():
+            times[label].append(_timed(fn)[part])
+    return {label: statistics.median(samples) for label, samples in times.items()}
+
+
+def _print_ratios(
+    name: str, robot: Robot, chain: Chain, T_all: np.ndarray, args: argparse.Namespace
+) -> None:
+    """The per-thread ratio to the ``solve_pose`` loop and the two-thread ratio.
+
+    Per thread is CPU time (both run on this process's one thread, so another process's load
+    does not enter it); two threads against one is wall time.
+    """
+    T_single, T_large = T_all[: args.single], T_all[: max(args.sizes)]
+
+    def batch(T: np.ndarray, threads: int) -> Callable[[], object]:
+        return lambda: solve_batch(chain, T, seed=args.seed, engine="local", workers=threads)
+
+    def loop() -> list[object]:
+        return [solve_pose(robot, Ti, seed=args.seed + i) for i, Ti in enumerate(T_single)]
+
+    single = _alternated({"batch": batch(T_single, 1), "loop": loop}, args.repeats, 1)
+    per_thread = single["loop"] / single["batch"]
+    print(
+        f"{name}: per thread (CPU), solve_batch {1e6 * single['batch'] / len(T_single):.1f} us"
+        f" / solve_pose loop {1e6 * single['loop'] / len(T_single):.1f} us per target: "
+        f"{per_thread:.2f}x (goal ≥ {TARGET_PER_THREAD:g}x; {len(T_single)} targets)"
+    )
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        return
+    threads = _alternated({1: batch(T_large, 1), 2: batch(T_large, 2)}, args.repeats, 0)
+    print(
+        f"{name}: solve_batch on 2 threads / 1 thread (wall): {threads[1] / threads[2]:.2f}x "
+        f"(goal ≥ {TARGET_TWO_THREADS:g}x; {len(T_large)} targets)"
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -110,6 +164,7 @@ def run(args: argparse.Namespace) -> int:
             f"{name:<8}{args.single:>8}{'solve_pose loop':>20}{rate:>11,.0f}{'':>11}"
             f"{100 * success:>9.2f}%"
         )
+        _print_ratios(name, robot, chain, T_all, args)
     for name, (rate, success) in best.items():
         robot = load(name)
         if robot.dof == 7:

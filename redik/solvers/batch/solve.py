@@ -23,9 +23,10 @@ rot_tol`` and ``q`` within the limits, checked by a fresh FK of the returned ``q
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 
 import numba
 import numpy as np
@@ -315,37 +316,50 @@ def solve_batch(
     options = DLSOptions(
         pos_tol=pos_tol, rot_tol=rot_tol, restarts=restarts, max_iterations=max_iterations
     )
-    T, valid = check_targets(T_targets, strict)  # once here: one warning, not one per chunk
-    if not valid.all():
-        T = np.where(valid[:, None, None], T, np.nan)  # each chunk sees the refused as invalid
-    size = len(T)
-    seeds = check_seeds(chain, q0, size)
-    if chunk_size is None:
-        chunk_size = int(np.clip(-(-size // 4), *CHUNK_SIZE_RANGE))
-    root = np.random.SeedSequence(seed)
-    key = int(root.generate_state(1, np.uint64)[0])
-    store = None
-    if checkpoint is not None:
-        settings = dataclasses.asdict(options) | {
-            "method": method,
-            "chunk_size": chunk_size,
-            "seed": seed,
-            "result": [field.name for field in dataclasses.fields(BatchResult)],
-        }
-        store = Checkpoint.open(checkpoint, batch_fingerprint(chain, T, seeds, settings), key)
-        key = store.key
-    parallel = runner.kind == "local"
+    with _numba_threads(runner) as parallel:
+        T, valid = check_targets(T_targets, strict)  # once here: one warning, not one per chunk
+        if not valid.all():
+            T = np.where(valid[:, None, None], T, np.nan)  # each chunk sees the refused as invalid
+        size = len(T)
+        seeds = check_seeds(chain, q0, size)
+        if chunk_size is None:
+            chunk_size = int(np.clip(-(-size // 4), *CHUNK_SIZE_RANGE))
+        root = np.random.SeedSequence(seed)
+        key = int(root.generate_state(1, np.uint64)[0])
+        store = None
+        if checkpoint is not None:
+            settings = dataclasses.asdict(options) | {
+                "method": method,
+                "chunk_size": chunk_size,
+                "seed": seed,
+                "result": [field.name for field in dataclasses.fields(BatchResult)],
+            }
+            store = Checkpoint.open(checkpoint, batch_fingerprint(chain, T, seeds, settings), key)
+            key = store.key
+        parts = _solve_chunks(
+            runner, (chain, options, key, parallel), T, seeds, chunk_size, store, progress
+        )
+    return BatchResult.concatenate(parts)
+
+
+@contextlib.contextmanager
+def _numba_threads(runner: Engine) -> Iterator[bool]:
+    """The threads numba runs one batch on; yields whether the kernel runs on several.
+
+    The local engine's workers set them from the target checks on: OpenMP threads woken by a
+    parallel region spin after it, so a batch on one thread wakes none and runs the serial
+    kernel. Blocks of targets are handed out one at a time as threads free up.
+    """
     threads = numba.get_num_threads()
-    if parallel:
-        numba.set_num_threads(min(runner.workers, numba.config.NUMBA_NUM_THREADS))
+    count = threads
+    if runner.kind == "local":
+        count = min(runner.workers, numba.config.NUMBA_NUM_THREADS)
+    numba.set_num_threads(count)
     try:
-        with numba.parallel_chunksize(1):  # hand out blocks of targets as threads free up
-            parts = _solve_chunks(
-                runner, (chain, options, key, parallel), T, seeds, chunk_size, store, progress
-            )
+        with numba.parallel_chunksize(1):
+            yield runner.kind == "local" and count > 1
     finally:
         numba.set_num_threads(threads)
-    return BatchResult.concatenate(parts)
 
 
 def _solve_chunks(
