@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import redik
-from redik import Status
+from redik import Status, lie
 from redik.core.result import IKResult
 from redik.solvers.analytic import planar_2r
 from redik.solvers.redundancy import Manipulability, gradient_projection_ik
@@ -30,8 +30,8 @@ DRIVEN: dict[str, set[Status]] = {
         Status.CONVERGED, Status.SUBOPTIMAL, Status.UNREACHABLE, Status.MAX_ITERATIONS,
         Status.STALLED,
     },
-    "test_solve_batch_reports_converged_stalled_and_invalid_per_target": {
-        Status.CONVERGED, Status.STALLED, Status.INVALID
+    "test_solve_batch_reports_converged_stalled_unreachable_and_invalid_per_target": {
+        Status.CONVERGED, Status.STALLED, Status.UNREACHABLE, Status.INVALID
     },
     "test_self_motion_reports_converged_max_iterations_unreachable_and_limits": {
         Status.CONVERGED, Status.MAX_ITERATIONS, Status.UNREACHABLE, Status.LIMITS
@@ -169,12 +169,16 @@ def test_solve_problem_reports_every_status_of_its(planar, narrow):
     produced(redik.solve_problem(stack, panda.home, one_step), "suboptimal")
 
 
-def test_solve_batch_reports_converged_stalled_and_invalid_per_target(planar):
-    T = np.stack([planar.fk(np.array([0.4, 1.1])), out_of_reach(planar), np.full((4, 4), np.nan)])
+def test_solve_batch_reports_converged_stalled_unreachable_and_invalid_per_target(planar):
+    tilted = planar.fk(np.array([0.4, 1.1]))
+    tilted[:3, :3] = tilted[:3, :3] @ lie.so3_exp(np.array([0.5, 0.0, 0.0]))  # out of its plane
+    reached = planar.fk(np.array([0.4, 1.1]))
+    T = np.stack([reached, tilted, out_of_reach(planar), np.full((4, 4), np.nan)])
     result = redik.solve_batch(planar, T, restarts=0, seed=0, engine="local")
     assert all(isinstance(status, Status) for status in result.statuses)
-    assert result.statuses[0] is Status.CONVERGED and result.statuses[2] is Status.INVALID
-    assert result.statuses[1] in (Status.STALLED, Status.MAX_ITERATIONS)
+    assert result.statuses[0] is Status.CONVERGED and result.statuses[3] is Status.INVALID
+    assert result.statuses[1] is Status.STALLED  # within reach: the orientation is not
+    assert result.statuses[2] is Status.UNREACHABLE  # beyond the reach of the chain
     assert result.status_names.tolist() == [status.value for status in result.statuses]
     PRODUCED.update(result.statuses)
 
