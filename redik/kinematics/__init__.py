@@ -18,3 +18,7 @@ table is tested against (``tests/test_model_builder.py``). Frames, twists and un
 :mod:`redik.core.conventions`. The layer sits below the solvers (README, Architecture) so that
 every solver can use it; it computes kinematics only.
 """
+
+from redik.core.lazy import lazy_submodules
+
+__getattr__ = lazy_submodules(__name__)

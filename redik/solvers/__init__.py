@@ -19,3 +19,7 @@ Each kind of problem has one loop, in one file:
 - :mod:`~redik.solvers.redundancy`: null-space motion, gradient projection and the
   self-motion manifold.
 """
+
+from redik.core.lazy import lazy_submodules
+
+__getattr__ = lazy_submodules(__name__)
