@@ -184,6 +184,7 @@ def gain_matrix(gain: object, r: int) -> np.ndarray | None:
     if not smallest > 0.0:
         raise InvalidInput(
             f"gain K must be positive definite (xᵀKx > 0: its symmetric part (K + Kᵀ)/2 "
-            f"positive definite), but the smallest eigenvalue of (K + Kᵀ)/2 is {smallest:.3g}"
+            f"positive definite), but the smallest eigenvalue of (K + Kᵀ)/2 is {smallest:.3g} "
+            f"for K = {K.tolist()}"
         )
     return K
