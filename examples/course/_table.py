@@ -3,7 +3,7 @@
 A number the notes print with ``d`` decimals agrees with redik's value when that value,
 rounded to ``d`` decimals, is the printed number — ``"1.7062"`` is matched by every value in
 [1.70615, 1.70625), nothing looser. Each cell shows the printed number, redik's value with two
-more decimals than the notes print, their difference (redik − notes) and ✓ or ✗.
+more decimals than the notes print (a count as it is), their difference (redik − notes) and ✓ or ✗.
 """
 
 from __future__ import annotations
@@ -47,7 +47,8 @@ def table(
         for text, value in zip(printed, values, strict=True):
             ok = agrees(text, value)
             every &= ok
-            shown = f"{float(value):.{decimals(text) + 2}f}"
+            extra = 0 if isinstance(value, int) else 2  # an iteration count is shown as such
+            shown = f"{float(value):.{decimals(text) + extra}f}"
             cells.append(
                 f"  {text:>14} {shown:>11} {float(value) - float(text):>+11.1e} {'✓✗'[not ok]}"
             )
