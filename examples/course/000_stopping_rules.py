@@ -20,6 +20,7 @@ Run: python examples/course/000_stopping_rules.py
 """
 
 import numpy as np
+from _table import attempt
 
 import redik
 
@@ -57,5 +58,6 @@ print(f"the rules fire after iteration {first_change} (relative change of f ≤ 
 for name, rule in [("rel_tol = 1e-6", {"rel_tol": 1e-6}), ("q_tol = 1e-6", {"q_tol": 1e-6}),
                    ("tol = 1e-6", {"tol": 1e-6})]:  # fmt: skip
     rule = {"tol": None, **rule}
-    run = redik.solve_equations(tip, x_d, theta0, "newton", jacobian, **rule, **options)
-    print(f"  {name} alone: {run.summary()}")
+    attempt(f"{name} alone", lambda rule=rule: redik.solve_equations(
+        tip, x_d, theta0, "newton", jacobian, **rule, **options
+    ))  # fmt: skip

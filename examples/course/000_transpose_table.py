@@ -13,7 +13,7 @@ Slips of the notes, shown rather than corrected:
 Run: python examples/course/000_transpose_table.py
 """
 
-from _table import table
+from _table import attempt, table
 
 import redik
 
@@ -36,34 +36,35 @@ def jacobian(q):
     return arm.jacobian(q, reference="world")[:2]
 
 
-def transpose_run(q0):
-    return redik.solve_equations(
+def transpose_run(name, q0):
+    return attempt(name, lambda: redik.solve_equations(
         tip, [0.2, 1.3], q0, "transpose", jacobian, step=0.75, tol=0, max_iterations=31
-    ).history
+    ))  # fmt: skip
 
 
-stated, used = transpose_run([0.25, 0.75]), transpose_run([0.30, 0.40])
-table(
-    "000 Case Study — IK using Jacobian transpose, rows 1–5, from the stated θ⁰ = (0.25, 0.75)",
-    ["θ1", "θ2"],
-    [(k, (a, b), stated[int(k)]) for k, a, b in ROWS_1_TO_5],
-)
-table(
-    "rows 1–5 from θ⁰ = (0.30, 0.40), the start the notes' table was made from",
-    ["θ1", "θ2"],
-    [(k, (a, b), used[int(k)]) for k, a, b in ROWS_1_TO_5],
-)
-table(
-    "rows 26–30 against the iterations they are labelled with",
-    ["θ1", "θ2"],
-    [(k, (a, b), used[int(k)]) for k, a, b in ROWS_26_TO_30],
-)
-table(
-    "rows 26–29 against iterations 27–30, row 30 against iteration 30",
-    ["θ1", "θ2"],
-    [
-        (f"{k}→{min(int(k) + 1, 30)}", (a, b), used[min(int(k) + 1, 30)])
-        for k, a, b in ROWS_26_TO_30
-    ],
-)
-print(f"iteration 31 = ({used[31][0]:.4f}, {used[31][1]:.4f}): not the printed row 30")
+stated = transpose_run("from the stated (0.25, 0.75)", [0.25, 0.75])
+used = transpose_run("from (0.30, 0.40)", [0.30, 0.40])
+if stated is not None and used is not None:
+    stated, used = stated.history, used.history
+    table(
+        "000 Case Study — IK using Jacobian transpose, rows 1–5, from the stated θ⁰ = (0.25, 0.75)",
+        ["θ1", "θ2"],
+        [(k, (a, b), stated[int(k)]) for k, a, b in ROWS_1_TO_5],
+    )
+    table(
+        "rows 1–5 from θ⁰ = (0.30, 0.40), the start the notes' table was made from",
+        ["θ1", "θ2"],
+        [(k, (a, b), used[int(k)]) for k, a, b in ROWS_1_TO_5],
+    )
+    table(
+        "rows 26–30 against the iterations they are labelled with",
+        ["θ1", "θ2"],
+        [(k, (a, b), used[int(k)]) for k, a, b in ROWS_26_TO_30],
+    )
+    table(
+        "rows 26–29 against iterations 27–30, row 30 against iteration 30",
+        ["θ1", "θ2"],
+        [(f"{k}→{min(int(k) + 1, 30)}", (a, b), used[min(int(k) + 1, 30)])
+         for k, a, b in ROWS_26_TO_30],
+    )  # fmt: skip
+    print(f"iteration 31 = ({used[31][0]:.4f}, {used[31][1]:.4f}): not the printed row 30")

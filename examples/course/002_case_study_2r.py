@@ -14,7 +14,7 @@ Run: python examples/course/002_case_study_2r.py
 import math
 
 import numpy as np
-from _table import table
+from _table import attempt, table
 
 import redik
 from redik.solvers.analytic import planar_2r
@@ -51,10 +51,12 @@ for name, point in [("maximum", [-3 * math.pi / 4, 0.0]), ("saddle", [math.pi / 
 
 saddle = [math.pi / 4, 0.0]
 options = {"step": 0.5, "tol": 1e-6, "max_iterations": 100}
-stuck = redik.solve_equations(tip, r_d, saddle, "transpose", jacobian, **options)
-print(f"  gradient from the saddle, K = I:        {stuck.summary()}, q = {np.round(stuck.q, 4)}")
+attempt("gradient from the saddle, K = I", lambda: redik.solve_equations(
+    tip, r_d, saddle, "transpose", jacobian, **options
+))  # fmt: skip
 K = np.array([[1.0, -1.0], [1.0, 1.0]]) / math.sqrt(2.0)  # rotation by 45°
-escaped = redik.solve_equations(tip, r_d, saddle, "transpose", jacobian, gain=K, **options)
-print(
-    f"  gradient from the saddle, K = Rot(45°): {escaped.summary()}, q = {np.round(escaped.q, 4)}"
-)
+escaped = attempt("gradient from the saddle, K = Rot(45°)", lambda: redik.solve_equations(
+    tip, r_d, saddle, "transpose", jacobian, gain=K, **options
+))  # fmt: skip
+if escaped is not None:
+    print(f"    it ends at q = {np.round(escaped.q, 4)} (q'' = (π/2, −π/2))")

@@ -10,7 +10,7 @@ position of the bundled ``rrp_polar`` scene's end-effector.
 Run: python examples/course/002_rrp_test1.py
 """
 
-from _table import table
+from _table import attempt, table
 
 import redik
 
@@ -28,27 +28,25 @@ def jacobian(q):
     return robot.jacobian(q, reference="world")[:3]
 
 
-def run(method, **options):
-    return redik.solve_equations(
+def run(name, method, **options):
+    return attempt(name, lambda: redik.solve_equations(
         position, [1.0, 1.0, 1.0], [0.0, 0.0, 1.0], method, jacobian, **SETTINGS, **options
-    )
+    ))  # fmt: skip
 
 
-gradient_1 = run("transpose", step=1.0)
-gradient_07 = run("transpose", step=0.7)
-newton = run("newton", singular_tol=1e-4, singular_test="det")
 print("002 Numerical test 1 — q⁰ = (0, 0, 1)")
-print(f"  gradient α = 1 (notes: not converging): {gradient_1.summary()}")
-print(f"  gradient α = 0.7:                       {gradient_07.summary()}")
-print(f"  Newton:                                 {newton.summary()}")
-table(
-    "iterations and the solution reached",
-    ["iterations", "q1", "q2", "q3"],
-    [("grad 0.7", ("11", "0.7854", "0.3398", "1.5"), (gradient_07.iterations, *gradient_07.q)),
-     ("Newton", ("5", "0.7854", "0.3398", "1.5"), (newton.iterations, *newton.q))],
-)  # fmt: skip
-table(
-    "final Cartesian error of the gradient run, × 10⁻⁵",
-    ["‖e‖"],
-    [("grad 0.7", ("0.57",), (gradient_07.error * 1e5,))],
-)
+run("gradient α = 1 (notes: not converging)", "transpose", step=1.0)
+gradient_07 = run("gradient α = 0.7", "transpose", step=0.7)
+newton = run("Newton", "newton", singular_tol=1e-4, singular_test="det")
+if gradient_07 is not None and newton is not None:
+    table(
+        "iterations and the solution reached",
+        ["iterations", "q1", "q2", "q3"],
+        [("grad 0.7", ("11", "0.7854", "0.3398", "1.5"), (gradient_07.iterations, *gradient_07.q)),
+         ("Newton", ("5", "0.7854", "0.3398", "1.5"), (newton.iterations, *newton.q))],
+    )  # fmt: skip
+    table(
+        "final Cartesian error of the gradient run, × 10⁻⁵",
+        ["‖e‖"],
+        [("grad 0.7", ("0.57",), (gradient_07.error * 1e5,))],
+    )

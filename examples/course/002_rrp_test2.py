@@ -12,6 +12,7 @@ Run: python examples/course/002_rrp_test2.py
 import math
 
 import numpy as np
+from _table import attempt
 
 import redik
 
@@ -29,19 +30,20 @@ def jacobian(q):
     return robot.jacobian(q, reference="world")[:3]
 
 
-def run(method, **options):
-    return redik.solve_equations(position, p_d, q0, method, jacobian, **SETTINGS, **options)
+def run(name, method, **options):
+    return attempt(name, lambda: redik.solve_equations(
+        position, p_d, q0, method, jacobian, **SETTINGS, **options
+    ))  # fmt: skip
 
 
 print(
     f"002 Numerical test 2 — q⁰ = (−π/4, π/2, 1), det J_r(q⁰) = {np.linalg.det(jacobian(q0)):.0e}"
 )
-checked = run("newton", singular_tol=1e-4, singular_test="det")
-print(f"  Newton, |det J_r| ≤ 1e-4 checked (notes: blocked at start): {checked.summary()}")
-unchecked = run("newton")
-print(f"  Newton, no check (notes: it diverges):                  {unchecked.summary()}")
-gradient = run("transpose", step=0.7)
-e = p_d - position(gradient.q)
-print(f"  gradient α = 0.7 (notes: stops in singularity):        {gradient.summary()}")
-print(f"    stops at q = {np.round(gradient.q, 4)} with e = {np.round(e, 4)}, "
-      f"‖J_rᵀ e‖ = {np.linalg.norm(jacobian(gradient.q).T @ e):.0e}: e ∈ Ker J_rᵀ")  # fmt: skip
+run("Newton, |det J_r| ≤ 1e-4 checked (notes: blocked at start)", "newton", singular_tol=1e-4,
+    singular_test="det")  # fmt: skip
+run("Newton, no check (notes: it diverges)", "newton")
+gradient = run("gradient α = 0.7 (notes: stops in singularity)", "transpose", step=0.7)
+if gradient is not None:
+    e = p_d - position(gradient.q)
+    print(f"    stops at q = {np.round(gradient.q, 4)} with e = {np.round(e, 4)}, "
+          f"‖J_rᵀ e‖ = {np.linalg.norm(jacobian(gradient.q).T @ e):.0e}: e ∈ Ker J_rᵀ")  # fmt: skip

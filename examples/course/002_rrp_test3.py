@@ -13,7 +13,7 @@ Run: python examples/course/002_rrp_test3.py
 
 import math
 
-from _table import table
+from _table import attempt, table
 
 import redik
 
@@ -29,24 +29,22 @@ def jacobian(q):
     return robot.jacobian(q, reference="world")[:3]
 
 
-def run(method, max_iterations=15, **options):
-    return redik.solve_equations(
+def run(name, method, max_iterations=15, **options):
+    return attempt(name, lambda: redik.solve_equations(
         position, [1.0, 1.0, 1.0], q0, method, jacobian, tol=1e-5, q_tol=1e-6,
         max_iterations=max_iterations, **options,
-    )  # fmt: skip
+    ))  # fmt: skip
 
 
-held = run("transpose", step=0.7)
-gradient = run("transpose", step=0.7, max_iterations=19)
 print("002 Numerical test 3 — q⁰ = (0, π/2, 0)")
-print(f"  gradient α = 0.7, k_max = 15 (the notes' setting): {held.summary()}")
-print(f"  gradient α = 0.7, k_max = 19:                      {gradient.summary()}")
-table(
-    "the gradient run with a budget of 19",
-    ["iterations", "q1", "q2", "q3"],
-    [("grad 0.7", ("19", "0.7854", "0.3398", "1.5"), (gradient.iterations, *gradient.q))],
-)
-checked = run("newton", singular_tol=1e-4, singular_test="det")
-unchecked = run("newton")
-print(f"  Newton, |det J_r| ≤ 1e-4 checked (notes: blocked at start): {checked.summary()}")
-print(f"  Newton, no check (notes: explodes):                     {unchecked.summary()}")
+run("gradient α = 0.7, k_max = 15 (the notes' setting)", "transpose", step=0.7)
+gradient = run("gradient α = 0.7, k_max = 19", "transpose", step=0.7, max_iterations=19)
+if gradient is not None:
+    table(
+        "the gradient run with a budget of 19",
+        ["iterations", "q1", "q2", "q3"],
+        [("grad 0.7", ("19", "0.7854", "0.3398", "1.5"), (gradient.iterations, *gradient.q))],
+    )
+run("Newton, |det J_r| ≤ 1e-4 checked (notes: blocked at start)", "newton", singular_tol=1e-4,
+    singular_test="det")  # fmt: skip
+run("Newton, no check (notes: explodes)", "newton")

@@ -8,7 +8,10 @@ more decimals than the notes print (a count as it is), their difference (redik â
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from redik import RedikError
 
 
 def decimals(printed: str) -> int:
@@ -57,3 +60,22 @@ def table(
         f"  â†’ {'every number agrees' if every else 'SOME NUMBERS DIFFER'} at the notes' precision"
     )
     return every
+
+
+def attempt(label: str, solve: Callable[[], Any]) -> Any:
+    """Run ``solve()`` and print its summary; if redik refuses the call, print why.
+
+    Args:
+        label: What the run is, as the notes name it.
+        solve: A call of redik returning an ``IKResult``.
+
+    Returns:
+        The result, or None when redik refused the call (an option this redik does not take).
+    """
+    try:
+        result = solve()
+    except RedikError as error:
+        print(f"  {label}: redik refuses the call: {type(error).__name__}: {error}")
+        return None
+    print(f"  {label}: {result.summary()}")
+    return result
