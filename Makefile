@@ -17,7 +17,7 @@ LOCK_EXTRAS := test,bench
 export MUJOCO_GL ?= egl
 export PYOPENGL_PLATFORM ?= egl
 
-.PHONY: demo test check lint bench env lock clean scenes
+.PHONY: demo test check lint bench env lock clean scenes measured
 
 env: $(STAMP)
 
@@ -46,8 +46,15 @@ check: $(STAMP)
 	$(BIN)/redik regress --fast
 	$(BIN)/python -m pytest -n 2 -q
 
+# Every benchmark with its defaults, each recorded to docs/measured/NAME.json, then README's
+# Measured table rendered from those files.
 bench: $(STAMP)
-	$(BIN)/redik bench all
+	$(BIN)/redik bench all --record docs/measured
+	$(MAKE) measured
+
+# README's Measured table from docs/measured/*.json (written by `redik bench NAME --record`).
+measured: $(STAMP)
+	$(BIN)/python -m redik.apps.measured README.md
 
 # Refresh the lock: newest allowed versions in a scratch environment, the whole suite on them,
 # and only then the new lock; .venv is then rebuilt from it.
