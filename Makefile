@@ -17,7 +17,7 @@ LOCK_EXTRAS := test,bench
 export MUJOCO_GL ?= egl
 export PYOPENGL_PLATFORM ?= egl
 
-.PHONY: demo test check lint bench env lock clean scenes measured
+.PHONY: demo test check lint bench env lock clean scenes docs measured
 
 env: $(STAMP)
 
@@ -33,10 +33,10 @@ demo: $(STAMP)
 	$(BIN)/redik demo --out $(OUT)
 
 # ruff, and the import-layer contract (tests/test_layers.py: a module may import only from
-# its own or a lower layer; README's Architecture section lists the layers).
+# its own or a lower layer; docs/architecture.md lists the layers).
 lint: $(STAMP)
-	$(BIN)/ruff check redik tests examples specs
-	$(BIN)/ruff format --check redik tests examples specs
+	$(BIN)/ruff check redik tests examples specs docs/hooks
+	$(BIN)/ruff format --check redik tests examples specs docs/hooks
 	$(BIN)/python -m pytest -q -p no:cacheprovider tests/test_layers.py
 
 # The regression scenes run first so that pytest's summary is the last line CI reads.
@@ -56,6 +56,11 @@ bench: $(STAMP)
 measured: $(STAMP)
 	$(BIN)/python -m redik.apps.measured README.md
 
+# The documentation site, warnings as errors, into site/ (docs/hooks/site.py generates the API
+# reference, the Measured page, and the output and figures of the examples the pages show).
+docs: $(STAMP)
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
+
 # Refresh the lock: newest allowed versions in a scratch environment, the whole suite on them,
 # and only then the new lock; .venv is then rebuilt from it.
 lock:
@@ -74,7 +79,7 @@ lock:
 	@echo "$(LOCK) refreshed and $(VENV) rebuilt from it; commit it with the change that needed it."
 
 clean:
-	rm -rf $(VENV) .venv-lock out .pytest_cache .ruff_cache
+	rm -rf $(VENV) .venv-lock out site .pytest_cache .ruff_cache
 
 # Regenerate scenes/*.xml and scenes/README.md from redik/models/scene_library.py.
 scenes: $(STAMP)
