@@ -39,8 +39,10 @@ lint: $(STAMP)
 	$(BIN)/ruff format --check redik tests examples specs docs/hooks
 	$(BIN)/python -m pytest -q -p no:cacheprovider tests/test_layers.py
 
-# The regression scenes run first so that pytest's summary is the last line CI reads.
-test: lint check
+# The regression scenes run first so that pytest's summary is the last line CI reads. The site
+# is built before the tests, which open it in a browser (tests/test_docs_site.py builds it again,
+# reusing the example runs this build caches in out/docs/runs/).
+test: lint docs check
 
 check: $(STAMP)
 	$(BIN)/redik regress --fast
