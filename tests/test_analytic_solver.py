@@ -143,3 +143,20 @@ def test_compile_ahead_runs_every_class_once():
     seconds = compile_all(report=lines.append)
     assert set(seconds) == set(STEPS) and set(KINDS) <= set(seconds)
     assert len(lines) == len(STEPS) and all(value >= 0.0 for value in seconds.values())
+
+
+@pytest.mark.parametrize("name", ["planar_2r", "rrp_polar"])
+def test_small_arm_batch_equals_single_calls(name):
+    robot = redik.load(name)
+    solver = solver_for(robot)
+    rng = np.random.default_rng(5)
+    T = np.stack([robot.fk(q) for q in robot.random_q(rng, size=20)])
+    T[3, :3, 3] = (5.0, 0.0, 0.0)  # out of reach
+    batch = solver.batch(T)
+    assert batch.q.shape[:2] == batch.valid.shape == (20, len(batch.labels))
+    for b in range(20):
+        one = solver(T[b])
+        assert batch.valid[b].sum() == len(one)
+        for solution in one:
+            code = batch.labels.index(solution.label)
+            np.testing.assert_allclose(batch.q[b, code], solution, atol=1e-12)

@@ -7,3 +7,7 @@ scripts (:mod:`~redik.apps.specs`), regression scenes (:mod:`~redik.apps.regress
 the benchmarks (:mod:`~redik.apps.bench`) and the ``redik`` command line
 (:mod:`~redik.apps.cli`).
 """
+
+from redik.core.lazy import lazy_submodules
+
+__getattr__ = lazy_submodules(__name__)

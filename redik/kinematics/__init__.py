@@ -24,6 +24,9 @@ table is tested against (``tests/test_model_builder.py``). Frames, twists and un
 every solver can use it.
 """
 
+from redik.core.lazy import lazy_submodules
 from redik.kinematics.dls import BatchOptions
 
 __all__ = ["BatchOptions"]
+
+__getattr__ = lazy_submodules(__name__)

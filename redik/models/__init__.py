@@ -14,7 +14,10 @@
 layer up, in :mod:`redik.kinematics.robot`.
 """
 
+from redik.core.lazy import lazy_submodules
 from redik.models.registry import example_robot_data, pybullet_data
 from redik.models.scenes import list_scenes, scene_path, scenes_dir
 
 __all__ = ["example_robot_data", "list_scenes", "pybullet_data", "scene_path", "scenes_dir"]
+
+__getattr__ = lazy_submodules(__name__)

@@ -13,3 +13,7 @@
 - :mod:`~redik.solvers.batch`: many targets at once, compiled, on every core;
 - :mod:`~redik.solvers.redundancy`: null-space motion and the self-motion manifold.
 """
+
+from redik.core.lazy import lazy_submodules
+
+__getattr__ = lazy_submodules(__name__)

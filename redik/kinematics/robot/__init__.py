@@ -1,10 +1,11 @@
 """The kinematic model: a MuJoCo model plus the joints redik may move.
 
-A *chain* (``Robot(model, ee)``) moves the hinges and slides from the root to one frame and
-runs every solver, fast paths included; a *whole-model* robot (``Robot(model, joints="all")``
-or named joints and patterns) moves any set of hinge, slide, ball and free joints for the task
-stacks. Both kinds, and ``q`` (``nq`` values) versus a tangent step ``Δq`` (``dof`` values), are
-explained in :mod:`redik.kinematics.robot.robot`.
+A *chain* (``Robot(model, ee)``, or a model with a site ``ee``) moves the hinges and slides
+from the root to one frame and runs every solver, fast paths included; a *whole-model* robot
+(a model that names no end-effector, ``Robot(model, joints="all")``, or named joints and
+patterns) moves any set of hinge, slide, ball and free joints for the task stacks. Both
+kinds, and ``q`` (``nq`` values) versus a tangent step ``Δq`` (``dof`` values), are explained
+in :mod:`redik.kinematics.robot.robot`.
 
 One idea per module:
 

@@ -4,14 +4,18 @@ Every robot in redik is a :class:`mujoco.MjModel`, however it was described (MJC
 a Denavit–Hartenberg table, screw axes), so every feature works on every robot. Frames,
 twist order and Jacobian references are those of :mod:`redik.core.conventions`.
 
-**Two kinds of robot.** A *chain* (``Robot(model, ee)``, the default) moves the hinge and
-slide joints on the path from the root to one end-effector; every other joint stays at its
-value in ``data.qpos``. All of redik works on a chain, including the serial-chain fast
-paths (compiled DLS, batch, closed forms, self-motion). A *whole-model* robot
-(``Robot(model, joints="all")``, or a list of joint names and ``fnmatch`` patterns such as
+**Two kinds of robot.** A *chain* (``Robot(model, ee)``, or ``Robot(model)`` of a model with
+a site named ``ee``, :data:`NATURAL_FRAME`) moves the hinge and slide joints on the path from
+the root to one end-effector; every other joint stays at its value in ``state.data.qpos``.
+All of redik works on a chain, including the serial-chain fast paths (compiled DLS, batch,
+closed forms, self-motion). A *whole-model* robot (``Robot(model)`` of a model that names no
+end-effector, as :func:`redik.load` gives for a third-party file; ``Robot(model,
+joints="all")``; or a list of joint names and ``fnmatch`` patterns such as
 ``["left/*", "right/*"]`` with ``fixed=["*finger*"]``) moves any set of hinge, slide, ball
-and free joints — two arms, a floating base — for the task/limit :class:`redik.Problem`;
-:meth:`Robot.chain` cuts a chain out of it for the fast paths, the other joints fixed.
+and free joints — two arms, a floating base — for the task/limit :class:`redik.Problem`.
+Frames are named where they are used; :meth:`Robot.chain` cuts the chain to one out of it for
+the fast paths, the other joints held, and what needs a chain and is given no frame lists
+the frames a user would pick (:meth:`Robot.suggested_frames`).
 
 **Configuration and tangent space.** ``q`` holds the moved joints' entries of
 ``model.qpos`` (``robot.nq`` values: 7 for a free joint, position then unit quaternion

@@ -252,17 +252,24 @@ def invalid():
 
 
 @numba.njit(**COMPILE)
-def scatter(out, b, q, valid, singular):
-    """Write one target's rows into a batch.
+def scatter_slots(G, plan, q, status, codes, b, out_q, valid, singular):
+    """Write target ``b``'s verified slots into a batch by label code.
 
-    Write an entry's rows for target ``b`` of a batch into ``q`` (B, S, 6), ``valid`` and
-    ``singular`` (B, S) at their label codes (the first row of a code wins).
+    Each slot is moved into the limits as :func:`select` does (dropped if it has no
+    representative there); the first slot of a code is kept.
     """
-    for r in range(out.shape[0]):
-        code = int(out[r, LABEL]) % SINGULAR_CODE
-        if valid[b, code]:
+    revolute = _revolute(G, plan)
+    lower, upper = plan[LOWER : LOWER + 6], plan[UPPER : UPPER + 6]
+    reverse = plan[REVERSE] != 0.0
+    values = np.empty(6)
+    for slot in range(q.shape[0]):
+        code = codes[slot]
+        if status[slot] == EMPTY or valid[b, code]:
             continue
         for j in range(6):
-            q[b, code, j] = out[r, Q + j]
+            values[j] = q[slot, 5 - j if reverse else j]
+        if not _place(values, revolute, lower, upper, plan[DUPLICATE]):
+            continue
+        out_q[b, code] = values
         valid[b, code] = True
-        singular[b, code] = out[r, STATUS] == SINGULAR
+        singular[b, code] = status[slot] == SINGULAR

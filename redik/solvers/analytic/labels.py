@@ -28,6 +28,9 @@ flip); for the UR arms Hawkins' and Andersen's. The Stanford class
 (``spherical_two_intersecting_prismatic``): ``"{left|right}-{out|in}-{noflip|flip}"``, *out*
 when the wrist centre lies ahead of the shoulder along the slide, :math:`(w - o)·ω_3 > 0`.
 
+An arm solved backwards (a spherical *shoulder*: the class is its tool-to-base chain's) is
+labelled by the same rules read on that chain, its tool taken as the base.
+
 The classes without such a shoulder number their arm solutions by increasing first angle of
 the chain as solved: ``spherical`` ``"arm{k}-{noflip|flip}"``, ``three_parallel``
 ``"arm{k}-{up|down}"`` (*up* when the two-link of axes 2, 3, 4 turns positively about their

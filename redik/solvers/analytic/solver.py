@@ -37,9 +37,9 @@ from redik.solvers.analytic import _checks
 from redik.solvers.analytic.general import GeneralSolver, general_solver
 from redik.solvers.analytic.geometry import Chain, classify, screws_of
 from redik.solvers.analytic.hexapod import hexapod_leg
-from redik.solvers.analytic.planar import planar_2r_solutions, planar_3r
+from redik.solvers.analytic.planar import planar_2r_batch, planar_2r_solutions, planar_3r
 from redik.solvers.analytic.polar import rrp_polar
-from redik.solvers.analytic.results import DEFAULT_TOL, IKSolutions, unreachable
+from redik.solvers.analytic.results import DEFAULT_TOL, BatchSolutions, IKSolutions, unreachable
 from redik.solvers.analytic.six_joint import SixJointSolver
 
 if TYPE_CHECKING:
@@ -255,9 +255,54 @@ class SmallArmSolver:
         bounded = np.isfinite(bounds[0]).any() or np.isfinite(bounds[1]).any()
         return self.arm.solve(self._base_inverse @ T, self.params, bounds if bounded else None, tol)
 
+    def batch(
+        self, T: Any, limits: Any = "robot", tol: float = DEFAULT_TOL, strict: bool = False
+    ) -> BatchSolutions:
+        """Every solution of a (B, 4, 4) stack of targets.
+
+        The planar 2R arm is vectorised (:func:`.planar.planar_2r_batch`, on the targets'
+        positions, one slot per elbow); the other arms solve target by target.
+
+        Returns:
+            ``q`` (B, S, n) by label, a (B, S) ``valid`` mask and a (B, S) ``singular`` mask.
+        """
+        T = np.linalg.solve(self.base, _checks.poses(T, "T", strict=strict))
+        bounds = _checks.resolve_limits(limits, (self.lower, self.upper), len(self.lower))
+        if self.arm.kind == "planar_2r":
+            reason = np.abs(T[:, 2, 3]) > tol  # off the arm's plane
+            result = planar_2r_batch(
+                T[:, :2, 3], self.params["l1"], self.params["l2"], limits=bounds, tol=tol
+            )
+            result.valid[reason] = False
+            result.q[reason] = np.nan
+            return result
+        return _batch_by_target(self, T, bounds, tol)
+
     @cached_property
     def _base_inverse(self) -> np.ndarray:
         return np.linalg.inv(self.base)
+
+
+def _batch_by_target(
+    solver: SmallArmSolver, T: np.ndarray, bounds: tuple[np.ndarray, np.ndarray], tol: float
+) -> BatchSolutions:
+    """:meth:`SmallArmSolver.batch` one base-frame target at a time, by label."""
+    labels: list[str] = []
+    rows: list[IKSolutions] = []
+    for pose in T:
+        result = solver.arm.solve(pose, solver.params, bounds, tol)
+        rows.append(result)
+        labels += [label for label in result.labels if label not in labels]
+    n = len(solver.lower)
+    q = np.full((len(T), len(labels), n), np.nan)
+    valid = np.zeros((len(T), len(labels)), bool)
+    singular = np.zeros((len(T), len(labels)), bool)
+    for b, result in enumerate(rows):
+        for solution in result:
+            code = labels.index(solution.label)
+            q[b, code], valid[b, code] = solution, True
+            singular[b, code] = bool(solution.singular)
+    return BatchSolutions(q, valid, singular, tuple(labels))
 
 
 def _small_arm_solver(robot: Robot) -> SmallArmSolver:

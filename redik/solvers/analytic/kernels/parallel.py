@@ -36,7 +36,14 @@ import numpy as np
 
 from redik.kinematics.compiled import COMPILE
 from redik.solvers.analytic.chain import AXES, PERPENDICULAR, POINTS, TIP, target_of
-from redik.solvers.analytic.finish import begin, invalid, labelled, scatter, select, verify
+from redik.solvers.analytic.finish import (
+    begin,
+    invalid,
+    labelled,
+    scatter_slots,
+    select,
+    verify,
+)
 from redik.solvers.analytic.kernels.slots import (
     REGULAR,
     SINGULAR,
@@ -256,21 +263,37 @@ def solve_three_parallel(T, plan):
 
 @numba.njit(parallel=True, **COMPILE)
 def batch_three_parallel_two_intersecting(T, plan, q, valid, singular):
-    """The UR class on a stack of targets, threaded.
+    """``three_parallel_two_intersecting`` on a stack of targets, threaded.
 
-    :func:`solve_three_parallel_two_intersecting` on every target of a (B, 4, 4) stack,
-    threaded, into ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
+    Each target of the (B, 4, 4) stack is solved, verified and labelled as by
+    :func:`solve_three_parallel_two_intersecting`;
+    its solutions go into ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
     """
     for b in numba.prange(T.shape[0]):
-        scatter(solve_three_parallel_two_intersecting(T[b], plan), b, q, valid, singular)
+        ok, target, G, tol, _, _ = begin(T[b], plan)
+        if not ok:
+            continue
+        slots, status, free, stage, codes = new_slots(8)
+        three_parallel_two_intersecting(target, G, -1, 0.0, tol, slots, status, free, stage)
+        verify(target, G, plan, slots, status, free, stage)
+        shoulder_elbow_wrist(target, G, slots, status, 4, True, codes)
+        scatter_slots(G, plan, slots, status, codes, b, q, valid, singular)
 
 
 @numba.njit(parallel=True, **COMPILE)
 def batch_three_parallel(T, plan, q, valid, singular):
-    """The three-parallel class on a stack of targets, threaded.
+    """``three_parallel`` on a stack of targets, threaded.
 
-    :func:`solve_three_parallel` on every target of a (B, 4, 4) stack, threaded, into
-    ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
+    Each target of the (B, 4, 4) stack is solved, verified and labelled as by
+    :func:`solve_three_parallel`;
+    its solutions go into ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
     """
     for b in numba.prange(T.shape[0]):
-        scatter(solve_three_parallel(T[b], plan), b, q, valid, singular)
+        ok, target, G, tol, _, _ = begin(T[b], plan)
+        if not ok:
+            continue
+        slots, status, free, stage, codes = new_slots(8)
+        three_parallel(target, G, -1, 0.0, tol, slots, status, free, stage)
+        verify(target, G, plan, slots, status, free, stage)
+        arm_and_elbow(G, slots, status, codes)
+        scatter_slots(G, plan, slots, status, codes, b, q, valid, singular)

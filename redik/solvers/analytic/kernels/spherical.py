@@ -36,7 +36,14 @@ import numpy as np
 
 from redik.kinematics.compiled import COMPILE
 from redik.solvers.analytic.chain import AXES, PERPENDICULAR, POINTS, TIP, target_of
-from redik.solvers.analytic.finish import begin, invalid, labelled, scatter, select, verify
+from redik.solvers.analytic.finish import (
+    begin,
+    invalid,
+    labelled,
+    scatter_slots,
+    select,
+    verify,
+)
 from redik.solvers.analytic.kernels.slots import (
     REGULAR,
     SINGULAR,
@@ -307,44 +314,75 @@ def solve_spherical_two_intersecting_prismatic(T, plan):
 
 @numba.njit(parallel=True, **COMPILE)
 def batch_spherical_two_intersecting(T, plan, q, valid, singular):
-    """The PUMA class on a stack of targets, threaded.
+    """``spherical_two_intersecting`` on a stack of targets, threaded.
 
-    :func:`solve_spherical_two_intersecting` on every target of a (B, 4, 4) stack, threaded, into
-    ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
+    Each target of the (B, 4, 4) stack is solved, verified and labelled as by
+    :func:`solve_spherical_two_intersecting`;
+    its solutions go into ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
     """
     for b in numba.prange(T.shape[0]):
-        scatter(solve_spherical_two_intersecting(T[b], plan), b, q, valid, singular)
+        ok, target, G, tol, _, _ = begin(T[b], plan)
+        if not ok:
+            continue
+        slots, status, free, stage, codes = new_slots(8)
+        spherical_two_intersecting(target, G, -1, 0.0, tol, slots, status, free, stage)
+        verify(target, G, plan, slots, status, free, stage)
+        shoulder_elbow_wrist(target, G, slots, status, 3, False, codes)
+        scatter_slots(G, plan, slots, status, codes, b, q, valid, singular)
 
 
 @numba.njit(parallel=True, **COMPILE)
 def batch_spherical_two_parallel(T, plan, q, valid, singular):
-    """The offset-elbow class on a stack of targets, threaded.
+    """``spherical_two_parallel`` on a stack of targets, threaded.
 
-    :func:`solve_spherical_two_parallel` on every target of a (B, 4, 4) stack, threaded, into
-    ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
+    Each target of the (B, 4, 4) stack is solved, verified and labelled as by
+    :func:`solve_spherical_two_parallel`;
+    its solutions go into ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
     """
     for b in numba.prange(T.shape[0]):
-        scatter(solve_spherical_two_parallel(T[b], plan), b, q, valid, singular)
+        ok, target, G, tol, _, _ = begin(T[b], plan)
+        if not ok:
+            continue
+        slots, status, free, stage, codes = new_slots(8)
+        spherical_two_parallel(target, G, -1, 0.0, tol, slots, status, free, stage)
+        verify(target, G, plan, slots, status, free, stage)
+        shoulder_elbow_wrist(target, G, slots, status, 3, False, codes)
+        scatter_slots(G, plan, slots, status, codes, b, q, valid, singular)
 
 
 @numba.njit(parallel=True, **COMPILE)
 def batch_spherical(T, plan, q, valid, singular):
-    """The SP5 class on a stack of targets, threaded.
+    """``spherical`` on a stack of targets, threaded.
 
-    :func:`solve_spherical` on every target of a (B, 4, 4) stack, threaded, into
-    ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
+    Each target of the (B, 4, 4) stack is solved, verified and labelled as by
+    :func:`solve_spherical`;
+    its solutions go into ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
     """
     for b in numba.prange(T.shape[0]):
-        scatter(solve_spherical(T[b], plan), b, q, valid, singular)
+        ok, target, G, tol, _, _ = begin(T[b], plan)
+        if not ok:
+            continue
+        slots, status, free, stage, codes = new_slots(8)
+        spherical(target, G, -1, 0.0, tol, slots, status, free, stage)
+        verify(target, G, plan, slots, status, free, stage)
+        arm_and_wrist(G, slots, status, codes)
+        scatter_slots(G, plan, slots, status, codes, b, q, valid, singular)
 
 
 @numba.njit(parallel=True, **COMPILE)
 def batch_spherical_two_intersecting_prismatic(T, plan, q, valid, singular):
-    """The Stanford class on a stack of targets, threaded.
+    """``spherical_two_intersecting_prismatic`` on a stack of targets, threaded.
 
-    :func:`solve_spherical_two_intersecting_prismatic` on every target of a (B, 4, 4)
-    stack, threaded, into ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
+    Each target of the (B, 4, 4) stack is solved, verified and labelled as by
+    :func:`solve_spherical_two_intersecting_prismatic`;
+    its solutions go into ``q`` (B, S, 6), ``valid`` and ``singular`` (B, S) by label code.
     """
     for b in numba.prange(T.shape[0]):
-        rows = solve_spherical_two_intersecting_prismatic(T[b], plan)
-        scatter(rows, b, q, valid, singular)
+        ok, target, G, tol, _, _ = begin(T[b], plan)
+        if not ok:
+            continue
+        slots, status, free, stage, codes = new_slots(8)
+        spherical_two_intersecting_prismatic(target, G, -1, 0.0, tol, slots, status, free, stage)
+        verify(target, G, plan, slots, status, free, stage)
+        shoulder_slide_wrist(target, G, slots, status, codes)
+        scatter_slots(G, plan, slots, status, codes, b, q, valid, singular)
