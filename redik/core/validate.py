@@ -15,6 +15,7 @@ import math
 import os
 from numbers import Real
 from pathlib import Path
+from typing import Literal, overload
 
 import mujoco
 import numpy as np
@@ -99,6 +100,12 @@ def fraction(value: object, name: str) -> float:
     return number
 
 
+@overload
+def integer(
+    value: object, name: str, minimum: int = 0, *, allow_none: Literal[False] = False
+) -> int: ...
+@overload
+def integer(value: object, name: str, minimum: int = 0, *, allow_none: bool) -> int | None: ...
 def integer(value: object, name: str, minimum: int = 0, *, allow_none: bool = False) -> int | None:
     """Check a whole number: a count of iterations, restarts, samples or workers, a chunk size.
 
