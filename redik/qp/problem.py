@@ -57,6 +57,7 @@ from redik.limits import (
 from redik.limits.ball_joint_limit import limited_ball_joints
 from redik.qp.assembly import Assembly
 from redik.qp.backends import Backend, make_backend
+from redik.qp.compiled import compiled_plan
 from redik.qp.curvature import CURVATURE_STEP, bound_multipliers, on_free_face
 from redik.qp.hierarchy import kernel_directions, row_null_space, solve_lexicographic
 from redik.tasks.foreign import foreign_call
@@ -190,6 +191,17 @@ class Problem:
         backend_options: Settings passed to the back-end.
         step_damping: Levenberg–Marquardt scale ``μ ≥ 0`` of :meth:`step` (default 0): level
             0's Hessian gets ``λ = μ‖b₀‖²``, ``b₀`` its stacked weighted residual.
+        compiled: Let :meth:`step` run the compiled plan when the stack allows it (default);
+            False forces the general path.
+
+    With ``backend="daqp"`` (the default) or ``"quadprog"`` and a stack of frame and position
+    tasks, posture, joint-limit avoidance and damping on one level or two, and configuration,
+    velocity and collision limits, :meth:`step` runs a compiled plan
+    (:mod:`redik.qp.compiled`): box-constrained steps are solved by redik's compiled
+    active-set method, steps whose collision rows bind by DAQP called directly. It answers
+    what the general path answers, up to round-off; anything else (mink tasks, ranked or
+    acceleration limits, other back-ends, three levels, ``step_damping``) takes the general
+    path, chosen once per problem (:attr:`compiled`).
 
     Attributes:
         robot: The robot.
@@ -202,6 +214,7 @@ class Problem:
             task); without, level 0 is a regulariser optimised like the lower levels.
         stats: Counters; ``"skipped_levels"``: lower levels whose back-end failed
             (:mod:`redik.qp.hierarchy`).
+        compiled: Whether :meth:`step` runs the compiled plan.
     """
 
     def __init__(
@@ -215,6 +228,7 @@ class Problem:
         rank_tol: float = 1e-10,
         backend_options: dict | None = None,
         step_damping: float = 0.0,
+        compiled: bool = True,
     ):
         if not isinstance(robot, Robot):
             raise InvalidInput(f"robot must be a redik.Robot, got {type(robot).__name__}")
@@ -241,6 +255,13 @@ class Problem:
         self._qpos_at = np.full(robot.model.nq, np.nan)  # the qpos the state was built at
         self._lb = np.full(robot.dof, -np.inf)
         self._ub = np.full(robot.dof, np.inf)
+        self._plan = None
+        if compiled and self._configuration is None:
+            self._plan = compiled_plan(
+                robot, self._state, self._assembly.levels, self.limits, self.backends,
+                damping=self.damping, rank_tol=self.rank_tol, step_damping=self.step_damping,
+            )  # fmt: skip
+        self.compiled = self._plan is not None
 
     # ----------------------------------------------------------------------------------
     # Construction
@@ -351,6 +372,10 @@ class Problem:
             BackendError: the back-end (every back-end of a chain) failed.
             TaskError: a foreign (mink) task or limit raised.
         """
+        if self._plan is not None:
+            dq = self._plan.step(q, dt)
+            if dq is not None:
+                return dq
         q = self.robot.check_q(q, "q")
         _check_dt(dt)
         self._update(q)
@@ -397,6 +422,8 @@ class Problem:
         """
         for backend in [*self.backends, *(backend for *_, backend in self._ranked)]:
             backend.reset()
+        if self._plan is not None:
+            self._plan.reset()
 
     # ----------------------------------------------------------------------------------
     # What a driver asks at a configuration
