@@ -140,6 +140,25 @@ def test_whole_model_steps_are_the_general_paths(torso, strict, variant):
     assert worst <= (STRICT_TOL if strict else WEIGHTED_TOL)
 
 
+@pytest.mark.parametrize("strict", [False, True])
+def test_static_steps_are_the_general_paths(panda, strict):
+    """A driver's step: Levenberg–Marquardt damping on level 0 and a trust region."""
+    fast, general = _both_paths(panda, _panda_stack, strict, "pose")
+    rng = np.random.default_rng(2)
+    worst = 0.0
+    for k in range(100):
+        for problem in (fast, general):
+            _targets(panda, problem.tasks, np.random.default_rng(k), near=k % 2 == 0)
+        q = panda.random_q(rng)
+        damping, max_step = [(0.0, None), (1e-2, 0.3), (1.0, 0.05)][k % 3]
+        a = fast.static_step(q, 0.5, lm_damping=damping, max_step=max_step)
+        b = general.static_step(q, 0.5, lm_damping=damping, max_step=max_step)
+        worst = max(worst, float(np.max(np.abs(a - b))))
+        if max_step is not None:
+            assert np.max(np.abs(a)) <= max_step
+    assert worst <= (STRICT_TOL if strict else WEIGHTED_TOL)
+
+
 def test_collision_rows_that_bind_are_the_general_paths(torso):
     """The hand driven into the table: the rows bind and DAQP solves level 0 with them."""
     fast, general = _both_paths(torso, _torso_stack, False, "collision")

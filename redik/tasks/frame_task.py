@@ -195,6 +195,7 @@ class FrameTask(SingleFrameTask):
         if self._scales_version != self.version:
             self._row_scale = -self.cost
             self._error_scale = -self.gain * self.cost
+            self._waits = (bool(self.cost[:3].any()), bool(self.cost[3:].any()))
             self._scales_version = self.version
 
     def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
@@ -231,9 +232,7 @@ class FrameTask(SingleFrameTask):
         """
         if self.target is None:
             self._require_target()
+        self._refresh_scales()
         R, p = state.pose(self.frame)
         position, rotation = pose_error(self._R_d, self._p_d, R, p, self._scratch)
-        return (
-            position if self.cost[:3].any() else None,
-            rotation if self.cost[3:].any() else None,
-        )
+        return (position if self._waits[0] else None, rotation if self._waits[1] else None)

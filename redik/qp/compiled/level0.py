@@ -39,7 +39,7 @@ NOT_DEFINITE = 3
 
 
 @numba.njit(**COMPILE)
-def box_bounds(q, scalar_q, box, position, velocity, dt, lb, ub):
+def box_bounds(q, scalar_q, box, position, velocity, dt, max_step, lb, ub):
     """Write the step's box; return False when it is empty (a lower bound above its upper).
 
     Args:
@@ -50,6 +50,7 @@ def box_bounds(q, scalar_q, box, position, velocity, dt, lb, ub):
         position: A configuration limit is present.
         velocity: A velocity limit is present.
         dt: The step's duration (s), with a velocity limit.
+        max_step: A trust region ``|Δq_i| ≤ max_step`` (inf: none).
         lb: Written (n,).
         ub: Written (n,).
     """
@@ -64,6 +65,8 @@ def box_bounds(q, scalar_q, box, position, velocity, dt, lb, ub):
             limit = box[2, i] * dt
             lower = max(lower, -limit)
             upper = min(upper, limit)
+        lower = max(lower, -max_step)
+        upper = min(upper, max_step)
         lb[i] = lower
         ub[i] = upper
         empty = empty or lower > upper

@@ -251,7 +251,7 @@ class CompiledPlan:
         self._work = np.zeros(self._work_size)
         (self._targets, self._joint, self._gradients, _, _, self._H, self._c, box, self._lb,
          self._ub, self._x, self._C, self._u, self._N, self._Hz, self._cz, self._z, self._rows,
-         self._rows_lower, self._rows_upper, settings) = kernel.float_views(
+         self._rows_lower, self._rows_upper, self._settings) = kernel.float_views(
             self._work, self._table
         )  # fmt: skip
         box[0], box[1], box[2] = -np.inf, np.inf, np.inf
@@ -263,7 +263,7 @@ class CompiledPlan:
                 np.minimum(box[2], limit.max_velocity, out=box[2])
         self._clip = any(isinstance(limit, ConfigurationLimit) for limit in limits)
         self._velocity = any(isinstance(limit, VelocityLimit) for limit in limits)
-        settings[0], settings[1] = damping, rank_tol
+        self._settings[:] = damping, rank_tol, 0.0, math.inf, 0.0
 
     def _watch_tasks(self) -> None:
         """What :meth:`_refresh` compares each step: targets, versions, joint-space sums."""
@@ -296,14 +296,45 @@ class CompiledPlan:
         if not (type(q) is np.ndarray and q.dtype is _FLOAT and q.shape == self._q.shape):
             q = self._robot.check_q(q, "q")
         self._q[:] = q
+        self._settings[2:4] = 0.0, math.inf
         if not self._refresh():
             return None
         self._state.update(self._q)
+        return self._solve_all(duration)
+
+    def static_step(
+        self, q: np.ndarray, dt: float | None, lm_damping: float, max_step: float | None
+    ) -> np.ndarray | None:
+        """:meth:`Problem.static_step <redik.qp.Problem.static_step>` without its curvature term.
+
+        The kinematic state must be at ``q`` already (the problem's own check).
+
+        Args:
+            q: The configuration (``robot.nq``,), valid.
+            dt: Passed to velocity limits (None without one).
+            lm_damping: ``λ ≥ 0`` added to level 0's Hessian.
+            max_step: Optional trust region, ``|Δq_i| ≤ max_step``.
+
+        Returns:
+            ``Δq`` (a fresh array), or None when the general path must answer.
+        """
+        duration = self._duration(dt)
+        if duration < 0.0:
+            return None
+        self._q[:] = q
+        self._settings[2:4] = lm_damping, math.inf if max_step is None else max_step
+        if not self._refresh():
+            return None
+        return self._solve_all(duration)
+
+    def _solve_all(self, duration: float) -> np.ndarray | None:
+        """The stages of a step at the current kinematics (module docstring)."""
         if not self._flat:
             for index, level in enumerate(self._levels):
                 level.joint_gradient_into(self._state, self._gradients[index])
         m = self._collision_rows() if self._collisions else 0
         status = self._solve(kernel.START, duration, m)
+        self._settings[4] = 0.0
         if status == kernel.LEVEL0_QP:
             if not self._level0_qp(m):
                 return None
@@ -383,6 +414,8 @@ class CompiledPlan:
         if solution is None:
             return False
         self._x[:] = solution
+        # Rows active at the solution: the next step's likely bind too (step module docstring).
+        self._settings[4] = float(m > 0 and np.any(self._C[:m] @ solution >= self._u[:m] - 1e-9))
         return True
 
     def _reduced_qp(self, m: int) -> bool:

@@ -72,7 +72,7 @@ def buffer_sizes(table):
     work = np.array([
         frames * TARGET_WIDTH, levels * 3 * n, levels * n, rows * n, rows, levels * n * n,
         levels * n, 3 * n, n, n, n, collision * n, collision, n * free, free * free, free,
-        free, (n + collision) * free, n + collision, n + collision, 2,
+        free, (n + collision) * free, n + collision, n + collision, 5,
     ])  # fmt: skip
     return table_size, work
 
@@ -98,7 +98,12 @@ def float_views(work, table):
         (L × n); every level's frame rows and right-hand side (R × n, R); per level ``H``
         and ``c``; the box ``(q_min, q_max, v_max)``; the step's bounds and the step; the
         collision rows and bounds (M × n, M); level 1's null-space basis, reduced Hessian,
-        linear term and solution; the reduced rows and their bounds; ``(ε, rank_tol)``.
+        linear term and solution; the reduced rows and their bounds; ``(ε, rank_tol, λ,
+        max_step, rows_bound)``: the regularisation, the null space's threshold, the
+        Levenberg–Marquardt term added to level 0's Hessian and the trust region
+        ``|Δq_i| ≤ max_step`` (inf: none) of a static step, and 1 when hard rows bound the
+        last step (level 0 then goes to DAQP directly when a constraint binds: its rows
+        usually bind again, and the box QP would be solved for nothing).
     """
     n, levels, frames = table[H_N], table[H_LEVELS], table[H_FRAMES]
     rows, collision, free = table[H_ROWS], table[H_COLLISION_ROWS], table[H_FREE]
@@ -184,13 +189,18 @@ def _level0(q, dt, m, table, levels, scalar_q, floats):
     A, b, H, c, box, lb, ub, x, C, u = floats[3:13]
     settings = floats[20]
     position, velocity = table[H_POSITION] != 0, table[H_VELOCITY] != 0
-    if not box_bounds(q, scalar_q, box, position, velocity, dt, lb, ub):
+    if not box_bounds(q, scalar_q, box, position, velocity, dt, settings[3], lb, ub):
         return GENERAL
     A0, b0 = A[levels[0, 2] : levels[0, 3]], b[levels[0, 2] : levels[0, 3]]
     least_squares = table[H_LEAST_SQUARES] != 0
-    status = level0_point(H[0], c[0], A0, b0, least_squares, settings[0], lb, ub, C, u, m, x)
+    shift = settings[0] + settings[2]
+    for i in range(x.shape[0]):
+        H[0, i, i] += settings[2]
+    status = level0_point(H[0], c[0], A0, b0, least_squares, shift, lb, ub, C, u, m, x)
     if status == NOT_DEFINITE:
         return GENERAL
+    if status == BINDS and m > 0 and settings[4] != 0.0:
+        return LEVEL0_QP
     if status == BINDS and box_qp(H[0], c[0], lb, ub, C, u, m, x, 4 * x.shape[0] + 10) <= 0:
         return LEVEL0_QP
     return _CONTINUE
