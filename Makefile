@@ -32,11 +32,15 @@ $(STAMP): pyproject.toml $(LOCK)
 demo: $(STAMP)
 	$(BIN)/redik demo --out $(OUT)
 
-# ruff, and the import-layer contract (tests/test_layers.py: a module may import only from
-# its own or a lower layer; README's Architecture section lists the layers).
+# ruff, mypy (pyproject's [tool.mypy]: strict on the layers below the solvers), and the
+# import-layer contract (tests/test_layers.py: a module may import only from its own or a lower
+# layer; README's Architecture section lists the layers).
 lint: $(STAMP)
 	$(BIN)/ruff check redik tests examples specs
 	$(BIN)/ruff format --check redik tests examples specs
+	$(BIN)/python -m mypy --follow-imports=silent redik/core redik/lie redik/models \
+		redik/kinematics/robot redik/kinematics/chain.py redik/kinematics/batched.py \
+		redik/kinematics/compiled.py
 	$(BIN)/python -m pytest -q -p no:cacheprovider tests/test_layers.py
 
 # The regression scenes run first so that pytest's summary is the last line CI reads.

@@ -1,16 +1,13 @@
-"""Every worked example of the course runs as written, through the public API (issue 15).
+"""Every worked example of the course runs as written, through the public API.
 
-Each test reproduces the course's numbers as the course prints them (its rounding), from its
-own inputs, so a student typing the example gets the book's answer:
-
-- Modern Robotics (Lynch & Park 2017) Example 6.1 (§6.2.2): IKinBody on the planar 2R arm,
-  the book's iterate table;
-- the Chapter 6 quiz: Newton–Raphson on ``f(x, y) = (x² − 9, y² − 4)`` from (1, 1), two
-  iterations, and IKinBody on the planar 3R arm to a target typed with 3 decimals;
-- the forward-difference Jacobian with ``δ = 0.1`` of the course notes;
-- the RRP polar arm's example ``p = (1, 1, 1)``, ``d1 = 0.5`` in its bundled scene;
-- the hexapod leg's servo angles as the notes define them (001), and the Stanford arm's boom
-  elevation as the lecture measures it.
+The lecture notes are five documents (000 the IK chapter, 001 a hexapod leg and Newton's
+method, 002 De Luca's *Robotics 1* inverse kinematics, 003 and 004 Modern Robotics Chapter 6);
+``examples/course/`` holds one script per worked example and its README the index. Each test
+here reproduces the notes' numbers as the notes print them (their rounding), from their own
+inputs, with the expected values quoted from the notes — never read from redik. Where the
+notes slip (a typo, a table started from another guess), the test pins the slip: the printed
+number and the corrected one. Beside them, Modern Robotics (Lynch & Park 2017) Example 6.1
+(§6.2.2), the IKinBody iterate table the course's quiz refers to.
 """
 
 from __future__ import annotations
@@ -300,3 +297,257 @@ def test_ikinbody_stopping_rules_differ_where_the_rotation_error_is_large():
     assert np.linalg.norm(V_end[:3]) <= 1e-3 and np.linalg.norm(V_end[3:]) <= 1.0
     with pytest.raises(redik.InvalidInput, match="stop must be"):
         redik.solve_pose(robot, T_d, q0, method="newton", stop="residual")
+
+
+# --------------------------------------------------------------------------------------
+# The worked examples of the notes, one test each (examples/course/<doc>_<name>.py)
+
+
+def planar_2r_tip_and_jacobian(robot: redik.Robot):
+    """x = f(θ), the (x, y) of the tip, and J = ∂f/∂θ (the world Jacobian's ṗ rows)."""
+    return (lambda q: robot.fk(q)[:2, 3]), (lambda q: robot.jacobian(q, reference="world")[:2])
+
+
+def as_printed(values, printed: list[str]) -> list[str]:
+    """``values`` written with as many decimals as each printed number has."""
+    return [
+        f"{float(value):.{len(text.split('.')[1]) if '.' in text else 0}f}"
+        for value, text in zip(values, printed, strict=True)
+    ]
+
+
+def test_000_case_study_solution_and_its_slip():
+    """000 "Case Study": x_d = (0.2, 1.3), unit links; printed "θ1 = 0.5650 and θ2 = 0.7062".
+    θ2 is 1.7062 (both iterate tables end there): the printed 0.7062 drops the leading 1."""
+    q = redik.solvers.analytic.planar_2r(0.2, 1.3, 1.0, 1.0).by_label("elbow-down")
+    assert as_printed(q, ["0.5650", "0.7062"]) == ["0.5650", "1.7062"]
+    tip = scene_robot("planar_2r").fk([0.5650, 0.7062])[:2, 3]  # the printed pair
+    assert np.linalg.norm(tip - [0.2, 1.3]) > 0.1
+
+
+CASE_STUDY_NEWTON = [
+    ("-0.33284", "2.6711"), ("0.80552", "2.1025"), ("0.46906", "1.9316"), ("0.53554", "1.7697"),
+    ("0.55729", "1.7227"), ("0.56308", "1.7104"), ("0.56455", "1.7073"), ("0.56492", "1.7065"),
+    ("0.56501", "1.7063"), ("0.56503", "1.7062"),
+]  # fmt: skip
+"""000 "Case Study", table "IK using Jacobian inverse": iterations 1–10 as printed."""
+
+
+def test_000_case_study_newton_table():
+    """θ⁰ = (0.25, 0.75), step 0.75, ten iterations: every printed digit."""
+    tip, jacobian = planar_2r_tip_and_jacobian(scene_robot("planar_2r"))
+    run = redik.solve_equations(
+        tip, [0.2, 1.3], [0.25, 0.75], "newton", jacobian, step=0.75, tol=0, max_iterations=10
+    )
+    assert run.iterations == 10
+    for k, printed in enumerate(CASE_STUDY_NEWTON, start=1):
+        assert as_printed(run.history[k], list(printed)) == list(printed), k
+
+
+def test_000_puma_type_arm_has_four_arm_and_eight_pose_solutions():
+    """000 "Example 1: 6R PUMA-Type Arms": "in total, there exist four solutions" for
+    (θ1, θ2, θ3), each with two ZYX wrists. The notes give no dimensions: a2 = 1, a3 = 0.8,
+    d = 0.1 (p_W = p − d ŷ_b), the wrist axes along ẑ, ŷ, x̂ at zero."""
+    a2, a3, d = 1.0, 0.8, 0.1
+    points = np.array([[0, 0, 0], [0, 0, 0], [a2, 0, 0]] + [[a2 + a3, 0, 0]] * 3, float)
+    axes = np.array([[0, 0, 1], [0, -1, 0], [0, -1, 0], [0, 0, 1], [0, 1, 0], [1, 0, 0]], float)
+    M = np.eye(4)
+    M[:3, 3] = (a2 + a3, d, 0.0)
+    robot = redik.Robot.from_screws(np.vstack([axes.T, np.cross(-axes, points).T]), M)
+    T = robot.fk([0.4, 0.6, -1.1, 0.3, -0.7, 1.2])
+    solutions = solver_for(robot)(T)
+    assert len(solutions) == 8
+    assert len({tuple(np.round(q[:3], 9)) for q in solutions}) == 4
+    for q in solutions:
+        np.testing.assert_allclose(robot.fk(q), T, atol=1e-9)
+        # Step 2: Rot(z, θ4) Rot(y, θ5) Rot(x, θ6) = R', the ZYX Euler angles of R'.
+        R_wrist = so3_exp([0, 0, q[3]]) @ so3_exp([0, q[4], 0]) @ so3_exp([q[5], 0, 0])
+        R_arm = so3_exp([0, 0, q[0]]) @ so3_exp([0, -(q[1] + q[2]), 0])
+        np.testing.assert_allclose(R_arm @ R_wrist, T[:3, :3], atol=1e-9)
+
+
+def test_000_orientation_metrics_are_the_notes_formulas():
+    """000 "Position and Orientation Error…": the geodesic 2 arccos|q1·q2| ∈ [0, π], the
+    chordal min(‖q1 − q2‖, ‖q1 + q2‖) ∈ [0, √2], ‖r1 − r2‖ of exponential coordinates and
+    arccos((tr R_rel − 1)/2) = ‖log R_rel‖ (poses chosen: the notes give none)."""
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        r1, r2 = rng.uniform(-1.5, 1.5, (2, 3))
+        R1, R2 = so3_exp(r1), so3_exp(r2)
+        q1, q2 = redik.lie.quat_from_matrix(R1), redik.lie.quat_from_matrix(R2)
+        geodesic = redik.lie.quaternion_geodesic_distance(q1, q2)
+        chordal = redik.lie.quaternion_chordal_distance(q1, q2)
+        assert geodesic == pytest.approx(2 * math.acos(min(1.0, abs(q1 @ q2))), abs=1e-9)
+        assert chordal == pytest.approx(min(np.linalg.norm(q1 - q2), np.linalg.norm(q1 + q2)))
+        assert 0 <= geodesic <= math.pi and 0 <= chordal <= math.sqrt(2)
+        assert redik.lie.exp_coordinate_distance(R1, R2) == pytest.approx(
+            np.linalg.norm(redik.lie.so3_log(R1) - redik.lie.so3_log(R2)), abs=1e-12
+        )
+        trace = math.acos(np.clip((np.trace(R1.T @ R2) - 1) / 2, -1, 1))
+        assert redik.lie.rotation_angle(R1, R2) == pytest.approx(trace, abs=1e-7)
+        assert redik.lie.rotation_angle(R1, R2) == pytest.approx(geodesic, abs=1e-7)
+
+
+def test_000_joint_limit_cost_is_the_notes_sum():
+    """000 "Optimization-based Inverse Kinematics": φ(θ) = Σ ((θ_i − θ_i,mid)/(θ_i,max −
+    θ_i,min))², on the PUMA's ranges (002's Table I) at a θ chosen here."""
+    robot = scene_robot("puma560")
+    theta = np.radians([30.0, -60.0, 120.0, 40.0, 50.0, 60.0])
+    notes = np.sum(((theta - (robot.lower + robot.upper) / 2) / (robot.upper - robot.lower)) ** 2)
+    scale, middle = redik.criteria.joint_limit_scaling(robot.lower, robot.upper)
+    assert redik.criteria.joint_limit_potential(theta - middle, scale) == pytest.approx(notes)
+
+
+def test_001_jacobian_of_the_notes_function():
+    """001 "Jacobian: Approximation": F = (x1² + x2² − 1, 5x1² + 2x2² + 4) at x = (1, 2):
+    "proper Jacobian" [[2, 4], [10, 8]], "approx. Jacobian (delta = 0.1)" [[2.1, 4.1],
+    [10.5, 8.2]]."""
+
+    def F(x):
+        return np.array([x[0] ** 2 + x[1] ** 2 - 1.0, 5.0 * x[0] ** 2 + 2.0 * x[1] ** 2 + 4.0])
+
+    x = np.array([1.0, 2.0])
+    forward = finite_difference_jacobian(F, x, step=0.1, scheme="forward")
+    central = finite_difference_jacobian(F, x, step=0.1, scheme="central")
+    assert np.round(forward, 1).tolist() == [[2.1, 4.1], [10.5, 8.2]]
+    assert np.round(central, 9).tolist() == [[2, 4], [10, 8]]
+
+
+def test_002_planar_2r_workspaces():
+    """002 "Workspace of planar 2R arm": l1 = l2 = ℓ: WS1 = {‖p‖ ≤ 2ℓ}, WS2 = {p = 0};
+    l1 ≠ l2: WS1 = {|l1 − l2| ≤ ‖p‖ ≤ l1 + l2}, WS2 = ∅ (the orientations tried are those the
+    planar arm can take)."""
+    probes = np.array([[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [1.0, 0.0, 0.0], [1.5, 0.0, 0.0]])
+    equal = redik.apps.workspace.reachability(scene_robot("planar_2r"), probes, seed=0)
+    assert equal.score[0] == 1.0 and np.all(equal.score[1:] < 1.0)
+    unequal_robot = redik.Robot.from_dh([(1.0, 0.0, 0.0), (0.5, 0.0, 0.0)])
+    unequal = redik.apps.workspace.reachability(unequal_robot, probes, seed=0)
+    assert np.all(unequal.score < 1.0)
+    radii = np.linalg.norm(redik.apps.workspace.sample(unequal_robot, 500, seed=0).points, axis=1)
+    assert 0.5 - 1e-9 <= radii.min() and radii.max() <= 1.5 + 1e-9
+
+
+def test_002_planar_2r_multiplicity():
+    """002 "Multiplicity of solutions": 2 regular solutions in WS1 (q2', q2'' of opposite
+    signs), 1 on ∂WS1, ∞ in WS2 for l1 = l2 (q1 undefined: det = l1² + l2² + 2l1l2c2 = 0)."""
+    inside = redik.solvers.analytic.planar_2r(1.2, 0.7, 1.0, 1.0)
+    assert len(inside) == 2 and inside[0][1] == pytest.approx(-inside[1][1])
+    assert len(redik.solvers.analytic.planar_2r(2.0, 0.0, 1.0, 1.0)) == 1
+    origin = redik.solvers.analytic.planar_2r(0.0, 0.0, 1.0, 1.0)
+    assert origin[0].family is not None and math.cos(origin[0][1]) == pytest.approx(-1.0)
+
+
+@pytest.mark.parametrize(
+    ("radius", "reachable", "every_phi", "singular"),
+    [(0.5, True, True, 0), (1.0, True, True, 3), (2.0, True, False, 0), (3.0, True, False, 1),
+     (3.001, False, False, 0)],
+)  # fmt: skip
+def test_002_planar_3r_workspace(radius, reachable, every_phi, singular):
+    """002 "A planar 3R arm", l1 = l2 = l3 = ℓ = 1: WS1 = {‖p‖ ≤ 3ℓ}, WS2 = {‖p‖ ≤ ℓ};
+    ‖p‖ = 3ℓ: "only 1 solution, singular"; ‖p‖ = ℓ: "∞¹ solutions, 3 of which singular";
+    ‖p‖ < ℓ: "never singular". Singular: the 2 × 3 position Jacobian loses rank."""
+    robot = scene_robot("planar_3r")
+    family = redik.solvers.analytic.planar_3r_family(radius, 0.0, 1.0, 1.0, 1.0)
+    assert family.reachable == reachable
+    assert (family.phi_intervals == ((-math.pi, math.pi),)) == every_phi
+    found = set()
+    for start, end in family.phi_intervals:
+        for phi in np.unique(np.r_[np.linspace(start, end, 91), 0.0, math.pi]):
+            if not family.contains(phi):
+                continue
+            for q in family(phi):
+                members = [q] if q.family is None else [
+                    q.family.at(t) for t in np.linspace(-math.pi, math.pi, 91)]  # fmt: skip
+                for member in members:
+                    J = robot.jacobian(np.asarray(member), reference="world")[:2]
+                    if np.linalg.svd(J, compute_uv=False)[-1] < 1e-9:
+                        found.add(tuple(np.round(redik.lie.wrap_angle(member), 4)))
+    assert len(found) == singular
+
+
+def test_002_dexter_8r_has_two_degrees_of_redundancy():
+    """002 "Dexter robot (8R arm)": m = 6, n = 8, "∞² inverse kinematic solutions
+    (redundancy degree = n − m = 2)"."""
+    robot = scene_robot("dexter8r")
+    J = robot.jacobian(robot.home)
+    assert J.shape == (6, 8) and np.linalg.matrix_rank(J) == 6
+    motion = redik.explore_self_motion(
+        robot, robot.fk(robot.home), seed=0, n_starts=8, max_samples=2000
+    )
+    assert motion.dimension == 2
+
+
+def test_002_rrp_polar_closed_form():
+    """002 "Numerical tests on RRP robot": "q* = (0.7854, 0.3398, 1.5)",
+    "q** = (q1* − π, π − q2*, q3*) = (−2.3562, 2.8018, 1.5)" for p_d = (1, 1, 1), d1 = 0.5."""
+    solutions = rrp_polar([1.0, 1.0, 1.0], 0.5)
+    printed = {"front": ["0.7854", "0.3398", "1.5"], "back": ["-2.3562", "2.8018", "1.5"]}
+    for label, numbers in printed.items():
+        assert as_printed(solutions.by_label(label), numbers) == numbers
+
+
+PUMA_600_TABLE = [(0, 0, -math.pi / 2), (17.000, 0, 0), (0.75, 4.937, math.pi / 2),
+                  (0, 17.000, -math.pi / 2), (0, 0, math.pi / 2), (0, 0, 0)]  # fmt: skip
+"""002 "6R example: Unimation PUMA 600", Table I as (a, d, α): a2 = 17.000 (printed "a1"),
+a3 = 0.75, d3 = 4.937, d4 = 17.000 inches."""
+
+
+def puma_600_printed_p(q, a2=17.000, a3=0.75, d3=4.937, d4=17.000):
+    """The printed p_x, p_y, p_z of the PUMA 600."""
+    c1, s1, c2, s2 = math.cos(q[0]), math.sin(q[0]), math.cos(q[1]), math.sin(q[1])
+    c23, s23 = math.cos(q[1] + q[2]), math.sin(q[1] + q[2])
+    reach = d4 * s23 + a3 * c23 + a2 * c2
+    return np.array([c1 * reach - s1 * d3, s1 * reach + c1 * d3, -(-d4 * c23 + a3 * s23 + a2 * s2)])
+
+
+def test_002_puma_600_table_and_its_eight_solutions():
+    """Table I's direct kinematics is the printed p (and a = ⁰z₆: a_z = −S23 C4 S5 + C23 C5);
+    "8 different inverse solutions that can be found in closed form". The printed
+    "a1 = 17.000" is a2: with a1 = 17 (and a2 = 0) the printed p does not hold."""
+    ranges = np.radians([(-160, 160), (-225, 45), (-45, 225), (-170, 170), (-135, 135),
+                         (-170, 170)])  # fmt: skip
+    robot = redik.Robot.from_dh(PUMA_600_TABLE, limits=ranges)
+    as_printed_a1 = redik.Robot.from_dh([(17.000, 0, -math.pi / 2), (0, 0, 0), *PUMA_600_TABLE[2:]])
+    rng = np.random.default_rng(3)
+    for q in (robot.random_q(rng) for _ in range(10)):
+        np.testing.assert_allclose(robot.fk(q)[:3, 3], puma_600_printed_p(q), atol=1e-9)
+        a_z = -math.sin(q[1] + q[2]) * math.cos(q[3]) * math.sin(q[4]) + math.cos(
+            q[1] + q[2]
+        ) * math.cos(q[4])
+        assert robot.fk(q)[2, 2] == pytest.approx(a_z, abs=1e-12)
+        assert np.abs(as_printed_a1.fk(q)[:3, 3] - puma_600_printed_p(q)).max() > 1.0
+    q = np.radians([30.0, -60.0, 120.0, 40.0, 50.0, 60.0])
+    solutions = solver_for(robot)(robot.fk(q), limits=None)
+    assert len(solutions) == 8
+    scene = scene_robot("puma560")
+    np.testing.assert_allclose([scene.lower, scene.upper], ranges.T, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("A", "b", "by_hand"),
+    [(np.array([[1.0, 2.0]]), [3.0], ["0.6", "1.2"]), (np.array([[1.0], [2.0]]), [0.0, 3.0],
+                                                        ["1.2"])],
+)  # fmt: skip
+def test_003_pseudoinverse_exercises(A, b, by_hand):
+    """003: "Graphically find a 'good' solution to Ax = b, e.g., x = A†b": 1) A = [1 2],
+    b = 3; 2) A = [1 2]ᵀ, b = [0 3]ᵀ. No printed answer; by hand (0.6, 1.2) and 6/5 = 1.2.
+    One Newton step from 0 is Δθ* = J†(x_d − f(θ⁰)) = A†b."""
+    step = redik.solve_equations(
+        lambda x: A @ x, b, np.zeros(A.shape[1]), "newton", lambda x: A, tol=0, max_iterations=1
+    )
+    assert as_printed(step.q, by_hand) == by_hand
+
+
+def test_004_quiz_question_2_with_the_quizs_screws():
+    """004 "Python Solution for Course Quiz", question 2, with Blist, M and T as the code
+    writes them (MR's (ω, v) screws): the code prints θ to 2 decimals, [0.93, 0.59, 0.68]."""
+    B_list = np.array([[0, 0, 1, 0, 3, 0], [0, 0, 1, 0, 2, 0], [0, 0, 1, 0, 1, 0]]).T
+    M = np.array([[1, 0, 0, 3], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
+    robot = redik.Robot.from_screws(B_list, M, frame="body")
+    with pytest.warns(NearRotationWarning):
+        run = redik.solve_pose(
+            robot, QUIZ_TARGET, [math.pi / 4] * 3, method="newton", stop="twist",
+            rot_tol=0.001, pos_tol=0.0001, max_iterations=20, restarts=0, respect_limits=False,
+        )  # fmt: skip
+    assert run.success
+    assert as_printed(run.q, ["0.93", "0.59", "0.68"]) == ["0.93", "0.59", "0.68"]

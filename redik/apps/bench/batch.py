@@ -17,6 +17,8 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
+from collections.abc import Callable
+from typing import TypeVar
 
 import numpy as np
 
@@ -25,6 +27,8 @@ from redik.kinematics.robot import load
 from redik.solvers.batch import Chain, forward_kinematics, solve_batch
 from redik.solvers.batch.engines import default_workers
 from redik.solvers.pose import solve_pose
+
+_T = TypeVar("_T")
 
 TARGET_RATE = 100_000
 TARGET_SUCCESS = 0.9999
@@ -40,7 +44,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0)
 
 
-def _timed(fn) -> tuple[float, float, object]:
+def _timed(fn: Callable[[], _T]) -> tuple[float, float, _T]:
     """``(wall seconds, CPU seconds, fn())``."""
     wall, cpu = time.perf_counter(), time.process_time()
     out = fn()

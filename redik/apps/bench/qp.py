@@ -408,7 +408,7 @@ def _multiframe(key: str, args) -> dict:
     runners = {"redik": _redik_whole_body, "mink": _mink_whole_body}
     for run in runners.values():
         run(robot, goals[0], args)  # warm-up: compilation, caches
-    rows = {name: ([], []) for name in runners}
+    rows: dict[str, tuple[list[float], list[float]]] = {name: ([], []) for name in runners}
     for goal in goals:
         for name, run in runners.items():
             start = time.perf_counter()
@@ -532,8 +532,11 @@ def _print_convergence(robot, args, targets) -> None:
     for backend in args.converge_backends:
         solver = MINK_SOLVER.get(backend, backend)
         rows = [
-            (f"redik {backend} (weighted 1e-4)", _converge_redik(robot, backend, args, targets, 0)),
-            (f"redik {backend} (strict)", _converge_redik(robot, backend, args, targets, 1)),
+            (
+                f"redik {backend} (weighted 1e-4)",
+                _converge_redik(robot, backend, args, targets, False),
+            ),
+            (f"redik {backend} (strict)", _converge_redik(robot, backend, args, targets, True)),
         ]
         if solver:
             rows.append(
