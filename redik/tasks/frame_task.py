@@ -164,6 +164,7 @@ class FrameTask(SingleFrameTask):
         if target is not None:
             self.set_target(target)
         self._scales_version = -1
+        self._waits = (True, True)  # pose_errors' parts of nonzero cost, per cost version
         self._scratch = np.empty(6)
 
     def set_position_cost(self, position_cost: ArrayLike) -> None:
