@@ -40,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from redik.apps import measured
 from redik.apps.bench import load_average
 from redik.kinematics.robot import Robot, load
 from redik.lie import wrap_angle
@@ -343,6 +344,15 @@ def scenes_table(args: argparse.Namespace, clock: Callable[[], float]) -> None:
             f"{name:<10}{single:>9.2f}{batched:>9.2f}{dls:>10.1f}{dls / single:>11.0f}×"
             f"{solutions:>11.2f}"
         )
+        measured.record(
+            "closed form on the bundled scenes",
+            robot=name,
+            single_us=single,
+            batched_us=batched,
+            dls_us=dls,
+            dls_over_single=dls / single,
+            solutions=solutions,
+        )
 
 
 def labelled_table(args: argparse.Namespace, ik_geo: Any, clock: Callable[[], float]) -> None:
@@ -375,6 +385,16 @@ def labelled_table(args: argparse.Namespace, ik_geo: Any, clock: Callable[[], fl
             f"{name:<10}{solver.kind:>33}{m['labelled']:>10.2f}{m['raw']:>8.2f}"
             f"{m['ik-geo']:>8.2f}{m['labelled'] / m['ik-geo']:>16.2f}×"
             f"{m['raw'] / m['ik-geo']:>11.2f}×"
+        )
+        measured.record(
+            "closed form, labelled call beside ik-geo",
+            robot=name,
+            kind=solver.kind,
+            labelled_us=m["labelled"],
+            raw_us=m["raw"],
+            ik_geo_us=m["ik-geo"],
+            labelled_over_ik_geo=m["labelled"] / m["ik-geo"],
+            raw_over_ik_geo=m["raw"] / m["ik-geo"],
         )
 
 
@@ -447,6 +467,20 @@ def classes_table(args: argparse.Namespace, ik_geo: Any, clock: Callable[[], flo
             f"{row['found']:>7.0%}{row['found_ik_geo']:>7.0%}{row['solutions']:>6.2f}"
             f"{row['solutions_ik_geo']:>7.2f}{row['fk_error']:>9.1e}{multi:>11}  {row['method']}"
         )
+        measured.record(
+            "closed form per IK-Geo class beside ik-geo",
+            kind=kind,
+            redik_us=row["redik_us"],
+            ik_geo_us=row["ik_geo_us"],
+            ratio=ratio,
+            found_pct=100 * row["found"],
+            ik_geo_found_pct=100 * row["found_ik_geo"],
+            solutions=row["solutions"],
+            ik_geo_solutions=row["solutions_ik_geo"],
+            fk_error=row["fk_error"],
+            multistart=multi,
+            method=row["method"],
+        )
 
 
 def special_table(args: argparse.Namespace, clock: Callable[[], float]) -> None:
@@ -480,4 +514,14 @@ def special_table(args: argparse.Namespace, clock: Callable[[], float]) -> None:
         print(
             f"{name:<22}{solver.method + ':' + solver.kind:>22}{timed:>9.1f}"
             f"{np.mean([len(x) for x in sols]):>6.2f}{found:>7.0%}{worst:>9.1e}{multi:>11}"
+        )
+        measured.record(
+            "closed form, arms special at both ends",
+            arm=name,
+            method=f"{solver.method}:{solver.kind}",
+            median_us=timed,
+            solutions=np.mean([len(x) for x in sols]),
+            found_pct=100 * found,
+            fk_error=worst,
+            multistart=multi,
         )

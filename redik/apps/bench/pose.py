@@ -38,6 +38,7 @@ import mujoco
 import numpy as np
 
 from redik import lie
+from redik.apps import measured
 from redik.apps.bench import load_average
 from redik.kinematics.robot import Robot
 from redik.models.dh import Convention, DHRow
@@ -201,6 +202,18 @@ def _print_table(rows: list[tuple[str, str, str, float, np.ndarray]]) -> None:
         print(
             f"{robot:8s} {mode:7s} {label:14s} {success:9.1f} {median:10.3f} {p95:8.3f} "
             f"{p99:8.3f} {milliseconds.max():8.3f} {ratio}"
+        )
+        measured.record(
+            "pose IK, every library on the same targets",
+            robot=robot,
+            seeds=mode,
+            solver=label,
+            success_pct=success,
+            median_ms=median,
+            p95_ms=p95,
+            p99_ms=p99,
+            max_ms=milliseconds.max(),
+            median_over_rtb=median / rtb_median if rtb_median else None,
         )
 
 

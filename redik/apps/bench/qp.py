@@ -58,6 +58,7 @@ import mink
 import numpy as np
 
 from redik import lie
+from redik.apps import measured
 from redik.apps.bench import _qp_anchors as qp_anchors
 from redik.core.exceptions import BackendError, InfeasibleProblem
 from redik.kinematics.robot import Robot, load
@@ -476,6 +477,18 @@ def _print_anchors(args) -> None:
         print("  PlaCo not installed (requirements-placo.txt, CONTRIBUTING.md)")
     for name, difference in agreement.items():
         print(f"  max |Δq({name}) − Δq(redik weighted)| = {difference:.1e}")
+    placo_soft, placo_hard = medians.get("placo soft"), medians.get("placo hard")
+    measured.record(
+        "control step beside PlaCo and mink (panda URDF)",
+        redik_weighted_us=weighted,
+        redik_strict_us=strict,
+        placo_soft_us=placo_soft,
+        placo_hard_us=placo_hard,
+        mink_us=medians["mink weighted"],
+        strict_over_weighted=strict / weighted,
+        weighted_over_placo=weighted / placo_soft if placo_soft else None,
+        mink_over_redik=medians["mink weighted"] / weighted,
+    )
     print(
         f"\nG1 (4 frame tasks, posture, joint box, {qp_anchors.G1_PAIRS} collision pairs), "
         f"{args.g1_steps} steps, medians (µs), interleaved; load average {_load()}"
@@ -483,8 +496,15 @@ def _print_anchors(args) -> None:
     medians, difference = qp_anchors.g1_steps(args.g1_steps)
     for name, us in medians.items():
         print(f"  {name:<16}{us:>9.1f}")
-    print(f"  mink / redik weighted: {medians['mink weighted'] / medians['redik weighted']:.2f}")
+    ratio = medians["mink weighted"] / medians["redik weighted"]
+    print(f"  mink / redik weighted: {ratio:.2f}")
     print(f"  max |Δq(mink) − Δq(redik)| = {difference:.1e}\n")
+    measured.record(
+        "G1 step beside mink (50 collision pairs)",
+        redik_us=medians["redik weighted"],
+        mink_us=medians["mink weighted"],
+        mink_over_redik=ratio,
+    )
 
 
 def _print_steps(robot, backends, args, targets) -> None:
@@ -503,6 +523,14 @@ def _print_steps(robot, backends, args, targets) -> None:
         if solver:
             ratio = f"{mink_us / redik_us:>7.2f}x"
             print(f"{backend:<16}{solver:<13}{redik_us:>10.1f}{mink_us:>10.1f}{ratio}")
+            measured.record(
+                "QP step beside mink.solve_ik",
+                redik_back_end=backend,
+                mink_solver=solver,
+                redik_us=redik_us,
+                mink_us=mink_us,
+                mink_over_redik=mink_us / redik_us,
+            )
         else:
             print(f"{backend:<16}{'-':<13}{redik_us:>10.1f}{'-':>10}{'-':>8}")
 
@@ -520,6 +548,13 @@ def _print_priorities(robot, backends, args, targets) -> None:
             print(f"{backend:<16}failed: {error}")
             continue
         print(f"{backend:<16}{one_us:>12.1f}{two_us:>13.1f}{two_us / one_us:>7.2f}x")
+        measured.record(
+            "strict priorities: two levels vs one",
+            redik_back_end=backend,
+            one_level_us=one_us,
+            two_levels_us=two_us,
+            ratio=two_us / one_us,
+        )
 
 
 def _print_convergence(robot, args, targets) -> None:
@@ -547,6 +582,14 @@ def _print_convergence(robot, args, targets) -> None:
                 f"{name:<34}{s['success']:>8.1%}{s['iterations']:>7}{s['time_ms']:>10.2f}"
                 f"{s['overshoot']:>11.1e}"
             )
+            measured.record(
+                "solve_problem on FK targets beside mink's loop",
+                loop=name,
+                success_pct=100 * s["success"],
+                iterations=s["iterations"],
+                per_solve_ms=s["time_ms"],
+                overshoot=s["overshoot"],
+            )
 
 
 def _print_latency(args) -> None:
@@ -568,6 +611,19 @@ def _print_latency(args) -> None:
                 f"{row['p95']:>8.2f}{row['p99']:>8.2f}{row['max']:>8.2f}"
                 f"{row['iterations_p99']:>8.0f}{row['p99_steps']:>9.0f}x"
                 f"{row['wall_p99']:>10.2f}"
+            )
+            measured.record(
+                "solve_pose(method='qp') latency",
+                robot=name,
+                seeds=row["mode"],
+                success_pct=100 * row["success"],
+                p50_ms=row["p50"],
+                p95_ms=row["p95"],
+                p99_ms=row["p99"],
+                max_ms=row["max"],
+                p99_iterations=row["iterations_p99"],
+                p99_in_steps=row["p99_steps"],
+                wall_p99_ms=row["wall_p99"],
             )
 
 
@@ -596,4 +652,16 @@ def _print_multiframe(args) -> None:
             f"{key:<8}{row['frames']:>7}{row['robot'].nq:>5}{redik_row['success']:>7.0%}"
             f"{redik_row['p50']:>9.1f}{redik_row['p95']:>9.1f}{mink_row['success']:>7.0%}"
             f"{mink_row['p50']:>9.1f}{mink_row['p95']:>9.1f}"
+        )
+        measured.record(
+            "multi-frame targets, solve_problem beside mink's loop",
+            robot=key,
+            frames=row["frames"],
+            nq=row["robot"].nq,
+            redik_success_pct=100 * redik_row["success"],
+            redik_p50_ms=redik_row["p50"],
+            redik_p95_ms=redik_row["p95"],
+            mink_success_pct=100 * mink_row["success"],
+            mink_p50_ms=mink_row["p50"],
+            mink_p95_ms=mink_row["p95"],
         )
