@@ -96,9 +96,10 @@ class LevelAssembly:
         # changed since, e.g. by a damping term, and must be refilled).
         self._terms_version = 0
         self._hessian_version = -1
-        self._joint_hessian = np.full(n, damping)
-        self._joint_factor = np.zeros(n)
-        self._joint_offset = np.zeros(n)
+        # The joint-space sums (ε + Σw²d², Σαw²d², Σαw²d² ⊙ r), rows of one array.
+        self._joint_terms = np.zeros((3, n))
+        self._joint_hessian, self._joint_factor, self._joint_offset = self._joint_terms
+        self._joint_hessian[:] = damping
         self._joint_buffer = np.zeros(n)
         self._joint_factors: list[tuple[JointSpaceTask, np.ndarray]] = []
         self.least_squares = not self.joint_tasks and not self.other_tasks
@@ -135,6 +136,26 @@ class LevelAssembly:
         self._joint_versions = versions
         self._joint_ready = True
         self._terms_version += 1
+
+    def joint_terms(self) -> np.ndarray:
+        """The joint-space sums, refreshed when a task's target, cost or gain changed.
+
+        Returns:
+            The level's own array (3 × n), rows ``ε + Σ w²d²`` (the Hessian's diagonal),
+            ``Σ α w²d²`` and, on a flat robot, ``Σ α w²d² ⊙ r``: the gradient is then
+            ``Σ α w²d² ⊙ q − Σ α w²d² ⊙ r`` (else :meth:`joint_gradient_into`).
+        """
+        self._refresh_joint_terms()
+        return self._joint_terms
+
+    def joint_gradient_into(self, state: KinematicState, c: np.ndarray) -> None:
+        """Write the joint-space tasks' gradient ``Σ α w²d² ⊙ (q ⊖ r)`` at ``state`` into ``c``.
+
+        Args:
+            state: The kinematic state (its ``q``).
+            c: Written (n,).
+        """
+        self._joint_gradient(state, c, fresh=True)
 
     def build(self, state: KinematicState, configuration, columns: np.ndarray) -> None:
         """Fill ``H`` (regularised by ``damping``) and ``c`` at ``state``.

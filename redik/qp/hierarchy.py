@@ -105,10 +105,11 @@ which the slack level does not move (``z* = 0``) satisfies ``(GN)ᵀw = 0``, the
 condition of the least violation itself."""
 
 ROW_GAIN_TOL = 1e-12
-"""A constraint row whose gain ``|a_i|`` along a lone free direction is at most this does not
-block that direction (:func:`_solve_one_variable`): it moves the row by round-off only (a
-self-motion direction has exact zeros on some joints, computed as ±1e-16), while a joint
-sitting on its bound would otherwise stop the whole motion at ``z = 0``."""
+"""A constraint row whose gain ``|a_i|`` along a free direction is at most this does not
+block that direction (:func:`_solve_one_variable`, :meth:`Constraints.around`): it moves the
+row by round-off only (a self-motion direction has exact zeros on some joints, computed as
+±1e-16), while a joint sitting on its bound would otherwise stop the whole motion at
+``z = 0`` — or not, by the sign of that round-off."""
 
 Curvature = Callable[[np.ndarray], np.ndarray]
 """``N ↦ NᵀMN``: a second-order term of level 1 in the coordinates of a basis ``N``."""
@@ -146,8 +147,8 @@ class Constraints:
     def around(self, x: np.ndarray, N: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The constraints ``x + N z ∈ 𝒳`` as rows on ``z``: ``(rows, lower, upper)``.
 
-        They are relaxed by ``x``'s own violation so that ``z = 0`` stays feasible; ``rows``
-        is empty without constraints.
+        They are relaxed by ``x``'s own violation so that ``z = 0`` stays feasible; gains
+        within :data:`ROW_GAIN_TOL` are zero; ``rows`` is empty without constraints.
         """
         rows, lower, upper = [], [], []
         if self.lb is not None:
@@ -163,7 +164,9 @@ class Constraints:
             return np.empty((0, N.shape[1])), np.empty(0), np.empty(0)
         lower_all = np.minimum(np.concatenate(lower), 0.0)
         upper_all = np.maximum(np.concatenate(upper), 0.0)
-        return np.vstack(rows), lower_all, upper_all
+        stacked = np.vstack(rows)
+        stacked[np.abs(stacked) <= ROW_GAIN_TOL] = 0.0
+        return stacked, lower_all, upper_all
 
 
 def free_directions(H: np.ndarray, c: np.ndarray, rank_tol: float, shift: float = 0.0):

@@ -57,6 +57,7 @@ from redik.limits import (
 from redik.limits.ball_joint_limit import limited_ball_joints
 from redik.qp.assembly import Assembly
 from redik.qp.backends import Backend, make_backend
+from redik.qp.compiled import compiled_plan
 from redik.qp.curvature import CURVATURE_STEP, bound_multipliers, on_free_face
 from redik.qp.hierarchy import kernel_directions, row_null_space, solve_lexicographic
 from redik.tasks.foreign import foreign_call
@@ -190,6 +191,18 @@ class Problem:
         backend_options: Settings passed to the back-end.
         step_damping: Levenberg–Marquardt scale ``μ ≥ 0`` of :meth:`step` (default 0): level
             0's Hessian gets ``λ = μ‖b₀‖²``, ``b₀`` its stacked weighted residual.
+        compiled: Let :meth:`step` and :meth:`static_step` (without its curvature term) run
+            the compiled plan when the stack allows it (default); False forces the general
+            path.
+
+    With ``backend="daqp"`` (the default) or ``"quadprog"`` and a stack of frame and position
+    tasks, posture, joint-limit avoidance and damping on one level or two, and configuration,
+    velocity and collision limits, :meth:`step` runs a compiled plan
+    (:mod:`redik.qp.compiled`): box-constrained steps are solved by redik's compiled
+    active-set method, steps whose collision rows bind by DAQP called directly. It answers
+    what the general path answers, up to round-off; anything else (mink tasks, ranked or
+    acceleration limits, other back-ends, three levels, ``step_damping``) takes the general
+    path, chosen once per problem (:attr:`compiled`).
 
     Attributes:
         robot: The robot.
@@ -202,6 +215,7 @@ class Problem:
             task); without, level 0 is a regulariser optimised like the lower levels.
         stats: Counters; ``"skipped_levels"``: lower levels whose back-end failed
             (:mod:`redik.qp.hierarchy`).
+        compiled: Whether :meth:`step` and :meth:`static_step` run the compiled plan.
     """
 
     def __init__(
@@ -215,6 +229,7 @@ class Problem:
         rank_tol: float = 1e-10,
         backend_options: dict | None = None,
         step_damping: float = 0.0,
+        compiled: bool = True,
     ):
         if not isinstance(robot, Robot):
             raise InvalidInput(f"robot must be a redik.Robot, got {type(robot).__name__}")
@@ -238,9 +253,16 @@ class Problem:
             getattr(limit, "needs_configuration", False) for limit in self.limits
         ):
             self._configuration = mink.Configuration(robot.model)
-        self._qpos_at = np.full(robot.model.nq, np.nan)  # the qpos the state was built at
+        self._at = (b"", b"")  # the q and qpos the state was built at, as bytes
         self._lb = np.full(robot.dof, -np.inf)
         self._ub = np.full(robot.dof, np.inf)
+        self._plan = None
+        if compiled and self._configuration is None:
+            self._plan = compiled_plan(
+                robot, self._state, self._assembly.levels, self.limits, self.backends,
+                damping=self.damping, rank_tol=self.rank_tol, step_damping=self.step_damping,
+            )  # fmt: skip
+        self.compiled = self._plan is not None
 
     # ----------------------------------------------------------------------------------
     # Construction
@@ -316,6 +338,16 @@ class Problem:
             for task in self._targets
             if isinstance(task, ResidualTask)
         }
+        # What measure asks of each target: its error buffer (None: a mink task) and its
+        # pose_errors (None: judged by ‖W e‖), looked up once.
+        self._measured = [
+            (
+                task,
+                self._target_buffers[id(task)][0] if id(task) in self._target_buffers else None,
+                getattr(task, "pose_errors", None) if isinstance(task, Task) else None,
+            )
+            for task in self._targets
+        ]
 
     # ----------------------------------------------------------------------------------
     # Online control
@@ -351,6 +383,10 @@ class Problem:
             BackendError: the back-end (every back-end of a chain) failed.
             TaskError: a foreign (mink) task or limit raised.
         """
+        if self._plan is not None:
+            dq = self._plan.step(q, dt)
+            if dq is not None:
+                return dq
         q = self.robot.check_q(q, "q")
         _check_dt(dt)
         self._update(q)
@@ -397,6 +433,8 @@ class Problem:
         """
         for backend in [*self.backends, *(backend for *_, backend in self._ranked)]:
             backend.reset()
+        if self._plan is not None:
+            self._plan.reset()
 
     # ----------------------------------------------------------------------------------
     # What a driver asks at a configuration
@@ -432,6 +470,10 @@ class Problem:
             ``Δq`` (``robot.dof``,).
         """
         self._goto(q)
+        if self._plan is not None and not (second_order and len(self.levels) > 1):
+            dq = self._plan.static_step(q, dt, lm_damping, max_step)
+            if dq is not None:
+                return dq
         return self._solve_step(
             q, dt, lm_damping=lm_damping, second_order=second_order, max_step=max_step
         )
@@ -451,18 +493,22 @@ class Problem:
         self._goto(q)
         converged, squared = True, 0.0
         worst: list[float | None] = [None, None]
-        for task in self._targets:
-            weighted = self._weighted_error(task)
-            norm2 = float(weighted @ weighted)
-            squared += norm2
-            if isinstance(task, Task) and hasattr(task, "pose_errors"):
-                errors = task.pose_errors(self._state)
-                for i, (value, tol) in enumerate(zip(errors, (pos_tol, rot_tol), strict=True)):
-                    if value is not None:
-                        converged = converged and value <= tol
-                        worst[i] = value if worst[i] is None else max(worst[i], value)
+        for task, e, pose_errors in self._measured:
+            if e is not None:
+                task.error_into(self._state, e)
+                weighted = np.multiply(task.cost, e, out=e)
             else:
+                weighted = self._weighted_error(task)
+            norm2 = float(weighted.dot(weighted))
+            squared += norm2
+            if pose_errors is None:
                 converged = converged and math.sqrt(norm2) <= pos_tol
+                continue
+            errors = zip(pose_errors(self._state), (pos_tol, rot_tol), strict=True)
+            for i, (value, tol) in enumerate(errors):
+                if value is not None:
+                    converged = converged and value <= tol
+                    worst[i] = value if worst[i] is None else max(worst[i], value)
         admitted = all(limit.admits() for limit in self._admitting)
         return Measurement(converged, math.sqrt(squared), worst[0], worst[1], admitted)
 
@@ -665,12 +711,11 @@ class Problem:
         A driver asks several questions at one configuration. The robot's whole ``qpos`` is compared
         too, so a forward kinematics run elsewhere on the robot's data (``robot.fk``) is noticed.
         """
-        if not (
-            np.array_equal(q, self._state.q)
-            and np.array_equal(self.robot.state.data.qpos, self._qpos_at)
-        ):
+        # Bytes compare in a fraction of np.array_equal's time; equal bytes are equal values.
+        qpos = self.robot.state.data.qpos
+        if q.tobytes() != self._at[0] or qpos.tobytes() != self._at[1]:
             self._update(q)
-            self._qpos_at[:] = self.robot.state.data.qpos
+            self._at = (q.tobytes(), qpos.tobytes())
 
     def _solve_step(
         self,
