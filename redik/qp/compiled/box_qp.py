@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import numba
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.kinematics.compiled import COMPILE
 from redik.qp.compiled.linalg import cholesky, rows_hold, substitute
@@ -49,7 +50,12 @@ ROWS_VIOLATED = -2
 
 
 @numba.njit(**COMPILE)
-def _start(x, lb, ub, held):
+def _start(
+    x: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    held: NDArray[np.int64],
+) -> None:
     """Clip ``x`` into the box; the clipped coordinates are held (−1 lower, +1 upper)."""
     for i in range(x.shape[0]):
         held[i] = 0
@@ -62,7 +68,16 @@ def _start(x, lb, ub, held):
 
 
 @numba.njit(**COMPILE)
-def _free_minimiser(H, c, x, held, free, L, rhs, target):
+def _free_minimiser(
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    x: NDArray[np.float64],
+    held: NDArray[np.int64],
+    free: NDArray[np.int64],
+    L: NDArray[np.float64],
+    rhs: NDArray[np.float64],
+    target: NDArray[np.float64],
+) -> bool:
     """Write ``target``: ``x`` with its free coordinates minimising, the held ones kept.
 
     ``free``, ``L`` and ``rhs`` are scratch (n, n × n, n). Returns False when the free block
@@ -91,7 +106,13 @@ def _free_minimiser(H, c, x, held, free, L, rhs, target):
 
 
 @numba.njit(**COMPILE)
-def _step(x, target, lb, ub, held):
+def _step(
+    x: NDArray[np.float64],
+    target: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    held: NDArray[np.int64],
+) -> int:
     """Move the free coordinates from ``x`` towards ``target`` as far as the box allows.
 
     Returns the coordinate that stopped the step (now on its bound and held), or −1 after a
@@ -119,7 +140,12 @@ def _step(x, target, lb, ub, held):
 
 
 @numba.njit(**COMPILE)
-def _most_violated(H, c, x, held):
+def _most_violated(
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    x: NDArray[np.float64],
+    held: NDArray[np.int64],
+) -> int:
     """The held coordinate whose multiplier has the wrong sign by the most, or −1 (optimal)."""
     worst, index = 0.0, -1
     for i in range(x.shape[0]):
@@ -135,15 +161,31 @@ def _most_violated(H, c, x, held):
 
 
 @numba.njit(**COMPILE)
-def _wrong_side(target, lb, ub, released, side):
+def _wrong_side(
+    target: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    released: int,
+    side: int,
+) -> bool:
     """Whether the minimiser after releasing a coordinate would take it out of its bound."""
     if side < 0:
-        return target[released] <= lb[released]
-    return target[released] >= ub[released]
+        return bool(target[released] <= lb[released])
+    return bool(target[released] >= ub[released])
 
 
 @numba.njit(**COMPILE)
-def box_qp(H, c, lb, ub, C, u, m, x, max_iterations):
+def box_qp(
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    C: NDArray[np.float64],
+    u: NDArray[np.float64],
+    m: int,
+    x: NDArray[np.float64],
+    max_iterations: int,
+) -> int:
     """Solve the box QP of the module docstring in place, from ``x``.
 
     Args:

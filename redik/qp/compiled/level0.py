@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numba
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.kinematics.compiled import COMPILE
 from redik.qp.compiled.linalg import least_squares_point, newton_point, rows_hold, within_box
@@ -39,7 +40,17 @@ NOT_DEFINITE = 3
 
 
 @numba.njit(**COMPILE)
-def box_bounds(q, scalar_q, box, position, velocity, dt, max_step, lb, ub):
+def box_bounds(
+    q: NDArray[np.float64],
+    scalar_q: NDArray[np.int64],
+    box: NDArray[np.float64],
+    position: bool,
+    velocity: bool,
+    dt: float,
+    max_step: float,
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+) -> bool:
     """Write the step's box; return False when it is empty (a lower bound above its upper).
 
     Args:
@@ -74,7 +85,20 @@ def box_bounds(q, scalar_q, box, position, velocity, dt, max_step, lb, ub):
 
 
 @numba.njit(**COMPILE)
-def level0_point(H, c, A, b, least_squares, damping, lb, ub, C, u, m, x):
+def level0_point(
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    A: NDArray[np.float64],
+    b: NDArray[np.float64],
+    least_squares: bool,
+    damping: float,
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    C: NDArray[np.float64],
+    u: NDArray[np.float64],
+    m: int,
+    x: NDArray[np.float64],
+) -> int:
     """Write level 0's unconstrained minimiser into ``x`` and say whether it is the solution.
 
     Args:

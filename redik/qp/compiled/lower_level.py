@@ -33,6 +33,7 @@ import math
 
 import numba
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.kinematics.compiled import COMPILE
 from redik.qp.compiled.linalg import clip_into, newton_point
@@ -51,7 +52,13 @@ direction: the general path decides."""
 
 
 @numba.njit(**COMPILE)
-def _reflect(qr, tau, k, start, columns):
+def _reflect(
+    qr: NDArray[np.float64],
+    tau: NDArray[np.float64],
+    k: int,
+    start: int,
+    columns: int,
+) -> None:
     """Apply ``I − τ_k v vᵀ`` (``v = [1; qr[k+1:, k]]``, from row ``k``) to columns of ``qr``."""
     n = qr.shape[0]
     for j in range(start, columns):
@@ -65,7 +72,11 @@ def _reflect(qr, tau, k, start, columns):
 
 
 @numba.njit(**COMPILE)
-def _householder(qr, tau, k):
+def _householder(
+    qr: NDArray[np.float64],
+    tau: NDArray[np.float64],
+    k: int,
+) -> None:
     """LAPACK's ``dlarfg`` on ``qr[k:, k]``: ``β`` into ``qr[k, k]``, ``v`` below it, ``τ_k``."""
     n = qr.shape[0]
     alpha = qr[k, k]
@@ -85,7 +96,10 @@ def _householder(qr, tau, k):
 
 
 @numba.njit(**COMPILE)
-def _reciprocal_condition(qr, m):
+def _reciprocal_condition(
+    qr: NDArray[np.float64],
+    m: int,
+) -> float:
     """``1 / (‖R‖₁ ‖R⁻¹‖₁)`` of the upper triangle ``R = qr[:m, :m]`` (0 when singular)."""
     inverse = np.zeros((m, m))
     norm, inverse_norm = 0.0, 0.0
@@ -108,7 +122,10 @@ def _reciprocal_condition(qr, m):
 
 
 @numba.njit(**COMPILE)
-def null_space(A, N):
+def null_space(
+    A: NDArray[np.float64],
+    N: NDArray[np.float64],
+) -> float:
     """Write an orthonormal basis of ``ker A`` into ``N`` (n × (n − m)); ``A`` wide (m × n).
 
     Returns:
@@ -140,7 +157,12 @@ def null_space(A, N):
 
 
 @numba.njit(**COMPILE)
-def _gain_and_offset(C, r, N, x):
+def _gain_and_offset(
+    C: NDArray[np.float64],
+    r: int,
+    N: NDArray[np.float64],
+    x: NDArray[np.float64],
+) -> tuple[float, float]:
     """``(C_r v, C_r x)`` of row ``r`` along the direction ``v = N[:, 0]``."""
     gain, offset = 0.0, 0.0
     for j in range(x.shape[0]):
@@ -150,7 +172,12 @@ def _gain_and_offset(C, r, N, x):
 
 
 @numba.njit(**COMPILE)
-def _pull_back(z, a, lower, upper):
+def _pull_back(
+    z: float,
+    a: float,
+    lower: float,
+    upper: float,
+) -> float:
     """``z`` pulled back to the relaxed row ``min(lower, 0) ≤ a z ≤ max(upper, 0)``."""
     if -ROW_GAIN_TOL <= a <= ROW_GAIN_TOL:
         return z  # moved by round-off only: it cannot block the direction
@@ -163,7 +190,17 @@ def _pull_back(z, a, lower, upper):
 
 
 @numba.njit(**COMPILE)
-def one_direction(H, c, x, N, lb, ub, C, u, m):
+def one_direction(
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    x: NDArray[np.float64],
+    N: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    C: NDArray[np.float64],
+    u: NDArray[np.float64],
+    m: int,
+) -> bool:
     """Move ``x`` along ``v = N[:, 0]`` to level 1's minimiser on the relaxed constraints.
 
     :func:`redik.qp.hierarchy._solve_one_variable`: ``z = −g/h`` with ``h = vᵀHv``,
@@ -194,7 +231,14 @@ def one_direction(H, c, x, N, lb, ub, C, u, m):
 
 
 @numba.njit(**COMPILE)
-def reduced_level(H, c, x, N, Hz, cz):
+def reduced_level(
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    x: NDArray[np.float64],
+    N: NDArray[np.float64],
+    Hz: NDArray[np.float64],
+    cz: NDArray[np.float64],
+) -> None:
     """Write ``Hz = NᵀHN`` and ``cz = Nᵀ(Hx + c)``: level 1 in the coordinates ``z``."""
     n, r = N.shape
     HN = np.empty((n, r))
@@ -218,13 +262,26 @@ def reduced_level(H, c, x, N, Hz, cz):
 
 
 @numba.njit(**COMPILE)
-def _gain(a):
+def _gain(
+    a: float,
+) -> float:
     """``a``, or 0 within ``ROW_GAIN_TOL`` (round-off cannot block a direction)."""
     return 0.0 if -ROW_GAIN_TOL <= a <= ROW_GAIN_TOL else a
 
 
 @numba.njit(**COMPILE)
-def reduced_rows(N, x, lb, ub, C, u, m, rows, lower, upper):
+def reduced_rows(
+    N: NDArray[np.float64],
+    x: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    C: NDArray[np.float64],
+    u: NDArray[np.float64],
+    m: int,
+    rows: NDArray[np.float64],
+    lower: NDArray[np.float64],
+    upper: NDArray[np.float64],
+) -> None:
     """Write the rows ``[N; C N]`` on ``z`` and their bounds, relaxed so that ``z = 0`` holds.
 
     ``min(lb − x, 0) ≤ N z ≤ max(ub − x, 0)`` and ``C N z ≤ max(u − C x, 0)``, gains within
@@ -250,7 +307,13 @@ def reduced_rows(N, x, lb, ub, C, u, m, rows, lower, upper):
 
 
 @numba.njit(**COMPILE)
-def _rows_within(rows, count, z, lower, upper):
+def _rows_within(
+    rows: NDArray[np.float64],
+    count: int,
+    z: NDArray[np.float64],
+    lower: NDArray[np.float64],
+    upper: NDArray[np.float64],
+) -> bool:
     """Whether ``lower ≤ rows z ≤ upper`` holds exactly on the first ``count`` rows."""
     for i in range(count):
         total = 0.0
@@ -262,7 +325,11 @@ def _rows_within(rows, count, z, lower, upper):
 
 
 @numba.njit(**COMPILE)
-def add_direction(x, N, z):
+def add_direction(
+    x: NDArray[np.float64],
+    N: NDArray[np.float64],
+    z: NDArray[np.float64],
+) -> None:
     """``x += N z`` in place."""
     for i in range(x.shape[0]):
         total = 0.0
@@ -273,8 +340,24 @@ def add_direction(x, N, z):
 
 @numba.njit(**COMPILE)
 def lower_level(
-    x, A0, H, c, lb, ub, C, u, m, rank_tol, clip, N, Hz, cz, rows, lower, upper
-):  # fmt: skip
+    x: NDArray[np.float64],
+    A0: NDArray[np.float64],
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    C: NDArray[np.float64],
+    u: NDArray[np.float64],
+    m: int,
+    rank_tol: float,
+    clip: bool,
+    N: NDArray[np.float64],
+    Hz: NDArray[np.float64],
+    cz: NDArray[np.float64],
+    rows: NDArray[np.float64],
+    lower: NDArray[np.float64],
+    upper: NDArray[np.float64],
+) -> int:
     """Solve level 1 (``H``, ``c``) within level 0's optimal set at ``x`` (module docstring).
 
     Args:

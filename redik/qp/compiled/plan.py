@@ -45,7 +45,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import cast
 
+import mujoco
 import numpy as np
 
 from redik.kinematics.robot import Robot
@@ -65,6 +67,8 @@ from redik.tasks import (
     PositionTask,
     PostureTask,
 )
+from redik.tasks.single_frame_task import SingleFrameTask
+from redik.tasks.task import ResidualTask
 
 SUPPORTED_TASKS = (FrameTask, PositionTask, PostureTask, JointLimitAvoidanceTask, DampingTask)
 """The task types a plan assembles (exact types: a subclass may change the residual)."""
@@ -132,9 +136,9 @@ def _plain_levels(levels: Sequence[LevelAssembly], n: int) -> bool:
     return len(levels) == 1 or (levels[0].least_squares and levels[0].A.shape[0] < n)
 
 
-def _level_rows(levels: Sequence[LevelAssembly]) -> list[tuple[int, object]]:
+def _level_rows(levels: Sequence[LevelAssembly]) -> list[tuple[int, ResidualTask]]:
     """Each frame task's first row within its own level's rows (what a level's kernel indexes)."""
-    rows = []
+    rows: list[tuple[int, ResidualTask]] = []
     for level in levels:
         row = 0
         for task in level.residual_tasks:
@@ -143,7 +147,7 @@ def _level_rows(levels: Sequence[LevelAssembly]) -> list[tuple[int, object]]:
     return rows
 
 
-def _frame_body(model, kind: str, index: int) -> int:
+def _frame_body(model: mujoco.MjModel, kind: str, index: int) -> int:
     """The body a frame (site, body or geom ``index``) is fixed to."""
     if kind == "site":
         return int(model.site_bodyid[index])
@@ -174,7 +178,7 @@ class CompiledPlan:
         backends: Sequence[Backend],
         damping: float,
         rank_tol: float,
-    ):
+    ) -> None:
         model, n = robot.model, robot.dof
         self._robot, self._state, self._n = robot, state, n
         self._levels = list(levels)
@@ -197,13 +201,19 @@ class CompiledPlan:
         rows = self._C.shape[0]
         self._upper, self._lower = np.zeros(n + rows), np.full(n + rows, -np.inf)
         self._row_qps: DaqpWorkspaces | BackendSolves = BackendSolves(backends)
-        if all(isinstance(backend, DaqpBackend) for backend in backends):
-            self._row_qps = DaqpWorkspaces(backends[0].settings)
+        first = backends[0]
+        if isinstance(first, DaqpBackend) and all(
+            isinstance(backend, DaqpBackend) for backend in backends
+        ):
+            self._row_qps = DaqpWorkspaces(first.settings)
 
-    def _build_table(self, robot: Robot, column_of: np.ndarray, limits: Sequence[Limit]):
+    def _build_table(self, robot: Robot, column_of: np.ndarray, limits: Sequence[Limit]) -> None:
         """The int buffer (:mod:`redik.qp.compiled.step`): sizes, flags, frames, coordinates."""
         model, n = robot.model, robot.dof
-        tasks = [task for level in self._levels for task in level.residual_tasks]
+        # A plan's residual tasks are frame and position tasks (_plain_levels).
+        tasks = cast(
+            list[SingleFrameTask], [task for level in self._levels for task in level.residual_tasks]
+        )
         bodies = [_frame_body(model, task.frame.kind, task.frame.id) for task in tasks]
         chains, columns, lengths = pack_chains(model, bodies, column_of)
         coordinates = JointCoordinates.of(model, robot.joint_ids)
@@ -268,11 +278,13 @@ class CompiledPlan:
     def _watch_tasks(self) -> None:
         """What :meth:`_refresh` compares each step: targets, versions, joint-space sums."""
         self._target_rows = [self._targets[f, :12].reshape(3, 4) for f in range(len(self._tasks))]
-        self._poses = [(f, task) for f, task in enumerate(self._tasks) if type(task) is FrameTask]
+        self._poses: list[tuple[int, SingleFrameTask]] = [
+            (f, task) for f, task in enumerate(self._tasks) if type(task) is FrameTask
+        ]
         self._positions = [
             (f, task) for f, task in enumerate(self._tasks) if type(task) is not FrameTask
         ]
-        self._seen: list = [_NOT_SEEN] * len(self._tasks)
+        self._seen: list[object] = [_NOT_SEEN] * len(self._tasks)
         self._versions = [-1] * len(self._tasks)
         self._joint_tasks = [task for level in self._levels for task in level.joint_tasks]
         self._joint_versions: list[int] | None = None
@@ -351,10 +363,12 @@ class CompiledPlan:
 
     def _solve(self, stage: int, dt: float, m: int) -> int:
         poses, cdof, subtree_com = self._kinematics
-        return kernel.solve_step(stage, self._q, dt, m, poses, cdof, subtree_com, self._table,
-                                 self._work)  # fmt: skip
+        status: int = kernel.solve_step(
+            stage, self._q, dt, m, poses, cdof, subtree_com, self._table, self._work
+        )
+        return status
 
-    def _duration(self, dt) -> float:
+    def _duration(self, dt: object) -> float:
         """``dt`` as a float (0 for None), or −1 when the general path must check or refuse it."""
         if dt is None:
             return -1.0 if self._velocity else 0.0

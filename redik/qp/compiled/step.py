@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numba
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.validate import MAX_COORDINATE
 from redik.kinematics.compiled import COMPILE
@@ -60,7 +61,9 @@ OFFSETS = 22
 
 
 @numba.njit(**COMPILE)
-def buffer_sizes(table):
+def buffer_sizes(
+    table: NDArray[np.int64],
+) -> tuple[int, NDArray[np.int64]]:
     """The sizes of ``table`` and of each view of ``work``, in :func:`float_views`'s order.
 
     Reads the header only; :func:`write_offsets` stores the views' offsets from the sizes.
@@ -78,17 +81,22 @@ def buffer_sizes(table):
 
 
 @numba.njit(**COMPILE)
-def write_offsets(table):
+def write_offsets(
+    table: NDArray[np.int64],
+) -> int:
     """Store the offsets of :func:`float_views`' views after the header; return ``work``'s size."""
     sizes = buffer_sizes(table)[1]
     table[HEADER] = 0
     for k in range(sizes.shape[0]):
         table[HEADER + k + 1] = table[HEADER + k] + sizes[k]
-    return table[HEADER + OFFSETS - 1]
+    return int(table[HEADER + OFFSETS - 1])
 
 
 @numba.njit(**COMPILE)
-def float_views(work, table):
+def float_views(
+    work: NDArray[np.float64],
+    table: NDArray[np.int64],
+) -> tuple[NDArray[np.float64], ...]:
     """The plan's float arrays, views into ``work``.
 
     Returns:
@@ -134,7 +142,16 @@ def float_views(work, table):
 
 
 @numba.njit(**COMPILE)
-def int_views(table):
+def int_views(
+    table: NDArray[np.int64],
+) -> tuple[
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+]:
     """The plan's int arrays, views into ``table`` after its header.
 
     Returns:
@@ -158,7 +175,10 @@ def int_views(table):
 
 
 @numba.njit(**COMPILE)
-def valid_configuration(q, quaternions):
+def valid_configuration(
+    q: NDArray[np.float64],
+    quaternions: NDArray[np.int64],
+) -> bool:
     """Whether ``q`` is finite, within ``±MAX_COORDINATE``, without a zero quaternion."""
     for value in q:
         if not abs(value) <= MAX_COORDINATE:  # a NaN fails too
@@ -170,7 +190,18 @@ def valid_configuration(q, quaternions):
 
 
 @numba.njit(**COMPILE)
-def _objectives(q, poses, cdof, subtree_com, flat, levels, frames, chains, columns, floats):
+def _objectives(
+    q: NDArray[np.float64],
+    poses: tuple[NDArray[np.float64], ...],
+    cdof: NDArray[np.float64],
+    subtree_com: NDArray[np.float64],
+    flat: bool,
+    levels: NDArray[np.int64],
+    frames: NDArray[np.int64],
+    chains: NDArray[np.int64],
+    columns: NDArray[np.int64],
+    floats: tuple[NDArray[np.float64], ...],
+) -> None:
     """Every level's ``H``, ``c`` (and frame rows) at the current kinematics."""
     targets, joint, gradients, A, b, H, c = floats[:7]
     J = np.empty((6, c.shape[1]))
@@ -184,7 +215,15 @@ def _objectives(q, poses, cdof, subtree_com, flat, levels, frames, chains, colum
 
 
 @numba.njit(**COMPILE)
-def _level0(q, dt, m, table, levels, scalar_q, floats):
+def _level0(
+    q: NDArray[np.float64],
+    dt: float,
+    m: int,
+    table: NDArray[np.int64],
+    levels: NDArray[np.int64],
+    scalar_q: NDArray[np.int64],
+    floats: tuple[NDArray[np.float64], ...],
+) -> int:
     """The box and level 0 (the box QP when a bound binds); :data:`_CONTINUE` when solved."""
     A, b, H, c, box, lb, ub, x, C, u = floats[3:13]
     settings = floats[20]
@@ -207,7 +246,12 @@ def _level0(q, dt, m, table, levels, scalar_q, floats):
 
 
 @numba.njit(**COMPILE)
-def _level1(m, clip, levels, floats):
+def _level1(
+    m: int,
+    clip: bool,
+    levels: NDArray[np.int64],
+    floats: tuple[NDArray[np.float64], ...],
+) -> int:
     """Level 1 within level 0's optimal set, and the clip (:func:`~.lower_level.lower_level`)."""
     A, _, H, c, _, lb, ub, x, C, u, N, Hz, cz, _, rows, lower, upper, settings = floats[3:]
     A0 = A[levels[0, 2] : levels[0, 3]]
@@ -220,7 +264,17 @@ def _level1(m, clip, levels, floats):
 
 
 @numba.njit(**COMPILE)
-def solve_step(stage, q, dt, m, poses, cdof, subtree_com, table, work):
+def solve_step(
+    stage: int,
+    q: NDArray[np.float64],
+    dt: float,
+    m: int,
+    poses: tuple[NDArray[np.float64], ...],
+    cdof: NDArray[np.float64],
+    subtree_com: NDArray[np.float64],
+    table: NDArray[np.int64],
+    work: NDArray[np.float64],
+) -> int:
     """Run a step from ``stage`` (module docstring); ``x`` (in ``work``) receives it.
 
     Args:
