@@ -10,6 +10,7 @@ import dataclasses
 from enum import Enum
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput
 
@@ -135,15 +136,15 @@ class IKResult:
         message: A human-readable note (e.g. why the target is unreachable).
     """
 
-    q: np.ndarray
+    q: NDArray[np.float64]
     success: bool
     status: Status
     iterations: int
     error: float
     position_error: float | None = None
     rotation_error: float | None = None
-    history: np.ndarray = dataclasses.field(default_factory=lambda: np.empty((0, 0)))
-    error_history: np.ndarray = dataclasses.field(default_factory=lambda: np.empty(0))
+    history: NDArray[np.float64] = dataclasses.field(default_factory=lambda: np.empty((0, 0)))
+    error_history: NDArray[np.float64] = dataclasses.field(default_factory=lambda: np.empty(0))
     restarts: int = 0
     method: str = ""
     message: str = ""

@@ -53,7 +53,8 @@ def bound_multipliers(A: np.ndarray, c1: np.ndarray, active: np.ndarray) -> np.n
         :math:`λ` (m,).
     """
     K = np.vstack([A, np.eye(A.shape[1])[active]]) if active.any() else A
-    return np.linalg.lstsq(K.T, -c1, rcond=None)[0][: A.shape[0]]
+    solution: np.ndarray = np.linalg.lstsq(K.T, -c1, rcond=None)[0]
+    return solution[: A.shape[0]]
 
 
 def on_free_face(M: np.ndarray, N: np.ndarray, active: np.ndarray) -> np.ndarray:
@@ -73,4 +74,5 @@ def on_free_face(M: np.ndarray, N: np.ndarray, active: np.ndarray) -> np.ndarray
     _, s, Vt = np.linalg.svd(N[active])
     rank = int(np.sum(s > FACE_RANK_TOL * max(s[0], 1.0))) if s.size else 0
     Y = Vt[rank:].T
-    return Y @ (Y.T @ M @ Y) @ Y.T
+    reduced: np.ndarray = Y @ (Y.T @ M @ Y) @ Y.T
+    return reduced

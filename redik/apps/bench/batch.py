@@ -17,14 +17,19 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
+from collections.abc import Callable
+from typing import TypeVar
 
 import numpy as np
 
+from redik.apps import measured
 from redik.apps.bench import load_average
 from redik.kinematics.robot import load
 from redik.solvers.batch import Chain, forward_kinematics, solve_batch
 from redik.solvers.batch.engines import default_workers
 from redik.solvers.pose import solve_pose
+
+_T = TypeVar("_T")
 
 TARGET_RATE = 100_000
 TARGET_SUCCESS = 0.9999
@@ -40,7 +45,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0)
 
 
-def _timed(fn) -> tuple[float, float, object]:
+def _timed(fn: Callable[[], _T]) -> tuple[float, float, _T]:
     """``(wall seconds, CPU seconds, fn())``."""
     wall, cpu = time.perf_counter(), time.process_time()
     out = fn()
@@ -103,12 +108,32 @@ def run(args: argparse.Namespace) -> int:
                 print(
                     f"{name:<8}{size:>8}{label:>20}{rate:>11,.0f}{cpu_text}{100 * success:>9.2f}%"
                 )
+                measured.record(
+                    "batch throughput",
+                    robot=name,
+                    batch=size,
+                    engine=label.split()[-1],
+                    workers=count,
+                    wall_per_s=rate,
+                    cpu_per_s=cpu_rate if in_process else None,
+                    success_pct=100 * success,
+                )
                 if count == workers and success >= TARGET_SUCCESS:
                     best[name] = max(best.get(name, (0.0, 0.0)), (rate, success))
         rate, success = _single_loop(robot, T_all[: args.single], args.seed)
         print(
             f"{name:<8}{args.single:>8}{'solve_pose loop':>20}{rate:>11,.0f}{'':>11}"
             f"{100 * success:>9.2f}%"
+        )
+        measured.record(
+            "batch throughput",
+            robot=name,
+            batch=args.single,
+            engine="solve_pose loop",
+            workers=1,
+            wall_per_s=rate,
+            cpu_per_s=None,
+            success_pct=100 * success,
         )
     for name, (rate, success) in best.items():
         robot = load(name)
