@@ -565,9 +565,6 @@ CASE_STUDY_TRANSPOSE = {
 """000 "Case Study", table "IK using Jacobian transpose": the printed rows, by their label."""
 
 
-@pytest.mark.xfail(
-    strict=True, reason="needs the Jacobian transpose as method='transpose' (solvers branch)"
-)
 def test_000_case_study_transpose_table_and_its_slips():
     """Step 0.75. The table starts from (0.30, 0.40), not from the stated initial guess
     (0.25, 0.75); rows 26–29 are iterations 27–30 and row 30 is iteration 30 again."""
@@ -601,10 +598,6 @@ def planar_3r_pose_and_jacobian(robot: redik.Robot):
     return pose, (lambda q: robot.jacobian(q, reference="world")[[0, 1, 5]])
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="needs item 5: tol=(ε_p, ε_R) on a planar (x, y, φ) residual (solvers branch)",
-)
 def test_000_minimum_coordinate_algorithm_with_separate_tolerances():
     """000 "Algorithm for Minimum-Coordinate Representation": while e_p > ε_p or e_R > ε_R:
     θ ← θ + λJ⁺e, and its listing (λ = 1, max_iterations = 20, ‖e‖ > ε). No numbers in the
@@ -627,9 +620,6 @@ def test_000_minimum_coordinate_algorithm_with_separate_tolerances():
     assert split.rotation_error == pytest.approx(abs(e[2]))
 
 
-@pytest.mark.xfail(
-    strict=True, reason="needs item 7: the stopping rules alone, tol=None (solvers branch)"
-)
 def test_000_stopping_rules_each_alone():
     """000 and 002's stopping rules on the Case Study (λ = 0.75), each alone (tol=None):
     the relative change ‖f(x^{k+1}) − f(x^k)‖/‖f(x^k)‖ ≤ ε and the increment
@@ -652,7 +642,6 @@ def test_000_stopping_rules_each_alone():
         np.testing.assert_array_equal(run.q, table[run.iterations])
 
 
-@pytest.mark.xfail(strict=True, reason="needs item 2: solve_all's mod-2π dedupe (solvers branch)")
 def test_002_puma560_solve_all_finds_the_eight():
     """002 "Wrist position and E-E pose inverse solutions" (PUMA 560): "4 inverse solutions
     … for the position of the wrist center", "8 inverse solutions considering the complete
@@ -668,10 +657,6 @@ def test_002_puma560_solve_all_finds_the_eight():
     assert wrapped == {tuple(np.round(redik.lie.wrap_angle(r.q), 4)) for r in closed}
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="needs item 4: a non-symmetric gain K > 0, method='transpose' (solvers branch)",
-)
 def test_002_case_study_gain_rotates_the_error_out_of_the_kernel():
     """002 "A case study" (2R, l1 = l2 = 1, r_d = (1, 1)): J_r = [[−(s1 + s12), −s12],
     [c1 + c12, c12]], det J_r = s2; "(q1, q2)' = (0, π/2)", "(q1, q2)'' = (π/2, −π/2)"; at the
@@ -710,9 +695,6 @@ RRP_Q_STAR = ["0.7854", "0.3398", "1.5"]
 """002: "q* = (0.7854, 0.3398, 1.5)"."""
 
 
-@pytest.mark.xfail(
-    strict=True, reason="needs item 8: singular_test='det', method='transpose' (solvers branch)"
-)
 def test_002_rrp_numerical_test_1():
     """q⁰ = (0, 0, 1): "Gradient: α = 1 not converging", "α = 0.7 converges in 11
     iterations" with the final error "0.57·10⁻⁵", "Newton converges in 5 iterations", "both
@@ -733,10 +715,6 @@ def test_002_rrp_numerical_test_1():
         assert as_printed(result.q, RRP_Q_STAR) == RRP_Q_STAR
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="needs item 8: singular_test='det', 'diverged' before FK refuses q (solvers branch)",
-)
 def test_002_rrp_numerical_test_2():
     """q⁰ = (−π/4, π/2, 1), "singular start, since c2 = 0": Newton "with check of singularity
     (|det J_r| ≤ 10⁻⁴): blocked at start", "without check: it diverges"; the gradient "starts
@@ -757,10 +735,6 @@ def test_002_rrp_numerical_test_2():
     assert np.linalg.norm(jacobian(gradient.q).T @ e) < 1e-5 < np.linalg.norm(e)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="needs item 8: singular_test='det', 'diverged' before FK refuses q (solvers branch)",
-)
 def test_002_rrp_numerical_test_3_and_its_slip():
     """q⁰ = (0, π/2, 0), "double singular": the gradient with α = 0.7 "slowly converges in 19
     iterations to the solution q*"; "Newton is either blocked at start or (w/o check)
