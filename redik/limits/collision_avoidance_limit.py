@@ -48,9 +48,11 @@ from __future__ import annotations
 import fnmatch
 import itertools
 from collections.abc import Collection, Sequence
+from typing import Any
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput, ModelError
 from redik.kinematics.robot import Robot
@@ -167,7 +169,8 @@ class CollisionAvoidanceLimit(InequalityLimit):
         self._row = np.zeros(model.nv)
         self._G = np.zeros((len(self.pairs), robot.dof))
         self._h = np.zeros(len(self.pairs))
-        return super().bind(robot, tolerance)
+        super().bind(robot, tolerance)
+        return self
 
     def _candidates(self, data: mujoco.MjData, distmax: float) -> np.ndarray:
         """Indices of the pairs whose bounding spheres are closer than ``distmax``."""
@@ -180,29 +183,30 @@ class CollisionAvoidanceLimit(InequalityLimit):
 
         Capped at ``distmax``; call ``robot.state.update(q)`` (or ``fk``) first.
         """
-        self._require_bound()
-        data = self.robot.state.data
+        robot = self._require_robot()
+        data = robot.state.data
         out = np.full(len(self.pairs), distmax)
         for i in self._candidates(data, distmax):
             a, b, _, _ = self._pair_list[i]
-            out[i] = mujoco.mj_geomDistance(self.robot.model, data, a, b, distmax, self._fromto)
+            out[i] = mujoco.mj_geomDistance(robot.model, data, a, b, distmax, self._fromto)
         return out
 
     def minimum_distance_at(self, q: np.ndarray) -> tuple[float, tuple[str, str] | None]:
         """``(d, (geom_a, geom_b))``: the closest pair at ``q`` (``d`` capped at 1 m)."""
-        self._require_bound()
-        robot = self.robot
+        robot = self._require_robot()
         robot.state.update(robot.check_q(q))
         if len(self.pairs) == 0:
             return 1.0, None
         distances = self.distances()
         i = int(np.argmin(distances))
-        names = tuple(_geom_name(robot.model, g) for g in self.pairs[i])
-        return float(distances[i]), names
+        a, b = self.pairs[i]
+        return float(distances[i]), (_geom_name(robot.model, a), _geom_name(robot.model, b))
 
-    def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
+    def inequalities(
+        self, state: Any, dt: float | None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
         """``(G, h)`` at the current state, or None when inactive."""
-        robot = self.robot
+        robot = self._require_robot()
         model, data = robot.model, robot.state.data
         fromto, normal, jac1, jac2, row = (
             self._fromto,
@@ -250,7 +254,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         slack compounds, a micrometre per iteration, while a lower level slides the arm
         along the constraint.
         """
-        robot = self.robot
+        robot = self._require_robot()
         model, data = robot.model, robot.state.data
         tolerance = 1e-6  # 1 µm: what a distance query resolves on meshes
         minimum = self.minimum_distance
@@ -262,15 +266,8 @@ class CollisionAvoidanceLimit(InequalityLimit):
                 return False
         return True
 
-    def _require_bound(self) -> None:
-        if self.robot is None:
-            raise InvalidInput(
-                "CollisionAvoidanceLimit is not bound: pass it to a redik.Problem or call "
-                "limit.bind(robot) first"
-            )
 
-
-def _as_number(value, name: str) -> float:
+def _as_number(value: Any, name: str) -> float:  # any number-like, checked here
     try:
         return float(value)
     except (TypeError, ValueError):
@@ -279,7 +276,7 @@ def _as_number(value, name: str) -> float:
 
 def _geom_name(model: mujoco.MjModel, geom: int) -> str:
     """The geom's name, else ``"<body>#<id>"`` (URDF collision geoms have no name)."""
-    name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, geom)
+    name: str | None = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, geom)
     if name:
         return name
     body = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, model.geom_bodyid[geom])

@@ -39,7 +39,7 @@ import numba
 import numpy as np
 
 from redik.kinematics.compiled import COMPILE
-from redik.qp.compiled.linalg import cholesky, rows_hold, substitute
+from redik.qp.compiled.linalg import Floats, Ints, cholesky, rows_hold, substitute
 
 FAILED = -1
 """:func:`box_qp`: the free block was not positive definite, or the iterations ran out."""
@@ -49,7 +49,7 @@ ROWS_VIOLATED = -2
 
 
 @numba.njit(**COMPILE)
-def _start(x, lb, ub, held):
+def _start(x: Floats, lb: Floats, ub: Floats, held: Ints) -> None:
     """Clip ``x`` into the box; the clipped coordinates are held (−1 lower, +1 upper)."""
     for i in range(x.shape[0]):
         held[i] = 0
@@ -62,7 +62,9 @@ def _start(x, lb, ub, held):
 
 
 @numba.njit(**COMPILE)
-def _free_minimiser(H, c, x, held, free, L, rhs, target):
+def _free_minimiser(
+    H: Floats, c: Floats, x: Floats, held: Ints, free: Ints, L: Floats, rhs: Floats, target: Floats
+) -> bool:
     """Write ``target``: ``x`` with its free coordinates minimising, the held ones kept.
 
     ``free``, ``L`` and ``rhs`` are scratch (n, n × n, n). Returns False when the free block
@@ -91,7 +93,7 @@ def _free_minimiser(H, c, x, held, free, L, rhs, target):
 
 
 @numba.njit(**COMPILE)
-def _step(x, target, lb, ub, held):
+def _step(x: Floats, target: Floats, lb: Floats, ub: Floats, held: Ints) -> int:
     """Move the free coordinates from ``x`` towards ``target`` as far as the box allows.
 
     Returns the coordinate that stopped the step (now on its bound and held), or −1 after a
@@ -119,7 +121,7 @@ def _step(x, target, lb, ub, held):
 
 
 @numba.njit(**COMPILE)
-def _most_violated(H, c, x, held):
+def _most_violated(H: Floats, c: Floats, x: Floats, held: Ints) -> int:
     """The held coordinate whose multiplier has the wrong sign by the most, or −1 (optimal)."""
     worst, index = 0.0, -1
     for i in range(x.shape[0]):
@@ -135,15 +137,25 @@ def _most_violated(H, c, x, held):
 
 
 @numba.njit(**COMPILE)
-def _wrong_side(target, lb, ub, released, side):
+def _wrong_side(target: Floats, lb: Floats, ub: Floats, released: int, side: int) -> bool:
     """Whether the minimiser after releasing a coordinate would take it out of its bound."""
     if side < 0:
-        return target[released] <= lb[released]
-    return target[released] >= ub[released]
+        return bool(target[released] <= lb[released])
+    return bool(target[released] >= ub[released])
 
 
 @numba.njit(**COMPILE)
-def box_qp(H, c, lb, ub, C, u, m, x, max_iterations):
+def box_qp(
+    H: Floats,
+    c: Floats,
+    lb: Floats,
+    ub: Floats,
+    C: Floats,
+    u: Floats,
+    m: int,
+    x: Floats,
+    max_iterations: int,
+) -> int:
     """Solve the box QP of the module docstring in place, from ``x``.
 
     Args:

@@ -21,14 +21,24 @@ import math
 import mujoco
 import numba
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.kinematics.compiled import COMPILE
+from redik.kinematics.robot import Robot
 from redik.limits import CollisionAvoidanceLimit
 from redik.qp.compiled.frames import pack_chains, point_jacobian
+from redik.qp.compiled.linalg import Floats, Ints
 
 
 @numba.njit(**COMPILE)
-def near_pairs(geom_xpos, pairs, radii, bounded, distance, candidates):
+def near_pairs(
+    geom_xpos: Floats,
+    pairs: Ints,
+    radii: Floats,
+    bounded: NDArray[np.bool_],
+    distance: float,
+    candidates: Ints,
+) -> int:
     """Write the pairs whose bounding spheres are closer than ``distance`` into ``candidates``.
 
     Args:
@@ -55,7 +65,7 @@ def near_pairs(geom_xpos, pairs, radii, bounded, distance, candidates):
 
 
 @numba.njit(**COMPILE)
-def _normal(fromto, d, centre_a, centre_b, normal):
+def _normal(fromto: Floats, d: float, centre_a: Floats, centre_b: Floats, normal: Floats) -> bool:
     """Write the unit normal from geom 1 to geom 2 (flipped when they penetrate).
 
     Touching geoms give no direction: the centres' then. ``mju_normalize3``'s arithmetic (a
@@ -80,9 +90,10 @@ def _normal(fromto, d, centre_a, centre_b, normal):
 
 @numba.njit(**COMPILE)
 def collision_rows(
-    candidates, count, distances, fromto, pairs, geom_xpos, roots, chains, columns, lengths,
-    cdof, subtree_com, settings, G, h, floor,
-):  # fmt: skip
+    candidates: Ints, count: int, distances: Floats, fromto: Floats, pairs: Ints,
+    geom_xpos: Floats, roots: Ints, chains: Ints, columns: Ints, lengths: Ints, cdof: Floats,
+    subtree_com: Floats, settings: Floats, G: Floats, h: Floats, floor: Floats,
+) -> int:  # fmt: skip
     """Write the rows of the candidates closer than the detection distance (module docstring).
 
     Args:
@@ -150,7 +161,7 @@ class CollisionRows:
         size: The number of pairs (the most rows it can give).
     """
 
-    def __init__(self, limit: CollisionAvoidanceLimit, robot, column_of: np.ndarray):
+    def __init__(self, limit: CollisionAvoidanceLimit, robot: Robot, column_of: Ints):
         model = robot.model
         self.limit = limit
         self._model = model

@@ -46,7 +46,11 @@ import numba
 import numpy as np
 
 from redik.kinematics.compiled import COMPILE
+from redik.qp.compiled.linalg import Floats, Ints
 from redik.tasks.frame_task import pose_residual
+
+Poses = tuple[Floats, Floats, Floats, Floats, Floats, Floats]
+"""``(xpos, xmat, site_xpos, site_xmat, geom_xpos, geom_xmat)`` of ``data``."""
 
 BODY, SITE, GEOM = 0, 1, 2
 """Frame kinds in the packed table."""
@@ -62,7 +66,7 @@ TARGET_WIDTH = 24
 """Floats per packed target (module docstring)."""
 
 
-def dof_chain(model: mujoco.MjModel, body: int, column_of: np.ndarray) -> tuple[list, list]:
+def dof_chain(model: mujoco.MjModel, body: int, column_of: Ints) -> tuple[list[int], list[int]]:
     """The dofs ``mj_jac`` walks for a point on ``body`` that the robot moves, with their columns.
 
     Args:
@@ -114,7 +118,16 @@ def pack_chains(
 
 
 @numba.njit(**COMPILE)
-def point_jacobian(cdof, subtree_com, root, point, chain, columns, length, J):
+def point_jacobian(
+    cdof: Floats,
+    subtree_com: Floats,
+    root: int,
+    point: Floats,
+    chain: Ints,
+    columns: Ints,
+    length: int,
+    J: Floats,
+) -> None:
     """Write the world Jacobian of ``point`` into ``J`` (6 × n), MuJoCo's ``mj_jac``.
 
     Args:
@@ -144,7 +157,7 @@ def point_jacobian(cdof, subtree_com, root, point, chain, columns, length, J):
 
 
 @numba.njit(**COMPILE)
-def _frame_pose(kind, index, poses):
+def _frame_pose(kind: int, index: int, poses: Poses) -> tuple[Floats, Floats]:
     """The world rotation (3 × 3) and position of a frame; ``poses`` = the six pose arrays."""
     if kind == BODY:
         return poses[1][index].reshape(3, 3), poses[0][index]
@@ -154,7 +167,7 @@ def _frame_pose(kind, index, poses):
 
 
 @numba.njit(**COMPILE)
-def _position_rows(p, target, J, A, b):
+def _position_rows(p: Floats, target: Floats, J: Floats, A: Floats, b: Floats) -> None:
     """``A = W J_p``, ``b = −α W (p − p_d)`` of a position task (``target``: its packed row).
 
     In :class:`~redik.tasks.task.ResidualTask`'s order of operations: ``(e ⊙ w)·(−α)``.
@@ -167,7 +180,7 @@ def _position_rows(p, target, J, A, b):
 
 
 @numba.njit(**COMPILE)
-def _pose_rows(R, p, target, J, A, b):
+def _pose_rows(R: Floats, p: Floats, target: Floats, J: Floats, A: Floats, b: Floats) -> None:
     """The rows of a pose task: :func:`~redik.tasks.frame_task.pose_residual` on its target."""
     R_d = np.empty((3, 3))
     p_d = np.empty(3)
@@ -179,7 +192,18 @@ def _pose_rows(R, p, target, J, A, b):
 
 
 @numba.njit(**COMPILE)
-def frame_rows(frames, chains, columns, targets, poses, cdof, subtree_com, J, A, b):
+def frame_rows(
+    frames: Ints,
+    chains: Ints,
+    columns: Ints,
+    targets: Floats,
+    poses: Poses,
+    cdof: Floats,
+    subtree_com: Floats,
+    J: Floats,
+    A: Floats,
+    b: Floats,
+) -> None:
     """Write the weighted rows ``A``, ``b`` of every frame task of a level.
 
     Args:
@@ -206,7 +230,7 @@ def frame_rows(frames, chains, columns, targets, poses, cdof, subtree_com, J, A,
 
 
 @numba.njit(**COMPILE)
-def _gram(A, b, H, c):
+def _gram(A: Floats, b: Floats, H: Floats, c: Floats) -> None:
     """``H = AᵀA`` (both triangles) and ``c = −Aᵀb``."""
     m, n = A.shape
     for i in range(n):
@@ -224,8 +248,10 @@ def _gram(A, b, H, c):
 
 @numba.njit(**COMPILE)
 def level_objective(
-    frames, chains, columns, targets, poses, cdof, subtree_com, joint, flat, q, J, A, b, H, c
-):
+    frames: Ints, chains: Ints, columns: Ints, targets: Floats, poses: Poses, cdof: Floats,
+    subtree_com: Floats, joint: Floats, flat: bool, q: Floats, J: Floats, A: Floats, b: Floats,
+    H: Floats, c: Floats,
+) -> None:  # fmt: skip
     """Write one level's ``H`` and ``c`` (and its rows ``A``, ``b``) at the current kinematics.
 
     Args:

@@ -23,7 +23,14 @@ import numba
 import numpy as np
 
 from redik.kinematics.compiled import COMPILE
-from redik.qp.compiled.linalg import least_squares_point, newton_point, rows_hold, within_box
+from redik.qp.compiled.linalg import (
+    Floats,
+    Ints,
+    least_squares_point,
+    newton_point,
+    rows_hold,
+    within_box,
+)
 
 SOLVED = 0
 """:func:`level0_point`: ``x`` is level 0's minimiser."""
@@ -39,7 +46,17 @@ NOT_DEFINITE = 3
 
 
 @numba.njit(**COMPILE)
-def box_bounds(q, scalar_q, box, position, velocity, dt, max_step, lb, ub):
+def box_bounds(
+    q: Floats,
+    scalar_q: Ints,
+    box: Floats,
+    position: bool,
+    velocity: bool,
+    dt: float,
+    max_step: float,
+    lb: Floats,
+    ub: Floats,
+) -> bool:
     """Write the step's box; return False when it is empty (a lower bound above its upper).
 
     Args:
@@ -74,7 +91,20 @@ def box_bounds(q, scalar_q, box, position, velocity, dt, max_step, lb, ub):
 
 
 @numba.njit(**COMPILE)
-def level0_point(H, c, A, b, least_squares, damping, lb, ub, C, u, m, x):
+def level0_point(
+    H: Floats,
+    c: Floats,
+    A: Floats,
+    b: Floats,
+    least_squares: bool,
+    damping: float,
+    lb: Floats,
+    ub: Floats,
+    C: Floats,
+    u: Floats,
+    m: int,
+    x: Floats,
+) -> int:
     """Write level 0's unconstrained minimiser into ``x`` and say whether it is the solution.
 
     Args:

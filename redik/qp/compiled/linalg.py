@@ -12,12 +12,19 @@ import math
 
 import numba
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.kinematics.compiled import COMPILE
 
+Floats = NDArray[np.float64]
+"""A float array of the compiled step (any shape)."""
+
+Ints = NDArray[np.int64]
+"""An int array of the compiled step (indices, flags)."""
+
 
 @numba.njit(**COMPILE)
-def cholesky(H, index, k, L):
+def cholesky(H: Floats, index: Ints, k: int, L: Floats) -> bool:
     """Factor the principal block ``H[index[:k]][:, index[:k]] = L Lᵀ`` into ``L[:k, :k]``.
 
     Args:
@@ -47,7 +54,7 @@ def cholesky(H, index, k, L):
 
 
 @numba.njit(**COMPILE)
-def substitute(L, k, y):
+def substitute(L: Floats, k: int, y: Floats) -> None:
     """Solve ``L Lᵀ y = y`` in place on the first ``k`` entries (forward, then backward)."""
     for i in range(k):
         total = y[i]
@@ -62,7 +69,7 @@ def substitute(L, k, y):
 
 
 @numba.njit(**COMPILE)
-def cholesky_solve(H, rhs, x):
+def cholesky_solve(H: Floats, rhs: Floats, x: Floats) -> bool:
     """Write ``x = H⁻¹ rhs`` for a symmetric positive definite ``H``.
 
     Args:
@@ -84,7 +91,7 @@ def cholesky_solve(H, rhs, x):
 
 
 @numba.njit(**COMPILE)
-def newton_point(H, c, x):
+def newton_point(H: Floats, c: Floats, x: Floats) -> bool:
     """Write the unconstrained minimiser ``x = −H⁻¹c`` of ``½xᵀHx + cᵀx``.
 
     Args:
@@ -101,7 +108,7 @@ def newton_point(H, c, x):
 
 
 @numba.njit(**COMPILE)
-def least_squares_point(A, b, shift, x):
+def least_squares_point(A: Floats, b: Floats, shift: float, x: Floats) -> bool:
     r"""Write the minimiser of :math:`\tfrac12\|Ax - b\|^2 + \tfrac{s}{2}\|x\|^2` for a wide ``A``.
 
     The push-through identity :math:`x = A^\top (AA^\top + sI)^{-1} b`: an m × m system whose
@@ -139,7 +146,7 @@ def least_squares_point(A, b, shift, x):
 
 
 @numba.njit(**COMPILE)
-def within_box(x, lb, ub):
+def within_box(x: Floats, lb: Floats, ub: Floats) -> bool:
     """Whether ``lb ≤ x ≤ ub`` holds exactly (a NaN fails)."""
     for i in range(x.shape[0]):
         if not (x[i] >= lb[i] and x[i] <= ub[i]):
@@ -148,7 +155,7 @@ def within_box(x, lb, ub):
 
 
 @numba.njit(**COMPILE)
-def rows_hold(C, u, m, x):
+def rows_hold(C: Floats, u: Floats, m: int, x: Floats) -> bool:
     """Whether the first ``m`` rows ``C x ≤ u`` hold exactly (a NaN fails)."""
     for r in range(m):
         total = 0.0
@@ -160,7 +167,7 @@ def rows_hold(C, u, m, x):
 
 
 @numba.njit(**COMPILE)
-def clip_into(x, lb, ub):
+def clip_into(x: Floats, lb: Floats, ub: Floats) -> None:
     """Clip ``x`` into ``[lb, ub]`` in place."""
     for i in range(x.shape[0]):
         x[i] = min(max(x[i], lb[i]), ub[i])

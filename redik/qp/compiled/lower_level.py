@@ -35,7 +35,7 @@ import numba
 import numpy as np
 
 from redik.kinematics.compiled import COMPILE
-from redik.qp.compiled.linalg import clip_into, newton_point
+from redik.qp.compiled.linalg import Floats, clip_into, newton_point
 from redik.qp.hierarchy import ROW_GAIN_TOL
 
 DONE = 0
@@ -51,7 +51,7 @@ direction: the general path decides."""
 
 
 @numba.njit(**COMPILE)
-def _reflect(qr, tau, k, start, columns):
+def _reflect(qr: Floats, tau: Floats, k: int, start: int, columns: int) -> None:
     """Apply ``I − τ_k v vᵀ`` (``v = [1; qr[k+1:, k]]``, from row ``k``) to columns of ``qr``."""
     n = qr.shape[0]
     for j in range(start, columns):
@@ -65,7 +65,7 @@ def _reflect(qr, tau, k, start, columns):
 
 
 @numba.njit(**COMPILE)
-def _householder(qr, tau, k):
+def _householder(qr: Floats, tau: Floats, k: int) -> None:
     """LAPACK's ``dlarfg`` on ``qr[k:, k]``: ``β`` into ``qr[k, k]``, ``v`` below it, ``τ_k``."""
     n = qr.shape[0]
     alpha = qr[k, k]
@@ -85,7 +85,7 @@ def _householder(qr, tau, k):
 
 
 @numba.njit(**COMPILE)
-def _reciprocal_condition(qr, m):
+def _reciprocal_condition(qr: Floats, m: int) -> float:
     """``1 / (‖R‖₁ ‖R⁻¹‖₁)`` of the upper triangle ``R = qr[:m, :m]`` (0 when singular)."""
     inverse = np.zeros((m, m))
     norm, inverse_norm = 0.0, 0.0
@@ -108,7 +108,7 @@ def _reciprocal_condition(qr, m):
 
 
 @numba.njit(**COMPILE)
-def null_space(A, N):
+def null_space(A: Floats, N: Floats) -> float:
     """Write an orthonormal basis of ``ker A`` into ``N`` (n × (n − m)); ``A`` wide (m × n).
 
     Returns:
@@ -140,7 +140,7 @@ def null_space(A, N):
 
 
 @numba.njit(**COMPILE)
-def _gain_and_offset(C, r, N, x):
+def _gain_and_offset(C: Floats, r: int, N: Floats, x: Floats) -> tuple[float, float]:
     """``(C_r v, C_r x)`` of row ``r`` along the direction ``v = N[:, 0]``."""
     gain, offset = 0.0, 0.0
     for j in range(x.shape[0]):
@@ -150,7 +150,7 @@ def _gain_and_offset(C, r, N, x):
 
 
 @numba.njit(**COMPILE)
-def _pull_back(z, a, lower, upper):
+def _pull_back(z: float, a: float, lower: float, upper: float) -> float:
     """``z`` pulled back to the relaxed row ``min(lower, 0) ≤ a z ≤ max(upper, 0)``."""
     if -ROW_GAIN_TOL <= a <= ROW_GAIN_TOL:
         return z  # moved by round-off only: it cannot block the direction
@@ -163,7 +163,9 @@ def _pull_back(z, a, lower, upper):
 
 
 @numba.njit(**COMPILE)
-def one_direction(H, c, x, N, lb, ub, C, u, m):
+def one_direction(
+    H: Floats, c: Floats, x: Floats, N: Floats, lb: Floats, ub: Floats, C: Floats, u: Floats, m: int
+) -> bool:
     """Move ``x`` along ``v = N[:, 0]`` to level 1's minimiser on the relaxed constraints.
 
     :func:`redik.qp.hierarchy._solve_one_variable`: ``z = −g/h`` with ``h = vᵀHv``,
@@ -194,7 +196,7 @@ def one_direction(H, c, x, N, lb, ub, C, u, m):
 
 
 @numba.njit(**COMPILE)
-def reduced_level(H, c, x, N, Hz, cz):
+def reduced_level(H: Floats, c: Floats, x: Floats, N: Floats, Hz: Floats, cz: Floats) -> None:
     """Write ``Hz = NᵀHN`` and ``cz = Nᵀ(Hx + c)``: level 1 in the coordinates ``z``."""
     n, r = N.shape
     HN = np.empty((n, r))
@@ -218,13 +220,24 @@ def reduced_level(H, c, x, N, Hz, cz):
 
 
 @numba.njit(**COMPILE)
-def _gain(a):
+def _gain(a: float) -> float:
     """``a``, or 0 within ``ROW_GAIN_TOL`` (round-off cannot block a direction)."""
     return 0.0 if -ROW_GAIN_TOL <= a <= ROW_GAIN_TOL else a
 
 
 @numba.njit(**COMPILE)
-def reduced_rows(N, x, lb, ub, C, u, m, rows, lower, upper):
+def reduced_rows(
+    N: Floats,
+    x: Floats,
+    lb: Floats,
+    ub: Floats,
+    C: Floats,
+    u: Floats,
+    m: int,
+    rows: Floats,
+    lower: Floats,
+    upper: Floats,
+) -> None:
     """Write the rows ``[N; C N]`` on ``z`` and their bounds, relaxed so that ``z = 0`` holds.
 
     ``min(lb − x, 0) ≤ N z ≤ max(ub − x, 0)`` and ``C N z ≤ max(u − C x, 0)``, gains within
@@ -250,7 +263,7 @@ def reduced_rows(N, x, lb, ub, C, u, m, rows, lower, upper):
 
 
 @numba.njit(**COMPILE)
-def _rows_within(rows, count, z, lower, upper):
+def _rows_within(rows: Floats, count: int, z: Floats, lower: Floats, upper: Floats) -> bool:
     """Whether ``lower ≤ rows z ≤ upper`` holds exactly on the first ``count`` rows."""
     for i in range(count):
         total = 0.0
@@ -262,7 +275,7 @@ def _rows_within(rows, count, z, lower, upper):
 
 
 @numba.njit(**COMPILE)
-def add_direction(x, N, z):
+def add_direction(x: Floats, N: Floats, z: Floats) -> None:
     """``x += N z`` in place."""
     for i in range(x.shape[0]):
         total = 0.0
@@ -273,8 +286,10 @@ def add_direction(x, N, z):
 
 @numba.njit(**COMPILE)
 def lower_level(
-    x, A0, H, c, lb, ub, C, u, m, rank_tol, clip, N, Hz, cz, rows, lower, upper
-):  # fmt: skip
+    x: Floats, A0: Floats, H: Floats, c: Floats, lb: Floats, ub: Floats, C: Floats, u: Floats,
+    m: int, rank_tol: float, clip: bool, N: Floats, Hz: Floats, cz: Floats, rows: Floats,
+    lower: Floats, upper: Floats,
+) -> int:  # fmt: skip
     """Solve level 1 (``H``, ``c``) within level 0's optimal set at ``x`` (module docstring).
 
     Args:

@@ -45,7 +45,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import cast
 
+import mujoco
 import numpy as np
 
 from redik.kinematics.robot import Robot
@@ -56,6 +58,7 @@ from redik.qp.backends import Backend, DaqpBackend, QpsolversBackend
 from redik.qp.compiled import step as kernel
 from redik.qp.compiled.collision import CollisionRows
 from redik.qp.compiled.frames import FRAME_KINDS, POSE, POSITION, pack_chains
+from redik.qp.compiled.linalg import Ints
 from redik.qp.compiled.workspaces import BackendSolves, DaqpWorkspaces
 from redik.tasks import (
     DampingTask,
@@ -65,6 +68,8 @@ from redik.tasks import (
     PositionTask,
     PostureTask,
 )
+from redik.tasks.single_frame_task import SingleFrameTask
+from redik.tasks.task import ResidualTask
 
 SUPPORTED_TASKS = (FrameTask, PositionTask, PostureTask, JointLimitAvoidanceTask, DampingTask)
 """The task types a plan assembles (exact types: a subclass may change the residual)."""
@@ -132,7 +137,7 @@ def _plain_levels(levels: Sequence[LevelAssembly], n: int) -> bool:
     return len(levels) == 1 or (levels[0].least_squares and levels[0].A.shape[0] < n)
 
 
-def _level_rows(levels: Sequence[LevelAssembly]) -> list[tuple[int, object]]:
+def _level_rows(levels: Sequence[LevelAssembly]) -> list[tuple[int, ResidualTask]]:
     """Each frame task's first row within its own level's rows (what a level's kernel indexes)."""
     rows = []
     for level in levels:
@@ -143,7 +148,7 @@ def _level_rows(levels: Sequence[LevelAssembly]) -> list[tuple[int, object]]:
     return rows
 
 
-def _frame_body(model, kind: str, index: int) -> int:
+def _frame_body(model: mujoco.MjModel, kind: str, index: int) -> int:
     """The body a frame (site, body or geom ``index``) is fixed to."""
     if kind == "site":
         return int(model.site_bodyid[index])
@@ -197,16 +202,19 @@ class CompiledPlan:
         rows = self._C.shape[0]
         self._upper, self._lower = np.zeros(n + rows), np.full(n + rows, -np.inf)
         self._row_qps: DaqpWorkspaces | BackendSolves = BackendSolves(backends)
-        if all(isinstance(backend, DaqpBackend) for backend in backends):
-            self._row_qps = DaqpWorkspaces(backends[0].settings)
+        first = backends[0]
+        if isinstance(first, DaqpBackend) and all(isinstance(b, DaqpBackend) for b in backends):
+            self._row_qps = DaqpWorkspaces(first.settings)
 
-    def _build_table(self, robot: Robot, column_of: np.ndarray, limits: Sequence[Limit]):
+    def _build_table(self, robot: Robot, column_of: Ints, limits: Sequence[Limit]) -> None:
         """The int buffer (:mod:`redik.qp.compiled.step`): sizes, flags, frames, coordinates."""
         model, n = robot.model, robot.dof
-        tasks = [task for level in self._levels for task in level.residual_tasks]
+        tasks = [
+            cast(SingleFrameTask, task) for level in self._levels for task in level.residual_tasks
+        ]
         bodies = [_frame_body(model, task.frame.kind, task.frame.id) for task in tasks]
         chains, columns, lengths = pack_chains(model, bodies, column_of)
-        coordinates = JointCoordinates.of(model, robot.joint_ids)
+        coordinates = JointCoordinates.of(model, robot.joint_ids.tolist())
         level0 = self._levels[0]
         header = np.zeros(kernel.HEADER, dtype=np.int64)
         header[kernel.H_N], header[kernel.H_LEVELS], header[kernel.H_FRAMES] = (
@@ -268,11 +276,13 @@ class CompiledPlan:
     def _watch_tasks(self) -> None:
         """What :meth:`_refresh` compares each step: targets, versions, joint-space sums."""
         self._target_rows = [self._targets[f, :12].reshape(3, 4) for f in range(len(self._tasks))]
-        self._poses = [(f, task) for f, task in enumerate(self._tasks) if type(task) is FrameTask]
-        self._positions = [
-            (f, task) for f, task in enumerate(self._tasks) if type(task) is not FrameTask
+        self._poses = [
+            (f, task) for f, task in enumerate(self._tasks) if isinstance(task, FrameTask)
         ]
-        self._seen: list = [_NOT_SEEN] * len(self._tasks)
+        self._positions = [
+            (f, task) for f, task in enumerate(self._tasks) if isinstance(task, PositionTask)
+        ]
+        self._seen: list[object] = [_NOT_SEEN] * len(self._tasks)
         self._versions = [-1] * len(self._tasks)
         self._joint_tasks = [task for level in self._levels for task in level.joint_tasks]
         self._joint_versions: list[int] | None = None
@@ -354,7 +364,7 @@ class CompiledPlan:
         return kernel.solve_step(stage, self._q, dt, m, poses, cdof, subtree_com, self._table,
                                  self._work)  # fmt: skip
 
-    def _duration(self, dt) -> float:
+    def _duration(self, dt: float | None) -> float:
         """``dt`` as a float (0 for None), or −1 when the general path must check or refuse it."""
         if dt is None:
             return -1.0 if self._velocity else 0.0
@@ -383,14 +393,14 @@ class CompiledPlan:
                 np.negative(task.cost, out=self._targets[f, 12:18])
                 np.multiply(task.cost, -task.gain, out=self._targets[f, 18:24])
                 self._versions[f] = task.version
-        for f, task in self._positions:
-            if task.target is None:
+        for f, position in self._positions:
+            if position.target is None:
                 return False
-            self._target_rows[f][:, 3] = task.target
-            if task.version != self._versions[f]:
-                self._targets[f, 12:15] = task.cost
-                self._targets[f, 18] = -task.gain
-                self._versions[f] = task.version
+            self._target_rows[f][:, 3] = position.target
+            if position.version != self._versions[f]:
+                self._targets[f, 12:15] = position.cost
+                self._targets[f, 18] = -position.gain
+                self._versions[f] = position.version
         versions = [task.version for task in self._joint_tasks]
         if versions != self._joint_versions:
             for index, level in enumerate(self._levels):

@@ -26,9 +26,9 @@ import numpy as np
 from redik.core.validate import MAX_COORDINATE
 from redik.kinematics.compiled import COMPILE
 from redik.qp.compiled.box_qp import box_qp
-from redik.qp.compiled.frames import TARGET_WIDTH, level_objective
+from redik.qp.compiled.frames import TARGET_WIDTH, Poses, level_objective
 from redik.qp.compiled.level0 import BINDS, NOT_DEFINITE, box_bounds, level0_point
-from redik.qp.compiled.linalg import clip_into
+from redik.qp.compiled.linalg import Floats, Ints, clip_into
 from redik.qp.compiled.lower_level import DONE as LEVEL1_DONE
 from redik.qp.compiled.lower_level import REDUCED_QP as LEVEL1_REDUCED_QP
 from redik.qp.compiled.lower_level import add_direction, lower_level
@@ -54,13 +54,19 @@ the general path must answer."""
 
 _CONTINUE = -1
 
+FloatViews = tuple[Floats, ...]
+"""The views of :func:`float_views`, in its order."""
+
+IntViews = tuple[Ints, Ints, Ints, Ints, Ints, Ints]
+"""The views of :func:`int_views`, in its order."""
+
 
 OFFSETS = 22
 """Offsets of :func:`float_views`' 21 views in ``work``, stored after the header."""
 
 
 @numba.njit(**COMPILE)
-def buffer_sizes(table):
+def buffer_sizes(table: Ints) -> tuple[int, Ints]:
     """The sizes of ``table`` and of each view of ``work``, in :func:`float_views`'s order.
 
     Reads the header only; :func:`write_offsets` stores the views' offsets from the sizes.
@@ -78,17 +84,17 @@ def buffer_sizes(table):
 
 
 @numba.njit(**COMPILE)
-def write_offsets(table):
+def write_offsets(table: Ints) -> int:
     """Store the offsets of :func:`float_views`' views after the header; return ``work``'s size."""
     sizes = buffer_sizes(table)[1]
     table[HEADER] = 0
     for k in range(sizes.shape[0]):
         table[HEADER + k + 1] = table[HEADER + k] + sizes[k]
-    return table[HEADER + OFFSETS - 1]
+    return int(table[HEADER + OFFSETS - 1])
 
 
 @numba.njit(**COMPILE)
-def float_views(work, table):
+def float_views(work: Floats, table: Ints) -> FloatViews:
     """The plan's float arrays, views into ``work``.
 
     Returns:
@@ -134,7 +140,7 @@ def float_views(work, table):
 
 
 @numba.njit(**COMPILE)
-def int_views(table):
+def int_views(table: Ints) -> IntViews:
     """The plan's int arrays, views into ``table`` after its header.
 
     Returns:
@@ -158,7 +164,7 @@ def int_views(table):
 
 
 @numba.njit(**COMPILE)
-def valid_configuration(q, quaternions):
+def valid_configuration(q: Floats, quaternions: Ints) -> bool:
     """Whether ``q`` is finite, within ``±MAX_COORDINATE``, without a zero quaternion."""
     for value in q:
         if not abs(value) <= MAX_COORDINATE:  # a NaN fails too
@@ -170,7 +176,18 @@ def valid_configuration(q, quaternions):
 
 
 @numba.njit(**COMPILE)
-def _objectives(q, poses, cdof, subtree_com, flat, levels, frames, chains, columns, floats):
+def _objectives(
+    q: Floats,
+    poses: Poses,
+    cdof: Floats,
+    subtree_com: Floats,
+    flat: bool,
+    levels: Ints,
+    frames: Ints,
+    chains: Ints,
+    columns: Ints,
+    floats: FloatViews,
+) -> None:
     """Every level's ``H``, ``c`` (and frame rows) at the current kinematics."""
     targets, joint, gradients, A, b, H, c = floats[:7]
     J = np.empty((6, c.shape[1]))
@@ -184,7 +201,9 @@ def _objectives(q, poses, cdof, subtree_com, flat, levels, frames, chains, colum
 
 
 @numba.njit(**COMPILE)
-def _level0(q, dt, m, table, levels, scalar_q, floats):
+def _level0(
+    q: Floats, dt: float, m: int, table: Ints, levels: Ints, scalar_q: Ints, floats: FloatViews
+) -> int:
     """The box and level 0 (the box QP when a bound binds); :data:`_CONTINUE` when solved."""
     A, b, H, c, box, lb, ub, x, C, u = floats[3:13]
     settings = floats[20]
@@ -207,7 +226,7 @@ def _level0(q, dt, m, table, levels, scalar_q, floats):
 
 
 @numba.njit(**COMPILE)
-def _level1(m, clip, levels, floats):
+def _level1(m: int, clip: bool, levels: Ints, floats: FloatViews) -> int:
     """Level 1 within level 0's optimal set, and the clip (:func:`~.lower_level.lower_level`)."""
     A, _, H, c, _, lb, ub, x, C, u, N, Hz, cz, _, rows, lower, upper, settings = floats[3:]
     A0 = A[levels[0, 2] : levels[0, 3]]
@@ -220,7 +239,17 @@ def _level1(m, clip, levels, floats):
 
 
 @numba.njit(**COMPILE)
-def solve_step(stage, q, dt, m, poses, cdof, subtree_com, table, work):
+def solve_step(
+    stage: int,
+    q: Floats,
+    dt: float,
+    m: int,
+    poses: Poses,
+    cdof: Floats,
+    subtree_com: Floats,
+    table: Ints,
+    work: Floats,
+) -> int:
     """Run a step from ``stage`` (module docstring); ``x`` (in ``work``) receives it.
 
     Args:

@@ -12,6 +12,7 @@ changes between steps; keeping a workspace per count makes a set-up happen once 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -27,12 +28,12 @@ class DaqpWorkspaces:
         settings: DAQP settings (``primal_tol``…), applied to every model.
     """
 
-    def __init__(self, settings: dict):
+    def __init__(self, settings: dict[str, Any]):
         import daqp
 
         self._daqp = daqp
         self._settings = dict(settings)
-        self._models: dict[tuple[int, int], object] = {}
+        self._models: dict[tuple[int, int], Any] = {}  # daqp.Model, untyped
 
     def solve(
         self,
@@ -79,7 +80,7 @@ class DaqpWorkspaces:
         if exitflag < 1:
             del self._models[key]
             return None
-        return x
+        return np.asarray(x, dtype=np.float64)
 
     def reset(self) -> None:
         """Forget every workspace (and its warm start)."""
