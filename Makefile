@@ -40,7 +40,7 @@ lint: $(STAMP)
 	$(BIN)/ruff format --check redik tests examples specs docs/hooks
 	$(BIN)/python -m mypy --follow-imports=silent redik/core redik/lie redik/models \
 		redik/kinematics/robot redik/kinematics/chain.py redik/kinematics/batched.py \
-		redik/kinematics/compiled.py
+		redik/kinematics/compiled.py redik/tasks redik/limits redik/qp redik/apps
 	$(BIN)/python -m pytest -q -p no:cacheprovider tests/test_layers.py
 
 # The regression scenes run first so that pytest's summary is the last line CI reads. The site

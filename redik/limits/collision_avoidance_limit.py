@@ -52,7 +52,6 @@ from typing import Any
 
 import mujoco
 import numpy as np
-from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput, ModelError
 from redik.kinematics.robot import Robot
@@ -202,9 +201,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         a, b = self.pairs[i]
         return float(distances[i]), (_geom_name(robot.model, a), _geom_name(robot.model, b))
 
-    def inequalities(
-        self, state: Any, dt: float | None
-    ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+    def inequalities(self, state: Any, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
         """``(G, h)`` at the current state, or None when inactive."""
         robot = self._require_robot()
         model, data = robot.model, robot.state.data
@@ -267,7 +264,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         return True
 
 
-def _as_number(value: Any, name: str) -> float:  # any number-like, checked here
+def _as_number(value: Any, name: str) -> float:
     try:
         return float(value)
     except (TypeError, ValueError):
@@ -276,9 +273,9 @@ def _as_number(value: Any, name: str) -> float:  # any number-like, checked here
 
 def _geom_name(model: mujoco.MjModel, geom: int) -> str:
     """The geom's name, else ``"<body>#<id>"`` (URDF collision geoms have no name)."""
-    name: str | None = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, geom)
+    name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, geom)
     if name:
-        return name
+        return str(name)
     body = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, model.geom_bodyid[geom])
     return f"{body or 'world'}#{geom}"
 

@@ -42,6 +42,7 @@ import os
 import statistics
 import time
 import xml.etree.ElementTree as ET
+from typing import Any
 
 import mink
 import numpy as np
@@ -71,7 +72,7 @@ G1_PAIRS = 50
 _ARMS = ["left_shoulder_*", "left_elbow*", "left_wrist*"]
 _ARMS += [name.replace("left", "right") for name in _ARMS]
 _BODY = ["torso_link", "pelvis*", "*hip*", "*knee*", "head_link", "logo_link"]
-_COLLISION = {"minimum_distance": 0.01, "detection_distance": 0.08, "gain": 0.5}
+_COLLISION: dict[str, Any] = {"minimum_distance": 0.01, "detection_distance": 0.08, "gain": 0.5}
 
 
 def placo_available() -> bool:
@@ -91,8 +92,11 @@ def _urdf_velocities(path: str) -> dict[str, float]:
     velocities = {}
     for joint in ET.parse(path).getroot().iter("joint"):
         limit = joint.find("limit")
-        if limit is not None and joint.get("type") in ("revolute", "prismatic"):
-            velocities[joint.get("name")] = float(limit.get("velocity"))
+        if limit is None or joint.get("type") not in ("revolute", "prismatic"):
+            continue
+        name, velocity = joint.get("name"), limit.get("velocity")
+        if name is not None and velocity is not None:
+            velocities[name] = float(velocity)
     return velocities
 
 

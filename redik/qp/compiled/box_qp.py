@@ -37,9 +37,10 @@ from __future__ import annotations
 
 import numba
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.kinematics.compiled import COMPILE
-from redik.qp.compiled.linalg import Floats, Ints, cholesky, rows_hold, substitute
+from redik.qp.compiled.linalg import cholesky, rows_hold, substitute
 
 FAILED = -1
 """:func:`box_qp`: the free block was not positive definite, or the iterations ran out."""
@@ -49,7 +50,12 @@ ROWS_VIOLATED = -2
 
 
 @numba.njit(**COMPILE)
-def _start(x: Floats, lb: Floats, ub: Floats, held: Ints) -> None:
+def _start(
+    x: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    held: NDArray[np.int64],
+) -> None:
     """Clip ``x`` into the box; the clipped coordinates are held (−1 lower, +1 upper)."""
     for i in range(x.shape[0]):
         held[i] = 0
@@ -63,7 +69,14 @@ def _start(x: Floats, lb: Floats, ub: Floats, held: Ints) -> None:
 
 @numba.njit(**COMPILE)
 def _free_minimiser(
-    H: Floats, c: Floats, x: Floats, held: Ints, free: Ints, L: Floats, rhs: Floats, target: Floats
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    x: NDArray[np.float64],
+    held: NDArray[np.int64],
+    free: NDArray[np.int64],
+    L: NDArray[np.float64],
+    rhs: NDArray[np.float64],
+    target: NDArray[np.float64],
 ) -> bool:
     """Write ``target``: ``x`` with its free coordinates minimising, the held ones kept.
 
@@ -93,7 +106,13 @@ def _free_minimiser(
 
 
 @numba.njit(**COMPILE)
-def _step(x: Floats, target: Floats, lb: Floats, ub: Floats, held: Ints) -> int:
+def _step(
+    x: NDArray[np.float64],
+    target: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    held: NDArray[np.int64],
+) -> int:
     """Move the free coordinates from ``x`` towards ``target`` as far as the box allows.
 
     Returns the coordinate that stopped the step (now on its bound and held), or −1 after a
@@ -121,7 +140,12 @@ def _step(x: Floats, target: Floats, lb: Floats, ub: Floats, held: Ints) -> int:
 
 
 @numba.njit(**COMPILE)
-def _most_violated(H: Floats, c: Floats, x: Floats, held: Ints) -> int:
+def _most_violated(
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    x: NDArray[np.float64],
+    held: NDArray[np.int64],
+) -> int:
     """The held coordinate whose multiplier has the wrong sign by the most, or −1 (optimal)."""
     worst, index = 0.0, -1
     for i in range(x.shape[0]):
@@ -137,7 +161,13 @@ def _most_violated(H: Floats, c: Floats, x: Floats, held: Ints) -> int:
 
 
 @numba.njit(**COMPILE)
-def _wrong_side(target: Floats, lb: Floats, ub: Floats, released: int, side: int) -> bool:
+def _wrong_side(
+    target: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    released: int,
+    side: int,
+) -> bool:
     """Whether the minimiser after releasing a coordinate would take it out of its bound."""
     if side < 0:
         return bool(target[released] <= lb[released])
@@ -146,14 +176,14 @@ def _wrong_side(target: Floats, lb: Floats, ub: Floats, released: int, side: int
 
 @numba.njit(**COMPILE)
 def box_qp(
-    H: Floats,
-    c: Floats,
-    lb: Floats,
-    ub: Floats,
-    C: Floats,
-    u: Floats,
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    C: NDArray[np.float64],
+    u: NDArray[np.float64],
     m: int,
-    x: Floats,
+    x: NDArray[np.float64],
     max_iterations: int,
 ) -> int:
     """Solve the box QP of the module docstring in place, from ``x``.

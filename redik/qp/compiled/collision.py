@@ -27,17 +27,16 @@ from redik.kinematics.compiled import COMPILE
 from redik.kinematics.robot import Robot
 from redik.limits import CollisionAvoidanceLimit
 from redik.qp.compiled.frames import pack_chains, point_jacobian
-from redik.qp.compiled.linalg import Floats, Ints
 
 
 @numba.njit(**COMPILE)
 def near_pairs(
-    geom_xpos: Floats,
-    pairs: Ints,
-    radii: Floats,
+    geom_xpos: NDArray[np.float64],
+    pairs: NDArray[np.int64],
+    radii: NDArray[np.float64],
     bounded: NDArray[np.bool_],
     distance: float,
-    candidates: Ints,
+    candidates: NDArray[np.int64],
 ) -> int:
     """Write the pairs whose bounding spheres are closer than ``distance`` into ``candidates``.
 
@@ -65,7 +64,13 @@ def near_pairs(
 
 
 @numba.njit(**COMPILE)
-def _normal(fromto: Floats, d: float, centre_a: Floats, centre_b: Floats, normal: Floats) -> bool:
+def _normal(
+    fromto: NDArray[np.float64],
+    d: float,
+    centre_a: NDArray[np.float64],
+    centre_b: NDArray[np.float64],
+    normal: NDArray[np.float64],
+) -> bool:
     """Write the unit normal from geom 1 to geom 2 (flipped when they penetrate).
 
     Touching geoms give no direction: the centres' then. ``mju_normalize3``'s arithmetic (a
@@ -90,10 +95,23 @@ def _normal(fromto: Floats, d: float, centre_a: Floats, centre_b: Floats, normal
 
 @numba.njit(**COMPILE)
 def collision_rows(
-    candidates: Ints, count: int, distances: Floats, fromto: Floats, pairs: Ints,
-    geom_xpos: Floats, roots: Ints, chains: Ints, columns: Ints, lengths: Ints, cdof: Floats,
-    subtree_com: Floats, settings: Floats, G: Floats, h: Floats, floor: Floats,
-) -> int:  # fmt: skip
+    candidates: NDArray[np.int64],
+    count: int,
+    distances: NDArray[np.float64],
+    fromto: NDArray[np.float64],
+    pairs: NDArray[np.int64],
+    geom_xpos: NDArray[np.float64],
+    roots: NDArray[np.int64],
+    chains: NDArray[np.int64],
+    columns: NDArray[np.int64],
+    lengths: NDArray[np.int64],
+    cdof: NDArray[np.float64],
+    subtree_com: NDArray[np.float64],
+    settings: NDArray[np.float64],
+    G: NDArray[np.float64],
+    h: NDArray[np.float64],
+    floor: NDArray[np.float64],
+) -> int:
     """Write the rows of the candidates closer than the detection distance (module docstring).
 
     Args:
@@ -161,7 +179,7 @@ class CollisionRows:
         size: The number of pairs (the most rows it can give).
     """
 
-    def __init__(self, limit: CollisionAvoidanceLimit, robot: Robot, column_of: Ints):
+    def __init__(self, limit: CollisionAvoidanceLimit, robot: Robot, column_of: np.ndarray) -> None:
         model = robot.model
         self.limit = limit
         self._model = model

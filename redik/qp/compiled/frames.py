@@ -44,13 +44,10 @@ from __future__ import annotations
 import mujoco
 import numba
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.kinematics.compiled import COMPILE
-from redik.qp.compiled.linalg import Floats, Ints
 from redik.tasks.frame_task import pose_residual
-
-Poses = tuple[Floats, Floats, Floats, Floats, Floats, Floats]
-"""``(xpos, xmat, site_xpos, site_xmat, geom_xpos, geom_xmat)`` of ``data``."""
 
 BODY, SITE, GEOM = 0, 1, 2
 """Frame kinds in the packed table."""
@@ -66,7 +63,9 @@ TARGET_WIDTH = 24
 """Floats per packed target (module docstring)."""
 
 
-def dof_chain(model: mujoco.MjModel, body: int, column_of: Ints) -> tuple[list[int], list[int]]:
+def dof_chain(
+    model: mujoco.MjModel, body: int, column_of: np.ndarray
+) -> tuple[list[int], list[int]]:
     """The dofs ``mj_jac`` walks for a point on ``body`` that the robot moves, with their columns.
 
     Args:
@@ -119,14 +118,14 @@ def pack_chains(
 
 @numba.njit(**COMPILE)
 def point_jacobian(
-    cdof: Floats,
-    subtree_com: Floats,
+    cdof: NDArray[np.float64],
+    subtree_com: NDArray[np.float64],
     root: int,
-    point: Floats,
-    chain: Ints,
-    columns: Ints,
+    point: NDArray[np.float64],
+    chain: NDArray[np.int64],
+    columns: NDArray[np.int64],
     length: int,
-    J: Floats,
+    J: NDArray[np.float64],
 ) -> None:
     """Write the world Jacobian of ``point`` into ``J`` (6 × n), MuJoCo's ``mj_jac``.
 
@@ -157,7 +156,11 @@ def point_jacobian(
 
 
 @numba.njit(**COMPILE)
-def _frame_pose(kind: int, index: int, poses: Poses) -> tuple[Floats, Floats]:
+def _frame_pose(
+    kind: int,
+    index: int,
+    poses: tuple[NDArray[np.float64], ...],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The world rotation (3 × 3) and position of a frame; ``poses`` = the six pose arrays."""
     if kind == BODY:
         return poses[1][index].reshape(3, 3), poses[0][index]
@@ -167,7 +170,13 @@ def _frame_pose(kind: int, index: int, poses: Poses) -> tuple[Floats, Floats]:
 
 
 @numba.njit(**COMPILE)
-def _position_rows(p: Floats, target: Floats, J: Floats, A: Floats, b: Floats) -> None:
+def _position_rows(
+    p: NDArray[np.float64],
+    target: NDArray[np.float64],
+    J: NDArray[np.float64],
+    A: NDArray[np.float64],
+    b: NDArray[np.float64],
+) -> None:
     """``A = W J_p``, ``b = −α W (p − p_d)`` of a position task (``target``: its packed row).
 
     In :class:`~redik.tasks.task.ResidualTask`'s order of operations: ``(e ⊙ w)·(−α)``.
@@ -180,7 +189,14 @@ def _position_rows(p: Floats, target: Floats, J: Floats, A: Floats, b: Floats) -
 
 
 @numba.njit(**COMPILE)
-def _pose_rows(R: Floats, p: Floats, target: Floats, J: Floats, A: Floats, b: Floats) -> None:
+def _pose_rows(
+    R: NDArray[np.float64],
+    p: NDArray[np.float64],
+    target: NDArray[np.float64],
+    J: NDArray[np.float64],
+    A: NDArray[np.float64],
+    b: NDArray[np.float64],
+) -> None:
     """The rows of a pose task: :func:`~redik.tasks.frame_task.pose_residual` on its target."""
     R_d = np.empty((3, 3))
     p_d = np.empty(3)
@@ -193,16 +209,16 @@ def _pose_rows(R: Floats, p: Floats, target: Floats, J: Floats, A: Floats, b: Fl
 
 @numba.njit(**COMPILE)
 def frame_rows(
-    frames: Ints,
-    chains: Ints,
-    columns: Ints,
-    targets: Floats,
-    poses: Poses,
-    cdof: Floats,
-    subtree_com: Floats,
-    J: Floats,
-    A: Floats,
-    b: Floats,
+    frames: NDArray[np.int64],
+    chains: NDArray[np.int64],
+    columns: NDArray[np.int64],
+    targets: NDArray[np.float64],
+    poses: tuple[NDArray[np.float64], ...],
+    cdof: NDArray[np.float64],
+    subtree_com: NDArray[np.float64],
+    J: NDArray[np.float64],
+    A: NDArray[np.float64],
+    b: NDArray[np.float64],
 ) -> None:
     """Write the weighted rows ``A``, ``b`` of every frame task of a level.
 
@@ -230,7 +246,12 @@ def frame_rows(
 
 
 @numba.njit(**COMPILE)
-def _gram(A: Floats, b: Floats, H: Floats, c: Floats) -> None:
+def _gram(
+    A: NDArray[np.float64],
+    b: NDArray[np.float64],
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+) -> None:
     """``H = AᵀA`` (both triangles) and ``c = −Aᵀb``."""
     m, n = A.shape
     for i in range(n):
@@ -248,10 +269,22 @@ def _gram(A: Floats, b: Floats, H: Floats, c: Floats) -> None:
 
 @numba.njit(**COMPILE)
 def level_objective(
-    frames: Ints, chains: Ints, columns: Ints, targets: Floats, poses: Poses, cdof: Floats,
-    subtree_com: Floats, joint: Floats, flat: bool, q: Floats, J: Floats, A: Floats, b: Floats,
-    H: Floats, c: Floats,
-) -> None:  # fmt: skip
+    frames: NDArray[np.int64],
+    chains: NDArray[np.int64],
+    columns: NDArray[np.int64],
+    targets: NDArray[np.float64],
+    poses: tuple[NDArray[np.float64], ...],
+    cdof: NDArray[np.float64],
+    subtree_com: NDArray[np.float64],
+    joint: NDArray[np.float64],
+    flat: bool,
+    q: NDArray[np.float64],
+    J: NDArray[np.float64],
+    A: NDArray[np.float64],
+    b: NDArray[np.float64],
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+) -> None:
     """Write one level's ``H`` and ``c`` (and its rows ``A``, ``b``) at the current kinematics.
 
     Args:

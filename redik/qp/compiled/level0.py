@@ -21,16 +21,10 @@ from __future__ import annotations
 
 import numba
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.kinematics.compiled import COMPILE
-from redik.qp.compiled.linalg import (
-    Floats,
-    Ints,
-    least_squares_point,
-    newton_point,
-    rows_hold,
-    within_box,
-)
+from redik.qp.compiled.linalg import least_squares_point, newton_point, rows_hold, within_box
 
 SOLVED = 0
 """:func:`level0_point`: ``x`` is level 0's minimiser."""
@@ -47,15 +41,15 @@ NOT_DEFINITE = 3
 
 @numba.njit(**COMPILE)
 def box_bounds(
-    q: Floats,
-    scalar_q: Ints,
-    box: Floats,
+    q: NDArray[np.float64],
+    scalar_q: NDArray[np.int64],
+    box: NDArray[np.float64],
     position: bool,
     velocity: bool,
     dt: float,
     max_step: float,
-    lb: Floats,
-    ub: Floats,
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
 ) -> bool:
     """Write the step's box; return False when it is empty (a lower bound above its upper).
 
@@ -92,18 +86,18 @@ def box_bounds(
 
 @numba.njit(**COMPILE)
 def level0_point(
-    H: Floats,
-    c: Floats,
-    A: Floats,
-    b: Floats,
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    A: NDArray[np.float64],
+    b: NDArray[np.float64],
     least_squares: bool,
     damping: float,
-    lb: Floats,
-    ub: Floats,
-    C: Floats,
-    u: Floats,
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    C: NDArray[np.float64],
+    u: NDArray[np.float64],
     m: int,
-    x: Floats,
+    x: NDArray[np.float64],
 ) -> int:
     """Write level 0's unconstrained minimiser into ``x`` and say whether it is the solution.
 

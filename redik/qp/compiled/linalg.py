@@ -16,15 +16,14 @@ from numpy.typing import NDArray
 
 from redik.kinematics.compiled import COMPILE
 
-Floats = NDArray[np.float64]
-"""A float array of the compiled step (any shape)."""
-
-Ints = NDArray[np.int64]
-"""An int array of the compiled step (indices, flags)."""
-
 
 @numba.njit(**COMPILE)
-def cholesky(H: Floats, index: Ints, k: int, L: Floats) -> bool:
+def cholesky(
+    H: NDArray[np.float64],
+    index: NDArray[np.int64],
+    k: int,
+    L: NDArray[np.float64],
+) -> bool:
     """Factor the principal block ``H[index[:k]][:, index[:k]] = L Lᵀ`` into ``L[:k, :k]``.
 
     Args:
@@ -54,7 +53,11 @@ def cholesky(H: Floats, index: Ints, k: int, L: Floats) -> bool:
 
 
 @numba.njit(**COMPILE)
-def substitute(L: Floats, k: int, y: Floats) -> None:
+def substitute(
+    L: NDArray[np.float64],
+    k: int,
+    y: NDArray[np.float64],
+) -> None:
     """Solve ``L Lᵀ y = y`` in place on the first ``k`` entries (forward, then backward)."""
     for i in range(k):
         total = y[i]
@@ -69,7 +72,11 @@ def substitute(L: Floats, k: int, y: Floats) -> None:
 
 
 @numba.njit(**COMPILE)
-def cholesky_solve(H: Floats, rhs: Floats, x: Floats) -> bool:
+def cholesky_solve(
+    H: NDArray[np.float64],
+    rhs: NDArray[np.float64],
+    x: NDArray[np.float64],
+) -> bool:
     """Write ``x = H⁻¹ rhs`` for a symmetric positive definite ``H``.
 
     Args:
@@ -91,7 +98,11 @@ def cholesky_solve(H: Floats, rhs: Floats, x: Floats) -> bool:
 
 
 @numba.njit(**COMPILE)
-def newton_point(H: Floats, c: Floats, x: Floats) -> bool:
+def newton_point(
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    x: NDArray[np.float64],
+) -> bool:
     """Write the unconstrained minimiser ``x = −H⁻¹c`` of ``½xᵀHx + cᵀx``.
 
     Args:
@@ -108,7 +119,12 @@ def newton_point(H: Floats, c: Floats, x: Floats) -> bool:
 
 
 @numba.njit(**COMPILE)
-def least_squares_point(A: Floats, b: Floats, shift: float, x: Floats) -> bool:
+def least_squares_point(
+    A: NDArray[np.float64],
+    b: NDArray[np.float64],
+    shift: float,
+    x: NDArray[np.float64],
+) -> bool:
     r"""Write the minimiser of :math:`\tfrac12\|Ax - b\|^2 + \tfrac{s}{2}\|x\|^2` for a wide ``A``.
 
     The push-through identity :math:`x = A^\top (AA^\top + sI)^{-1} b`: an m × m system whose
@@ -146,7 +162,11 @@ def least_squares_point(A: Floats, b: Floats, shift: float, x: Floats) -> bool:
 
 
 @numba.njit(**COMPILE)
-def within_box(x: Floats, lb: Floats, ub: Floats) -> bool:
+def within_box(
+    x: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+) -> bool:
     """Whether ``lb ≤ x ≤ ub`` holds exactly (a NaN fails)."""
     for i in range(x.shape[0]):
         if not (x[i] >= lb[i] and x[i] <= ub[i]):
@@ -155,7 +175,12 @@ def within_box(x: Floats, lb: Floats, ub: Floats) -> bool:
 
 
 @numba.njit(**COMPILE)
-def rows_hold(C: Floats, u: Floats, m: int, x: Floats) -> bool:
+def rows_hold(
+    C: NDArray[np.float64],
+    u: NDArray[np.float64],
+    m: int,
+    x: NDArray[np.float64],
+) -> bool:
     """Whether the first ``m`` rows ``C x ≤ u`` hold exactly (a NaN fails)."""
     for r in range(m):
         total = 0.0
@@ -167,7 +192,11 @@ def rows_hold(C: Floats, u: Floats, m: int, x: Floats) -> bool:
 
 
 @numba.njit(**COMPILE)
-def clip_into(x: Floats, lb: Floats, ub: Floats) -> None:
+def clip_into(
+    x: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+) -> None:
     """Clip ``x`` into ``[lb, ub]`` in place."""
     for i in range(x.shape[0]):
         x[i] = min(max(x[i], lb[i]), ub[i])

@@ -33,9 +33,10 @@ import math
 
 import numba
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.kinematics.compiled import COMPILE
-from redik.qp.compiled.linalg import Floats, clip_into, newton_point
+from redik.qp.compiled.linalg import clip_into, newton_point
 from redik.qp.hierarchy import ROW_GAIN_TOL
 
 DONE = 0
@@ -51,7 +52,13 @@ direction: the general path decides."""
 
 
 @numba.njit(**COMPILE)
-def _reflect(qr: Floats, tau: Floats, k: int, start: int, columns: int) -> None:
+def _reflect(
+    qr: NDArray[np.float64],
+    tau: NDArray[np.float64],
+    k: int,
+    start: int,
+    columns: int,
+) -> None:
     """Apply ``I − τ_k v vᵀ`` (``v = [1; qr[k+1:, k]]``, from row ``k``) to columns of ``qr``."""
     n = qr.shape[0]
     for j in range(start, columns):
@@ -65,7 +72,11 @@ def _reflect(qr: Floats, tau: Floats, k: int, start: int, columns: int) -> None:
 
 
 @numba.njit(**COMPILE)
-def _householder(qr: Floats, tau: Floats, k: int) -> None:
+def _householder(
+    qr: NDArray[np.float64],
+    tau: NDArray[np.float64],
+    k: int,
+) -> None:
     """LAPACK's ``dlarfg`` on ``qr[k:, k]``: ``β`` into ``qr[k, k]``, ``v`` below it, ``τ_k``."""
     n = qr.shape[0]
     alpha = qr[k, k]
@@ -85,7 +96,10 @@ def _householder(qr: Floats, tau: Floats, k: int) -> None:
 
 
 @numba.njit(**COMPILE)
-def _reciprocal_condition(qr: Floats, m: int) -> float:
+def _reciprocal_condition(
+    qr: NDArray[np.float64],
+    m: int,
+) -> float:
     """``1 / (‖R‖₁ ‖R⁻¹‖₁)`` of the upper triangle ``R = qr[:m, :m]`` (0 when singular)."""
     inverse = np.zeros((m, m))
     norm, inverse_norm = 0.0, 0.0
@@ -108,7 +122,10 @@ def _reciprocal_condition(qr: Floats, m: int) -> float:
 
 
 @numba.njit(**COMPILE)
-def null_space(A: Floats, N: Floats) -> float:
+def null_space(
+    A: NDArray[np.float64],
+    N: NDArray[np.float64],
+) -> float:
     """Write an orthonormal basis of ``ker A`` into ``N`` (n × (n − m)); ``A`` wide (m × n).
 
     Returns:
@@ -140,7 +157,12 @@ def null_space(A: Floats, N: Floats) -> float:
 
 
 @numba.njit(**COMPILE)
-def _gain_and_offset(C: Floats, r: int, N: Floats, x: Floats) -> tuple[float, float]:
+def _gain_and_offset(
+    C: NDArray[np.float64],
+    r: int,
+    N: NDArray[np.float64],
+    x: NDArray[np.float64],
+) -> tuple[float, float]:
     """``(C_r v, C_r x)`` of row ``r`` along the direction ``v = N[:, 0]``."""
     gain, offset = 0.0, 0.0
     for j in range(x.shape[0]):
@@ -150,7 +172,12 @@ def _gain_and_offset(C: Floats, r: int, N: Floats, x: Floats) -> tuple[float, fl
 
 
 @numba.njit(**COMPILE)
-def _pull_back(z: float, a: float, lower: float, upper: float) -> float:
+def _pull_back(
+    z: float,
+    a: float,
+    lower: float,
+    upper: float,
+) -> float:
     """``z`` pulled back to the relaxed row ``min(lower, 0) ≤ a z ≤ max(upper, 0)``."""
     if -ROW_GAIN_TOL <= a <= ROW_GAIN_TOL:
         return z  # moved by round-off only: it cannot block the direction
@@ -164,7 +191,15 @@ def _pull_back(z: float, a: float, lower: float, upper: float) -> float:
 
 @numba.njit(**COMPILE)
 def one_direction(
-    H: Floats, c: Floats, x: Floats, N: Floats, lb: Floats, ub: Floats, C: Floats, u: Floats, m: int
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    x: NDArray[np.float64],
+    N: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    C: NDArray[np.float64],
+    u: NDArray[np.float64],
+    m: int,
 ) -> bool:
     """Move ``x`` along ``v = N[:, 0]`` to level 1's minimiser on the relaxed constraints.
 
@@ -196,7 +231,14 @@ def one_direction(
 
 
 @numba.njit(**COMPILE)
-def reduced_level(H: Floats, c: Floats, x: Floats, N: Floats, Hz: Floats, cz: Floats) -> None:
+def reduced_level(
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    x: NDArray[np.float64],
+    N: NDArray[np.float64],
+    Hz: NDArray[np.float64],
+    cz: NDArray[np.float64],
+) -> None:
     """Write ``Hz = NᵀHN`` and ``cz = Nᵀ(Hx + c)``: level 1 in the coordinates ``z``."""
     n, r = N.shape
     HN = np.empty((n, r))
@@ -220,23 +262,25 @@ def reduced_level(H: Floats, c: Floats, x: Floats, N: Floats, Hz: Floats, cz: Fl
 
 
 @numba.njit(**COMPILE)
-def _gain(a: float) -> float:
+def _gain(
+    a: float,
+) -> float:
     """``a``, or 0 within ``ROW_GAIN_TOL`` (round-off cannot block a direction)."""
     return 0.0 if -ROW_GAIN_TOL <= a <= ROW_GAIN_TOL else a
 
 
 @numba.njit(**COMPILE)
 def reduced_rows(
-    N: Floats,
-    x: Floats,
-    lb: Floats,
-    ub: Floats,
-    C: Floats,
-    u: Floats,
+    N: NDArray[np.float64],
+    x: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    C: NDArray[np.float64],
+    u: NDArray[np.float64],
     m: int,
-    rows: Floats,
-    lower: Floats,
-    upper: Floats,
+    rows: NDArray[np.float64],
+    lower: NDArray[np.float64],
+    upper: NDArray[np.float64],
 ) -> None:
     """Write the rows ``[N; C N]`` on ``z`` and their bounds, relaxed so that ``z = 0`` holds.
 
@@ -263,7 +307,13 @@ def reduced_rows(
 
 
 @numba.njit(**COMPILE)
-def _rows_within(rows: Floats, count: int, z: Floats, lower: Floats, upper: Floats) -> bool:
+def _rows_within(
+    rows: NDArray[np.float64],
+    count: int,
+    z: NDArray[np.float64],
+    lower: NDArray[np.float64],
+    upper: NDArray[np.float64],
+) -> bool:
     """Whether ``lower ≤ rows z ≤ upper`` holds exactly on the first ``count`` rows."""
     for i in range(count):
         total = 0.0
@@ -275,7 +325,11 @@ def _rows_within(rows: Floats, count: int, z: Floats, lower: Floats, upper: Floa
 
 
 @numba.njit(**COMPILE)
-def add_direction(x: Floats, N: Floats, z: Floats) -> None:
+def add_direction(
+    x: NDArray[np.float64],
+    N: NDArray[np.float64],
+    z: NDArray[np.float64],
+) -> None:
     """``x += N z`` in place."""
     for i in range(x.shape[0]):
         total = 0.0
@@ -286,10 +340,24 @@ def add_direction(x: Floats, N: Floats, z: Floats) -> None:
 
 @numba.njit(**COMPILE)
 def lower_level(
-    x: Floats, A0: Floats, H: Floats, c: Floats, lb: Floats, ub: Floats, C: Floats, u: Floats,
-    m: int, rank_tol: float, clip: bool, N: Floats, Hz: Floats, cz: Floats, rows: Floats,
-    lower: Floats, upper: Floats,
-) -> int:  # fmt: skip
+    x: NDArray[np.float64],
+    A0: NDArray[np.float64],
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    lb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    C: NDArray[np.float64],
+    u: NDArray[np.float64],
+    m: int,
+    rank_tol: float,
+    clip: bool,
+    N: NDArray[np.float64],
+    Hz: NDArray[np.float64],
+    cz: NDArray[np.float64],
+    rows: NDArray[np.float64],
+    lower: NDArray[np.float64],
+    upper: NDArray[np.float64],
+) -> int:
     """Solve level 1 (``H``, ``c``) within level 0's optimal set at ``x`` (module docstring).
 
     Args:

@@ -58,7 +58,6 @@ from redik.qp.backends import Backend, DaqpBackend, QpsolversBackend
 from redik.qp.compiled import step as kernel
 from redik.qp.compiled.collision import CollisionRows
 from redik.qp.compiled.frames import FRAME_KINDS, POSE, POSITION, pack_chains
-from redik.qp.compiled.linalg import Ints
 from redik.qp.compiled.workspaces import BackendSolves, DaqpWorkspaces
 from redik.tasks import (
     DampingTask,
@@ -139,7 +138,7 @@ def _plain_levels(levels: Sequence[LevelAssembly], n: int) -> bool:
 
 def _level_rows(levels: Sequence[LevelAssembly]) -> list[tuple[int, ResidualTask]]:
     """Each frame task's first row within its own level's rows (what a level's kernel indexes)."""
-    rows = []
+    rows: list[tuple[int, ResidualTask]] = []
     for level in levels:
         row = 0
         for task in level.residual_tasks:
@@ -179,7 +178,7 @@ class CompiledPlan:
         backends: Sequence[Backend],
         damping: float,
         rank_tol: float,
-    ):
+    ) -> None:
         model, n = robot.model, robot.dof
         self._robot, self._state, self._n = robot, state, n
         self._levels = list(levels)
@@ -203,18 +202,21 @@ class CompiledPlan:
         self._upper, self._lower = np.zeros(n + rows), np.full(n + rows, -np.inf)
         self._row_qps: DaqpWorkspaces | BackendSolves = BackendSolves(backends)
         first = backends[0]
-        if isinstance(first, DaqpBackend) and all(isinstance(b, DaqpBackend) for b in backends):
+        if isinstance(first, DaqpBackend) and all(
+            isinstance(backend, DaqpBackend) for backend in backends
+        ):
             self._row_qps = DaqpWorkspaces(first.settings)
 
-    def _build_table(self, robot: Robot, column_of: Ints, limits: Sequence[Limit]) -> None:
+    def _build_table(self, robot: Robot, column_of: np.ndarray, limits: Sequence[Limit]) -> None:
         """The int buffer (:mod:`redik.qp.compiled.step`): sizes, flags, frames, coordinates."""
         model, n = robot.model, robot.dof
-        tasks = [
-            cast(SingleFrameTask, task) for level in self._levels for task in level.residual_tasks
-        ]
+        # A plan's residual tasks are frame and position tasks (_plain_levels).
+        tasks = cast(
+            list[SingleFrameTask], [task for level in self._levels for task in level.residual_tasks]
+        )
         bodies = [_frame_body(model, task.frame.kind, task.frame.id) for task in tasks]
         chains, columns, lengths = pack_chains(model, bodies, column_of)
-        coordinates = JointCoordinates.of(model, robot.joint_ids.tolist())
+        coordinates = JointCoordinates.of(model, robot.joint_ids)
         level0 = self._levels[0]
         header = np.zeros(kernel.HEADER, dtype=np.int64)
         header[kernel.H_N], header[kernel.H_LEVELS], header[kernel.H_FRAMES] = (
@@ -276,11 +278,11 @@ class CompiledPlan:
     def _watch_tasks(self) -> None:
         """What :meth:`_refresh` compares each step: targets, versions, joint-space sums."""
         self._target_rows = [self._targets[f, :12].reshape(3, 4) for f in range(len(self._tasks))]
-        self._poses = [
-            (f, task) for f, task in enumerate(self._tasks) if isinstance(task, FrameTask)
+        self._poses: list[tuple[int, SingleFrameTask]] = [
+            (f, task) for f, task in enumerate(self._tasks) if type(task) is FrameTask
         ]
         self._positions = [
-            (f, task) for f, task in enumerate(self._tasks) if isinstance(task, PositionTask)
+            (f, task) for f, task in enumerate(self._tasks) if type(task) is not FrameTask
         ]
         self._seen: list[object] = [_NOT_SEEN] * len(self._tasks)
         self._versions = [-1] * len(self._tasks)
@@ -361,10 +363,12 @@ class CompiledPlan:
 
     def _solve(self, stage: int, dt: float, m: int) -> int:
         poses, cdof, subtree_com = self._kinematics
-        return kernel.solve_step(stage, self._q, dt, m, poses, cdof, subtree_com, self._table,
-                                 self._work)  # fmt: skip
+        status: int = kernel.solve_step(
+            stage, self._q, dt, m, poses, cdof, subtree_com, self._table, self._work
+        )
+        return status
 
-    def _duration(self, dt: float | None) -> float:
+    def _duration(self, dt: object) -> float:
         """``dt`` as a float (0 for None), or −1 when the general path must check or refuse it."""
         if dt is None:
             return -1.0 if self._velocity else 0.0
@@ -393,14 +397,14 @@ class CompiledPlan:
                 np.negative(task.cost, out=self._targets[f, 12:18])
                 np.multiply(task.cost, -task.gain, out=self._targets[f, 18:24])
                 self._versions[f] = task.version
-        for f, position in self._positions:
-            if position.target is None:
+        for f, task in self._positions:
+            if task.target is None:
                 return False
-            self._target_rows[f][:, 3] = position.target
-            if position.version != self._versions[f]:
-                self._targets[f, 12:15] = position.cost
-                self._targets[f, 18] = -position.gain
-                self._versions[f] = position.version
+            self._target_rows[f][:, 3] = task.target
+            if task.version != self._versions[f]:
+                self._targets[f, 12:15] = task.cost
+                self._targets[f, 18] = -task.gain
+                self._versions[f] = task.version
         versions = [task.version for task in self._joint_tasks]
         if versions != self._joint_versions:
             for index, level in enumerate(self._levels):

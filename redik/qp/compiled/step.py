@@ -22,13 +22,14 @@ from __future__ import annotations
 
 import numba
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.validate import MAX_COORDINATE
 from redik.kinematics.compiled import COMPILE
 from redik.qp.compiled.box_qp import box_qp
-from redik.qp.compiled.frames import TARGET_WIDTH, Poses, level_objective
+from redik.qp.compiled.frames import TARGET_WIDTH, level_objective
 from redik.qp.compiled.level0 import BINDS, NOT_DEFINITE, box_bounds, level0_point
-from redik.qp.compiled.linalg import Floats, Ints, clip_into
+from redik.qp.compiled.linalg import clip_into
 from redik.qp.compiled.lower_level import DONE as LEVEL1_DONE
 from redik.qp.compiled.lower_level import REDUCED_QP as LEVEL1_REDUCED_QP
 from redik.qp.compiled.lower_level import add_direction, lower_level
@@ -54,19 +55,15 @@ the general path must answer."""
 
 _CONTINUE = -1
 
-FloatViews = tuple[Floats, ...]
-"""The views of :func:`float_views`, in its order."""
-
-IntViews = tuple[Ints, Ints, Ints, Ints, Ints, Ints]
-"""The views of :func:`int_views`, in its order."""
-
 
 OFFSETS = 22
 """Offsets of :func:`float_views`' 21 views in ``work``, stored after the header."""
 
 
 @numba.njit(**COMPILE)
-def buffer_sizes(table: Ints) -> tuple[int, Ints]:
+def buffer_sizes(
+    table: NDArray[np.int64],
+) -> tuple[int, NDArray[np.int64]]:
     """The sizes of ``table`` and of each view of ``work``, in :func:`float_views`'s order.
 
     Reads the header only; :func:`write_offsets` stores the views' offsets from the sizes.
@@ -84,7 +81,9 @@ def buffer_sizes(table: Ints) -> tuple[int, Ints]:
 
 
 @numba.njit(**COMPILE)
-def write_offsets(table: Ints) -> int:
+def write_offsets(
+    table: NDArray[np.int64],
+) -> int:
     """Store the offsets of :func:`float_views`' views after the header; return ``work``'s size."""
     sizes = buffer_sizes(table)[1]
     table[HEADER] = 0
@@ -94,7 +93,10 @@ def write_offsets(table: Ints) -> int:
 
 
 @numba.njit(**COMPILE)
-def float_views(work: Floats, table: Ints) -> FloatViews:
+def float_views(
+    work: NDArray[np.float64],
+    table: NDArray[np.int64],
+) -> tuple[NDArray[np.float64], ...]:
     """The plan's float arrays, views into ``work``.
 
     Returns:
@@ -140,7 +142,16 @@ def float_views(work: Floats, table: Ints) -> FloatViews:
 
 
 @numba.njit(**COMPILE)
-def int_views(table: Ints) -> IntViews:
+def int_views(
+    table: NDArray[np.int64],
+) -> tuple[
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+]:
     """The plan's int arrays, views into ``table`` after its header.
 
     Returns:
@@ -164,7 +175,10 @@ def int_views(table: Ints) -> IntViews:
 
 
 @numba.njit(**COMPILE)
-def valid_configuration(q: Floats, quaternions: Ints) -> bool:
+def valid_configuration(
+    q: NDArray[np.float64],
+    quaternions: NDArray[np.int64],
+) -> bool:
     """Whether ``q`` is finite, within ``±MAX_COORDINATE``, without a zero quaternion."""
     for value in q:
         if not abs(value) <= MAX_COORDINATE:  # a NaN fails too
@@ -177,16 +191,16 @@ def valid_configuration(q: Floats, quaternions: Ints) -> bool:
 
 @numba.njit(**COMPILE)
 def _objectives(
-    q: Floats,
-    poses: Poses,
-    cdof: Floats,
-    subtree_com: Floats,
+    q: NDArray[np.float64],
+    poses: tuple[NDArray[np.float64], ...],
+    cdof: NDArray[np.float64],
+    subtree_com: NDArray[np.float64],
     flat: bool,
-    levels: Ints,
-    frames: Ints,
-    chains: Ints,
-    columns: Ints,
-    floats: FloatViews,
+    levels: NDArray[np.int64],
+    frames: NDArray[np.int64],
+    chains: NDArray[np.int64],
+    columns: NDArray[np.int64],
+    floats: tuple[NDArray[np.float64], ...],
 ) -> None:
     """Every level's ``H``, ``c`` (and frame rows) at the current kinematics."""
     targets, joint, gradients, A, b, H, c = floats[:7]
@@ -202,7 +216,13 @@ def _objectives(
 
 @numba.njit(**COMPILE)
 def _level0(
-    q: Floats, dt: float, m: int, table: Ints, levels: Ints, scalar_q: Ints, floats: FloatViews
+    q: NDArray[np.float64],
+    dt: float,
+    m: int,
+    table: NDArray[np.int64],
+    levels: NDArray[np.int64],
+    scalar_q: NDArray[np.int64],
+    floats: tuple[NDArray[np.float64], ...],
 ) -> int:
     """The box and level 0 (the box QP when a bound binds); :data:`_CONTINUE` when solved."""
     A, b, H, c, box, lb, ub, x, C, u = floats[3:13]
@@ -226,7 +246,12 @@ def _level0(
 
 
 @numba.njit(**COMPILE)
-def _level1(m: int, clip: bool, levels: Ints, floats: FloatViews) -> int:
+def _level1(
+    m: int,
+    clip: bool,
+    levels: NDArray[np.int64],
+    floats: tuple[NDArray[np.float64], ...],
+) -> int:
     """Level 1 within level 0's optimal set, and the clip (:func:`~.lower_level.lower_level`)."""
     A, _, H, c, _, lb, ub, x, C, u, N, Hz, cz, _, rows, lower, upper, settings = floats[3:]
     A0 = A[levels[0, 2] : levels[0, 3]]
@@ -241,14 +266,14 @@ def _level1(m: int, clip: bool, levels: Ints, floats: FloatViews) -> int:
 @numba.njit(**COMPILE)
 def solve_step(
     stage: int,
-    q: Floats,
+    q: NDArray[np.float64],
     dt: float,
     m: int,
-    poses: Poses,
-    cdof: Floats,
-    subtree_com: Floats,
-    table: Ints,
-    work: Floats,
+    poses: tuple[NDArray[np.float64], ...],
+    cdof: NDArray[np.float64],
+    subtree_com: NDArray[np.float64],
+    table: NDArray[np.int64],
+    work: NDArray[np.float64],
 ) -> int:
     """Run a step from ``stage`` (module docstring); ``x`` (in ``work``) receives it.
 

@@ -28,12 +28,12 @@ class DaqpWorkspaces:
         settings: DAQP settings (``primal_tol``…), applied to every model.
     """
 
-    def __init__(self, settings: dict[str, Any]):
+    def __init__(self, settings: dict[str, Any]) -> None:
         import daqp
 
         self._daqp = daqp
         self._settings = dict(settings)
-        self._models: dict[tuple[int, int], Any] = {}  # daqp.Model, untyped
+        self._models: dict[tuple[int, int], Any] = {}  # daqp.Model (daqp ships no types)
 
     def solve(
         self,
@@ -80,7 +80,8 @@ class DaqpWorkspaces:
         if exitflag < 1:
             del self._models[key]
             return None
-        return np.asarray(x, dtype=np.float64)
+        solution: np.ndarray = x
+        return solution
 
     def reset(self) -> None:
         """Forget every workspace (and its warm start)."""
