@@ -17,7 +17,7 @@ LOCK_EXTRAS := test,bench
 export MUJOCO_GL ?= egl
 export PYOPENGL_PLATFORM ?= egl
 
-.PHONY: demo test check lint bench env lock clean scenes docs measured
+.PHONY: demo test check lint bench bench-placo env lock clean scenes docs measured
 
 env: $(STAMP)
 
@@ -40,7 +40,7 @@ lint: $(STAMP)
 	$(BIN)/ruff format --check redik tests examples specs docs/hooks
 	$(BIN)/python -m mypy --follow-imports=silent redik/core redik/lie redik/models \
 		redik/kinematics/robot redik/kinematics/chain.py redik/kinematics/batched.py \
-		redik/kinematics/compiled.py
+		redik/kinematics/compiled.py redik/tasks redik/limits redik/qp redik/apps
 	$(BIN)/python -m pytest -q -p no:cacheprovider tests/test_layers.py
 
 # The regression scenes run first so that pytest's summary is the last line CI reads. The site
@@ -66,6 +66,21 @@ measured: $(STAMP)
 # reference, the Measured page, and the output and figures of the examples the pages show).
 docs: $(STAMP)
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
+
+# `redik bench qp` beside PlaCo, which the lock cannot hold (requirements-placo.txt says why):
+# a separate environment with the lock, then PlaCo's pins without their dependencies.
+PLACO_VENV ?= .venv-placo
+PLACO_STAMP := $(PLACO_VENV)/.redik-installed
+
+$(PLACO_STAMP): pyproject.toml $(LOCK) requirements-placo.txt
+	test -x $(PLACO_VENV)/bin/python || $(PYTHON) -m venv $(PLACO_VENV)
+	$(PLACO_VENV)/bin/python -m pip install --quiet -r $(LOCK)
+	$(PLACO_VENV)/bin/python -m pip install --quiet --no-deps -r requirements-placo.txt
+	$(PLACO_VENV)/bin/python -m pip install --quiet --no-deps -e .
+	touch $(PLACO_STAMP)
+
+bench-placo: $(PLACO_STAMP)
+	$(PLACO_VENV)/bin/redik bench qp --parts anchors
 
 # Refresh the lock: newest allowed versions in a scratch environment, the whole suite on them,
 # and only then the new lock; .venv is then rebuilt from it.

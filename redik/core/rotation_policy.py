@@ -177,7 +177,7 @@ def _checked_rotation_block(
 
 def check_rotations(
     R: object, name: str = "R", *, strict: bool = False
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Apply the policy to a stack of matrices, without raising on a refused one.
 
     Args:

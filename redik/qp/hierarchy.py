@@ -105,10 +105,11 @@ which the slack level does not move (``z* = 0``) satisfies ``(GN)ᵀw = 0``, the
 condition of the least violation itself."""
 
 ROW_GAIN_TOL = 1e-12
-"""A constraint row whose gain ``|a_i|`` along a lone free direction is at most this does not
-block that direction (:func:`_solve_one_variable`): it moves the row by round-off only (a
-self-motion direction has exact zeros on some joints, computed as ±1e-16), while a joint
-sitting on its bound would otherwise stop the whole motion at ``z = 0``."""
+"""A constraint row whose gain ``|a_i|`` along a free direction is at most this does not
+block that direction (:func:`_solve_one_variable`, :meth:`Constraints.around`): it moves the
+row by round-off only (a self-motion direction has exact zeros on some joints, computed as
+±1e-16), while a joint sitting on its bound would otherwise stop the whole motion at
+``z = 0`` — or not, by the sign of that round-off."""
 
 Curvature = Callable[[np.ndarray], np.ndarray]
 """``N ↦ NᵀMN``: a second-order term of level 1 in the coordinates of a basis ``N``."""
@@ -146,8 +147,8 @@ class Constraints:
     def around(self, x: np.ndarray, N: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The constraints ``x + N z ∈ 𝒳`` as rows on ``z``: ``(rows, lower, upper)``.
 
-        They are relaxed by ``x``'s own violation so that ``z = 0`` stays feasible; ``rows``
-        is empty without constraints.
+        They are relaxed by ``x``'s own violation so that ``z = 0`` stays feasible; gains
+        within :data:`ROW_GAIN_TOL` are zero; ``rows`` is empty without constraints.
         """
         rows, lower, upper = [], [], []
         if self.lb is not None:
@@ -163,10 +164,14 @@ class Constraints:
             return np.empty((0, N.shape[1])), np.empty(0), np.empty(0)
         lower_all = np.minimum(np.concatenate(lower), 0.0)
         upper_all = np.maximum(np.concatenate(upper), 0.0)
-        return np.vstack(rows), lower_all, upper_all
+        stacked = np.vstack(rows)
+        stacked[np.abs(stacked) <= ROW_GAIN_TOL] = 0.0
+        return stacked, lower_all, upper_all
 
 
-def free_directions(H: np.ndarray, c: np.ndarray, rank_tol: float, shift: float = 0.0):
+def free_directions(
+    H: np.ndarray, c: np.ndarray, rank_tol: float, shift: float = 0.0
+) -> np.ndarray:
     """Orthonormal basis (n × r) of ``ker [H − shift·I; cᵀ]`` for symmetric ``H``.
 
     :func:`kernel_directions` less the direction of ``c`` (:func:`without_gradient`).
@@ -187,7 +192,10 @@ def kernel_directions(H: np.ndarray, rank_tol: float, shift: float = 0.0) -> np.
         eigenvalues, eigenvectors = np.linalg.eigh(H)
     eigenvalues -= shift
     scale = eigenvalues[-1]
-    return eigenvectors[:, eigenvalues <= rank_tol * scale] if scale > 0.0 else eigenvectors
+    kernel: np.ndarray = (
+        eigenvectors[:, eigenvalues <= rank_tol * scale] if scale > 0.0 else eigenvectors
+    )
+    return kernel
 
 
 def without_gradient(N: np.ndarray, c: np.ndarray, rank_tol: float) -> np.ndarray:
@@ -207,9 +215,10 @@ def without_gradient(N: np.ndarray, c: np.ndarray, rank_tol: float) -> np.ndarra
     v = g / norm
     v[0] -= 1.0
     vv = v @ v
+    rest: np.ndarray = N[:, 1:]
     if vv > 0.0:
-        return N[:, 1:] - np.outer(N @ v, v[1:]) * (2.0 / vv)
-    return N[:, 1:]
+        rest = rest - np.outer(N @ v, v[1:]) * (2.0 / vv)
+    return rest
 
 
 def row_null_space(A: np.ndarray, rank_tol: float) -> np.ndarray | None:
@@ -288,7 +297,12 @@ def least_squares_minimiser(
 
 
 def _solve_one_variable(
-    h: float, g: float, a: list, lower: list, upper: list, offset: list | None = None
+    h: float,
+    g: float,
+    a: list[float],
+    lower: list[float],
+    upper: list[float],
+    offset: list[float] | None = None,
 ) -> float:
     """The one-variable QP ``argmin ½ h z² + g z`` subject to relaxed rows, in closed form.
 
@@ -347,22 +361,24 @@ def _least_violation(
     up = np.concatenate([h - G @ x, upper])
     qp = QP(H, np.zeros(r + m), C=stacked, l=low, u=up)
     z = backend.solve(qp)[:r]
-    return x + basis @ z
+    step: np.ndarray = x + basis @ z
+    return step
 
 
 def _unrelaxed(constraints: Constraints) -> tuple[np.ndarray, np.ndarray]:
     """The bounds of :meth:`Constraints.around` at ``x = 0`` without the relaxation."""
-    lower, upper = [], []
-    if constraints.lb is not None:
+    lower: list[np.ndarray] = []
+    upper: list[np.ndarray] = []
+    if constraints.lb is not None and constraints.ub is not None:
         lower.append(constraints.lb)
         upper.append(constraints.ub)
-    if constraints.C is not None:
+    if constraints.C is not None and constraints.l is not None and constraints.u is not None:
         lower.append(constraints.l)
         upper.append(constraints.u)
     return np.concatenate(lower), np.concatenate(upper)
 
 
-def _skipped(stats: dict | None) -> None:
+def _skipped(stats: dict[str, int] | None) -> None:
     """Count a lower level whose back-end failed (its step is then zero)."""
     if stats is not None:
         stats["skipped_levels"] = stats.get("skipped_levels", 0) + 1
@@ -432,7 +448,7 @@ def _apply_ranked(
     N: np.ndarray,
     constraints: Constraints,
     shift: float,
-    stats: dict | None,
+    stats: dict[str, int] | None,
 ) -> tuple[np.ndarray, Constraints, bool]:
     """The ranked groups placed just before ``level`` (popped from ``ranked``).
 
@@ -493,13 +509,16 @@ def _one_direction_level(
     # The model's gradient at x: level 0's x may carry a component along v (a
     # tolerance-based back-end's, along its near-null directions).
     g = float(x @ Hv) + float(c_k @ v) + m * float(v @ x)
-    a, lower, upper, offset = [], [], [], []
-    if constraints.lb is not None:
+    a: list[float] = []
+    lower: list[float] = []
+    upper: list[float] = []
+    offset: list[float] = []
+    if constraints.lb is not None and constraints.ub is not None:
         a += v.tolist()
         lower += constraints.lb.tolist()
         upper += constraints.ub.tolist()
         offset += x.tolist()
-    if constraints.C is not None:
+    if constraints.C is not None and constraints.l is not None and constraints.u is not None:
         a += (constraints.C @ v).tolist()
         lower += constraints.l.tolist()
         upper += constraints.u.tolist()
@@ -564,10 +583,10 @@ def _solve_lower_level(
                 return x, None
             return x, N @ free_directions(np.array([[h]]), np.array([g]), rank_tol, shift)
     try:
-        z, Hz, cz = _reduced_level(H_k, c_k, x, N, constraints, curvature, backend)
+        reduced_step, Hz, cz = _reduced_level(H_k, c_k, x, N, constraints, curvature, backend)
     except (BackendError, InfeasibleProblem):
         return None
-    x = x + N @ z
+    x = x + N @ reduced_step
     return x, None if last else N @ free_directions(Hz, cz, rank_tol, shift)
 
 
@@ -581,7 +600,7 @@ def solve_lexicographic(
     u: np.ndarray | None = None,
     damping: float | Sequence[float] = 0.0,
     rank_tol: float = 1e-10,
-    stats: dict | None = None,
+    stats: dict[str, int] | None = None,
     rows0: np.ndarray | None = None,
     kernel0: np.ndarray | None = None,
     curvature1: Curvature | None = None,
@@ -631,7 +650,11 @@ def solve_lexicographic(
     Raises:
         InfeasibleProblem, BackendError: from the back-end of level 0.
     """
-    shifts = [damping] * len(objectives) if np.isscalar(damping) else list(damping)
+    shifts = (
+        [float(damping)] * len(objectives)
+        if isinstance(damping, int | float | np.integer | np.floating)
+        else [float(shift) for shift in damping]
+    )
     ranked = list(ranked)
     n = objectives[0][1].shape[0]
     constraints = _rank_before_level0(ranked, Constraints(lb, ub, C, l, u), n, shifts[0])
@@ -657,7 +680,8 @@ def solve_lexicographic(
         if solved is None:
             _skipped(stats)
             break
-        x, N = solved
-        if N is None:
+        x, directions = solved
+        if directions is None:
             break
+        N = directions
     return x

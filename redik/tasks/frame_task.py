@@ -164,6 +164,7 @@ class FrameTask(SingleFrameTask):
         if target is not None:
             self.set_target(target)
         self._scales_version = -1
+        self._waits = (True, True)  # pose_errors' parts of nonzero cost, per cost version
         self._scratch = np.empty(6)
 
     def set_position_cost(self, position_cost: ArrayLike) -> None:
@@ -214,6 +215,7 @@ class FrameTask(SingleFrameTask):
         if self._scales_version != self.version:
             self._row_scale = -self.cost
             self._error_scale = -self.gain * self.cost
+            self._waits = (bool(self.cost[:3].any()), bool(self.cost[3:].any()))
             self._scales_version = self.version
 
     def residual_into(
@@ -254,9 +256,7 @@ class FrameTask(SingleFrameTask):
         """
         if self.target is None:
             self._require_target()
+        self._refresh_scales()
         R, p = state.pose(self.frame)
         position, rotation = pose_error(self._R_d, self._p_d, R, p, self._scratch)
-        return (
-            position if self.cost[:3].any() else None,
-            rotation if self.cost[3:].any() else None,
-        )
+        return (position if self._waits[0] else None, rotation if self._waits[1] else None)

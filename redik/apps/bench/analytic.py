@@ -520,8 +520,8 @@ def special_table(args: argparse.Namespace, clock: Callable[[], float]) -> None:
             arm=name,
             method=f"{solver.method}:{solver.kind}",
             median_us=timed,
-            solutions=np.mean([len(x) for x in sols]),
-            found_pct=100 * found,
+            solutions=float(np.mean([len(x) for x in sols])),
+            found_pct=100 * float(found),
             fk_error=worst,
             multistart=multi,
         )

@@ -70,7 +70,9 @@ class JointCoordinates:
     free_q: tuple[int, ...]
 
     @classmethod
-    def of(cls, model: mujoco.MjModel, joint_ids: Sequence[int]) -> JointCoordinates:
+    def of(
+        cls, model: mujoco.MjModel, joint_ids: Sequence[int] | NDArray[np.intp]
+    ) -> JointCoordinates:
         """The coordinates of ``joint_ids`` (in that order) in ``model``."""
         names = tuple(joint_name(model, j) for j in joint_ids)
         types = [int(model.jnt_type[j]) for j in joint_ids]
