@@ -3,12 +3,15 @@
 A number the notes print with ``d`` decimals agrees with redik's value when that value,
 rounded to ``d`` decimals, is the printed number — ``"1.7062"`` is matched by every value in
 [1.70615, 1.70625), nothing looser. Each cell shows the printed number, redik's value with two
-more decimals than the notes print, their difference (redik − notes) and ✓ or ✗.
+more decimals than the notes print (a count as it is), their difference (redik − notes) and ✓ or ✗.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from redik import RedikError
 
 
 def decimals(printed: str) -> int:
@@ -47,7 +50,8 @@ def table(
         for text, value in zip(printed, values, strict=True):
             ok = agrees(text, value)
             every &= ok
-            shown = f"{float(value):.{decimals(text) + 2}f}"
+            extra = 0 if isinstance(value, int) else 2  # an iteration count is shown as such
+            shown = f"{float(value):.{decimals(text) + extra}f}"
             cells.append(
                 f"  {text:>14} {shown:>11} {float(value) - float(text):>+11.1e} {'✓✗'[not ok]}"
             )
@@ -56,3 +60,22 @@ def table(
         f"  → {'every number agrees' if every else 'SOME NUMBERS DIFFER'} at the notes' precision"
     )
     return every
+
+
+def attempt(label: str, solve: Callable[[], Any]) -> Any:
+    """Run ``solve()`` and print its summary; if redik refuses the call, print why.
+
+    Args:
+        label: What the run is, as the notes name it.
+        solve: A call of redik returning an ``IKResult``.
+
+    Returns:
+        The result, or None when redik refused the call (an option this redik does not take).
+    """
+    try:
+        result = solve()
+    except RedikError as error:
+        print(f"  {label}: redik refuses the call: {type(error).__name__}: {error}")
+        return None
+    print(f"  {label}: {result.summary()}")
+    return result
