@@ -100,7 +100,7 @@ lock:
 	@echo "$(LOCK) refreshed and $(VENV) rebuilt from it; commit it with the change that needed it."
 
 clean:
-	rm -rf $(VENV) .venv-lock out site .pytest_cache .ruff_cache
+	rm -rf $(VENV) .venv-lock out site .pytest_cache .ruff_cache .mypy_cache
 
 # Regenerate scenes/*.xml and scenes/README.md from redik/models/scene_library.py.
 scenes: $(STAMP)

@@ -113,6 +113,7 @@ def test_a_course_page_without_scripts_says_where_they_go(course):
     assert "examples/course/003_*.py" in section
     assert "--8<--" not in section  # nothing to include, so nothing to fail on
     assert hook.course_readme() == ""
+    assert hook.course_helpers() == ""
 
 
 def test_a_course_page_shows_each_script_of_its_document_in_order(course):
@@ -121,6 +122,7 @@ def test_a_course_page_shows_each_script_of_its_document_in_order(course):
     (folder / "003_a_newton.py").write_text('"""First example.\n\nNewton from θ⁰."""\nprint(1)\n')
     (folder / "004_other.py").write_text('"""Not this document."""\n')
     (folder / "README.md").write_text("# Course scripts\n\n## Running\n")
+    (folder / "_shared.py").write_text('"""Tables."""\n')
     section = hook.course_section("003")
     assert section.index("## First example") < section.index("## Second")
     assert "Newton from θ⁰." in section
@@ -128,5 +130,6 @@ def test_a_course_page_shows_each_script_of_its_document_in_order(course):
     assert '--8<-- "runs/course_003_a_newton/output.txt"' in section
     assert "004_other" not in section
     assert hook.course_readme() == "## Course scripts\n\n### Running\n"
+    assert '--8<-- "examples/course/_shared.py"' in hook.course_helpers()
     scripts = ["003_a_newton.py", "003_b_table.py", "004_other.py"]
     assert [path.name for path in hook.course_scripts()] == scripts

@@ -11,7 +11,8 @@
   is reused while the example and redik's sources are unchanged.
 - **Course**: ``<!-- course-examples NNN -->`` on a course page becomes every
   ``examples/course/NNN_*.py`` (NNN: the lecture-notes document), its docstring, its code and
-  what it prints; ``<!-- course-readme -->`` becomes ``examples/course/README.md``.
+  what it prints; ``<!-- course-readme -->`` becomes ``examples/course/README.md`` and
+  ``<!-- course-helpers -->`` the modules the scripts share (``examples/course/_*.py``).
 - **MathJax** is copied from its Python package (``django-static-mathjax``), so equations
   render with no network.
 """
@@ -237,6 +238,23 @@ def course_section(document: str) -> str:
     return "\n".join(parts)
 
 
+def course_helpers() -> str:
+    """The modules the course's scripts share (``examples/course/_*.py``), folded away."""
+    helpers = sorted(COURSE.glob("_*.py")) if COURSE.is_dir() else []
+    parts = ["What the scripts share:", ""] if helpers else []
+    for helper in helpers:
+        title, _ = _docstring(helper)
+        relative = helper.relative_to(ROOT).as_posix()
+        parts += [
+            f'??? note "`{relative}`: {title}"',
+            "    ```python",
+            f'    --8<-- "{relative}"',
+            "    ```",
+            "",
+        ]
+    return "\n".join(parts)
+
+
 def course_readme() -> str:
     """``examples/course/README.md`` with its headings one level down (empty when absent)."""
     readme = COURSE / "README.md"
@@ -316,4 +334,5 @@ def _add_mathjax(files: Files, config: MkDocsConfig) -> None:
 def on_page_markdown(markdown: str, page: Page, config: MkDocsConfig, files: Files) -> str:
     """Expand the course hooks."""
     markdown = COURSE_MARKER.sub(lambda m: course_section(m.group(1)), markdown)
-    return markdown.replace("<!-- course-readme -->", course_readme())
+    markdown = markdown.replace("<!-- course-readme -->", course_readme())
+    return markdown.replace("<!-- course-helpers -->", course_helpers())

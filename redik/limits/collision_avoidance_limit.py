@@ -52,6 +52,7 @@ from typing import Any
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput, ModelError
 from redik.kinematics.robot import Robot
@@ -171,13 +172,13 @@ class CollisionAvoidanceLimit(InequalityLimit):
         super().bind(robot, tolerance)
         return self
 
-    def _candidates(self, data: mujoco.MjData, distmax: float) -> np.ndarray:
+    def _candidates(self, data: mujoco.MjData, distmax: float) -> NDArray[np.intp]:
         """Indices of the pairs whose bounding spheres are closer than ``distmax``."""
         a, b = self.pairs[:, 0], self.pairs[:, 1]
         gap = np.linalg.norm(data.geom_xpos[a] - data.geom_xpos[b], axis=1) - self._radii
         return np.flatnonzero(~self._bounded | (gap < distmax))
 
-    def distances(self, distmax: float = 1.0) -> np.ndarray:
+    def distances(self, distmax: float = 1.0) -> NDArray[np.float64]:
         """Signed distance of every pair at the robot's current state.
 
         Capped at ``distmax``; call ``robot.state.update(q)`` (or ``fk``) first.
@@ -190,7 +191,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
             out[i] = mujoco.mj_geomDistance(robot.model, data, a, b, distmax, self._fromto)
         return out
 
-    def minimum_distance_at(self, q: np.ndarray) -> tuple[float, tuple[str, str] | None]:
+    def minimum_distance_at(self, q: NDArray[np.float64]) -> tuple[float, tuple[str, str] | None]:
         """``(d, (geom_a, geom_b))``: the closest pair at ``q`` (``d`` capped at 1 m)."""
         robot = self._require_robot()
         robot.state.update(robot.check_q(q))
@@ -201,7 +202,9 @@ class CollisionAvoidanceLimit(InequalityLimit):
         a, b = self.pairs[i]
         return float(distances[i]), (_geom_name(robot.model, a), _geom_name(robot.model, b))
 
-    def inequalities(self, state: Any, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
+    def inequalities(
+        self, state: Any, dt: float | None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
         """``(G, h)`` at the current state, or None when inactive."""
         robot = self._require_robot()
         model, data = robot.model, robot.state.data
@@ -280,7 +283,7 @@ def _geom_name(model: mujoco.MjModel, geom: int) -> str:
     return f"{body or 'world'}#{geom}"
 
 
-def _moving_ancestor(robot: Robot) -> np.ndarray:
+def _moving_ancestor(robot: Robot) -> NDArray[np.intp]:
     """Per body.
 
     The nearest body (itself or an ancestor) with a joint of the robot, 0 if none. Two bodies with
@@ -310,7 +313,10 @@ def _apart_at_home(
 
 
 def _collidable_pairs(
-    model: mujoco.MjModel, mover: np.ndarray, a: np.ndarray, b: np.ndarray
+    model: mujoco.MjModel,
+    mover: NDArray[np.intp],
+    a: NDArray[np.intp],
+    b: NDArray[np.intp],
 ) -> list[tuple[int, int]]:
     """The geom pairs the robot can move relative to each other and MuJoCo lets collide.
 

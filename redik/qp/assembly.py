@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from mink.tasks import BaseTask
+from numpy.typing import NDArray
 
 from redik.kinematics.robot import Robot
 from redik.tasks.foreign import foreign_call
@@ -108,7 +109,7 @@ class LevelAssembly:
         self._joint_hessian, self._joint_factor, self._joint_offset = self._joint_terms
         self._joint_hessian[:] = damping
         self._joint_buffer = np.zeros(n)
-        self._joint_factors: list[tuple[JointSpaceTask, np.ndarray]] = []
+        self._joint_factors: list[tuple[JointSpaceTask, NDArray[np.float64]]] = []
         self.least_squares = not self.joint_tasks and not self.other_tasks
         """True when ``H = AᵀA + εI``: ``A`` then factors the level (its null space)."""
 
@@ -144,7 +145,7 @@ class LevelAssembly:
         self._joint_ready = True
         self._terms_version += 1
 
-    def joint_terms(self) -> np.ndarray:
+    def joint_terms(self) -> NDArray[np.float64]:
         """The joint-space sums, refreshed when a task's target, cost or gain changed.
 
         Returns:
@@ -155,7 +156,7 @@ class LevelAssembly:
         self._refresh_joint_terms()
         return self._joint_terms
 
-    def joint_gradient_into(self, state: KinematicState, c: np.ndarray) -> None:
+    def joint_gradient_into(self, state: KinematicState, c: NDArray[np.float64]) -> None:
         """Write the joint-space tasks' gradient ``Σ α w²d² ⊙ (q ⊖ r)`` at ``state`` into ``c``.
 
         Args:
@@ -165,7 +166,10 @@ class LevelAssembly:
         self._joint_gradient(state, c, fresh=True)
 
     def build(
-        self, state: KinematicState, configuration: Configuration | None, columns: np.ndarray
+        self,
+        state: KinematicState,
+        configuration: Configuration | None,
+        columns: NDArray[np.intp],
     ) -> None:
         """Fill ``H`` (regularised by ``damping``) and ``c`` at ``state``.
 
@@ -216,7 +220,9 @@ class LevelAssembly:
                 total += mink_task_value(task, configuration)
         return total
 
-    def weighted_rows_into(self, state: KinematicState, A: np.ndarray, b: np.ndarray) -> None:
+    def weighted_rows_into(
+        self, state: KinematicState, A: NDArray[np.float64], b: NDArray[np.float64]
+    ) -> None:
         """Write the stacked weighted residual rows at ``state`` into ``A``, ``b``.
 
         The stacked weighted residual rows at ``state`` into ``A``, ``b`` (of the shapes of
@@ -228,7 +234,7 @@ class LevelAssembly:
             task.weighted_residual_into(state, A[start:stop], b[start:stop])
             start = stop
 
-    def _joint_gradient(self, state: KinematicState, c: np.ndarray, fresh: bool) -> None:
+    def _joint_gradient(self, state: KinematicState, c: NDArray[np.float64], fresh: bool) -> None:
         """Joint-space tasks: ``c += Σ α w²d² ⊙ (q ⊖ r)`` (``c =`` when ``fresh``)."""
         if not self.joint_tasks:
             if fresh:
@@ -253,7 +259,10 @@ class LevelAssembly:
             c += self._joint_buffer
 
     def _add_other_tasks(
-        self, state: KinematicState, configuration: Configuration | None, columns: np.ndarray
+        self,
+        state: KinematicState,
+        configuration: Configuration | None,
+        columns: NDArray[np.intp],
     ) -> None:
         H, c = self.H, self.c
         for task in self.other_tasks:
@@ -275,9 +284,9 @@ def mink_task_value(task: BaseTask, configuration: Configuration | None) -> floa
 def add_mink_objective(
     task: BaseTask,
     configuration: Configuration | None,
-    columns: np.ndarray,
-    H: np.ndarray,
-    c: np.ndarray,
+    columns: NDArray[np.intp],
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
 ) -> None:
     """Add a mink task's objective, restricted to the chain's velocity ``columns``."""
     residual = None
@@ -324,7 +333,7 @@ class Assembly:
 
     def objectives(
         self, state: KinematicState, configuration: Configuration | None = None
-    ) -> list[tuple[np.ndarray, np.ndarray]]:
+    ) -> list[tuple[NDArray[np.float64], NDArray[np.float64]]]:
         """``(H_k + εI, c_k)`` per level at ``state`` (the level buffers themselves)."""
         columns = state.robot.dof_indices
         for level in self.levels:

@@ -45,6 +45,7 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import BackendError, InfeasibleProblem
 from redik.qp.problem_data import QP
@@ -129,7 +130,7 @@ class Backend(abc.ABC):
     active_set: bool = False
 
     @abc.abstractmethod
-    def solve(self, qp: QP) -> np.ndarray:
+    def solve(self, qp: QP) -> NDArray[np.float64]:
         """The minimiser ``x`` (a fresh array)."""
 
     def reset(self) -> None:  # noqa: B027 - a stateless back-end has nothing to override
@@ -148,7 +149,7 @@ class Backend(abc.ABC):
             f"{qp.size()}: no joint step satisfies every limit"
         )
 
-    def _checked(self, x: np.ndarray | None, qp: QP) -> np.ndarray:
+    def _checked(self, x: NDArray[np.float64] | None, qp: QP) -> NDArray[np.float64]:
         if x is None or not np.isfinite(x).all():
             raise self._error("non-finite solution", qp)
         return x
@@ -173,7 +174,7 @@ class DaqpBackend(Backend):
         self._model: Any = None  # a daqp.Model (daqp ships no types)
         self._dims: tuple[int, int, int] | None = None
 
-    def solve(self, qp: QP) -> np.ndarray:
+    def solve(self, qp: QP) -> NDArray[np.float64]:
         """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         n = qp.n
         if qp.C is None and qp.A is None:
@@ -184,9 +185,9 @@ class DaqpBackend(Backend):
             )
             A = _empty_rows(n)
         else:
-            uppers: list[np.ndarray] = []
-            lowers: list[np.ndarray] = []
-            rows: list[np.ndarray] = []
+            uppers: list[NDArray[np.float64]] = []
+            lowers: list[NDArray[np.float64]] = []
+            rows: list[NDArray[np.float64]] = []
             if qp.lb is not None and qp.ub is not None:
                 uppers.append(qp.ub)
                 lowers.append(qp.lb)
@@ -248,10 +249,10 @@ class DaqpBackend(Backend):
         raise self._error(f"{stage} exit flag {exitflag}: {reason}", qp)
 
 
-_EMPTY_ROWS: dict[int, np.ndarray] = {}
+_EMPTY_ROWS: dict[int, NDArray[np.float64]] = {}
 
 
-def _empty_rows(n: int) -> np.ndarray:
+def _empty_rows(n: int) -> NDArray[np.float64]:
     rows = _EMPTY_ROWS.get(n)
     if rows is None:
         rows = _EMPTY_ROWS[n] = np.zeros((0, n))
@@ -272,7 +273,7 @@ class ProxsuiteBackend(Backend):
         self._dims: tuple[int, int, int, bool] | None = None
         self.settings = {"eps_abs": eps_abs, "eps_rel": 0.0, **settings}
 
-    def solve(self, qp: QP) -> np.ndarray:
+    def solve(self, qp: QP) -> NDArray[np.float64]:
         """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         proxqp = self._proxqp
         box = qp.lb is not None
@@ -302,7 +303,9 @@ class ProxsuiteBackend(Backend):
             raise self._error(f"status {status.name}", qp)
         return self._checked(self._qp.results.x.copy(), qp)
 
-    def _run(self, data: list[np.ndarray], dims: tuple[int, int, int, bool], warm: bool) -> Any:
+    def _run(
+        self, data: list[NDArray[np.float64]], dims: tuple[int, int, int, bool], warm: bool
+    ) -> Any:
         proxqp = self._proxqp
         if warm:
             self._qp.update(*data)
@@ -340,7 +343,7 @@ class QpsolversBackend(Backend):
         self.active_set = solver in ACTIVE_SET
         self.settings = {**QPSOLVERS_SETTINGS.get(solver, {}), **settings}
 
-    def solve(self, qp: QP) -> np.ndarray:
+    def solve(self, qp: QP) -> NDArray[np.float64]:
         """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         if self.solver in NATIVE_BOUNDS:
             G, h = qp.one_sided()
@@ -379,7 +382,7 @@ class CvxpyBackend(Backend):
         self._cp = cvxpy
         self.settings = {"solver": "CLARABEL", **QPSOLVERS_SETTINGS["clarabel"], **settings}
 
-    def solve(self, qp: QP) -> np.ndarray:
+    def solve(self, qp: QP) -> NDArray[np.float64]:
         """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         cp = self._cp
         x = cp.Variable(qp.n)
@@ -425,7 +428,7 @@ class FallbackChain(Backend):
         self.active_set = all(backend.active_set for backend in self.backends)
         self.last_used: str | None = None
 
-    def solve(self, qp: QP) -> np.ndarray:
+    def solve(self, qp: QP) -> NDArray[np.float64]:
         """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         failures: list[Exception] = []
         for backend in self.backends:

@@ -43,6 +43,7 @@ import mink
 import numpy as np
 from mink.tasks import BaseTask
 from mink.tasks import Task as MinkTask
+from numpy.typing import NDArray
 from scipy.optimize import nnls
 
 from redik.core.exceptions import InfeasibleProblem, InvalidInput
@@ -171,7 +172,7 @@ def _bound_limits(robot: Robot, limits: object, tolerance: float) -> list[Limit]
     return bound
 
 
-def _cost(task: BaseTask) -> np.ndarray:
+def _cost(task: BaseTask) -> NDArray[np.float64]:
     """A target's cost ``w``: mink's tasks carry one (redik's residual tasks are mink's), 1 else."""
     return np.asarray(task.cost if isinstance(task, MinkTask) else 1.0, dtype=float)
 
@@ -362,7 +363,7 @@ class Problem:
         # What measure asks of each target: its error buffer (None: a mink task) and its
         # pose_errors (None: judged by ‖W e‖), looked up once.
         # (target, its error buffer when it is redik's, its pose_errors when it has one)
-        self._measured: list[tuple[Any, np.ndarray | None, Any]] = [
+        self._measured: list[tuple[Any, NDArray[np.float64] | None, Any]] = [
             (
                 task,
                 self._target_buffers[id(task)][0] if id(task) in self._target_buffers else None,
@@ -374,7 +375,7 @@ class Problem:
     # ----------------------------------------------------------------------------------
     # Online control
 
-    def step(self, q: np.ndarray, dt: float | None = None) -> np.ndarray:
+    def step(self, q: NDArray[np.float64], dt: float | None = None) -> NDArray[np.float64]:
         r"""The joint step ``Δq`` of one control tick at ``q``.
 
         The lexicographic QP of the module docstring with every hard limit, motion limits
@@ -417,7 +418,7 @@ class Problem:
             limit.advance(dq, dt)
         return dq
 
-    def reset(self, velocity: np.ndarray | None = None) -> None:
+    def reset(self, velocity: NDArray[np.float64] | None = None) -> None:
         """Start a new motion from joint velocity ``velocity`` (None: at rest).
 
         Every limit and task forgets what earlier :meth:`step` calls recorded (an
@@ -463,13 +464,13 @@ class Problem:
 
     def static_step(
         self,
-        q: np.ndarray,
+        q: NDArray[np.float64],
         dt: float | None = None,
         *,
         lm_damping: float = 0.0,
         second_order: bool = False,
         max_step: float | None = None,
-    ) -> np.ndarray:
+    ) -> NDArray[np.float64]:
         r"""The step ``Δq`` towards a static solution at ``q``: :meth:`step` without motion.
 
         Motion limits (:class:`~redik.limits.AccelerationLimit`, a bound between control
@@ -500,7 +501,7 @@ class Problem:
             q, dt, lm_damping=lm_damping, second_order=second_order, max_step=max_step
         )
 
-    def measure(self, q: np.ndarray, pos_tol: float, rot_tol: float) -> Measurement:
+    def measure(self, q: NDArray[np.float64], pos_tol: float, rot_tol: float) -> Measurement:
         """Forward kinematics at ``q`` and what level 0's targets say of it.
 
         Args:
@@ -534,7 +535,9 @@ class Problem:
         admitted = all(limit.admits() for limit in self._admitting)
         return Measurement(converged, math.sqrt(squared), worst[0], worst[1], admitted)
 
-    def target_rows(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def target_rows(
+        self, q: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         r"""Level 0's targets as least squares at ``q``: ``(A, b)`` with ``A = W J``, ``b = −W e``.
 
         The stacked cost-weighted Jacobians and errors of every target of level 0 (redik
@@ -559,7 +562,9 @@ class Problem:
             return np.empty((0, self.robot.dof)), np.empty(0)
         return np.vstack(rows), np.concatenate(rhs)
 
-    def step_bounds(self, q: np.ndarray, dt: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def step_bounds(
+        self, q: NDArray[np.float64], dt: float | None = None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The box the static limits put on ``Δq`` at ``q`` (position, velocity; ±inf else).
 
         Args:
@@ -575,7 +580,7 @@ class Problem:
             limit.bounds_into(q_box, dt, lb, ub)
         return lb, ub
 
-    def stationarity(self, q: np.ndarray, dt: float | None = None) -> list[float]:
+    def stationarity(self, q: NDArray[np.float64], dt: float | None = None) -> list[float]:
         r"""Per optimised level, the norm of its projected gradient at ``q``.
 
         The optimised levels are those below level 0's targets: levels 1… when level 0 has
@@ -601,7 +606,9 @@ class Problem:
         """
         return [float(np.linalg.norm(d)) for d, _ in self._projected_gradients(q, dt)]
 
-    def descent_steps(self, q: np.ndarray, dt: float | None = None) -> list[np.ndarray]:
+    def descent_steps(
+        self, q: NDArray[np.float64], dt: float | None = None
+    ) -> list[NDArray[np.float64]]:
         r"""Per optimised level, its projected steepest-descent (Cauchy) step at ``q``.
 
         :math:`d_k = N_{k-1} P_T(-N_{k-1}^\top g_k)` (the projection of :meth:`stationarity`)
@@ -624,8 +631,8 @@ class Problem:
         return steps
 
     def _projected_gradients(
-        self, q: np.ndarray, dt: float | None
-    ) -> list[tuple[np.ndarray, np.ndarray]]:
+        self, q: NDArray[np.float64], dt: float | None
+    ) -> list[tuple[NDArray[np.float64], NDArray[np.float64]]]:
         """``(d_k, H_k)`` per optimised level.
 
         The projected steepest-descent direction (:meth:`stationarity`'s projection, in ``Δq``) and
@@ -650,7 +657,7 @@ class Problem:
                 N = N @ kernel_directions(N.T @ H_k @ N, self.rank_tol, self.damping)
         return found
 
-    def objective_values(self, q: np.ndarray) -> list[float]:
+    def objective_values(self, q: NDArray[np.float64]) -> list[float]:
         """Per optimised level (see :meth:`stationarity`), the value its tasks descend at ``q``.
 
         ``½‖W e‖²`` per residual task, mink's ``½‖cost ⊙ e‖²`` per mink task,
@@ -670,7 +677,7 @@ class Problem:
             level.value(self._state, self._configuration) for level in self._assembly.levels[start:]
         ]
 
-    def feasible(self, q: np.ndarray) -> bool:
+    def feasible(self, q: NDArray[np.float64]) -> bool:
         """Whether ``q`` meets every inequality limit no task outranks (``h ≥ 0`` at ``Δq = 0``).
 
         A collision distance below its minimum, a ball joint outside its cone: a driver's
@@ -692,7 +699,7 @@ class Problem:
                 return False
         return True
 
-    def integrate(self, q: np.ndarray, dq: np.ndarray) -> np.ndarray:
+    def integrate(self, q: NDArray[np.float64], dq: NDArray[np.float64]) -> NDArray[np.float64]:
         """``q ⊕ Δq`` (``robot.integrate``), full-turn joints of periodic limits turned back.
 
         Args:
@@ -704,7 +711,7 @@ class Problem:
         """
         return self._wrapped(self.robot.integrate(q, dq))
 
-    def clip(self, q: np.ndarray) -> np.ndarray:
+    def clip(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """``q`` into the joint limits a hard :class:`~redik.limits.ConfigurationLimit` holds.
 
         Args:
@@ -723,13 +730,13 @@ class Problem:
     # ----------------------------------------------------------------------------------
     # The stages of a step
 
-    def _update(self, q: np.ndarray) -> None:
+    def _update(self, q: NDArray[np.float64]) -> None:
         """Forward kinematics at ``q`` (and the mink configuration, when one is kept)."""
         self._state.update(q)
         if self._configuration is not None:
             self._configuration.update(self.robot.state.data.qpos)
 
-    def _goto(self, q: np.ndarray) -> None:
+    def _goto(self, q: NDArray[np.float64]) -> None:
         """:meth:`_update`, skipped when the state is at ``q`` already.
 
         A driver asks several questions at one configuration. The robot's whole ``qpos`` is compared
@@ -743,7 +750,7 @@ class Problem:
 
     def _solve_step(
         self,
-        q: np.ndarray,
+        q: NDArray[np.float64],
         dt: float | None,
         *,
         motion: bool = False,
@@ -751,7 +758,7 @@ class Problem:
         error_damping: float = 0.0,
         second_order: bool = False,
         max_step: float | None = None,
-    ) -> np.ndarray:
+    ) -> NDArray[np.float64]:
         """The step at the current state (``q``): assemble, bound, solve, clip."""
         objectives = self._assembly.objectives(self._state, self._configuration)
         damping = self._level0_damping(lm_damping, error_damping)
@@ -791,8 +798,8 @@ class Problem:
         return [self.damping + lm_damping] + [self.damping] * (len(self.levels) - 1)
 
     def _bounds(
-        self, q: np.ndarray, dt: float | None, motion: bool, max_step: float | None
-    ) -> tuple[np.ndarray, np.ndarray] | tuple[None, None]:
+        self, q: NDArray[np.float64], dt: float | None, motion: bool, max_step: float | None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | tuple[None, None]:
         """The box on ``Δq`` (None, None without one)."""
         boxes = self._boxes if motion else self._static_boxes
         if not boxes and max_step is None:
@@ -813,7 +820,7 @@ class Problem:
             np.minimum(ub, max_step, out=ub)
         return lb, ub
 
-    def _raise_empty_box(self, q_box: np.ndarray, dt: float | None) -> None:
+    def _raise_empty_box(self, q_box: NDArray[np.float64], dt: float | None) -> None:
         bad = np.flatnonzero(self._lb > self._ub)
         names = [self.robot.dof_names[i] for i in bad]
         raise InfeasibleProblem(
@@ -824,7 +831,10 @@ class Problem:
 
     def _inequality_rows(
         self, dt: float | None
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | tuple[None, None, None]:
+    ) -> (
+        tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
+        | tuple[None, None, None]
+    ):
         """The hard rows ``C Δq ≤ u`` at the current state (None, None, None without)."""
         if not self._rows:
             return None, None, None
@@ -836,8 +846,8 @@ class Problem:
         return np.vstack([G for G, _ in blocks]), np.full_like(up, -np.inf), up
 
     def _ranked_groups(
-        self, q: np.ndarray, dt: float | None, motion: bool
-    ) -> list[tuple[int, np.ndarray, np.ndarray, Backend]]:
+        self, q: NDArray[np.float64], dt: float | None, motion: bool
+    ) -> list[tuple[int, NDArray[np.float64], NDArray[np.float64], Backend]]:
         """``(k, G, h, backend)`` of every ranked group with rows at the current state."""
         groups = []
         for _, index, limits, backend in self._ranked:
@@ -847,8 +857,8 @@ class Problem:
         return groups
 
     def _ranked_rows(
-        self, limits: list[Limit], q: np.ndarray, dt: float | None, motion: bool = False
-    ) -> tuple[np.ndarray, np.ndarray] | tuple[None, None]:
+        self, limits: list[Limit], q: NDArray[np.float64], dt: float | None, motion: bool = False
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | tuple[None, None]:
         """``(G, h)`` of ranked ``limits`` at the current state.
 
         ``(G, h)`` of ranked ``limits`` at the current state, boxes as ``±Δq_i`` rows of their
@@ -871,7 +881,9 @@ class Problem:
     # ----------------------------------------------------------------------------------
     # Level 0's targets, its null space and the curvature of its optimal set
 
-    def _error_and_jacobian(self, task: BaseTask) -> tuple[np.ndarray, np.ndarray]:
+    def _error_and_jacobian(
+        self, task: BaseTask
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """A target's error and Jacobian (over ``robot.dof``) at the current state."""
         buffers = self._target_buffers.get(id(task))
         if buffers is not None and isinstance(task, ResidualTask):
@@ -883,7 +895,7 @@ class Problem:
         J = np.atleast_2d(foreign_call(task, "compute_jacobian", configuration))
         return e, J[:, self.robot.dof_indices]
 
-    def _weighted_error(self, task: BaseTask) -> np.ndarray:
+    def _weighted_error(self, task: BaseTask) -> NDArray[np.float64]:
         """``W e`` of a target at the current state.
 
         ``W e`` of a target at the current state (mink's ``W = diag(cost)``: a component of zero
@@ -895,10 +907,12 @@ class Problem:
             task.error_into(self._state, e)
         else:
             e = np.atleast_1d(foreign_call(task, "compute_error", self._configuration))
-        weighted: np.ndarray = _cost(task) * e
+        weighted: NDArray[np.float64] = _cost(task) * e
         return weighted
 
-    def _level0_kernel(self, objectives: Sequence[tuple[np.ndarray, np.ndarray]]) -> np.ndarray:
+    def _level0_kernel(
+        self, objectives: Sequence[tuple[NDArray[np.float64], NDArray[np.float64]]]
+    ) -> NDArray[np.float64]:
         """Orthonormal basis of level 0's null space at the current state."""
         N = None if self._rows0 is None else row_null_space(self._rows0, self.rank_tol)
         if N is None:
@@ -907,9 +921,9 @@ class Problem:
 
     def _curvature(
         self,
-        q: np.ndarray,
+        q: NDArray[np.float64],
         dt: float | None,
-        objectives: Sequence[tuple[np.ndarray, np.ndarray]],
+        objectives: Sequence[tuple[NDArray[np.float64], NDArray[np.float64]]],
     ) -> Curvature | None:
         """Level 1's curvature term ``N ↦ NᵀMN`` at ``q``, or None where it does not apply.
 
@@ -924,8 +938,12 @@ class Problem:
         return lambda N: self._level1_curvature(q, c1, N, active)
 
     def _level1_curvature(
-        self, q: np.ndarray, c1: np.ndarray, N: np.ndarray, active: np.ndarray
-    ) -> np.ndarray:
+        self,
+        q: NDArray[np.float64],
+        c1: NDArray[np.float64],
+        N: NDArray[np.float64],
+        active: NDArray[np.bool_],
+    ) -> NDArray[np.float64]:
         r"""``NᵀMN``, :math:`M = \sum_i λ_i ∇^2 r_i`, with the bounds ``active`` at ``q``.
 
         :math:`MN` is the derivative of :math:`A^\top λ` along each column of :math:`N`, by a
@@ -951,7 +969,7 @@ class Problem:
     # ----------------------------------------------------------------------------------
     # Active limits of the stationarity test
 
-    def _active_rows(self, q: np.ndarray, dt: float | None) -> list[np.ndarray]:
+    def _active_rows(self, q: NDArray[np.float64], dt: float | None) -> list[NDArray[np.float64]]:
         """The hard limits active at ``q`` as rows ``a_i`` of ``a_i·Δq ≤ 0``."""
         active = []
         if self._static_boxes:
@@ -967,7 +985,9 @@ class Problem:
                 active.append(G[h <= ACTIVE_TOL])
         return active
 
-    def _ranked_active(self, q: np.ndarray, dt: float | None) -> list[tuple[int, np.ndarray]]:
+    def _ranked_active(
+        self, q: NDArray[np.float64], dt: float | None
+    ) -> list[tuple[int, NDArray[np.float64]]]:
         """Ranked rows active at ``q``, each with the first level it binds.
 
         Ranked rows active at ``q`` with the index of the first level they bind (violated rows count
@@ -980,7 +1000,7 @@ class Problem:
                 found.append((index, G[h <= ACTIVE_TOL]))
         return found
 
-    def _wrapped(self, q: np.ndarray) -> np.ndarray:
+    def _wrapped(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """``q`` with the full-turn joints of periodic position limits turned into range."""
         for limit in self._wraps:
             q = limit.wrap(q)
@@ -995,8 +1015,8 @@ class Problem:
 
 
 def _box_rows(
-    limit: BoxLimit, q_box: np.ndarray, dt: float | None
-) -> tuple[np.ndarray, np.ndarray] | None:
+    limit: BoxLimit, q_box: NDArray[np.float64], dt: float | None
+) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
     """A box limit's finite bounds as rows ``±Δq_i ≤ h``."""
     n = q_box.shape[0]
     lower, upper = np.full(n, -np.inf), np.full(n, np.inf)
@@ -1008,13 +1028,15 @@ def _box_rows(
     return np.vstack([eye[up], -eye[low]]), np.concatenate([upper[up], -lower[low]])
 
 
-def _projected_descent(c: np.ndarray, N: np.ndarray, active: list[np.ndarray]) -> np.ndarray:
+def _projected_descent(
+    c: NDArray[np.float64], N: NDArray[np.float64], active: list[NDArray[np.float64]]
+) -> NDArray[np.float64]:
     """``P_T(−g)`` of :meth:`Problem.stationarity` for one level.
 
     ``P_T(−g)`` of :meth:`Problem.stationarity` for one level, in the coordinates of ``N`` (``g =
     Nᵀc``; empty without free direction).
     """
-    g: np.ndarray = c @ N
+    g: NDArray[np.float64] = c @ N
     if N.shape[1] == 0:
         return g
     rows = np.vstack(active) @ N if active else np.empty((0, N.shape[1]))
@@ -1023,5 +1045,5 @@ def _projected_descent(c: np.ndarray, N: np.ndarray, active: list[np.ndarray]) -
     # P_T(−g) = argmin_{z: rows z ≤ 0} ½‖z + g‖² = −(g + rowsᵀλ) with λ the non-negative
     # least-squares solution of rowsᵀλ ≈ −g (its dual).
     multipliers, _ = nnls(rows.T, -g)
-    descent: np.ndarray = -(g + rows.T @ multipliers)
+    descent: NDArray[np.float64] = -(g + rows.T @ multipliers)
     return descent

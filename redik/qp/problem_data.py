@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput
 
@@ -31,15 +32,15 @@ class QP:
         InvalidInput: A part of the bounds, rows or equalities is given without the rest.
     """
 
-    H: np.ndarray
-    c: np.ndarray
-    lb: np.ndarray | None = None
-    ub: np.ndarray | None = None
-    C: np.ndarray | None = None
-    l: np.ndarray | None = None
-    u: np.ndarray | None = None
-    A: np.ndarray | None = None
-    b: np.ndarray | None = None
+    H: NDArray[np.float64]
+    c: NDArray[np.float64]
+    lb: NDArray[np.float64] | None = None
+    ub: NDArray[np.float64] | None = None
+    C: NDArray[np.float64] | None = None
+    l: NDArray[np.float64] | None = None
+    u: NDArray[np.float64] | None = None
+    A: NDArray[np.float64] | None = None
+    b: NDArray[np.float64] | None = None
 
     def __post_init__(self) -> None:
         for names, parts in (
@@ -74,14 +75,16 @@ class QP:
             f"{self.n_eq} equalities"
         )
 
-    def one_sided(self, bounds: bool = False) -> tuple[np.ndarray | None, np.ndarray | None]:
+    def one_sided(
+        self, bounds: bool = False
+    ) -> tuple[NDArray[np.float64] | None, NDArray[np.float64] | None]:
         """``(G, h)``: the rows (and bounds) as one-sided rows ``G x ≤ h``.
 
         ``(G, h)`` of the rows ``l ≤ C x ≤ u`` (and of the bounds, if ``bounds``) as ``G x ≤ h``,
         finite sides only.
         """
-        blocks: list[np.ndarray] = []
-        sides: list[np.ndarray] = []
+        blocks: list[NDArray[np.float64]] = []
+        sides: list[NDArray[np.float64]] = []
         if bounds and self.lb is not None and self.ub is not None:
             eye = np.eye(self.n)
             blocks += [eye, -eye]
@@ -97,7 +100,7 @@ class QP:
             return None, None
         return G[finite], h[finite]
 
-    def max_violation(self, x: np.ndarray) -> float:
+    def max_violation(self, x: NDArray[np.float64]) -> float:
         """Largest violation of any constraint at ``x`` (0 when feasible)."""
         violation = 0.0
         if self.lb is not None and self.ub is not None:

@@ -23,7 +23,7 @@ orientation cost 1), a posture towards ``q_ready`` and joint-limit avoidance (co
 
 The hand follows the pose of a joint-space sinusoid (0.25 Hz, 0.4 rad per joint) at 100 Hz;
 ``q`` advances by redik's strict step. Every contestant solves at that same ``q`` and target,
-one after another in a rotating order (machine load hits all alike); targets and ``q`` are
+one after another in a random order (machine load hits all alike); targets and ``q`` are
 written untimed.
 
 **G1** (example-robot-data's 29-dof G1 on a floating base, 35 tangent coordinates): frame
@@ -77,6 +77,9 @@ _COLLISION: dict[str, Any] = {"minimum_distance": 0.01, "detection_distance": 0.
 
 def placo_available() -> bool:
     """Whether ``placo`` imports (it is not in the lock: ``requirements-placo.txt``)."""
+    # Idle OpenMP workers sleep instead of spinning on a core the next contestant needs (read
+    # when the OpenMP runtime loads, with placo).
+    os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     try:
         import placo  # noqa: F401
     except ImportError:
@@ -228,7 +231,7 @@ def _panda_contestants(robot: Robot, with_placo: bool) -> dict:
 
 
 def _interleaved(contestants: dict, q: np.ndarray, targets: list, integrate) -> tuple[dict, dict]:
-    """Every contestant at every state, in a rotating order; medians (µs) and the steps.
+    """Every contestant at every state, in a random order; medians (µs) and the steps.
 
     ``q`` advances by the first contestant's step (``integrate(q, Δq)``); the first 100
     states warm caches and are not counted.
@@ -236,11 +239,17 @@ def _interleaved(contestants: dict, q: np.ndarray, targets: list, integrate) -> 
     names = list(contestants)
     times: dict[str, list[float]] = {name: [] for name in names}
     steps: dict[str, list[np.ndarray]] = {name: [] for name in names}
+    # A random order per state: a rotation keeps the cyclic order, so one contestant would
+    # always run right after another one's aftermath (its caches, a solver's spinning threads).
+    orders = np.random.default_rng(0).permuted(
+        np.tile(np.arange(len(names)), (len(targets), 1)), axis=1
+    )
     gc.collect()
     gc.disable()
     try:
-        for k, target in enumerate(targets):
-            for name in names[k % len(names) :] + names[: k % len(names)]:
+        for target, order in zip(targets, orders, strict=True):
+            for index in order:
+                name = names[index]
                 dq, us = contestants[name](q, target)
                 times[name].append(us)
                 steps[name].append(dq)

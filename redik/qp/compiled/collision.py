@@ -179,7 +179,9 @@ class CollisionRows:
         size: The number of pairs (the most rows it can give).
     """
 
-    def __init__(self, limit: CollisionAvoidanceLimit, robot: Robot, column_of: np.ndarray) -> None:
+    def __init__(
+        self, limit: CollisionAvoidanceLimit, robot: Robot, column_of: NDArray[np.int64]
+    ) -> None:
         model = robot.model
         self.limit = limit
         self._model = model
@@ -198,7 +200,7 @@ class CollisionRows:
         self._fromto = np.zeros((self.size, 6))
         self._pair_list = [(int(a), int(b)) for a, b in self.pairs]
 
-    def rows_into(self, G: np.ndarray, h: np.ndarray) -> int:
+    def rows_into(self, G: NDArray[np.float64], h: NDArray[np.float64]) -> int:
         """Write the active rows at the robot's current kinematics into ``G``, ``h``.
 
         Args:

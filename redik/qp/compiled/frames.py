@@ -64,7 +64,7 @@ TARGET_WIDTH = 24
 
 
 def dof_chain(
-    model: mujoco.MjModel, body: int, column_of: np.ndarray
+    model: mujoco.MjModel, body: int, column_of: NDArray[np.int64]
 ) -> tuple[list[int], list[int]]:
     """The dofs ``mj_jac`` walks for a point on ``body`` that the robot moves, with their columns.
 
@@ -92,8 +92,8 @@ def dof_chain(
 
 
 def pack_chains(
-    model: mujoco.MjModel, bodies: list[int], column_of: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    model: mujoco.MjModel, bodies: list[int], column_of: NDArray[np.int64]
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
     """The dof chains of ``bodies`` (:func:`dof_chain`) as rectangular arrays.
 
     Args:

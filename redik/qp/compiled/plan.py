@@ -49,6 +49,7 @@ from typing import cast
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.kinematics.robot import Robot
 from redik.kinematics.robot.coordinates import JointCoordinates
@@ -207,7 +208,9 @@ class CompiledPlan:
         ):
             self._row_qps = DaqpWorkspaces(first.settings)
 
-    def _build_table(self, robot: Robot, column_of: np.ndarray, limits: Sequence[Limit]) -> None:
+    def _build_table(
+        self, robot: Robot, column_of: NDArray[np.int64], limits: Sequence[Limit]
+    ) -> None:
         """The int buffer (:mod:`redik.qp.compiled.step`): sizes, flags, frames, coordinates."""
         model, n = robot.model, robot.dof
         # A plan's residual tasks are frame and position tasks (_plain_levels).
@@ -291,7 +294,7 @@ class CompiledPlan:
 
     # ----------------------------------------------------------------------------------
 
-    def step(self, q: np.ndarray, dt: float | None) -> np.ndarray | None:
+    def step(self, q: NDArray[np.float64], dt: float | None) -> NDArray[np.float64] | None:
         """:meth:`Problem.step <redik.qp.Problem.step>` at ``q``, or None for the general path.
 
         Args:
@@ -315,8 +318,8 @@ class CompiledPlan:
         return self._solve_all(duration)
 
     def static_step(
-        self, q: np.ndarray, dt: float | None, lm_damping: float, max_step: float | None
-    ) -> np.ndarray | None:
+        self, q: NDArray[np.float64], dt: float | None, lm_damping: float, max_step: float | None
+    ) -> NDArray[np.float64] | None:
         """:meth:`Problem.static_step <redik.qp.Problem.static_step>` without its curvature term.
 
         The kinematic state must be at ``q`` already (the problem's own check).
@@ -339,7 +342,7 @@ class CompiledPlan:
             return None
         return self._solve_all(duration)
 
-    def _solve_all(self, duration: float) -> np.ndarray | None:
+    def _solve_all(self, duration: float) -> NDArray[np.float64] | None:
         """The stages of a step at the current kinematics (module docstring)."""
         if not self._flat:
             for index, level in enumerate(self._levels):

@@ -15,6 +15,7 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import BackendError, InfeasibleProblem
 from redik.qp.backends import Backend
@@ -38,12 +39,12 @@ class DaqpWorkspaces:
     def solve(
         self,
         key: tuple[int, int],
-        H: np.ndarray,
-        c: np.ndarray,
-        upper: np.ndarray,
-        lower: np.ndarray,
-        A: np.ndarray,
-    ) -> np.ndarray | None:
+        H: NDArray[np.float64],
+        c: NDArray[np.float64],
+        upper: NDArray[np.float64],
+        lower: NDArray[np.float64],
+        A: NDArray[np.float64],
+    ) -> NDArray[np.float64] | None:
         """The minimiser of ``½xᵀHx + cᵀx`` s.t. ``lower ≤ (x_{:k}; A x) ≤ upper``.
 
         Args:
@@ -80,7 +81,7 @@ class DaqpWorkspaces:
         if exitflag < 1:
             del self._models[key]
             return None
-        solution: np.ndarray = x
+        solution: NDArray[np.float64] = x
         return solution
 
     def reset(self) -> None:
@@ -104,12 +105,12 @@ class BackendSolves:
     def solve(
         self,
         key: tuple[int, int],
-        H: np.ndarray,
-        c: np.ndarray,
-        upper: np.ndarray,
-        lower: np.ndarray,
-        A: np.ndarray,
-    ) -> np.ndarray | None:
+        H: NDArray[np.float64],
+        c: NDArray[np.float64],
+        upper: NDArray[np.float64],
+        lower: NDArray[np.float64],
+        A: NDArray[np.float64],
+    ) -> NDArray[np.float64] | None:
         """:meth:`DaqpWorkspaces.solve` by the back-end of level ``key[0]``; None when it fails."""
         k = len(upper) - A.shape[0]
         qp = QP(H, c)
