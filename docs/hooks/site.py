@@ -44,10 +44,7 @@ LAYERS = ("core", "lie", "models", "kinematics", "criteria", "tasks", "limits", 
 RUN_REFERENCE = re.compile(r"runs/([A-Za-z0-9_]+)/")
 COURSE_MARKER = re.compile(r"<!-- course-examples (\d{3}) -->")
 RUN_TIMEOUT = 600
-KNOWN_DOCSTRING_ISSUES = {
-    "redik/solvers/iterative.py": "lists several arguments on one line; the solvers' "
-    "restructuring replaces the module (solvers/iterative/)",
-}
+KNOWN_DOCSTRING_ISSUES: dict[str, str] = {}
 """Files whose griffe warnings are shown but do not fail the build, with the reason; the docs
 tests fail when a listed file is gone (delete its entry then), so the list stays true."""
 
