@@ -17,7 +17,7 @@ LOCK_EXTRAS := test,bench
 export MUJOCO_GL ?= egl
 export PYOPENGL_PLATFORM ?= egl
 
-.PHONY: demo test check lint bench env lock clean scenes
+.PHONY: demo test check lint bench bench-placo env lock clean scenes docs measured
 
 env: $(STAMP)
 
@@ -35,22 +35,55 @@ $(STAMP): pyproject.toml $(LOCK)
 demo: $(STAMP)
 	$(BIN)/redik demo --out $(OUT)
 
-# ruff, and the import-layer contract (tests/test_layers.py: a module may import only from
-# its own or a lower layer; README's Architecture section lists the layers).
+# ruff, mypy (pyproject's [tool.mypy]: strict on the layers below the solvers), and the
+# import-layer contract (tests/test_layers.py: a module may import only from its own or a lower
+# layer; docs/architecture.md lists the layers).
 lint: $(STAMP)
-	$(BIN)/ruff check redik tests examples specs
-	$(BIN)/ruff format --check redik tests examples specs
+	$(BIN)/ruff check redik tests examples specs docs/hooks
+	$(BIN)/ruff format --check redik tests examples specs docs/hooks
+	$(BIN)/python -m mypy --follow-imports=silent redik/core redik/lie redik/models \
+		redik/kinematics/robot redik/kinematics/chain.py redik/kinematics/batched.py \
+		redik/kinematics/compiled.py redik/tasks redik/limits redik/qp redik/apps
 	$(BIN)/python -m pytest -q -p no:cacheprovider tests/test_layers.py
 
-# The regression scenes run first so that pytest's summary is the last line CI reads.
-test: lint check
+# The regression scenes run first so that pytest's summary is the last line CI reads. The site
+# is built before the tests, which open it in a browser (tests/test_docs_site.py builds it again,
+# reusing the example runs this build caches in out/docs/runs/).
+test: lint docs check
 
 check: $(STAMP)
 	$(BIN)/redik regress --fast
 	$(BIN)/python -m pytest -n 2 -q
 
+# Every benchmark with its defaults, each recorded to docs/measured/NAME.json, then README's
+# Measured table rendered from those files.
 bench: $(STAMP)
-	$(BIN)/redik bench all
+	$(BIN)/redik bench all --record docs/measured
+	$(MAKE) measured
+
+# README's Measured table from docs/measured/*.json (written by `redik bench NAME --record`).
+measured: $(STAMP)
+	$(BIN)/python -m redik.apps.measured README.md
+
+# The documentation site, warnings as errors, into site/ (docs/hooks/site.py generates the API
+# reference, the Measured page, and the output and figures of the examples the pages show).
+docs: $(STAMP)
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
+
+# `redik bench qp` beside PlaCo, which the lock cannot hold (requirements-placo.txt says why):
+# a separate environment with the lock, then PlaCo's pins without their dependencies.
+PLACO_VENV ?= .venv-placo
+PLACO_STAMP := $(PLACO_VENV)/.redik-installed
+
+$(PLACO_STAMP): pyproject.toml $(LOCK) requirements-placo.txt
+	test -x $(PLACO_VENV)/bin/python || $(PYTHON) -m venv $(PLACO_VENV)
+	$(PLACO_VENV)/bin/python -m pip install --quiet -r $(LOCK)
+	$(PLACO_VENV)/bin/python -m pip install --quiet --no-deps -r requirements-placo.txt
+	$(PLACO_VENV)/bin/python -m pip install --quiet --no-deps -e .
+	touch $(PLACO_STAMP)
+
+bench-placo: $(PLACO_STAMP)
+	$(PLACO_VENV)/bin/redik bench qp --parts anchors
 
 # Refresh the lock: newest allowed versions in a scratch environment, the whole suite on them,
 # and only then the new lock; .venv is then rebuilt from it.
@@ -70,7 +103,7 @@ lock:
 	@echo "$(LOCK) refreshed and $(VENV) rebuilt from it; commit it with the change that needed it."
 
 clean:
-	rm -rf $(VENV) .venv-lock out .pytest_cache .ruff_cache
+	rm -rf $(VENV) .venv-lock out site .pytest_cache .ruff_cache .mypy_cache
 
 # Regenerate scenes/*.xml and scenes/README.md from redik/models/scene_library.py.
 scenes: $(STAMP)

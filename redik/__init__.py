@@ -2,10 +2,11 @@
 
 The names on ``redik`` itself are the entry points most code needs — one way to solve each
 kind of problem, the tasks and limits they take, the results they return and the errors
-they raise — listed with what each solves in the README's *Public API* section
-(``tests/test_readme.py`` holds ``__all__`` to it). Everything else lives in its layer's
-package (:mod:`redik.lie`, :mod:`redik.models`, :mod:`redik.kinematics`, :mod:`redik.tasks`,
-:mod:`redik.limits`, :mod:`redik.qp`, :mod:`redik.solvers`, :mod:`redik.apps`…).
+they raise — listed with what each solves in the guides' *Public API* section
+(``docs/guides/index.md``; ``tests/test_docs.py`` holds ``__all__`` to it). Everything else
+lives in its layer's package (:mod:`redik.lie`, :mod:`redik.models`, :mod:`redik.kinematics`,
+:mod:`redik.tasks`, :mod:`redik.limits`, :mod:`redik.qp`, :mod:`redik.solvers`,
+:mod:`redik.apps`…).
 
 Conventions (frames, twist order, units) are in :mod:`redik.core.conventions`.
 

@@ -1,4 +1,5 @@
-"""Every script in examples/ runs to completion, headless, with no arguments."""
+"""Every script in examples/ (and examples/course/) runs to completion, headless, with no
+arguments; files whose name starts with ``_`` are helpers the scripts import, not examples."""
 
 from __future__ import annotations
 
@@ -9,7 +10,8 @@ from pathlib import Path
 
 import pytest
 
-EXAMPLES = sorted((Path(__file__).resolve().parent.parent / "examples").glob("*.py"))
+ROOT = Path(__file__).resolve().parent.parent / "examples"
+EXAMPLES = sorted(path for path in ROOT.rglob("*.py") if not path.name.startswith("_"))
 
 
 def test_there_are_examples():
@@ -17,7 +19,9 @@ def test_there_are_examples():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("script", EXAMPLES, ids=[path.stem for path in EXAMPLES])
+@pytest.mark.parametrize(
+    "script", EXAMPLES, ids=[path.relative_to(ROOT).with_suffix("").as_posix() for path in EXAMPLES]
+)
 def test_example_runs(script, tmp_path):
     env = {**os.environ, "MUJOCO_GL": "egl", "MPLBACKEND": "Agg", "REDIK_OUT": str(tmp_path)}
     completed = subprocess.run(

@@ -219,7 +219,7 @@ def test_armijo_never_increases_the_merit_of_the_symmetric_part(K):
     ("gain", "match"),
     [
         (np.array([[1.0, 3.0], [-3.0, -0.5]]), r"smallest eigenvalue of \(K \+ Kᵀ\)/2 is -0.5"),
-        (np.diag([1.0, -1.0]), "positive definite"),
+        (np.diag([1.0, -1.0]), r"positive definite.* K = \[\[1.0, 0.0\], \[0.0, -1.0\]\]"),
         (np.ones(3), "length-2 vector"),
         (0.0, "positive definite"),
         ("fast", "real numbers"),
@@ -446,13 +446,15 @@ def test_the_case_study_transpose_table(arm_2r):
             assert round(value, len(text.split(".")[1])) == float(text)
 
 
+@pytest.mark.parametrize("tol", [None, 0.0])
 @pytest.mark.parametrize("rule", ["rel_tol", "q_tol"])
-def test_each_stopping_rule_of_the_notes_alone_ends_the_case_study_converged(arm_2r, rule):
+def test_each_stopping_rule_of_the_notes_alone_ends_the_case_study_converged(arm_2r, rule, tol):
     """000, "Remarks": a relative change ‖f(θ^{k+1}) − f(θ^k)‖/‖f(θ^k)‖ ≤ ε of the task value
     x = f(θ), or a joint increment ‖θ^{k+1} − θ^k‖ < ε_q, is a stopping rule of its own.
-    Without an error test (tol=None) the run stops after the iteration at which the rule
-    holds on the Newton table (13 at 1e-6: the ratio of e = x_d − f(θ) would tend to λ and
-    never fire; the increment is tested after the step, which is kept)."""
+    Without an error test (tol=None, or tol=0 as for an iterate table) the run stops, a
+    success, after the iteration at which the rule holds on the Newton table (13 at 1e-6:
+    the ratio of e = x_d − f(θ) would tend to λ and never fire; the increment is tested
+    after the step, which is kept)."""
     tip, jacobian = arm_2r
     table = solve_equations(tip, [0.2, 1.3], [0.25, 0.75], jac=jacobian, step=0.75, tol=0,
                             max_iterations=30).history  # fmt: skip
@@ -462,7 +464,7 @@ def test_each_stopping_rule_of_the_notes_alone_ends_the_case_study_converged(arm
     else:
         fired = np.linalg.norm(np.diff(table, axis=0), axis=1) < 1e-6
     k = 1 + int(np.argmax(fired))
-    run = solve_equations(tip, [0.2, 1.3], [0.25, 0.75], jac=jacobian, step=0.75, tol=None,
+    run = solve_equations(tip, [0.2, 1.3], [0.25, 0.75], jac=jacobian, step=0.75, tol=tol,
                           max_iterations=30, **{rule: 1e-6})  # fmt: skip
     assert k == 13
     assert run.success and run.status == "converged" and run.iterations == k

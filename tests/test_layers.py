@@ -1,4 +1,4 @@
-"""The import-layer contract of redik/ (README, Architecture), checked on the source with ast.
+"""The import-layer contract of redik/ (docs/architecture.md), checked on the source with ast.
 
 Layers, lowest first; a module may import from its own layer or a lower one, never from a
 higher one:
@@ -224,9 +224,9 @@ def test_a_violation_is_detected(monkeypatch, tmp_path):
     assert set(found) - {("probe", "tasks.task"), ("probe", "solvers.batch.solve")} == set(ALLOWED)
 
 
-def test_readme_architecture_table_states_these_layers():
-    readme = (ROOT.parent / "README.md").read_text(encoding="utf-8")
-    section = readme.split("## Architecture", 1)[1].split("\n## ", 1)[0]
+def test_docs_architecture_table_states_these_layers():
+    page = (ROOT.parent / "docs" / "architecture.md").read_text(encoding="utf-8")
+    section = page.split("# Architecture", 1)[1].split("\n## ", 1)[0]
     table = section[section.index("| layer |") :].split("\n\n", 1)[0]  # the first table
     rows = re.findall(r"^\| ([a-z ]+) \| (.+) \|$", table, flags=re.MULTILINE)[1:]  # no header
     names = [name for name, _ in LAYERS if name != "package"]
@@ -236,5 +236,9 @@ def test_readme_architecture_table_states_these_layers():
             cell = re.sub(r"\([^()]*\)", "", cell)  # submodules and comments in parentheses
         for token in re.findall(r"`([^`]+)`", cell):
             module = token.rstrip("/").replace("/", ".")
-            assert module in MODULES, f"README names redik/{token}, which does not exist"
-            assert layer_of(module) == index, f"README puts redik/{token} in {names[index]}"
+            assert module in MODULES, (
+                f"docs/architecture.md names redik/{token}, which does not exist"
+            )
+            assert layer_of(module) == index, (
+                f"docs/architecture.md puts redik/{token} in {names[index]}"
+            )

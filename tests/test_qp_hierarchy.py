@@ -69,8 +69,9 @@ def test_lower_level_is_optimal_within_the_higher_optimal_set(rng):
             [ConfigurationLimit()],
         )
         dq = problem.step(q)
-        # Stage 1 then stage 2 in cvxpy, the box as given to the solver.
-        lb, ub = problem._lb, problem._ub
+        # Stage 1 then stage 2 in cvxpy, the box the limit imposes.
+        box = problem.limits[0]
+        lb, ub = box.lower - q, box.upper - q
         state = KinematicState.for_robot(robot)
         state.update(q)
         (H0, c0), (H1, c1) = problem._assembly.objectives(state)

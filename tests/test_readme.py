@@ -21,49 +21,6 @@ def test_readme_block_runs(index, capsys):
     assert capsys.readouterr().out.strip()
 
 
-def _public_api_names() -> list[str]:
-    """The backticked names of the README's "Public API" list (the ``- **Group**:`` lines)."""
-    section = README.read_text().split("## Public API\n", 1)[1].split("\n## ", 1)[0]
-    lines = [line for line in section.splitlines() if line.startswith("- **")]
-    return [name for line in lines for name in re.findall(r"`(\w+)`", line.split(":", 1)[1])]
-
-
-def test_readme_public_api_is_redik_all():
-    import redik
-
-    listed = _public_api_names()
-    assert len(listed) == len(set(listed)), "a name is listed twice"
-    assert set(listed) == set(redik.__all__), (
-        f"in redik.__all__ only: {sorted(set(redik.__all__) - set(listed))}; "
-        f"in the README only: {sorted(set(listed) - set(redik.__all__))}"
-    )
-    for name in listed:
-        assert hasattr(redik, name), name
-
-
-def test_the_one_home_table_names_functions_and_tests_that_exist():
-    import importlib
-
-    text = README.read_text()
-    table = text[text.index("| formula | home |") : text.index("Reused rather than written")]
-    rows = [line for line in table.splitlines()[2:] if line.startswith("|")]
-    assert len(rows) >= 15
-    tests = Path(__file__).resolve().parent
-    for row in rows:
-        _, _, home, twin, pinned, _ = row.split("|")
-        for name in re.findall(r"`([a-z_][\w.]*\.\w+)`", home + twin):
-            module_path, attribute = name.rsplit(".", 1)
-            try:
-                module = importlib.import_module(f"redik.{module_path}")
-            except ModuleNotFoundError:  # a class attribute: redik.<module>.<Class>.<method>
-                module_path, owner = module_path.rsplit(".", 1)
-                module = getattr(importlib.import_module(f"redik.{module_path}"), owner)
-            assert hasattr(module, attribute), f"README names redik.{name}, which does not exist"
-        for file, test in re.findall(r"`(test_\w+\.py)::(test_\w+)`", pinned):
-            source = (tests / file).read_text()
-            assert f"def {test}(" in source, f"README names {file}::{test}, which does not exist"
-
-
 ROOT = README.parent
 RETIRED = {
     r"\bPoseTask\b": "FrameTask",
@@ -88,8 +45,9 @@ THIRD_PARTY = ('"max_iter": 400000',)
 
 def test_one_word_per_idea_across_the_repository():
     files = [ROOT / "README.md", ROOT / "CHANGELOG.md", ROOT / "Makefile", ROOT / "pyproject.toml"]
-    for folder in ("redik", "tests", "examples", "specs"):
+    for folder in ("redik", "tests", "examples", "specs", "docs"):
         files += sorted((ROOT / folder).rglob("*.py"))
+    files += sorted((ROOT / "docs").rglob("*.md"))
     found = []
     for path in files:
         if path == Path(__file__).resolve():

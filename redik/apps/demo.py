@@ -98,7 +98,7 @@ def run_demo(
     qp_scores = {
         name: float(values[0])
         for name, values in evaluate_criteria(
-            robot, solution.q[None], default_criteria(robot, nominal), robot.ee
+            robot, solution.q[None], default_criteria(robot, nominal), robot.frame(None)
         ).items()
     }
 

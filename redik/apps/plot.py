@@ -96,6 +96,7 @@ def convergence(
     ax.set_title("Convergence")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
-    if path is not None:
-        save_figure(ax.figure, path)
+    figure = ax.get_figure(root=True)  # an axes of a subfigure saves its whole figure
+    if path is not None and figure is not None:
+        save_figure(figure, path)
     return ax

@@ -19,7 +19,7 @@ import os
 import sys
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 import mujoco
 import numpy as np
@@ -29,7 +29,7 @@ from redik.core.exceptions import InvalidInput
 if TYPE_CHECKING:
     from redik.kinematics.robot import Robot
 
-Camera = str | int | mujoco.MjvCamera | dict | None
+Camera: TypeAlias = str | int | mujoco.MjvCamera | dict[str, Any] | None
 """A camera: a model camera's name or id, an ``MjvCamera``, a dict of free-camera settings
 (``lookat``, ``distance``, ``azimuth``, ``elevation``), or None to frame the robot."""
 
@@ -274,7 +274,8 @@ def save_mp4(path: str | Path, frames: Sequence[np.ndarray], fps: float = 20.0) 
     height, width = (frames[0].shape[0] // 2) * 2, (frames[0].shape[1] // 2) * 2
     with imageio.get_writer(path, fps=fps, codec="libx264", macro_block_size=1) as writer:
         for frame in frames:
-            writer.append_data(np.ascontiguousarray(frame[:height, :width]))
+            # imageio's stubs type Writer.__enter__ as returning the reader/writer base class.
+            writer.append_data(np.ascontiguousarray(frame[:height, :width]))  # type: ignore[attr-defined]
     return path
 
 

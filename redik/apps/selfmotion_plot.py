@@ -33,7 +33,7 @@ def default_pairs(motion: SelfMotion, count: int = 6) -> list[tuple[int, int]]:
     pairs = itertools.combinations(
         order[: max(2, int(np.ceil((1 + np.sqrt(1 + 8 * count)) / 2)))], 2
     )
-    return [tuple(sorted(p)) for p in itertools.islice(pairs, count)]
+    return [(min(a, b), max(a, b)) for a, b in itertools.islice(pairs, count)]
 
 
 def plot_joint_pairs(

@@ -280,7 +280,7 @@ def sample_poses(
     1e-4 rad, so comparing solutions branch by branch there would test the tolerance, not
     the solvers.
     """
-    poses = []
+    poses: list[np.ndarray] = []
     while len(poses) < count:
         q = robot.random_q(rng)
         if (
@@ -323,7 +323,7 @@ def summary_table(outcome: SpecOutcome) -> str:
         criterion = "" if check is None else str(check.criterion)
         rows.append([metric, format_value(value), criterion, verdict])
     for metric, check in criteria.items():  # criteria whose metric was never returned
-        rows.append([metric, "missing", check.criterion, "FAIL"])
+        rows.append([metric, "missing", str(check.criterion), "FAIL"])
     mode = "fast" if outcome.fast else "full"
     verdict = "PASSED" if outcome.passed else "FAILED"
     title = f"{outcome.name} ({mode}, {outcome.seconds:.2f} s): {verdict}"

@@ -136,6 +136,7 @@ class CartesianPath(PosePath):
         if not isinstance(time_scaling, str) or time_scaling not in TIME_SCALINGS:
             raise InvalidInput(f"time_scaling must be one of {TIME_SCALINGS}, got {time_scaling!r}")
         self.time_scaling = time_scaling
+        self.start_time, self.end_time = float(self.times[0]), float(self.times[-1])
 
     @classmethod
     def line(
@@ -157,16 +158,6 @@ class CartesianPath(PosePath):
         return interpolate_pose(
             self.poses[k], self.poses[k + 1], time_scaling(tau, self.time_scaling)
         )
-
-    @property
-    def start_time(self) -> float:
-        """Time of the first waypoint (s)."""
-        return float(self.times[0])
-
-    @property
-    def end_time(self) -> float:
-        """Time of the last waypoint (s)."""
-        return float(self.times[-1])
 
 
 class CircularPath(PosePath):

@@ -14,6 +14,7 @@ import os
 import sys
 import warnings
 from pathlib import Path
+from types import FrameType
 
 _PACKAGE = str(Path(__file__).resolve().parents[1]) + os.sep  # redik/, not redik/core/
 
@@ -120,7 +121,8 @@ def warn(message: str, category: type[RedikWarning] = RedikWarning) -> None:
         message: The warning's text.
         category: Its class.
     """
-    frame, level = sys._getframe(1), 2  # stacklevel 2 is the caller of warn()
+    frame: FrameType | None = sys._getframe(1)
+    level = 2  # stacklevel 2 is the caller of warn()
     while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE):
         frame, level = frame.f_back, level + 1
     warnings.warn(message, category, stacklevel=level)

@@ -10,6 +10,7 @@ import dataclasses
 from enum import Enum
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput
 
@@ -26,7 +27,9 @@ class Status(str, Enum):
 
     ==================  ========================================================================
     ``CONVERGED``       Every solver, on success: the tolerances are met (for a robot, inside
-                        the joint limits when they are respected). For a closed-form solver
+                        the joint limits when they are respected); for the root finders of
+                        :mod:`redik.solvers.iterative` with no error test (``tol`` None or 0),
+                        ``q_tol`` or ``rel_tol`` fired. For a closed-form solver
                         (:class:`~redik.solvers.analytic.IKSolutions`): at least one solution.
                         For :func:`~redik.solvers.redundancy.explore_self_motion`: every
                         component found was sampled to its end. For
@@ -37,8 +40,8 @@ class Status(str, Enum):
                         budget ran out, or no step lowers it further); ``q`` is a solution of
                         level 0, not the constrained optimum of the levels below.
     ``STALLED``         The iteration stopped making progress above the tolerance: the step
-                        fell below ``q_tol``, the relative change below ``rel_tol``, or no
-                        Armijo step decreased the error (root finders of
+                        fell below ``q_tol``, the relative change below ``rel_tol`` (with
+                        ``tol`` unmet), or no Armijo step decreased the error (root finders of
                         :mod:`redik.solvers.iterative`); neither the descent nor its escape
                         lowered the error in any attempt (:func:`redik.solve_problem`); an
                         attempt's damped step made no progress (:func:`redik.solve_batch`).
@@ -47,8 +50,9 @@ class Status(str, Enum):
                         :func:`redik.solve_pose` when no attempt converged and no better
                         explanation applies; :func:`redik.explore_self_motion` when
                         ``max_samples`` ran out (the manifold may be incomplete).
-    ``SINGULAR``        ``σ_min(J) ≤ singular_tol`` blocked a Newton step (root finders of
-                        :mod:`redik.solvers.iterative`, when ``singular_tol`` is given).
+    ``SINGULAR``        ``σ_min(J) ≤ singular_tol`` (or ``|det J| ≤ singular_tol``) blocked a
+                        Newton step (root finders of :mod:`redik.solvers.iterative`, when
+                        ``singular_tol`` is given).
     ``DIVERGED``        A NaN or inf (or a blow-up past ``max_growth``) appeared; ``q`` is the
                         last finite iterate (root finders; :func:`redik.solve_pose` when every
                         attempt diverged; :func:`redik.solve_batch`).
@@ -133,15 +137,15 @@ class IKResult:
         message: A human-readable note (e.g. why the target is unreachable).
     """
 
-    q: np.ndarray
+    q: NDArray[np.float64]
     success: bool
     status: Status
     iterations: int
     error: float
     position_error: float | None = None
     rotation_error: float | None = None
-    history: np.ndarray = dataclasses.field(default_factory=lambda: np.empty((0, 0)))
-    error_history: np.ndarray = dataclasses.field(default_factory=lambda: np.empty(0))
+    history: NDArray[np.float64] = dataclasses.field(default_factory=lambda: np.empty((0, 0)))
+    error_history: NDArray[np.float64] = dataclasses.field(default_factory=lambda: np.empty(0))
     restarts: int = 0
     method: str = ""
     message: str = ""

@@ -26,6 +26,7 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import (
     InvalidInput,
@@ -81,7 +82,7 @@ def _verdict(defect: Any, det: Any) -> tuple[Any, Any]:
     return exact, (defect <= NEAR_ROTATION_TOLERANCE) & (det > 0.0)
 
 
-def _matrix_stack(R: object, name: str) -> np.ndarray:
+def _matrix_stack(R: object, name: str) -> NDArray[np.float64]:
     """``R`` as a float (..., 3, 3) array, or :class:`InvalidRotation` naming its shape."""
     R = real_array(R, name, InvalidRotation)
     if R.ndim < 2 or R.shape[-2:] != (3, 3):
@@ -89,7 +90,7 @@ def _matrix_stack(R: object, name: str) -> np.ndarray:
     return R
 
 
-def rotation_defect(R: object) -> tuple[np.ndarray, np.ndarray]:
+def rotation_defect(R: object) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Measure how far each matrix of a stack is from SO(3), as the policy does.
 
     Args:
@@ -107,7 +108,7 @@ def rotation_defect(R: object) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(defect), np.asarray(det)
 
 
-def closest_rotation(R: object) -> np.ndarray:
+def closest_rotation(R: object) -> NDArray[np.float64]:
     r"""Project onto SO(3): the rotation nearest to ``R`` in the Frobenius norm.
 
     With the SVD ``R = U Σ Vᵀ``, :math:`\arg\min_{Q ∈ SO(3)} ‖Q − R‖_F = U\,
@@ -130,7 +131,8 @@ def closest_rotation(R: object) -> np.ndarray:
         raise InvalidRotation(f"R must be finite to be projected onto SO(3), got {R.tolist()}")
     U, _, Vt = np.linalg.svd(R)
     U[..., :, 2] *= np.where(np.linalg.det(U @ Vt) < 0.0, -1.0, 1.0)[..., None]
-    return U @ Vt
+    closest: NDArray[np.float64] = U @ Vt
+    return closest
 
 
 def _refusal(name: str, defect: float, det: float, strict: bool) -> str:
@@ -147,8 +149,8 @@ def _refusal(name: str, defect: float, det: float, strict: bool) -> str:
 
 
 def _checked_rotation_block(
-    R: np.ndarray, name: str, strict: bool, error: type[InvalidInput]
-) -> np.ndarray | None:
+    R: NDArray[np.float64], name: str, strict: bool, error: type[InvalidInput]
+) -> NDArray[np.float64] | None:
     """None when ``R`` is a rotation as it is, else its projection (with a warning).
 
     Raises ``error`` when the policy refuses ``R``.
@@ -175,7 +177,7 @@ def _checked_rotation_block(
 
 def check_rotations(
     R: object, name: str = "R", *, strict: bool = False
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Apply the policy to a stack of matrices, without raising on a refused one.
 
     Args:
@@ -191,27 +193,27 @@ def check_rotations(
     Raises:
         InvalidRotation: ``R`` is not a real (B, 3, 3) array.
     """
-    R = _matrix_stack(R, name)
-    if R.ndim != 3:
-        raise InvalidRotation(f"{name} must have shape (B, 3, 3), got {R.shape}")
-    defect, det = rotation_defect(R)
+    stack = _matrix_stack(R, name)
+    if stack.ndim != 3:
+        raise InvalidRotation(f"{name} must have shape (B, 3, 3), got {stack.shape}")
+    defect, det = rotation_defect(stack)
     with np.errstate(invalid="ignore"):
         exact, accepted = _verdict(defect, det)
     near = accepted & ~exact
     if strict or not near.any():
-        return R, exact
-    R = R.copy()
-    R[near] = closest_rotation(R[near])
+        return stack, exact
+    stack = stack.copy()
+    stack[near] = closest_rotation(stack[near])
     warn(
-        f"{int(near.sum())} of the {len(R)} matrices {name} are not exactly rotations "
+        f"{int(near.sum())} of the {len(stack)} matrices {name} are not exactly rotations "
         f"(max|RᵀR − I| up to {defect[near].max():.2g}); the closest rotations are used. "
         "Pass strict=True to refuse such input.",
         NearRotationWarning,
     )
-    return R, accepted
+    return stack, accepted
 
 
-def as_rotation(R: object, name: str = "R", *, strict: bool = False) -> np.ndarray:
+def as_rotation(R: object, name: str = "R", *, strict: bool = False) -> NDArray[np.float64]:
     """Check a rotation matrix under the policy.
 
     Args:
@@ -233,7 +235,7 @@ def as_rotation(R: object, name: str = "R", *, strict: bool = False) -> np.ndarr
     return R if projected is None else projected
 
 
-def as_pose(T: object, name: str = "T", *, strict: bool = False) -> np.ndarray:
+def as_pose(T: object, name: str = "T", *, strict: bool = False) -> NDArray[np.float64]:
     """Check a rigid transform under the policy.
 
     Args:
@@ -250,10 +252,12 @@ def as_pose(T: object, name: str = "T", *, strict: bool = False) -> np.ndarray:
             ``[0, 0, 0, 1]``, a translation beyond ``±``:data:`~redik.core.validate.MAX_COORDINATE`,
             or a rotation block that is not a rotation.
     """
-    T = real_array(T, name, InvalidPose)
-    if T.shape != (4, 4):
-        raise InvalidPose(f"{name} must have shape (4, 4) (a rigid transform), got shape {T.shape}")
-    rows = T.tolist()
+    pose = real_array(T, name, InvalidPose)
+    if pose.shape != (4, 4):
+        raise InvalidPose(
+            f"{name} must have shape (4, 4) (a rigid transform), got shape {pose.shape}"
+        )
+    rows = pose.tolist()
     if not math.isfinite(sum(rows[0]) + sum(rows[1]) + sum(rows[2]) + sum(rows[3])):
         raise InvalidPose(f"{name} must be finite, holds NaN or inf: {rows}")
     x, y, z, w = rows[3]
@@ -264,15 +268,17 @@ def as_pose(T: object, name: str = "T", *, strict: bool = False) -> np.ndarray:
             f"{name} has a translation beyond ±{MAX_COORDINATE:g} m (MuJoCo's mjMAXVAL): "
             f"{[rows[0][3], rows[1][3], rows[2][3]]}"
         )
-    projected = _checked_rotation_block(T[:3, :3], f"{name}[:3, :3]", strict, InvalidPose)
+    projected = _checked_rotation_block(pose[:3, :3], f"{name}[:3, :3]", strict, InvalidPose)
     if projected is None:
-        return T
-    T = T.copy()
-    T[:3, :3] = projected
-    return T
+        return pose
+    pose = pose.copy()
+    pose[:3, :3] = projected
+    return pose
 
 
-def as_quaternion(quat: object, name: str = "quat", tol: float = ROTATION_TOLERANCE) -> np.ndarray:
+def as_quaternion(
+    quat: object, name: str = "quat", tol: float = ROTATION_TOLERANCE
+) -> NDArray[np.float64]:
     """Check a unit quaternion ``(w, x, y, z)`` (:mod:`redik.core.conventions`).
 
     Args:
@@ -286,8 +292,8 @@ def as_quaternion(quat: object, name: str = "quat", tol: float = ROTATION_TOLERA
     Raises:
         InvalidInput: Not a finite 4-vector of norm 1 within ``tol``.
     """
-    quat = as_vector(quat, 4, name)
-    norm = float(np.linalg.norm(quat))
+    vector = as_vector(quat, 4, name)
+    norm = float(np.linalg.norm(vector))
     if abs(norm - 1.0) > tol:
         raise InvalidInput(f"{name} must be a unit quaternion (w, x, y, z), got norm {norm:.6g}")
-    return quat
+    return vector

@@ -15,9 +15,11 @@ import math
 import os
 from numbers import Real
 from pathlib import Path
+from typing import Literal, overload
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput
 
@@ -25,6 +27,13 @@ MAX_COORDINATE = mujoco.mjMAXVAL
 """Largest magnitude (1e10) of a translation coordinate (m) or a joint value accepted at the
 boundary: MuJoCo's ``mjMAXVAL``, beyond which it calls a state diverged. Squares of much
 larger values overflow in the pose-error and QP arithmetic long before they mean anything."""
+
+
+def _real(value: object) -> float | None:
+    """``value`` as a float if it is a real number (a bool is none), else ``None``."""
+    if isinstance(value, bool) or not isinstance(value, Real):
+        return None
+    return float(value)
 
 
 def positive(value: object, name: str, *, allow_inf: bool = False, unit: str = "") -> float:
@@ -42,16 +51,12 @@ def positive(value: object, name: str, *, allow_inf: bool = False, unit: str = "
     Raises:
         InvalidInput: ``value`` is not a real number ``> 0`` (a bool counts as none).
     """
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, Real)
-        or not value > 0
-        or not (allow_inf or math.isfinite(value))
-    ):
+    number = _real(value)
+    if number is None or not number > 0 or not (allow_inf or math.isfinite(number)):
         finite = "" if allow_inf else "finite "
         units = f" ({unit})" if unit else ""
         raise InvalidInput(f"{name} must be a {finite}positive number{units}, got {value!r}")
-    return float(value)
+    return number
 
 
 def non_negative(value: object, name: str) -> float:
@@ -67,14 +72,10 @@ def non_negative(value: object, name: str) -> float:
     Raises:
         InvalidInput: ``value`` is not a finite real number ``≥ 0``.
     """
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, Real)
-        or not value >= 0
-        or not math.isfinite(value)
-    ):
+    number = _real(value)
+    if number is None or not number >= 0 or not math.isfinite(number):
         raise InvalidInput(f"{name} must be a finite number ≥ 0, got {value!r}")
-    return float(value)
+    return number
 
 
 def fraction(value: object, name: str) -> float:
@@ -93,11 +94,18 @@ def fraction(value: object, name: str) -> float:
     Raises:
         InvalidInput: ``value`` is not a real number in ``(0, 1)``.
     """
-    if isinstance(value, bool) or not isinstance(value, Real) or not 0.0 < value < 1.0:
+    number = _real(value)
+    if number is None or not 0.0 < number < 1.0:
         raise InvalidInput(f"{name} must be a number in (0, 1), got {value!r}")
-    return float(value)
+    return number
 
 
+@overload
+def integer(
+    value: object, name: str, minimum: int = 0, *, allow_none: Literal[False] = False
+) -> int: ...
+@overload
+def integer(value: object, name: str, minimum: int = 0, *, allow_none: bool) -> int | None: ...
 def integer(value: object, name: str, minimum: int = 0, *, allow_none: bool = False) -> int | None:
     """Check a whole number: a count of iterations, restarts, samples or workers, a chunk size.
 
@@ -188,7 +196,9 @@ def path(value: object, name: str) -> Path:
     return Path(value)
 
 
-def real_array(value: object, name: str, error: type[InvalidInput] = InvalidInput) -> np.ndarray:
+def real_array(
+    value: object, name: str, error: type[InvalidInput] = InvalidInput
+) -> NDArray[np.float64]:
     """Check an array of real numbers, of any shape.
 
     Refuses complex input (which ``np.asarray(…, dtype=float)`` would silently truncate) and
@@ -221,7 +231,7 @@ def real_array(value: object, name: str, error: type[InvalidInput] = InvalidInpu
 
 def as_vector(
     x: object, size: int, name: str, error: type[InvalidInput] = InvalidInput
-) -> np.ndarray:
+) -> NDArray[np.float64]:
     """Check a finite real vector of a given length.
 
     Args:

@@ -15,7 +15,7 @@
 
 A DH table's own FK, :func:`redik.models.dh.forward`, is the reference the MJCF built from the
 table is tested against (``tests/test_model_builder.py``). Frames, twists and units follow
-:mod:`redik.core.conventions`. The layer sits below the solvers (README, Architecture) so that
+:mod:`redik.core.conventions`. The layer sits below the solvers (docs/architecture.md) so that
 every solver can use it; it computes kinematics only.
 """
 

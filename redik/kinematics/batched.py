@@ -20,6 +20,7 @@ with ``p`` the end-effector position.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidConfiguration, InvalidInput
 from redik.kinematics.chain import Chain
@@ -27,7 +28,7 @@ from redik.kinematics.robot import JACOBIAN_REFERENCES
 from redik.lie import world_jacobian_to
 
 
-def chain_poses(chain: Chain, q: np.ndarray) -> tuple[np.ndarray, ...]:
+def chain_poses(chain: Chain, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
     """End-effector poses and joint axes for ``q`` given batch last (``n × B``), unchecked.
 
     Returns:
@@ -40,8 +41,8 @@ def chain_poses(chain: Chain, q: np.ndarray) -> tuple[np.ndarray, ...]:
     R[:] = base[:3, :3, None]
     p = np.empty((3, size))
     p[:] = base[:3, 3, None]
-    axes: list[np.ndarray] = []
-    origins: list[np.ndarray] = []
+    axes: list[NDArray[np.float64]] = []
+    origins: list[NDArray[np.float64]] = []
     cos, sin = np.cos(q), np.sin(q)  # one call each: the trig is a third of the cost
     for i in range(n):
         # Every step below makes new arrays, so the views kept here stay valid.
@@ -66,8 +67,8 @@ def chain_poses(chain: Chain, q: np.ndarray) -> tuple[np.ndarray, ...]:
 
 
 def world_jacobian(
-    chain: Chain, p: np.ndarray, axes: np.ndarray, origins: np.ndarray
-) -> np.ndarray:
+    chain: Chain, p: NDArray[np.float64], axes: NDArray[np.float64], origins: NDArray[np.float64]
+) -> NDArray[np.float64]:
     """The ``"world"`` Jacobian ``(6, n, B)`` from :func:`chain_poses`' output, unchecked."""
     n, _, size = axes.shape
     J = np.empty((6, n, size))
@@ -84,7 +85,7 @@ def world_jacobian(
     return J
 
 
-def _as_batch(chain: Chain, q: np.ndarray) -> np.ndarray:
+def _as_batch(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
     q = np.asarray(q, dtype=float)
     if q.ndim == 1:
         q = q[None]
@@ -97,7 +98,7 @@ def _as_batch(chain: Chain, q: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(q.T)
 
 
-def forward_kinematics(chain: Chain, q: np.ndarray) -> np.ndarray:
+def forward_kinematics(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
     """End-effector poses ``T_we`` (B × 4 × 4) for joint vectors ``q`` (B × n, or n)."""
     R, p, _, _ = chain_poses(chain, _as_batch(chain, q))
     T = np.zeros((p.shape[1], 4, 4))
@@ -107,7 +108,7 @@ def forward_kinematics(chain: Chain, q: np.ndarray) -> np.ndarray:
     return T
 
 
-def jacobian(chain: Chain, q: np.ndarray, reference: str = "space") -> np.ndarray:
+def jacobian(chain: Chain, q: NDArray[np.float64], reference: str = "space") -> NDArray[np.float64]:
     """End-effector Jacobians (B × 6 × n) in ``reference`` ("space", "body" or "world").
 
     The references are those of :meth:`redik.Robot.jacobian` (see :mod:`redik.core.conventions`):
@@ -119,4 +120,5 @@ def jacobian(chain: Chain, q: np.ndarray, reference: str = "space") -> np.ndarra
     J = world_jacobian(chain, p, axes, origins)
     if reference != "world":
         J = world_jacobian_to(reference, J, R, p, out=J if reference == "space" else None)
-    return J.transpose(2, 0, 1)
+    batch: NDArray[np.float64] = J.transpose(2, 0, 1)
+    return batch

@@ -28,6 +28,7 @@ import dataclasses
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput, ModelError
 from redik.kinematics.robot import Frame, Robot
@@ -54,23 +55,23 @@ class Chain:
             end-effector, fewer for a frame that only some of the robot's joints move.
     """
 
-    base: np.ndarray
-    links: np.ndarray
-    revolute: np.ndarray
-    lower: np.ndarray
-    upper: np.ndarray
-    sampling_lower: np.ndarray
-    sampling_upper: np.ndarray
-    home: np.ndarray
+    base: NDArray[np.float64]
+    links: NDArray[np.float64]
+    revolute: NDArray[np.bool_]
+    lower: NDArray[np.float64]
+    upper: NDArray[np.float64]
+    sampling_lower: NDArray[np.float64]
+    sampling_upper: NDArray[np.float64]
+    home: NDArray[np.float64]
     name: str
-    columns: np.ndarray
+    columns: NDArray[np.intp]
 
     @property
     def dof(self) -> int:
         """Number of joints ``n``."""
         return len(self.revolute)
 
-    def reach(self) -> tuple[np.ndarray, float]:
+    def reach(self) -> tuple[NDArray[np.float64], float]:
         """``(centre, radius)``: a ball in the world that holds every end-effector position.
 
         Hinges do not move the first joint's origin ``centre``; each fixed link adds at most
@@ -82,7 +83,7 @@ class Chain:
         radius = float(np.linalg.norm(self.links[:, :3, 3], axis=1).sum() + extent)
         return self.base[:3, 3].copy(), radius
 
-    def kernel_arrays(self) -> tuple[np.ndarray, ...]:
+    def kernel_arrays(self) -> tuple[NDArray[np.float64] | NDArray[np.bool_], ...]:
         """The arrays the compiled DLS kernel takes, in its order.
 
         Returns:
@@ -141,7 +142,7 @@ class Chain:
         )
 
 
-def _fold(robot: Robot, ee: Frame) -> tuple[np.ndarray, np.ndarray, list[int]]:
+def _fold(robot: Robot, ee: Frame) -> tuple[NDArray[np.float64], NDArray[np.float64], list[int]]:
     """``(F_0, [F_1 … F_n], qpos addresses)`` by walking the bodies from the world to ``ee``.
 
     ``current`` is the transform accumulated since the last moved joint's frame: each body
@@ -151,7 +152,7 @@ def _fold(robot: Robot, ee: Frame) -> tuple[np.ndarray, np.ndarray, list[int]]:
     model = robot.model
     home_qpos = robot.full_qpos(robot.home)
     moved = {int(adr) for adr in robot.qpos_indices}
-    fixed: list[np.ndarray] = []  # one F per joint boundary, built up as we walk
+    fixed: list[NDArray[np.float64]] = []  # one F per joint boundary, built up as we walk
     addresses: list[int] = []
     current = np.eye(4)
     for body in _path_to(model, robot.body_of(ee)):
@@ -183,8 +184,8 @@ def _path_to(model: mujoco.MjModel, body: int) -> list[int]:
 
 
 def _split_at_moved_joint(
-    model: mujoco.MjModel, joint: int, current: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
+    model: mujoco.MjModel, joint: int, current: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Close one fixed transform at a moved joint and start the next.
 
     Returns:
@@ -206,7 +207,9 @@ def _split_at_moved_joint(
     return current @ to_anchor @ align, after
 
 
-def _held_joint_motion(model: mujoco.MjModel, joint: int, qpos: np.ndarray) -> np.ndarray:
+def _held_joint_motion(
+    model: mujoco.MjModel, joint: int, qpos: NDArray[np.float64]
+) -> NDArray[np.float64]:
     """The motion of a hinge, slide or ball joint the robot holds, at its value in ``qpos``.
 
     As MuJoCo applies it: a hinge or slide turns or shifts by ``q − qpos0`` about or along its
@@ -224,13 +227,15 @@ def _held_joint_motion(model: mujoco.MjModel, joint: int, qpos: np.ndarray) -> n
     return _about(anchor, make_pose(matrix_from_quat(qpos[adr : adr + 4]), np.zeros(3)))
 
 
-def _free_joint_pose(model: mujoco.MjModel, joint: int, qpos: np.ndarray) -> np.ndarray:
+def _free_joint_pose(
+    model: mujoco.MjModel, joint: int, qpos: NDArray[np.float64]
+) -> NDArray[np.float64]:
     """The world pose a held free joint gives its body: position, then quaternion in ``qpos``."""
     adr = int(model.jnt_qposadr[joint])
     return make_pose(matrix_from_quat(qpos[adr + 3 : adr + 7]), qpos[adr : adr + 3])
 
 
-def _frame_offset(model: mujoco.MjModel, frame: Frame) -> np.ndarray:
+def _frame_offset(model: mujoco.MjModel, frame: Frame) -> NDArray[np.float64]:
     """The frame's pose in its body: a site's or a geom's offset, the identity for a body."""
     if frame.kind == "site":
         return make_pose(matrix_from_quat(model.site_quat[frame.id]), model.site_pos[frame.id])
@@ -239,17 +244,17 @@ def _frame_offset(model: mujoco.MjModel, frame: Frame) -> np.ndarray:
     return np.eye(4)
 
 
-def _about(anchor: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+def _about(anchor: NDArray[np.float64], rotation: NDArray[np.float64]) -> NDArray[np.float64]:
     """A rotation about the point ``anchor``: ``T(anchor) · R · T(−anchor)``."""
     return make_pose(np.eye(3), anchor) @ rotation @ make_pose(np.eye(3), -anchor)
 
 
-def _rot_z(angle: float) -> np.ndarray:
+def _rot_z(angle: float) -> NDArray[np.float64]:
     c, s = np.cos(angle), np.sin(angle)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
-def _z_to(axis: np.ndarray) -> np.ndarray:
+def _z_to(axis: NDArray[np.float64]) -> NDArray[np.float64]:
     """A rotation ``A`` with ``A e_z = axis / ‖axis‖`` (columns: a right-handed frame)."""
     z = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
     helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])

@@ -24,12 +24,24 @@ pins to :func:`redik.lie.so3_log`.
 from __future__ import annotations
 
 import math
+from typing import Literal, TypedDict
 
 import numba
+import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.validate import MAX_COORDINATE
 
-COMPILE = {"cache": True, "error_model": "numpy", "fastmath": {"contract"}}
+
+class CompileOptions(TypedDict):
+    """The keyword arguments of ``numba.njit`` that :data:`COMPILE` sets."""
+
+    cache: bool
+    error_model: Literal["python", "numpy"]
+    fastmath: set[str]
+
+
+COMPILE: CompileOptions = {"cache": True, "error_model": "numpy", "fastmath": {"contract"}}
 """numba options of every compiled kernel of redik: compiled once per machine; a division
 by zero gives inf or NaN as in numpy (every such result is caught as a non-finite step), not
 a Python exception, so divisions carry no checks; fused multiply-adds are allowed (no
@@ -37,7 +49,7 @@ reassociation: results stay reproducible)."""
 
 
 @numba.njit(**COMPILE)
-def valid_target(T, tol):
+def valid_target(T: NDArray[np.float64], tol: float) -> bool:
     """Whether ``T`` is a rigid transform to use as it is.
 
     As :func:`~redik.core.rotation_policy.as_pose` checks it: finite, last row
@@ -59,7 +71,7 @@ def valid_target(T, tol):
             product = T[0, a] * T[0, b] + T[1, a] * T[1, b] + T[2, a] * T[2, b]
             if abs(product - (1.0 if a == b else 0.0)) > tol:
                 return False
-    det = (
+    det: float = (
         T[0, 0] * (T[1, 1] * T[2, 2] - T[1, 2] * T[2, 1])
         - T[0, 1] * (T[1, 0] * T[2, 2] - T[1, 2] * T[2, 0])
         + T[0, 2] * (T[1, 0] * T[2, 1] - T[1, 1] * T[2, 0])
@@ -68,14 +80,23 @@ def valid_target(T, tol):
 
 
 @numba.njit(parallel=True, **COMPILE)
-def valid_targets(T, tol, out):
+def valid_targets(T: NDArray[np.float64], tol: float, out: NDArray[np.bool_]) -> None:
     """``out[t]`` = :func:`valid_target` of each ``T[t]`` (B × 4 × 4), over every thread."""
     for t in numba.prange(T.shape[0]):
         out[t] = valid_target(T[t], tol)
 
 
 @numba.njit(**COMPILE)
-def chain_kinematics(base, links, revolute, q, R, p, axes, origins):
+def chain_kinematics(
+    base: NDArray[np.float64],
+    links: NDArray[np.float64],
+    revolute: NDArray[np.bool_],
+    q: NDArray[np.float64],
+    R: NDArray[np.float64],
+    p: NDArray[np.float64],
+    axes: NDArray[np.float64],
+    origins: NDArray[np.float64],
+) -> None:
     """Forward kinematics of the chain at ``q``, into the caller's buffers.
 
     Writes the pose into ``R`` (3 × 3) and ``p``, and each joint's world axis and origin
@@ -106,7 +127,13 @@ def chain_kinematics(base, links, revolute, q, R, p, axes, origins):
 
 
 @numba.njit(**COMPILE)
-def world_jacobian(revolute, p, axes, origins, J):
+def world_jacobian(
+    revolute: NDArray[np.bool_],
+    p: NDArray[np.float64],
+    axes: NDArray[np.float64],
+    origins: NDArray[np.float64],
+    J: NDArray[np.float64],
+) -> None:
     """The world Jacobian (6 × n) from :func:`chain_kinematics`' axes and origins."""
     for i in range(revolute.shape[0]):
         ax, ay, az = axes[i, 0], axes[i, 1], axes[i, 2]
@@ -122,7 +149,13 @@ def world_jacobian(revolute, p, axes, origins, J):
 
 
 @numba.njit(**COMPILE)
-def pose_error(Rd, pd, R, p, e):
+def pose_error(
+    Rd: NDArray[np.float64],
+    pd: NDArray[np.float64],
+    R: NDArray[np.float64],
+    p: NDArray[np.float64],
+    e: NDArray[np.float64],
+) -> tuple[float, float]:
     r"""Fill ``e = (p_d − p, log(R_d Rᵀ)^∨)``; return ``(‖p_d − p‖, rotation angle)``.
 
     From the skew part ``s = sin θ u`` and ``cos θ = (tr − 1)/2``, ``θ = atan2(‖s‖, cos θ)``

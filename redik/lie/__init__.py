@@ -12,7 +12,7 @@ Twist order ``(v, ω)``, scalar-first quaternions and ``T_ab`` are those of
 ``mju_*``; checks of rotations and poses at the boundary are :mod:`redik.core.rotation_policy`.
 Every other module calls these functions; the compiled kernels call the compiled ones
 (:func:`~redik.lie.so3.apply_inverse_v`, :func:`~redik.lie.se3.se3_left_jacobian_inverse_entries`)
-or twins tested equal to them (README, Architecture).
+or twins tested equal to them (docs/architecture.md).
 """
 
 from redik.lie.angles import euler_angles, periodic_coordinates, wrap_angle, wrap_into_range

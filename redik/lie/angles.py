@@ -8,8 +8,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import overload
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput
 from redik.core.validate import real_array
@@ -17,7 +19,11 @@ from redik.core.validate import real_array
 _TWO_PI = 2.0 * math.pi
 
 
-def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
+@overload
+def wrap_angle(angle: float) -> float: ...
+@overload
+def wrap_angle(angle: NDArray[np.float64]) -> NDArray[np.float64]: ...
+def wrap_angle(angle: NDArray[np.float64] | float) -> NDArray[np.float64] | float:
     """Wrap angles to (−π, π]: ``a − 2πk`` for the integer ``k`` that lands there.
 
     Exact in floating point, with ``π`` and ``2π`` the doubles ``math.pi`` and
@@ -48,13 +54,17 @@ def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
         else real_array(angle, "angle")
     )
     with np.errstate(invalid="ignore"):
-        r = np.fmod(a, _TWO_PI)
+        remainder = np.fmod(a, _TWO_PI)
         # k·2π with k ∈ {−1, 0, 1} is exact, and so is r − k·2π.
-        wrapped = r - _TWO_PI * ((r > math.pi).astype(float) - (r <= -math.pi))
+        wrapped = remainder - _TWO_PI * (
+            (remainder > math.pi).astype(float) - (remainder <= -math.pi)
+        )
     return float(wrapped) if wrapped.ndim == 0 else wrapped
 
 
-def wrap_into_range(angle: np.ndarray | float, lower: np.ndarray | float) -> np.ndarray | float:
+def wrap_into_range(
+    angle: NDArray[np.float64] | float, lower: NDArray[np.float64] | float
+) -> NDArray[np.float64] | float:
     """Move angles by whole turns into ``[lower, lower + 2π)``.
 
     ``lower + ((angle − lower) mod 2π)``: the representative a periodic joint
@@ -72,7 +82,9 @@ def wrap_into_range(angle: np.ndarray | float, lower: np.ndarray | float) -> np.
     return lower + np.mod(np.subtract(angle, lower), _TWO_PI)
 
 
-def periodic_coordinates(revolute: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+def periodic_coordinates(
+    revolute: NDArray[np.bool_], lower: NDArray[np.float64], upper: NDArray[np.float64]
+) -> NDArray[np.bool_]:
     """Mark the periodic coordinates: rotations whose range spans a full turn.
 
     ``upper − lower ≥ 2π`` (an unlimited hinge included). Each angle of such a joint has an
@@ -98,25 +110,25 @@ def _clipped_asin(x: float) -> float:
     return math.asin(max(-1.0, min(1.0, x)))
 
 
-def _xyz(R: np.ndarray) -> tuple[float, float, float]:
+def _xyz(R: NDArray[np.float64]) -> tuple[float, float, float]:
     return math.atan2(-R[1, 2], R[2, 2]), _clipped_asin(R[0, 2]), math.atan2(-R[0, 1], R[0, 0])
 
 
-def _zyx(R: np.ndarray) -> tuple[float, float, float]:
+def _zyx(R: NDArray[np.float64]) -> tuple[float, float, float]:
     return math.atan2(R[1, 0], R[0, 0]), _clipped_asin(-R[2, 0]), math.atan2(R[2, 1], R[2, 2])
 
 
-def _zyz(R: np.ndarray) -> tuple[float, float, float]:
+def _zyz(R: NDArray[np.float64]) -> tuple[float, float, float]:
     beta = math.atan2(math.hypot(R[0, 2], R[1, 2]), R[2, 2])
     return math.atan2(R[1, 2], R[0, 2]), beta, math.atan2(R[2, 1], -R[2, 0])
 
 
-def _zxz(R: np.ndarray) -> tuple[float, float, float]:
+def _zxz(R: NDArray[np.float64]) -> tuple[float, float, float]:
     beta = math.atan2(math.hypot(R[0, 2], R[1, 2]), R[2, 2])
     return math.atan2(R[0, 2], -R[1, 2]), beta, math.atan2(R[2, 0], R[2, 1])
 
 
-_EULER: dict[str, Callable[[np.ndarray], tuple[float, float, float]]] = {
+_EULER: dict[str, Callable[[NDArray[np.float64]], tuple[float, float, float]]] = {
     "xyz": _xyz,
     "zyx": _zyx,
     "zyz": _zyz,
@@ -124,7 +136,7 @@ _EULER: dict[str, Callable[[np.ndarray], tuple[float, float, float]]] = {
 }
 
 
-def euler_angles(R: np.ndarray, convention: str = "xyz") -> np.ndarray:
+def euler_angles(R: NDArray[np.float64], convention: str = "xyz") -> NDArray[np.float64]:
     r"""Intrinsic Euler angles ``(α, β, γ)`` of a rotation.
 
     ======== ============================== ==================== ===================

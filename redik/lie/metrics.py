@@ -15,13 +15,14 @@ import math
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.lie.angles import euler_angles, wrap_angle
 from redik.lie.se3 import inverse, se3_log
 from redik.lie.so3 import so3_log
 
 
-def position_distance(T_a: np.ndarray, T_b: np.ndarray) -> float:
+def position_distance(T_a: NDArray[np.float64], T_b: NDArray[np.float64]) -> float:
     """The Euclidean distance ``e_p = ‖p_b − p_a‖`` between two poses' origins.
 
     Args:
@@ -34,7 +35,7 @@ def position_distance(T_a: np.ndarray, T_b: np.ndarray) -> float:
     return float(np.linalg.norm(T_b[:3, 3] - T_a[:3, 3]))
 
 
-def rotation_angle(R_a: np.ndarray, R_b: np.ndarray) -> float:
+def rotation_angle(R_a: NDArray[np.float64], R_b: NDArray[np.float64]) -> float:
     """The angle of the relative rotation, by the logarithm: ``‖log(R_aᵀ R_b)‖``.
 
     Accurate at every angle; this is the rotation error every redik solver reports.
@@ -49,7 +50,7 @@ def rotation_angle(R_a: np.ndarray, R_b: np.ndarray) -> float:
     return float(np.linalg.norm(so3_log(R_a.T @ R_b)))
 
 
-def rotation_angle_trace(R_a: np.ndarray, R_b: np.ndarray) -> float:
+def rotation_angle_trace(R_a: NDArray[np.float64], R_b: NDArray[np.float64]) -> float:
     """The angle of the relative rotation, by the trace: ``arccos((tr(R_aᵀ R_b) − 1)/2)``.
 
     The textbook formula. Its derivative is unbounded at 0, so it loses about half the digits
@@ -67,7 +68,7 @@ def rotation_angle_trace(R_a: np.ndarray, R_b: np.ndarray) -> float:
     return math.acos(min(1.0, max(-1.0, cos_angle)))
 
 
-def quaternion_geodesic_distance(q_a: np.ndarray, q_b: np.ndarray) -> float:
+def quaternion_geodesic_distance(q_a: NDArray[np.float64], q_b: NDArray[np.float64]) -> float:
     """The rotation angle between two unit quaternions: ``2 arccos|q_a · q_b|``.
 
     Computed as ``‖log(q_b⁻¹ q_a)‖`` by ``mju_subQuat``, which brings the angle into
@@ -86,7 +87,7 @@ def quaternion_geodesic_distance(q_a: np.ndarray, q_b: np.ndarray) -> float:
     return float(np.linalg.norm(rotation))
 
 
-def quaternion_chordal_distance(q_a: np.ndarray, q_b: np.ndarray) -> float:
+def quaternion_chordal_distance(q_a: NDArray[np.float64], q_b: NDArray[np.float64]) -> float:
     """The chordal distance ``min(‖q_a − q_b‖, ‖q_a + q_b‖) = 2 sin(θ/4)`` of unit quaternions.
 
     A metric on rotations that is cheap and smooth, for a relative angle θ; it is not an
@@ -104,7 +105,7 @@ def quaternion_chordal_distance(q_a: np.ndarray, q_b: np.ndarray) -> float:
     return float(min(np.linalg.norm(q_a - q_b), np.linalg.norm(q_a + q_b)))
 
 
-def exp_coordinate_distance(R_a: np.ndarray, R_b: np.ndarray) -> float:
+def exp_coordinate_distance(R_a: NDArray[np.float64], R_b: NDArray[np.float64]) -> float:
     """The distance of exponential coordinates ``e_R = ‖r_a − r_b‖``, ``r = log(R)^∨``.
 
     Each rotation's own coordinates (``‖r‖ ≤ π``) are compared, not their relative
@@ -122,7 +123,7 @@ def exp_coordinate_distance(R_a: np.ndarray, R_b: np.ndarray) -> float:
     return float(np.linalg.norm(so3_log(R_a) - so3_log(R_b)))
 
 
-def body_error_twist(T: np.ndarray, T_target: np.ndarray) -> np.ndarray:
+def body_error_twist(T: NDArray[np.float64], T_target: NDArray[np.float64]) -> NDArray[np.float64]:
     """The body error twist ``ξ_b = log(T⁻¹ T_d) = (v, ω)``: the target seen from ``T``.
 
     The pose error of :mod:`redik.core.conventions` (``T`` the current pose, ``T_d`` the
@@ -138,7 +139,9 @@ def body_error_twist(T: np.ndarray, T_target: np.ndarray) -> np.ndarray:
     return se3_log(inverse(T) @ T_target)
 
 
-def euler_difference(R_a: np.ndarray, R_b: np.ndarray, convention: str = "xyz") -> np.ndarray:
+def euler_difference(
+    R_a: NDArray[np.float64], R_b: NDArray[np.float64], convention: str = "xyz"
+) -> NDArray[np.float64]:
     """The difference of Euler angles ``φ_b − φ_a``, each wrapped to (−π, π].
 
     **Valid only for small errors away from the singularities** of the convention: Euler
@@ -157,7 +160,7 @@ def euler_difference(R_a: np.ndarray, R_b: np.ndarray, convention: str = "xyz") 
     return wrap_angle(euler_angles(R_b, convention) - euler_angles(R_a, convention))
 
 
-def pose_errors(T: np.ndarray, T_target: np.ndarray) -> tuple[float, float]:
+def pose_errors(T: NDArray[np.float64], T_target: NDArray[np.float64]) -> tuple[float, float]:
     """The position and rotation errors every redik solver reports.
 
     Args:

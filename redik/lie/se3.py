@@ -23,6 +23,7 @@ import math
 
 import numba
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput
 from redik.lie.so3 import (
@@ -35,7 +36,7 @@ from redik.lie.so3 import (
 )
 
 
-def make_pose(R: np.ndarray, p: np.ndarray) -> np.ndarray:
+def make_pose(R: NDArray[np.float64], p: NDArray[np.float64]) -> NDArray[np.float64]:
     """The transform ``[[R, p], [0, 1]]``.
 
     Args:
@@ -51,7 +52,7 @@ def make_pose(R: np.ndarray, p: np.ndarray) -> np.ndarray:
     return T
 
 
-def inverse(T: np.ndarray) -> np.ndarray:
+def inverse(T: NDArray[np.float64]) -> NDArray[np.float64]:
     """``T⁻¹ = [[Rᵀ, −Rᵀ p], [0, 1]]``, without a general matrix inverse.
 
     MuJoCo's ``mju_negPose`` takes ``(p, quat)``; going there and back through quaternions
@@ -70,7 +71,7 @@ def inverse(T: np.ndarray) -> np.ndarray:
     return Ti
 
 
-def adjoint(T: np.ndarray) -> np.ndarray:
+def adjoint(T: NDArray[np.float64]) -> NDArray[np.float64]:
     """The adjoint ``Ad_T`` acting on ``(v, ω)`` twists: ``V_a = Ad_{T_ab} V_b``.
 
     Args:
@@ -87,7 +88,9 @@ def adjoint(T: np.ndarray) -> np.ndarray:
     return Ad
 
 
-def _space_from_world(J: np.ndarray, p: np.ndarray, out: np.ndarray) -> None:
+def _space_from_world(
+    J: NDArray[np.float64], p: NDArray[np.float64], out: NDArray[np.float64]
+) -> None:
     """``v_s = ṗ + [p] ω`` into ``out`` (holding ``J``)."""
     if J.ndim == 2:
         out[:3] += skew(p) @ J[3:]
@@ -98,7 +101,9 @@ def _space_from_world(J: np.ndarray, p: np.ndarray, out: np.ndarray) -> None:
     out[2] += px * w[1] - py * w[0]
 
 
-def _body_from_world(J: np.ndarray, R: np.ndarray, out: np.ndarray) -> None:
+def _body_from_world(
+    J: NDArray[np.float64], R: NDArray[np.float64], out: NDArray[np.float64]
+) -> None:
     """``(Rᵀ ṗ, Rᵀ ω)`` into ``out``."""
     if J.ndim > 2:  # (Rᵀ)[i, k] = R[k, i], per target
         out[:3], out[3:] = (
@@ -113,8 +118,12 @@ def _body_from_world(J: np.ndarray, R: np.ndarray, out: np.ndarray) -> None:
 
 
 def world_jacobian_to(
-    reference: str, J: np.ndarray, R: np.ndarray, p: np.ndarray, out: np.ndarray | None = None
-) -> np.ndarray:
+    reference: str,
+    J: NDArray[np.float64],
+    R: NDArray[np.float64],
+    p: NDArray[np.float64],
+    out: NDArray[np.float64] | None = None,
+) -> NDArray[np.float64]:
     """Express a ``"world"`` Jacobian in another reference (:mod:`redik.core.conventions`).
 
     ``"space"``: ``v_s = ṗ − ω × p = ṗ + [p] ω``, so ``J_s = [[I, [p]], [0, I]] J``;
@@ -149,7 +158,7 @@ def world_jacobian_to(
     return out
 
 
-def _v_matrices(omega: np.ndarray) -> tuple[np.ndarray, float, float]:
+def _v_matrices(omega: NDArray[np.float64]) -> tuple[NDArray[np.float64], float, float]:
     """``[ω]`` with the coefficients of ``V(ω) = I + c1 [ω] + c2 [ω]²``."""
     W = skew(omega)
     theta2 = float(omega @ omega)
@@ -159,7 +168,7 @@ def _v_matrices(omega: np.ndarray) -> tuple[np.ndarray, float, float]:
     return W, (1.0 - math.cos(theta)) / theta2, (theta - math.sin(theta)) / (theta2 * theta)
 
 
-def se3_exp(xi: np.ndarray) -> np.ndarray:
+def se3_exp(xi: NDArray[np.float64]) -> NDArray[np.float64]:
     """The exponential ``exp(ξ) ∈ SE(3)`` of a twist (Modern Robotics Prop. 3.25).
 
     Args:
@@ -175,7 +184,7 @@ def se3_exp(xi: np.ndarray) -> np.ndarray:
     return make_pose(so3_exp(omega), V @ xi[:3])
 
 
-def se3_log(T: np.ndarray) -> np.ndarray:
+def se3_log(T: NDArray[np.float64]) -> NDArray[np.float64]:
     """The logarithm: ``ξ = (v, ω)`` with ``exp(ξ) = T`` (Modern Robotics §3.3.3.2).
 
     ``ω = log(R)`` with ``‖ω‖ ≤ π`` (:func:`redik.lie.so3.so3_log`) and ``v = V(ω)⁻¹ p``
@@ -195,7 +204,7 @@ def se3_log(T: np.ndarray) -> np.ndarray:
     return xi
 
 
-def se3_left_jacobian_inverse(xi: np.ndarray) -> np.ndarray:
+def se3_left_jacobian_inverse(xi: NDArray[np.float64]) -> NDArray[np.float64]:
     r"""The inverse left Jacobian ``J_l⁻¹(ξ)`` of SE(3), in closed form.
 
     ``J_l⁻¹(ξ) = Σ_k (B_k / k!) ad_ξ^k`` (Bernoulli numbers; Barfoot, *State Estimation for
@@ -286,7 +295,9 @@ def se3_left_jacobian_inverse_entries(
     # fmt: on
 
 
-def interpolate_pose(T_a: np.ndarray, T_b: np.ndarray, t: float) -> np.ndarray:
+def interpolate_pose(
+    T_a: NDArray[np.float64], T_b: NDArray[np.float64], t: float
+) -> NDArray[np.float64]:
     """The pose a fraction ``t`` of the way from ``T_a`` to ``T_b``.
 
     Position linear, orientation ``R_a exp(t log(R_aᵀ R_b))`` (SLERP: constant angular speed

@@ -20,12 +20,13 @@ import math
 import mujoco
 import numba
 import numpy as np
+from numpy.typing import NDArray
 
 _SMALL_ANGLE = 1e-6  # below it, exp's coefficients by their series
 _SERIES_ANGLE = 1e-3  # below it, the inverse Jacobians' coefficients by their series
 
 
-def skew(w: np.ndarray) -> np.ndarray:
+def skew(w: NDArray[np.float64]) -> NDArray[np.float64]:
     """The skew-symmetric matrix ``[w]`` with ``[w] x = w × x``.
 
     Args:
@@ -43,7 +44,7 @@ def skew(w: np.ndarray) -> np.ndarray:
     return S
 
 
-def quat_from_matrix(R: np.ndarray) -> np.ndarray:
+def quat_from_matrix(R: NDArray[np.float64]) -> NDArray[np.float64]:
     """Unit quaternion of a rotation matrix (``mju_mat2Quat``).
 
     Args:
@@ -59,7 +60,7 @@ def quat_from_matrix(R: np.ndarray) -> np.ndarray:
     return quat
 
 
-def matrix_from_quat(quat: np.ndarray) -> np.ndarray:
+def matrix_from_quat(quat: NDArray[np.float64]) -> NDArray[np.float64]:
     """Rotation matrix of a quaternion (``mju_quat2Mat``).
 
     Args:
@@ -75,7 +76,7 @@ def matrix_from_quat(quat: np.ndarray) -> np.ndarray:
     return R.reshape(3, 3)
 
 
-def so3_exp(omega: np.ndarray) -> np.ndarray:
+def so3_exp(omega: NDArray[np.float64]) -> NDArray[np.float64]:
     """Rodrigues' formula: ``exp([ω]) ∈ SO(3)`` (Modern Robotics Prop. 3.11).
 
     Args:
@@ -100,7 +101,7 @@ def so3_exp(omega: np.ndarray) -> np.ndarray:
     )
 
 
-def so3_log(R: np.ndarray) -> np.ndarray:
+def so3_log(R: NDArray[np.float64]) -> NDArray[np.float64]:
     """The logarithm: ``ω = θ u`` with ``exp([ω]) = R`` and ``θ ∈ [0, π]``.
 
     MuJoCo's: the quaternion (``mju_mat2Quat``, Shepperd's robust branch selection) and its
@@ -124,7 +125,9 @@ def so3_log(R: np.ndarray) -> np.ndarray:
     return omega
 
 
-def rotation_log(Rd: np.ndarray, R: np.ndarray, out: np.ndarray) -> np.ndarray:
+def rotation_log(
+    Rd: NDArray[np.float64], R: NDArray[np.float64], out: NDArray[np.float64]
+) -> NDArray[np.float64]:
     r"""The logarithm of ``R_d Rᵀ`` over a batch: ``ω = log(R_d Rᵀ)^∨``.
 
     From the skew part ``s = sin θ u`` and ``cos θ = (tr − 1)/2``, ``θ = atan2(‖s‖, cos θ)``
@@ -142,13 +145,13 @@ def rotation_log(Rd: np.ndarray, R: np.ndarray, out: np.ndarray) -> np.ndarray:
     Returns:
         The angles ``‖ω‖`` (A,).
     """
-    E = np.einsum("ikb,jkb->ijb", Rd, R)
+    E: NDArray[np.float64] = np.einsum("ikb,jkb->ijb", Rd, R)
     out[0] = 0.5 * (E[2, 1] - E[1, 2])
     out[1] = 0.5 * (E[0, 2] - E[2, 0])
     out[2] = 0.5 * (E[1, 0] - E[0, 1])
     cos = 0.5 * (E[0, 0] + E[1, 1] + E[2, 2] - 1.0)
     sin = np.sqrt(np.einsum("ib,ib->b", out, out))
-    angle = np.arctan2(sin, cos)
+    angle: NDArray[np.float64] = np.arctan2(sin, cos)
     scale = np.divide(angle, sin, out=np.ones_like(angle), where=sin > 1e-300)
     out *= scale
     flipped = np.flatnonzero((cos < 0.0) & (sin < 1e-6))
@@ -216,7 +219,7 @@ def apply_inverse_v(
     return dx - 0.5 * ax + k * bx, dy - 0.5 * ay + k * by, dz - 0.5 * az + k * bz
 
 
-def so3_left_jacobian_inverse(omega: np.ndarray) -> np.ndarray:
+def so3_left_jacobian_inverse(omega: NDArray[np.float64]) -> NDArray[np.float64]:
     r"""The inverse left Jacobian ``J_l⁻¹(ω) = I − ½[ω] + k [ω]²`` of SO(3).
 
     ``k = (1 − (θ/2)\cot(θ/2))/θ²`` (Barfoot, *State Estimation for Robotics*, 2017,
@@ -243,7 +246,7 @@ def so3_left_jacobian_inverse(omega: np.ndarray) -> np.ndarray:
     )
 
 
-def slerp(q_a: np.ndarray, q_b: np.ndarray, t: float) -> np.ndarray:
+def slerp(q_a: NDArray[np.float64], q_b: NDArray[np.float64], t: float) -> NDArray[np.float64]:
     """Spherical linear interpolation between unit quaternions, along the shorter arc.
 
     ``slerp(q_a, q_b, t) = q_a exp(t log(q_a⁻¹ q_b))``: constant angular speed (Shoemake,

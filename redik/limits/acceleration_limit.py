@@ -49,7 +49,10 @@ the limit out: it neither applies it to its iterates nor changes its state.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.robot import Robot
@@ -72,7 +75,9 @@ class AccelerationLimit(BoxLimit):
         velocity: The velocity of the last recorded step (zero: at rest).
     """
 
-    def __init__(self, max_acceleration, *, priority: int | None = None):
+    def __init__(
+        self, max_acceleration: ArrayLike | Mapping[str, float], *, priority: int | None = None
+    ):
         self._spec = max_acceleration
         self.max_acceleration = np.empty(0)
         self.velocity = np.empty(0)
@@ -87,28 +92,33 @@ class AccelerationLimit(BoxLimit):
         self._high = np.zeros(robot.dof)
         self._lower_range = robot.lower
         self._upper_range = robot.upper
-        return super().bind(robot, tolerance)
+        super().bind(robot, tolerance)
+        return self
 
-    def reset(self, velocity=None) -> None:
+    def reset(self, velocity: ArrayLike | None = None) -> None:
         """Forget the recorded motion: the next step starts from ``velocity`` (default rest)."""
         self._require_bound()
         if velocity is None:
             self.velocity.fill(0.0)
             return
-        velocity = np.asarray(velocity, dtype=float)
-        if velocity.shape != self.velocity.shape or not np.isfinite(velocity).all():
+        given = np.asarray(velocity, dtype=float)
+        if given.shape != self.velocity.shape or not np.isfinite(given).all():
             raise InvalidInput(
                 f"velocity must be finite with shape {self.velocity.shape}, got {velocity!r}"
             )
-        self.velocity[:] = velocity
+        self.velocity[:] = given
 
-    def advance(self, dq: np.ndarray, dt: float | None) -> None:
+    def advance(self, dq: NDArray[np.float64], dt: float | None) -> None:
         """Record the step ``dq`` taken over ``dt`` (called by :meth:`redik.Problem.step`)."""
         if dt is not None:
             np.divide(dq, dt, out=self.velocity)
 
     def bounds_into(
-        self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
+        self,
+        q: NDArray[np.float64],
+        dt: float | None,
+        lower: NDArray[np.float64],
+        upper: NDArray[np.float64],
     ) -> None:
         """Intersect this box with ``[lower, upper]`` in place (:meth:`BoxLimit.bounds_into`)."""
         if dt is None:

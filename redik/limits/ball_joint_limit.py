@@ -24,8 +24,11 @@ there, inside the cone, rather than leave it.
 
 from __future__ import annotations
 
+from typing import Any
+
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.robot import Robot
@@ -87,27 +90,26 @@ class BallJointLimit(InequalityLimit):
         self._floor = self.max_angle.copy()
         self._G = np.zeros((len(joints), robot.dof))
         self._h = np.zeros(len(joints))
-        return super().bind(robot, tolerance)
+        super().bind(robot, tolerance)
+        return self
 
-    def angles_at(self, q: np.ndarray) -> np.ndarray:
+    def angles_at(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """The rotation angle (rad) of each joint of :attr:`joint_names` at ``q``."""
-        if self.robot is None:
-            raise InvalidInput(
-                "BallJointLimit is not bound: pass it to a redik.Problem or call "
-                "limit.bind(robot) first"
-            )
-        qpos = self.robot.full_qpos(self.robot.check_q(q))
+        robot = self._require_robot()
+        qpos = robot.full_qpos(robot.check_q(q))
         return np.array([self._angle(qpos, i) for i in range(len(self._columns))])
 
-    def _angle(self, qpos: np.ndarray, i: int) -> float:
+    def _angle(self, qpos: NDArray[np.float64], i: int) -> float:
         """The rotation angle of joint ``i``; its rotation vector left in ``_rotation``."""
         start = self._qpos[i]
         mujoco.mju_quat2Vel(self._rotation, qpos[start : start + 4], 1.0)
         return float(np.linalg.norm(self._rotation))
 
-    def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
+    def inequalities(
+        self, state: Any, dt: float | None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
         """``(G, h)`` at the current state, or None when inactive."""
-        qpos = self.robot.state.data.qpos
+        qpos = self._require_robot().state.data.qpos
         G, h = self._G, self._h
         count = 0
         for i, column in enumerate(self._columns):
@@ -130,7 +132,7 @@ class BallJointLimit(InequalityLimit):
         linearisation (an angle out by no more than the tolerance, an earlier step's slack, is held
         to its bound again: else the slack compounds step after step).
         """
-        qpos = self.robot.state.data.qpos
+        qpos = self._require_robot().state.data.qpos
         for i in range(len(self._columns)):
             bound = self.max_angle[i]
             floor = self._floor[i] if self._floor[i] > bound + _ANGLE_TOLERANCE else bound

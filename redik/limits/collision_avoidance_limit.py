@@ -48,25 +48,28 @@ from __future__ import annotations
 import fnmatch
 import itertools
 from collections.abc import Collection, Sequence
+from typing import Any
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput, ModelError
 from redik.kinematics.robot import Robot
 from redik.limits.limit import InequalityLimit
 
-GeomGroup = Sequence[str]
+GeomGroup = Sequence[str | int]
 """Geom names, or body names standing for all of the body's geoms; ``fnmatch`` patterns
-(``"left_*"``) match geom and body names."""
+(``"left_*"``) match geom and body names; an integer is a geom id (a URDF's collision geoms
+have no names)."""
 
 
 class CollisionAvoidanceLimit(InequalityLimit):
     """Keep geom pairs at least ``minimum_distance`` apart.
 
     Args:
-        geom_pairs: Pairs ``(group_a, group_b)`` of geom groups (geom or body names, or
-            patterns such as ``"left_*"``); every geom of ``group_a`` is kept away from
+        geom_pairs: Pairs ``(group_a, group_b)`` of geom groups (geom or body names,
+            patterns such as ``"left_*"``, or geom ids); every geom of ``group_a`` is kept away from
             every geom of ``group_b`` (a group paired with itself: self-collision within
             it); pairs MuJoCo would not collide (``contype``/``conaffinity``, welded, parent
             and child, ``<exclude>``) are dropped. None: every pair of geoms that MuJoCo may
@@ -85,6 +88,9 @@ class CollisionAvoidanceLimit(InequalityLimit):
 
     Attributes:
         pairs: The geom id pairs checked, once bound.
+        floor: Per pair, the distance :meth:`admits` holds it to: ``minimum_distance``, or
+            the pair's own distance at the last linearisation when that was smaller (a pair
+            already inside the margin may not come closer still).
     """
 
     def __init__(
@@ -124,6 +130,7 @@ class CollisionAvoidanceLimit(InequalityLimit):
         self.gain = gain
         self._set_priority(priority)
         self.pairs = np.empty((0, 2), dtype=int)
+        self.floor = np.empty(0)
 
     def bind(self, robot: Robot, tolerance: float = 0.0) -> CollisionAvoidanceLimit:
         """Prepare for ``robot`` (the base class's contract); returns self."""
@@ -156,48 +163,50 @@ class CollisionAvoidanceLimit(InequalityLimit):
         self._pair_list = [(int(a), int(b), int(body[a]), int(body[b])) for a, b in self.pairs]
         self._fromto = np.zeros(6)
         self._normal = np.zeros(3)
-        self._floor = np.full(len(self.pairs), self.minimum_distance)
+        self.floor = np.full(len(self.pairs), self.minimum_distance)
         self._jac1 = np.zeros((3, model.nv))
         self._jac2 = np.zeros((3, model.nv))
         self._row = np.zeros(model.nv)
         self._G = np.zeros((len(self.pairs), robot.dof))
         self._h = np.zeros(len(self.pairs))
-        return super().bind(robot, tolerance)
+        super().bind(robot, tolerance)
+        return self
 
-    def _candidates(self, data: mujoco.MjData, distmax: float) -> np.ndarray:
+    def _candidates(self, data: mujoco.MjData, distmax: float) -> NDArray[np.intp]:
         """Indices of the pairs whose bounding spheres are closer than ``distmax``."""
         a, b = self.pairs[:, 0], self.pairs[:, 1]
         gap = np.linalg.norm(data.geom_xpos[a] - data.geom_xpos[b], axis=1) - self._radii
         return np.flatnonzero(~self._bounded | (gap < distmax))
 
-    def distances(self, distmax: float = 1.0) -> np.ndarray:
+    def distances(self, distmax: float = 1.0) -> NDArray[np.float64]:
         """Signed distance of every pair at the robot's current state.
 
         Capped at ``distmax``; call ``robot.state.update(q)`` (or ``fk``) first.
         """
-        self._require_bound()
-        data = self.robot.state.data
+        robot = self._require_robot()
+        data = robot.state.data
         out = np.full(len(self.pairs), distmax)
         for i in self._candidates(data, distmax):
             a, b, _, _ = self._pair_list[i]
-            out[i] = mujoco.mj_geomDistance(self.robot.model, data, a, b, distmax, self._fromto)
+            out[i] = mujoco.mj_geomDistance(robot.model, data, a, b, distmax, self._fromto)
         return out
 
-    def minimum_distance_at(self, q: np.ndarray) -> tuple[float, tuple[str, str] | None]:
+    def minimum_distance_at(self, q: NDArray[np.float64]) -> tuple[float, tuple[str, str] | None]:
         """``(d, (geom_a, geom_b))``: the closest pair at ``q`` (``d`` capped at 1 m)."""
-        self._require_bound()
-        robot = self.robot
+        robot = self._require_robot()
         robot.state.update(robot.check_q(q))
         if len(self.pairs) == 0:
             return 1.0, None
         distances = self.distances()
         i = int(np.argmin(distances))
-        names = tuple(_geom_name(robot.model, g) for g in self.pairs[i])
-        return float(distances[i]), names
+        a, b = self.pairs[i]
+        return float(distances[i]), (_geom_name(robot.model, a), _geom_name(robot.model, b))
 
-    def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
+    def inequalities(
+        self, state: Any, dt: float | None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
         """``(G, h)`` at the current state, or None when inactive."""
-        robot = self.robot
+        robot = self._require_robot()
         model, data = robot.model, robot.state.data
         fromto, normal, jac1, jac2, row = (
             self._fromto,
@@ -208,14 +217,14 @@ class CollisionAvoidanceLimit(InequalityLimit):
         )
         G, h, columns = self._G, self._h, robot.dof_indices
         detection, minimum = self.detection_distance, self.minimum_distance
-        self._floor.fill(minimum)
+        self.floor.fill(minimum)
         count = 0
         for i in self._candidates(data, detection):
             a, b, body_a, body_b = self._pair_list[i]
             d = mujoco.mj_geomDistance(model, data, a, b, detection, fromto)
             if d >= detection:
                 continue
-            self._floor[i] = min(minimum, d)
+            self.floor[i] = min(minimum, d)
             np.subtract(fromto[3:], fromto[:3], out=normal)
             if mujoco.mju_normalize3(normal) < 1e-12:  # touching: separate the geom centres
                 np.subtract(data.geom_xpos[b], data.geom_xpos[a], out=normal)
@@ -245,27 +254,20 @@ class CollisionAvoidanceLimit(InequalityLimit):
         slack compounds, a micrometre per iteration, while a lower level slides the arm
         along the constraint.
         """
-        robot = self.robot
+        robot = self._require_robot()
         model, data = robot.model, robot.state.data
         tolerance = 1e-6  # 1 µm: what a distance query resolves on meshes
         minimum = self.minimum_distance
         for i in self._candidates(data, minimum):
             a, b, _, _ = self._pair_list[i]
             d = mujoco.mj_geomDistance(model, data, a, b, minimum, self._fromto)
-            floor = self._floor[i] if self._floor[i] < minimum - tolerance else minimum
+            floor = self.floor[i] if self.floor[i] < minimum - tolerance else minimum
             if d < floor - tolerance:
                 return False
         return True
 
-    def _require_bound(self) -> None:
-        if self.robot is None:
-            raise InvalidInput(
-                "CollisionAvoidanceLimit is not bound: pass it to a redik.Problem or call "
-                "limit.bind(robot) first"
-            )
 
-
-def _as_number(value, name: str) -> float:
+def _as_number(value: Any, name: str) -> float:
     try:
         return float(value)
     except (TypeError, ValueError):
@@ -276,12 +278,12 @@ def _geom_name(model: mujoco.MjModel, geom: int) -> str:
     """The geom's name, else ``"<body>#<id>"`` (URDF collision geoms have no name)."""
     name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, geom)
     if name:
-        return name
+        return str(name)
     body = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, model.geom_bodyid[geom])
     return f"{body or 'world'}#{geom}"
 
 
-def _moving_ancestor(robot: Robot) -> np.ndarray:
+def _moving_ancestor(robot: Robot) -> NDArray[np.intp]:
     """Per body.
 
     The nearest body (itself or an ancestor) with a joint of the robot, 0 if none. Two bodies with
@@ -311,7 +313,10 @@ def _apart_at_home(
 
 
 def _collidable_pairs(
-    model: mujoco.MjModel, mover: np.ndarray, a: np.ndarray, b: np.ndarray
+    model: mujoco.MjModel,
+    mover: NDArray[np.intp],
+    a: NDArray[np.intp],
+    b: NDArray[np.intp],
 ) -> list[tuple[int, int]]:
     """The geom pairs the robot can move relative to each other and MuJoCo lets collide.
 
@@ -340,41 +345,48 @@ def _collidable_pairs(
 
 
 def _geom_ids(robot: Robot, group: GeomGroup, where: str) -> list[int]:
-    """Geom ids of a group of geom or body names."""
-    if isinstance(group, str):
+    """Geom ids of a group of geom or body names, patterns or geom ids."""
+    if isinstance(group, str | int | np.integer):
         group = [group]
     if not isinstance(group, Sequence) or not group:
         raise InvalidInput(f"{where}: a geom group is a non-empty list of names, got {group!r}")
-    model = robot.model
     ids: list[int] = []
     for name in group:
-        if not isinstance(name, str):
-            raise InvalidInput(f"{where}: a geom group holds names, got {name!r}")
-        if any(char in name for char in "*?["):
-            matched = [
-                g
-                for g in range(model.ngeom)
-                if fnmatch.fnmatchcase(
-                    mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or "", name
-                )
-                or fnmatch.fnmatchcase(
-                    mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, model.geom_bodyid[g]) or "",
-                    name,
-                )
-            ]
-            if not matched:
-                raise ModelError(f"{where}: no geom or body matches {name!r} in {robot.name!r}")
-            ids.extend(matched)
-            continue
-        geom = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name)
-        if geom >= 0:
-            ids.append(geom)
-            continue
-        body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
-        if body < 0:
-            raise ModelError(f"{where}: no geom or body named {name!r} in model {robot.name!r}")
-        body_geoms = np.flatnonzero(model.geom_bodyid == body).tolist()
-        if not body_geoms:
-            raise ModelError(f"{where}: body {name!r} has no geom")
-        ids.extend(body_geoms)
+        ids.extend(_named_geoms(robot, name, where))
     return ids
+
+
+def _named_geoms(robot: Robot, name: str | int, where: str) -> list[int]:
+    """Geom ids of one entry of a group: a geom id, a pattern, a geom name or a body name."""
+    model = robot.model
+    if isinstance(name, int | np.integer) and not isinstance(name, bool):
+        if not 0 <= name < model.ngeom:
+            raise ModelError(f"{where}: no geom {name} in {robot.name!r} ({model.ngeom} geoms)")
+        return [int(name)]
+    if not isinstance(name, str):
+        raise InvalidInput(f"{where}: a geom group holds names or geom ids, got {name!r}")
+    if any(char in name for char in "*?["):
+        matched = [
+            g
+            for g in range(model.ngeom)
+            if fnmatch.fnmatchcase(
+                mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or "", name
+            )
+            or fnmatch.fnmatchcase(
+                mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, model.geom_bodyid[g]) or "",
+                name,
+            )
+        ]
+        if not matched:
+            raise ModelError(f"{where}: no geom or body matches {name!r} in {robot.name!r}")
+        return matched
+    geom = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name)
+    if geom >= 0:
+        return [geom]
+    body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
+    if body < 0:
+        raise ModelError(f"{where}: no geom or body named {name!r} in model {robot.name!r}")
+    body_geoms = np.flatnonzero(model.geom_bodyid == body).tolist()
+    if not body_geoms:
+        raise ModelError(f"{where}: body {name!r} has no geom")
+    return body_geoms

@@ -28,6 +28,7 @@ joint-space task (posture) measures the turned angle differently; :meth:`Problem
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.robot import Robot
@@ -82,9 +83,10 @@ class ConfigurationLimit(BoxLimit):
             self.upper[self.turning] = np.inf
         self._range_lower = robot.lower[self.turning] + shrink[self.turning]
         self._range_upper = robot.upper[self.turning] - shrink[self.turning]
-        return super().bind(robot, tolerance)
+        super().bind(robot, tolerance)
+        return self
 
-    def wrap(self, q: np.ndarray) -> np.ndarray:
+    def wrap(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """``q`` with each turning joint brought into its range by multiples of 2π.
 
         ``q`` with each turning joint moved by the multiple of 2π that brings it into its (shrunk)
@@ -92,7 +94,7 @@ class ConfigurationLimit(BoxLimit):
         """
         if not self.turning.any():
             return q
-        robot = self.robot
+        robot = self._require_robot()
         values = robot.scalar_values(q)
         turned = values[self.turning]
         outside = (turned < self._range_lower) | (turned > self._range_upper)
@@ -104,14 +106,22 @@ class ConfigurationLimit(BoxLimit):
         return robot.with_scalar_values(q, values)
 
     def bounds_into(
-        self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
+        self,
+        q: NDArray[np.float64],
+        dt: float | None,
+        lower: NDArray[np.float64],
+        upper: NDArray[np.float64],
     ) -> None:
         """Intersect this box with ``[lower, upper]`` in place (:meth:`BoxLimit.bounds_into`)."""
         np.maximum(lower, self.lower - q, out=lower)
         np.minimum(upper, self.upper - q, out=upper)
 
     def set_bounds(
-        self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
+        self,
+        q: NDArray[np.float64],
+        dt: float | None,
+        lower: NDArray[np.float64],
+        upper: NDArray[np.float64],
     ) -> None:
         """Overwrite ``lower``, ``upper`` with this box."""
         np.subtract(self.lower, q, out=lower)

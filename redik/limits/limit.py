@@ -64,8 +64,10 @@ from __future__ import annotations
 
 import abc
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.robot import Robot
@@ -87,19 +89,28 @@ class Limit:
     def _set_priority(self, priority: int | None) -> None:
         self.priority = None if priority is None else as_priority(priority)
 
+    def _require_robot(self) -> Robot:
+        """The bound robot; :class:`InvalidInput` naming the limit when it is not bound."""
+        if self.robot is None:
+            raise InvalidInput(
+                f"{type(self).__name__} is not bound: pass it to a redik.Problem or call "
+                "limit.bind(robot) first"
+            )
+        return self.robot
+
     def bind(self, robot: Robot, tolerance: float = 0.0) -> Limit:
         """Prepare for ``robot``; ``tolerance`` is the back-end's feasibility tolerance."""
         self.robot = robot
         return self
 
-    def advance(self, dq: np.ndarray, dt: float | None) -> None:
+    def advance(self, dq: NDArray[np.float64], dt: float | None) -> None:
         """Record the step :meth:`redik.Problem.step` returns (a limit with memory).
 
         Called by :meth:`redik.Problem.step` with the step it returns; a limit with memory
         (:class:`~redik.limits.acceleration_limit.AccelerationLimit`) records it.
         """
 
-    def reset(self, velocity: np.ndarray | None = None) -> None:
+    def reset(self, velocity: NDArray[np.float64] | None = None) -> None:
         """Forget what earlier steps recorded (:meth:`advance`).
 
         The next step starts a new motion with joint velocity ``velocity`` (``robot.dof``,; None: at
@@ -117,7 +128,11 @@ class BoxLimit(Limit, abc.ABC):
 
     @abc.abstractmethod
     def bounds_into(
-        self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
+        self,
+        q: NDArray[np.float64],
+        dt: float | None,
+        lower: NDArray[np.float64],
+        upper: NDArray[np.float64],
     ) -> None:
         """Intersect this box with ``[lower, upper]`` in place (``lower = max(lower, l)``…).
 
@@ -126,7 +141,11 @@ class BoxLimit(Limit, abc.ABC):
         """
 
     def set_bounds(
-        self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
+        self,
+        q: NDArray[np.float64],
+        dt: float | None,
+        lower: NDArray[np.float64],
+        upper: NDArray[np.float64],
     ) -> None:
         """Overwrite ``lower``, ``upper`` with this box."""
         lower.fill(-np.inf)
@@ -134,7 +153,7 @@ class BoxLimit(Limit, abc.ABC):
         self.bounds_into(q, dt, lower, upper)
 
     @staticmethod
-    def positive_per_dof(spec, robot: Robot, name: str, owner: str) -> np.ndarray:
+    def positive_per_dof(spec: object, robot: Robot, name: str, owner: str) -> NDArray[np.float64]:
         """A per-coordinate bound from a scalar, an array or a mapping from joint name.
 
         A bound given as a scalar, one value per tangent coordinate, or a mapping from joint name to
@@ -181,7 +200,12 @@ class InequalityLimit(Limit, abc.ABC):
     """True when the rows are computed from a ``mink.Configuration`` kept in sync."""
 
     @abc.abstractmethod
-    def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
+    def inequalities(
+        self,
+        # A KinematicState, or the synchronised mink.Configuration when needs_configuration.
+        state: Any,
+        dt: float | None,
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
         """``(G, h)`` with ``G`` of shape (m, ``robot.dof``), or None when inactive."""
 
     def admits(self) -> bool:

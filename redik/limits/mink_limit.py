@@ -9,11 +9,18 @@ mink task) is present, since the sync costs a second forward kinematics per step
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.validate import positive
 from redik.limits.limit import InequalityLimit
 from redik.tasks.foreign import foreign_call
+
+if TYPE_CHECKING:
+    from mink import Configuration
+    from mink.limits import Limit as MinkLimitBase
 
 
 class MinkLimit(InequalityLimit):
@@ -29,18 +36,20 @@ class MinkLimit(InequalityLimit):
 
     needs_configuration = True
 
-    def __init__(self, limit, dt: float = 1.0, *, priority: int | None = None):
+    def __init__(self, limit: MinkLimitBase, dt: float = 1.0, *, priority: int | None = None):
         self.limit = limit
         self.dt = positive(dt, "dt", unit="s")
         self._set_priority(priority)
 
-    def inequalities(self, state, dt: float | None) -> tuple[np.ndarray, np.ndarray] | None:
+    def inequalities(
+        self, state: Configuration, dt: float | None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
         """``(G, h)`` at the current state, or None when inactive."""
         dt = self.dt if dt is None else dt
         constraint = foreign_call(self.limit, "compute_qp_inequalities", state, dt)
         if constraint.G is None or constraint.h is None:
             return None
-        G = np.atleast_2d(constraint.G)[:, self.robot.dof_indices]
+        G = np.atleast_2d(constraint.G)[:, self._require_robot().dof_indices]
         h = np.atleast_1d(constraint.h)
         keep = np.any(G != 0.0, axis=1)
         if not np.any(keep):

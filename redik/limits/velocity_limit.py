@@ -6,7 +6,10 @@ online control at a fixed rate.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.robot import Robot
@@ -23,7 +26,9 @@ class VelocityLimit(BoxLimit):
             of priority ``k`` (:mod:`redik.limits.limit`).
     """
 
-    def __init__(self, max_velocity, *, priority: int | None = None):
+    def __init__(
+        self, max_velocity: ArrayLike | Mapping[str, float], *, priority: int | None = None
+    ):
         self._spec = max_velocity
         self.max_velocity = np.empty(0)
         self._set_priority(priority)
@@ -33,10 +38,15 @@ class VelocityLimit(BoxLimit):
         self.max_velocity = self.positive_per_dof(
             self._spec, robot, "max_velocity", "VelocityLimit"
         )
-        return super().bind(robot, tolerance)
+        super().bind(robot, tolerance)
+        return self
 
     def bounds_into(
-        self, q: np.ndarray, dt: float | None, lower: np.ndarray, upper: np.ndarray
+        self,
+        q: NDArray[np.float64],
+        dt: float | None,
+        lower: NDArray[np.float64],
+        upper: NDArray[np.float64],
     ) -> None:
         """Intersect this box with ``[lower, upper]`` in place (:meth:`BoxLimit.bounds_into`)."""
         if dt is None:

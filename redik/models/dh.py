@@ -31,6 +31,7 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError
 from redik.core.rotation_policy import as_pose
@@ -152,26 +153,28 @@ def parse_convention(convention: str) -> Convention:
         ) from None
 
 
-def rot_x(angle: float) -> np.ndarray:
+def rot_x(angle: float) -> NDArray[np.float64]:
     r"""The 4×4 rotation :math:`R_x(\text{angle})`."""
     c, s = math.cos(angle), math.sin(angle)
     return np.array([[1.0, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1.0]])
 
 
-def rot_z(angle: float) -> np.ndarray:
+def rot_z(angle: float) -> NDArray[np.float64]:
     r"""The 4×4 rotation :math:`R_z(\text{angle})`."""
     c, s = math.cos(angle), math.sin(angle)
     return np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1.0, 0], [0, 0, 0, 1.0]])
 
 
-def trans(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> np.ndarray:
+def trans(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> NDArray[np.float64]:
     """The 4×4 translation by ``(x, y, z)``."""
     T = np.eye(4)
     T[:3, 3] = (x, y, z)
     return T
 
 
-def split_row(row: DHRow, convention: Convention) -> tuple[np.ndarray, np.ndarray]:
+def split_row(
+    row: DHRow, convention: Convention
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     r"""Split a row's transform around its joint motion: ``T_i(q) = pre · J(q) · post``.
 
     ``J(q)`` is :math:`R_z(q)` (revolute) or :math:`T_z(q)` (prismatic), and ``pre``/``post``
@@ -193,7 +196,7 @@ def split_row(row: DHRow, convention: Convention) -> tuple[np.ndarray, np.ndarra
     return twist_x @ rot_z(row.theta), trans(z=row.d)
 
 
-def row_transform(row: DHRow, q: float, convention: Convention) -> np.ndarray:
+def row_transform(row: DHRow, q: float, convention: Convention) -> NDArray[np.float64]:
     r"""The link transform :math:`{}^{i-1}T_i(q_i)` of one row (equations in the module doc)."""
     theta = row.theta if row.is_prismatic else row.theta + q
     d = row.d + q if row.is_prismatic else row.d
@@ -202,7 +205,7 @@ def row_transform(row: DHRow, q: float, convention: Convention) -> np.ndarray:
     return rot_x(row.alpha) @ trans(x=row.a) @ rot_z(theta) @ trans(z=d)
 
 
-def tool_transform(tool: Any, convention: Convention) -> np.ndarray:
+def tool_transform(tool: Any, convention: Convention) -> NDArray[np.float64]:
     """The tool transform: identity for ``None``, a validated 4×4, or a θ-fixed DH row.
 
     A tool row is read in the table's convention with its ``theta`` as written and no
@@ -229,7 +232,7 @@ def forward_all(
     q: Any,
     convention: str = "standard",
     tool: Any = None,
-) -> np.ndarray:
+) -> NDArray[np.float64]:
     r"""Every frame of the chain: :math:`T_{00} = I, T_{01}, \dots, T_{0n}` (and the tool).
 
     Args:
@@ -258,7 +261,7 @@ def forward(
     q: Any,
     convention: str = "standard",
     tool: Any = None,
-) -> np.ndarray:
+) -> NDArray[np.float64]:
     r"""End pose :math:`T_{0n}(q)\,T_{tool}` of a DH chain (4×4, base frame).
 
     Standard: :math:`\prod_i R_z(\theta_i) T_z(d_i) T_x(a_i) R_x(\alpha_i)` (Spong §3.2);

@@ -158,7 +158,7 @@ def example_robot_data_dir() -> Path:
     candidates = []
     try:
         distribution = importlib.metadata.distribution("example-robot-data")
-        candidates.append(Path(distribution.locate_file(Path("cmeel.prefix") / relative)))
+        candidates.append(Path(str(distribution.locate_file(Path("cmeel.prefix") / relative))))
     except importlib.metadata.PackageNotFoundError:
         pass
     # Installs beside a Python prefix (conda, robotpkg) or in a ROS 2 workspace.

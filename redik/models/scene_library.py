@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import ModelError
 from redik.models.builder import dh_to_mjcf
@@ -80,7 +81,7 @@ class Scene:
         """Number of joints."""
         return len(self.rows)
 
-    def forward(self, q: np.ndarray) -> np.ndarray:
+    def forward(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """End-effector pose at ``q`` by :func:`redik.models.dh.forward` (the scene's reference)."""
         return forward(self.rows, q, self.convention, self.tool)
 

@@ -31,8 +31,11 @@ all per-level arrays are allocated once, when the problem is built.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
+from mink.tasks import BaseTask
+from numpy.typing import NDArray
 
 from redik.kinematics.robot import Robot
 from redik.tasks.foreign import foreign_call
@@ -40,8 +43,11 @@ from redik.tasks.joint_space_task import JointSpaceTask
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import ResidualTask, Task
 
+if TYPE_CHECKING:
+    from mink import Configuration
 
-def task_priority(task) -> int:
+
+def task_priority(task: BaseTask) -> int:
     """A task's priority level; mink tasks, which have none, are level 0."""
     return int(getattr(task, "priority", 0))
 
@@ -61,14 +67,16 @@ class LevelAssembly:
         H, c: The level's objective, rebuilt by :meth:`build`.
     """
 
-    def __init__(self, priority: int, tasks: Sequence, n: int, damping: float, flat: bool):
+    def __init__(
+        self, priority: int, tasks: Sequence[BaseTask], n: int, damping: float, flat: bool
+    ) -> None:
         self.priority = priority
         self.damping = damping
         self.flat = flat
         self.residual_tasks: list[ResidualTask] = []
         self.joint_tasks: list[JointSpaceTask] = []
-        self.other_tasks: list = []
-        rows = []
+        self.other_tasks: list[BaseTask] = []
+        rows: list[int] = []
         for task in tasks:
             if isinstance(task, JointSpaceTask):
                 self.joint_tasks.append(task)
@@ -90,22 +98,23 @@ class LevelAssembly:
         self.H = np.zeros((n, n))
         self.c = np.zeros(n)
         self._diagonal = self.H.reshape(n * n)[:: n + 1]  # a view: H's diagonal
-        self._joint_versions: list = []
+        self._joint_versions: list[tuple[int, int]] = []
         self._joint_ready = False
         # The version of the joint-space sums H's diagonal was last filled from (-1: H was
         # changed since, e.g. by a damping term, and must be refilled).
         self._terms_version = 0
         self._hessian_version = -1
-        self._joint_hessian = np.full(n, damping)
-        self._joint_factor = np.zeros(n)
-        self._joint_offset = np.zeros(n)
+        # The joint-space sums (ε + Σw²d², Σαw²d², Σαw²d² ⊙ r), rows of one array.
+        self._joint_terms = np.zeros((3, n))
+        self._joint_hessian, self._joint_factor, self._joint_offset = self._joint_terms
+        self._joint_hessian[:] = damping
         self._joint_buffer = np.zeros(n)
-        self._joint_factors: list[tuple[JointSpaceTask, np.ndarray]] = []
+        self._joint_factors: list[tuple[JointSpaceTask, NDArray[np.float64]]] = []
         self.least_squares = not self.joint_tasks and not self.other_tasks
         """True when ``H = AᵀA + εI``: ``A`` then factors the level (its null space)."""
 
     @property
-    def tasks(self) -> list:
+    def tasks(self) -> list[BaseTask]:
         """Every task of the level."""
         return self.residual_tasks + self.joint_tasks + self.other_tasks
 
@@ -136,7 +145,32 @@ class LevelAssembly:
         self._joint_ready = True
         self._terms_version += 1
 
-    def build(self, state: KinematicState, configuration, columns: np.ndarray) -> None:
+    def joint_terms(self) -> NDArray[np.float64]:
+        """The joint-space sums, refreshed when a task's target, cost or gain changed.
+
+        Returns:
+            The level's own array (3 × n), rows ``ε + Σ w²d²`` (the Hessian's diagonal),
+            ``Σ α w²d²`` and, on a flat robot, ``Σ α w²d² ⊙ r``: the gradient is then
+            ``Σ α w²d² ⊙ q − Σ α w²d² ⊙ r`` (else :meth:`joint_gradient_into`).
+        """
+        self._refresh_joint_terms()
+        return self._joint_terms
+
+    def joint_gradient_into(self, state: KinematicState, c: NDArray[np.float64]) -> None:
+        """Write the joint-space tasks' gradient ``Σ α w²d² ⊙ (q ⊖ r)`` at ``state`` into ``c``.
+
+        Args:
+            state: The kinematic state (its ``q``).
+            c: Written (n,).
+        """
+        self._joint_gradient(state, c, fresh=True)
+
+    def build(
+        self,
+        state: KinematicState,
+        configuration: Configuration | None,
+        columns: NDArray[np.intp],
+    ) -> None:
         """Fill ``H`` (regularised by ``damping``) and ``c`` at ``state``.
 
         ``configuration`` is the ``mink.Configuration`` mink tasks read (else None).
@@ -172,7 +206,7 @@ class LevelAssembly:
         self._diagonal += value
         self._hessian_version = -1
 
-    def value(self, state: KinematicState, configuration) -> float:
+    def value(self, state: KinematicState, configuration: Configuration | None) -> float:
         """The value the level's tasks descend at ``state``.
 
         The sum of their :meth:`~redik.tasks.task.Task.objective_value` (mink tasks: ``½‖cost ⊙
@@ -186,7 +220,9 @@ class LevelAssembly:
                 total += mink_task_value(task, configuration)
         return total
 
-    def weighted_rows_into(self, state: KinematicState, A: np.ndarray, b: np.ndarray) -> None:
+    def weighted_rows_into(
+        self, state: KinematicState, A: NDArray[np.float64], b: NDArray[np.float64]
+    ) -> None:
         """Write the stacked weighted residual rows at ``state`` into ``A``, ``b``.
 
         The stacked weighted residual rows at ``state`` into ``A``, ``b`` (of the shapes of
@@ -198,7 +234,7 @@ class LevelAssembly:
             task.weighted_residual_into(state, A[start:stop], b[start:stop])
             start = stop
 
-    def _joint_gradient(self, state: KinematicState, c: np.ndarray, fresh: bool) -> None:
+    def _joint_gradient(self, state: KinematicState, c: NDArray[np.float64], fresh: bool) -> None:
         """Joint-space tasks: ``c += Σ α w²d² ⊙ (q ⊖ r)`` (``c =`` when ``fresh``)."""
         if not self.joint_tasks:
             if fresh:
@@ -222,7 +258,12 @@ class LevelAssembly:
             )
             c += self._joint_buffer
 
-    def _add_other_tasks(self, state: KinematicState, configuration, columns: np.ndarray):
+    def _add_other_tasks(
+        self,
+        state: KinematicState,
+        configuration: Configuration | None,
+        columns: NDArray[np.intp],
+    ) -> None:
         H, c = self.H, self.c
         for task in self.other_tasks:
             if isinstance(task, Task):
@@ -231,16 +272,22 @@ class LevelAssembly:
                 add_mink_objective(task, configuration, columns, H, c)
 
 
-def mink_task_value(task, configuration) -> float:
+def mink_task_value(task: BaseTask, configuration: Configuration | None) -> float:
     """``½‖cost ⊙ e‖²`` of a mink task at ``configuration`` (0 for a task without an error)."""
     if not hasattr(task, "compute_error"):
         return 0.0
     error = foreign_call(task, "compute_error", configuration)
-    weighted = np.asarray(task.cost) * error
+    weighted = np.asarray(getattr(task, "cost", 1.0)) * error
     return 0.5 * float(weighted @ weighted)
 
 
-def add_mink_objective(task, configuration, columns: np.ndarray, H: np.ndarray, c: np.ndarray):
+def add_mink_objective(
+    task: BaseTask,
+    configuration: Configuration | None,
+    columns: NDArray[np.intp],
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+) -> None:
     """Add a mink task's objective, restricted to the chain's velocity ``columns``."""
     residual = None
     if hasattr(task, "compute_qp_residual"):
@@ -271,7 +318,7 @@ class Assembly:
         needs_configuration: True when a mink task needs a ``mink.Configuration``.
     """
 
-    def __init__(self, robot: Robot, tasks: Sequence, damping: float):
+    def __init__(self, robot: Robot, tasks: Sequence[BaseTask], damping: float) -> None:
         for task in tasks:
             if isinstance(task, Task):
                 task.bind(robot)
@@ -285,8 +332,8 @@ class Assembly:
         self.needs_configuration = any(not isinstance(task, Task) for task in tasks)
 
     def objectives(
-        self, state: KinematicState, configuration=None
-    ) -> list[tuple[np.ndarray, np.ndarray]]:
+        self, state: KinematicState, configuration: Configuration | None = None
+    ) -> list[tuple[NDArray[np.float64], NDArray[np.float64]]]:
         """``(H_k + εI, c_k)`` per level at ``state`` (the level buffers themselves)."""
         columns = state.robot.dof_indices
         for level in self.levels:

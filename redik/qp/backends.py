@@ -42,15 +42,17 @@ import abc
 import importlib
 import warnings
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import BackendError, InfeasibleProblem
 from redik.qp.problem_data import QP
 
 _BIG = 1e20  # proxsuite wants finite bounds
 
-QPSOLVERS_SETTINGS: dict[str, dict] = {
+QPSOLVERS_SETTINGS: dict[str, dict[str, Any]] = {
     # ProxQP stops on its residuals; at eps_abs 1e-10 it may sit ~3e-5 inside an active
     # bound (objective off by 1e-4), at 1e-12 within 1e-7 of the minimiser.
     "proxqp": {"eps_abs": 1e-12, "eps_rel": 0.0},
@@ -128,7 +130,7 @@ class Backend(abc.ABC):
     active_set: bool = False
 
     @abc.abstractmethod
-    def solve(self, qp: QP) -> np.ndarray:
+    def solve(self, qp: QP) -> NDArray[np.float64]:
         """The minimiser ``x`` (a fresh array)."""
 
     def reset(self) -> None:  # noqa: B027 - a stateless back-end has nothing to override
@@ -147,7 +149,7 @@ class Backend(abc.ABC):
             f"{qp.size()}: no joint step satisfies every limit"
         )
 
-    def _checked(self, x, qp: QP) -> np.ndarray:
+    def _checked(self, x: NDArray[np.float64] | None, qp: QP) -> NDArray[np.float64]:
         if x is None or not np.isfinite(x).all():
             raise self._error("non-finite solution", qp)
         return x
@@ -164,27 +166,33 @@ class DaqpBackend(Backend):
     tolerance = 1e-9
     active_set = True
 
-    def __init__(self, **settings):
+    def __init__(self, **settings: Any) -> None:
         import daqp
 
         self._daqp = daqp
         self.settings = {"primal_tol": 1e-9, **settings}
-        self._model = None
-        self._dims: tuple | None = None
+        self._model: Any = None  # a daqp.Model (daqp ships no types)
+        self._dims: tuple[int, int, int] | None = None
 
-    def solve(self, qp: QP) -> np.ndarray:
+    def solve(self, qp: QP) -> NDArray[np.float64]:
         """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         n = qp.n
         if qp.C is None and qp.A is None:
-            upper, lower = (qp.ub, qp.lb) if qp.lb is not None else (np.empty(0), np.empty(0))
+            upper, lower = (
+                (qp.ub, qp.lb)
+                if qp.lb is not None and qp.ub is not None
+                else (np.empty(0), np.empty(0))
+            )
             A = _empty_rows(n)
         else:
-            uppers, lowers, rows = [], [], []
-            if qp.lb is not None:
+            uppers: list[NDArray[np.float64]] = []
+            lowers: list[NDArray[np.float64]] = []
+            rows: list[NDArray[np.float64]] = []
+            if qp.lb is not None and qp.ub is not None:
                 uppers.append(qp.ub)
                 lowers.append(qp.lb)
             for M, lo, up in ((qp.C, qp.l, qp.u), (qp.A, qp.b, qp.b)):
-                if M is not None:
+                if M is not None and lo is not None and up is not None:
                     uppers.append(up)
                     lowers.append(lo)
                     rows.append(M)
@@ -241,10 +249,10 @@ class DaqpBackend(Backend):
         raise self._error(f"{stage} exit flag {exitflag}: {reason}", qp)
 
 
-_EMPTY_ROWS: dict[int, np.ndarray] = {}
+_EMPTY_ROWS: dict[int, NDArray[np.float64]] = {}
 
 
-def _empty_rows(n: int) -> np.ndarray:
+def _empty_rows(n: int) -> NDArray[np.float64]:
     rows = _EMPTY_ROWS.get(n)
     if rows is None:
         rows = _EMPTY_ROWS[n] = np.zeros((0, n))
@@ -257,15 +265,15 @@ class ProxsuiteBackend(Backend):
     name = "proxsuite"
     tolerance = 1e-6  # measured worst 3e-9 on the tests' QPs, 9e-8 on others (eps_abs 1e-12)
 
-    def __init__(self, eps_abs: float = 1e-12, **settings):
+    def __init__(self, eps_abs: float = 1e-12, **settings: Any) -> None:
         from proxsuite import proxqp
 
         self._proxqp = proxqp
-        self._qp = None
-        self._dims: tuple | None = None
+        self._qp: Any = None  # a proxqp.dense.QP (proxsuite ships no types)
+        self._dims: tuple[int, int, int, bool] | None = None
         self.settings = {"eps_abs": eps_abs, "eps_rel": 0.0, **settings}
 
-    def solve(self, qp: QP) -> np.ndarray:
+    def solve(self, qp: QP) -> NDArray[np.float64]:
         """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         proxqp = self._proxqp
         box = qp.lb is not None
@@ -276,10 +284,10 @@ class ProxsuiteBackend(Backend):
             qp.A if qp.A is not None else np.empty((0, qp.n)),
             qp.b if qp.b is not None else np.empty(0),
             qp.C if qp.C is not None else np.empty((0, qp.n)),
-            np.maximum(qp.l, -_BIG) if qp.C is not None else np.empty(0),
-            np.minimum(qp.u, _BIG) if qp.C is not None else np.empty(0),
+            np.maximum(qp.l, -_BIG) if qp.l is not None else np.empty(0),
+            np.minimum(qp.u, _BIG) if qp.u is not None else np.empty(0),
         ]
-        if box:
+        if qp.lb is not None and qp.ub is not None:
             data += [np.maximum(qp.lb, -_BIG), np.minimum(qp.ub, _BIG)]
         warm = self._qp is not None and dims == self._dims
         status = self._run(data, dims, warm)
@@ -295,7 +303,9 @@ class ProxsuiteBackend(Backend):
             raise self._error(f"status {status.name}", qp)
         return self._checked(self._qp.results.x.copy(), qp)
 
-    def _run(self, data: list, dims: tuple, warm: bool):
+    def _run(
+        self, data: list[NDArray[np.float64]], dims: tuple[int, int, int, bool], warm: bool
+    ) -> Any:
         proxqp = self._proxqp
         if warm:
             self._qp.update(*data)
@@ -317,7 +327,7 @@ class ProxsuiteBackend(Backend):
 class QpsolversBackend(Backend):
     """Any solver of ``qpsolvers`` (Caron et al.) through ``qpsolvers.solve_problem``."""
 
-    def __init__(self, solver: str, **settings):
+    def __init__(self, solver: str, **settings: Any) -> None:
         import qpsolvers
         from qpsolvers.warnings import SparseConversionWarning
 
@@ -333,7 +343,7 @@ class QpsolversBackend(Backend):
         self.active_set = solver in ACTIVE_SET
         self.settings = {**QPSOLVERS_SETTINGS.get(solver, {}), **settings}
 
-    def solve(self, qp: QP) -> np.ndarray:
+    def solve(self, qp: QP) -> NDArray[np.float64]:
         """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         if self.solver in NATIVE_BOUNDS:
             G, h = qp.one_sided()
@@ -366,20 +376,20 @@ class CvxpyBackend(Backend):
     name = "cvxpy"
     tolerance = 1e-7
 
-    def __init__(self, **settings):
+    def __init__(self, **settings: Any) -> None:
         import cvxpy
 
         self._cp = cvxpy
         self.settings = {"solver": "CLARABEL", **QPSOLVERS_SETTINGS["clarabel"], **settings}
 
-    def solve(self, qp: QP) -> np.ndarray:
+    def solve(self, qp: QP) -> NDArray[np.float64]:
         """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         cp = self._cp
         x = cp.Variable(qp.n)
         H = 0.5 * (qp.H + qp.H.T)
         objective = 0.5 * cp.quad_form(x, cp.psd_wrap(H)) + qp.c @ x
         constraints = []
-        if qp.lb is not None:
+        if qp.lb is not None and qp.ub is not None:
             finite_lb, finite_ub = np.isfinite(qp.lb), np.isfinite(qp.ub)
             if np.any(finite_lb):
                 constraints.append(x[finite_lb] >= qp.lb[finite_lb])
@@ -388,7 +398,7 @@ class CvxpyBackend(Backend):
         G, h = qp.one_sided()
         if G is not None:
             constraints.append(G @ x <= h)
-        if qp.A is not None:
+        if qp.A is not None and qp.b is not None:
             constraints.append(qp.A @ x == qp.b)
         problem = cp.Problem(cp.Minimize(objective), constraints)
         try:
@@ -418,7 +428,7 @@ class FallbackChain(Backend):
         self.active_set = all(backend.active_set for backend in self.backends)
         self.last_used: str | None = None
 
-    def solve(self, qp: QP) -> np.ndarray:
+    def solve(self, qp: QP) -> NDArray[np.float64]:
         """The minimiser ``x`` of ``qp`` (:meth:`Backend.solve`)."""
         failures: list[Exception] = []
         for backend in self.backends:
@@ -472,7 +482,7 @@ def _importable(module: str) -> bool:
     return True
 
 
-def make_backend(spec: str | Sequence[str] | Backend, **settings) -> Backend:
+def make_backend(spec: str | Sequence[str] | Backend, **settings: Any) -> Backend:
     """A fresh back-end from a name or a list of names (a fallback chain).
 
     A fresh back-end from a name or a list of names (fallback chain); a :class:`Backend` instance is

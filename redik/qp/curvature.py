@@ -30,6 +30,7 @@ On the face of the joint box a point lies on, the first-order conditions of leve
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import NDArray
 
 CURVATURE_STEP = 1e-6
 """Forward-difference step (rad or m) of the derivative of ``Aᵀλ`` along a free direction."""
@@ -38,7 +39,9 @@ FACE_RANK_TOL = 1e-10
 """Relative singular value below which a row of ``E_a N`` counts as dependent."""
 
 
-def bound_multipliers(A: np.ndarray, c1: np.ndarray, active: np.ndarray) -> np.ndarray:
+def bound_multipliers(
+    A: NDArray[np.float64], c1: NDArray[np.float64], active: NDArray[np.bool_]
+) -> NDArray[np.float64]:
     r"""Level 1's multipliers :math:`λ` of level 0's rows, active bounds taken into account.
 
     The least-squares solution of :math:`[A; E_a]^\top (λ; μ) ≈ -c_1`, :math:`λ` its first
@@ -53,10 +56,13 @@ def bound_multipliers(A: np.ndarray, c1: np.ndarray, active: np.ndarray) -> np.n
         :math:`λ` (m,).
     """
     K = np.vstack([A, np.eye(A.shape[1])[active]]) if active.any() else A
-    return np.linalg.lstsq(K.T, -c1, rcond=None)[0][: A.shape[0]]
+    solution: np.ndarray = np.linalg.lstsq(K.T, -c1, rcond=None)[0]
+    return solution[: A.shape[0]]
 
 
-def on_free_face(M: np.ndarray, N: np.ndarray, active: np.ndarray) -> np.ndarray:
+def on_free_face(
+    M: NDArray[np.float64], N: NDArray[np.float64], active: NDArray[np.bool_]
+) -> NDArray[np.float64]:
     r"""The reduced term ``M = NᵀMN`` kept on the directions the active bounds leave free.
 
     Args:
@@ -73,4 +79,5 @@ def on_free_face(M: np.ndarray, N: np.ndarray, active: np.ndarray) -> np.ndarray
     _, s, Vt = np.linalg.svd(N[active])
     rank = int(np.sum(s > FACE_RANK_TOL * max(s[0], 1.0))) if s.size else 0
     Y = Vt[rank:].T
-    return Y @ (Y.T @ M @ Y) @ Y.T
+    reduced: NDArray[np.float64] = Y @ (Y.T @ M @ Y) @ Y.T
+    return reduced

@@ -79,6 +79,7 @@ import math
 from collections.abc import Callable, Sequence
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy.linalg.lapack import dgeqrf as _dgeqrf
 from scipy.linalg.lapack import dormqr as _dormqr
 from scipy.linalg.lapack import dposv as _dposv
@@ -105,15 +106,16 @@ which the slack level does not move (``z* = 0``) satisfies ``(GN)ᵀw = 0``, the
 condition of the least violation itself."""
 
 ROW_GAIN_TOL = 1e-12
-"""A constraint row whose gain ``|a_i|`` along a lone free direction is at most this does not
-block that direction (:func:`_solve_one_variable`): it moves the row by round-off only (a
-self-motion direction has exact zeros on some joints, computed as ±1e-16), while a joint
-sitting on its bound would otherwise stop the whole motion at ``z = 0``."""
+"""A constraint row whose gain ``|a_i|`` along a free direction is at most this does not
+block that direction (:func:`_solve_one_variable`, :meth:`Constraints.around`): it moves the
+row by round-off only (a self-motion direction has exact zeros on some joints, computed as
+±1e-16), while a joint sitting on its bound would otherwise stop the whole motion at
+``z = 0`` — or not, by the sign of that round-off."""
 
-Curvature = Callable[[np.ndarray], np.ndarray]
+Curvature = Callable[[NDArray[np.float64]], NDArray[np.float64]]
 """``N ↦ NᵀMN``: a second-order term of level 1 in the coordinates of a basis ``N``."""
 
-Ranked = tuple[int, np.ndarray, np.ndarray, Backend]
+Ranked = tuple[int, NDArray[np.float64], NDArray[np.float64], Backend]
 """A ranked inequality group ``(k, G, h, backend)``: the rows ``G x ≤ h`` just before level
 ``k``, solved by ``backend``."""
 
@@ -125,13 +127,13 @@ class Constraints:
     Bounds ``lb ≤ x ≤ ub`` and rows ``l ≤ C x ≤ u``, each pair None when absent.
     """
 
-    lb: np.ndarray | None = None
-    ub: np.ndarray | None = None
-    C: np.ndarray | None = None
-    l: np.ndarray | None = None
-    u: np.ndarray | None = None
+    lb: NDArray[np.float64] | None = None
+    ub: NDArray[np.float64] | None = None
+    C: NDArray[np.float64] | None = None
+    l: NDArray[np.float64] | None = None
+    u: NDArray[np.float64] | None = None
 
-    def with_rows(self, G: np.ndarray, bound: np.ndarray) -> Constraints:
+    def with_rows(self, G: NDArray[np.float64], bound: NDArray[np.float64]) -> Constraints:
         """These constraints and the rows ``G x ≤ bound``."""
         free = np.full(G.shape[0], -np.inf)
         if self.C is None:
@@ -143,18 +145,22 @@ class Constraints:
             u=np.concatenate([self.u, bound]),
         )
 
-    def around(self, x: np.ndarray, N: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def around(
+        self, x: NDArray[np.float64], N: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """The constraints ``x + N z ∈ 𝒳`` as rows on ``z``: ``(rows, lower, upper)``.
 
-        They are relaxed by ``x``'s own violation so that ``z = 0`` stays feasible; ``rows``
-        is empty without constraints.
+        They are relaxed by ``x``'s own violation so that ``z = 0`` stays feasible; gains
+        within :data:`ROW_GAIN_TOL` are zero; ``rows`` is empty without constraints.
         """
-        rows, lower, upper = [], [], []
-        if self.lb is not None:
+        rows: list[NDArray[np.float64]] = []
+        lower: list[NDArray[np.float64]] = []
+        upper: list[NDArray[np.float64]] = []
+        if self.lb is not None and self.ub is not None:
             rows.append(N)
             lower.append(self.lb - x)
             upper.append(self.ub - x)
-        if self.C is not None:
+        if self.C is not None and self.l is not None and self.u is not None:
             Cx = self.C @ x
             rows.append(self.C @ N)
             lower.append(self.l - Cx)
@@ -163,10 +169,14 @@ class Constraints:
             return np.empty((0, N.shape[1])), np.empty(0), np.empty(0)
         lower_all = np.minimum(np.concatenate(lower), 0.0)
         upper_all = np.maximum(np.concatenate(upper), 0.0)
-        return np.vstack(rows), lower_all, upper_all
+        stacked = np.vstack(rows)
+        stacked[np.abs(stacked) <= ROW_GAIN_TOL] = 0.0
+        return stacked, lower_all, upper_all
 
 
-def free_directions(H: np.ndarray, c: np.ndarray, rank_tol: float, shift: float = 0.0):
+def free_directions(
+    H: NDArray[np.float64], c: NDArray[np.float64], rank_tol: float, shift: float = 0.0
+) -> NDArray[np.float64]:
     """Orthonormal basis (n × r) of ``ker [H − shift·I; cᵀ]`` for symmetric ``H``.
 
     :func:`kernel_directions` less the direction of ``c`` (:func:`without_gradient`).
@@ -174,7 +184,9 @@ def free_directions(H: np.ndarray, c: np.ndarray, rank_tol: float, shift: float 
     return without_gradient(kernel_directions(H, rank_tol, shift), c, rank_tol)
 
 
-def kernel_directions(H: np.ndarray, rank_tol: float, shift: float = 0.0) -> np.ndarray:
+def kernel_directions(
+    H: NDArray[np.float64], rank_tol: float, shift: float = 0.0
+) -> NDArray[np.float64]:
     """Orthonormal basis (n × r) of ``ker (H − shift·I)`` for symmetric ``H``.
 
     ``shift`` is the regularisation already added to ``H``: eigenvectors are shared, and an
@@ -187,10 +199,15 @@ def kernel_directions(H: np.ndarray, rank_tol: float, shift: float = 0.0) -> np.
         eigenvalues, eigenvectors = np.linalg.eigh(H)
     eigenvalues -= shift
     scale = eigenvalues[-1]
-    return eigenvectors[:, eigenvalues <= rank_tol * scale] if scale > 0.0 else eigenvectors
+    kernel: NDArray[np.float64] = (
+        eigenvectors[:, eigenvalues <= rank_tol * scale] if scale > 0.0 else eigenvectors
+    )
+    return kernel
 
 
-def without_gradient(N: np.ndarray, c: np.ndarray, rank_tol: float) -> np.ndarray:
+def without_gradient(
+    N: NDArray[np.float64], c: NDArray[np.float64], rank_tol: float
+) -> NDArray[np.float64]:
     """A basis of ``{N z : cᵀ N z = 0}``: the columns of ``N`` less the direction of ``c``.
 
     ``N`` is orthonormal; the direction removed is the one along which the linear term ``c``
@@ -207,12 +224,13 @@ def without_gradient(N: np.ndarray, c: np.ndarray, rank_tol: float) -> np.ndarra
     v = g / norm
     v[0] -= 1.0
     vv = v @ v
+    rest: NDArray[np.float64] = N[:, 1:]
     if vv > 0.0:
-        return N[:, 1:] - np.outer(N @ v, v[1:]) * (2.0 / vv)
-    return N[:, 1:]
+        rest = rest - np.outer(N @ v, v[1:]) * (2.0 / vv)
+    return rest
 
 
-def row_null_space(A: np.ndarray, rank_tol: float) -> np.ndarray | None:
+def row_null_space(A: NDArray[np.float64], rank_tol: float) -> NDArray[np.float64] | None:
     """Orthonormal basis (n × (n − m)) of ``ker A`` for a wide ``A`` of full row rank.
 
     One Householder QR of ``Aᵀ`` — cheaper than the eigendecomposition of ``AᵀA``.
@@ -235,10 +253,10 @@ def row_null_space(A: np.ndarray, rank_tol: float) -> np.ndarray | None:
     return N if info == 0 else None
 
 
-_IDENTITY_TAILS: dict[tuple[int, int], np.ndarray] = {}
+_IDENTITY_TAILS: dict[tuple[int, int], NDArray[np.float64]] = {}
 
 
-def _identity_tail(n: int, m: int) -> np.ndarray:
+def _identity_tail(n: int, m: int) -> NDArray[np.float64]:
     """The last ``n − m`` columns of the n × n identity, Fortran-ordered (LAPACK's)."""
     tail = _IDENTITY_TAILS.get((n, m))
     if tail is None:
@@ -247,15 +265,15 @@ def _identity_tail(n: int, m: int) -> np.ndarray:
 
 
 def least_squares_minimiser(
-    A: np.ndarray,
-    b: np.ndarray,
+    A: NDArray[np.float64],
+    b: NDArray[np.float64],
     shift: float,
-    lb: np.ndarray | None,
-    ub: np.ndarray | None,
-    C: np.ndarray | None,
-    l: np.ndarray | None,
-    u: np.ndarray | None,
-) -> np.ndarray | None:
+    lb: NDArray[np.float64] | None,
+    ub: NDArray[np.float64] | None,
+    C: NDArray[np.float64] | None,
+    l: NDArray[np.float64] | None,
+    u: NDArray[np.float64] | None,
+) -> NDArray[np.float64] | None:
     r"""The minimiser of a damped least-squares level when no bound or row binds it, else None.
 
     The level is :math:`\tfrac12\|Ax - b\|^2 + \tfrac{s}{2}\|x\|^2` with ``A`` wide, subject
@@ -288,7 +306,12 @@ def least_squares_minimiser(
 
 
 def _solve_one_variable(
-    h: float, g: float, a: list, lower: list, upper: list, offset: list | None = None
+    h: float,
+    g: float,
+    a: list[float],
+    lower: list[float],
+    upper: list[float],
+    offset: list[float] | None = None,
 ) -> float:
     """The one-variable QP ``argmin ½ h z² + g z`` subject to relaxed rows, in closed form.
 
@@ -315,14 +338,14 @@ def _solve_one_variable(
 
 
 def _least_violation(
-    x: np.ndarray,
-    N: np.ndarray | None,
-    G: np.ndarray,
-    h: np.ndarray,
+    x: NDArray[np.float64],
+    N: NDArray[np.float64] | None,
+    G: NDArray[np.float64],
+    h: NDArray[np.float64],
     constraints: Constraints,
     backend: Backend,
     shift: float,
-) -> np.ndarray:
+) -> NDArray[np.float64]:
     """The point ``x + Nz`` of the slack level of the rows ``Gx ≤ h`` (module docstring).
 
     ``N`` None: the full space from ``x = 0`` with the constraints as given (before level
@@ -347,22 +370,24 @@ def _least_violation(
     up = np.concatenate([h - G @ x, upper])
     qp = QP(H, np.zeros(r + m), C=stacked, l=low, u=up)
     z = backend.solve(qp)[:r]
-    return x + basis @ z
+    step: NDArray[np.float64] = x + basis @ z
+    return step
 
 
-def _unrelaxed(constraints: Constraints) -> tuple[np.ndarray, np.ndarray]:
+def _unrelaxed(constraints: Constraints) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The bounds of :meth:`Constraints.around` at ``x = 0`` without the relaxation."""
-    lower, upper = [], []
-    if constraints.lb is not None:
+    lower: list[NDArray[np.float64]] = []
+    upper: list[NDArray[np.float64]] = []
+    if constraints.lb is not None and constraints.ub is not None:
         lower.append(constraints.lb)
         upper.append(constraints.ub)
-    if constraints.C is not None:
+    if constraints.C is not None and constraints.l is not None and constraints.u is not None:
         lower.append(constraints.l)
         upper.append(constraints.u)
     return np.concatenate(lower), np.concatenate(upper)
 
 
-def _skipped(stats: dict | None) -> None:
+def _skipped(stats: dict[str, int] | None) -> None:
     """Count a lower level whose back-end failed (its step is then zero)."""
     if stats is not None:
         stats["skipped_levels"] = stats.get("skipped_levels", 0) + 1
@@ -384,13 +409,13 @@ def _rank_before_level0(
 
 
 def _solve_level0(
-    objective: tuple[np.ndarray, np.ndarray],
+    objective: tuple[NDArray[np.float64], NDArray[np.float64]],
     backend: Backend,
     constraints: Constraints,
-    rows0: np.ndarray | None,
-    rhs0: np.ndarray | None,
+    rows0: NDArray[np.float64] | None,
+    rhs0: NDArray[np.float64] | None,
     shift: float,
-) -> np.ndarray:
+) -> NDArray[np.float64]:
     """Level 0's minimiser.
 
     The damped least-squares solution when no constraint binds it and the back-end is not
@@ -407,12 +432,12 @@ def _solve_level0(
 
 
 def _level0_free_directions(
-    objective: tuple[np.ndarray, np.ndarray],
-    rows0: np.ndarray | None,
-    kernel0: np.ndarray | None,
+    objective: tuple[NDArray[np.float64], NDArray[np.float64]],
+    rows0: NDArray[np.float64] | None,
+    kernel0: NDArray[np.float64] | None,
     rank_tol: float,
     shift: float,
-) -> np.ndarray:
+) -> NDArray[np.float64]:
     """Orthonormal basis of the directions level 0 leaves free.
 
     ``kernel0`` (given), the QR of its rows (a least-squares level), or its Hessian's
@@ -428,12 +453,12 @@ def _level0_free_directions(
 def _apply_ranked(
     ranked: list[Ranked],
     level: int,
-    x: np.ndarray,
-    N: np.ndarray,
+    x: NDArray[np.float64],
+    N: NDArray[np.float64],
     constraints: Constraints,
     shift: float,
-    stats: dict | None,
-) -> tuple[np.ndarray, Constraints, bool]:
+    stats: dict[str, int] | None,
+) -> tuple[NDArray[np.float64], Constraints, bool]:
     """The ranked groups placed just before ``level`` (popped from ``ranked``).
 
     Returns ``(x, the constraints with their rows, whether the hierarchy goes on)``; a group
@@ -451,8 +476,11 @@ def _apply_ranked(
 
 
 def _curved_model(
-    Hz: np.ndarray, cz: np.ndarray, M: np.ndarray, Nx: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
+    Hz: NDArray[np.float64],
+    cz: NDArray[np.float64],
+    M: NDArray[np.float64],
+    Nx: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The reduced model with the second-order term ``M``, when it stays convex enough.
 
     ``Hz + M`` is used when it keeps :data:`CURVATURE_MARGIN` of ``Hz`` (positive definite),
@@ -466,10 +494,10 @@ def _curved_model(
 
 
 def _one_direction_level(
-    H_k: np.ndarray,
-    c_k: np.ndarray,
-    x: np.ndarray,
-    v: np.ndarray,
+    H_k: NDArray[np.float64],
+    c_k: NDArray[np.float64],
+    x: NDArray[np.float64],
+    v: NDArray[np.float64],
     constraints: Constraints,
     curvature: Curvature | None,
 ) -> tuple[float, float, float] | None:
@@ -493,13 +521,16 @@ def _one_direction_level(
     # The model's gradient at x: level 0's x may carry a component along v (a
     # tolerance-based back-end's, along its near-null directions).
     g = float(x @ Hv) + float(c_k @ v) + m * float(v @ x)
-    a, lower, upper, offset = [], [], [], []
-    if constraints.lb is not None:
+    a: list[float] = []
+    lower: list[float] = []
+    upper: list[float] = []
+    offset: list[float] = []
+    if constraints.lb is not None and constraints.ub is not None:
         a += v.tolist()
         lower += constraints.lb.tolist()
         upper += constraints.ub.tolist()
         offset += x.tolist()
-    if constraints.C is not None:
+    if constraints.C is not None and constraints.l is not None and constraints.u is not None:
         a += (constraints.C @ v).tolist()
         lower += constraints.l.tolist()
         upper += constraints.u.tolist()
@@ -508,14 +539,14 @@ def _one_direction_level(
 
 
 def _reduced_level(
-    H_k: np.ndarray,
-    c_k: np.ndarray,
-    x: np.ndarray,
-    N: np.ndarray,
+    H_k: NDArray[np.float64],
+    c_k: NDArray[np.float64],
+    x: NDArray[np.float64],
+    N: NDArray[np.float64],
     constraints: Constraints,
     curvature: Curvature | None,
     backend: Backend,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Level ``k`` in the coordinates ``z`` of ``x + N z``.
 
     Returns ``(z, Hz, cz)``: ``Hz``, ``cz`` are the reduced level without the second-order
@@ -537,16 +568,16 @@ def _reduced_level(
 
 
 def _solve_lower_level(
-    objective: tuple[np.ndarray, np.ndarray],
+    objective: tuple[NDArray[np.float64], NDArray[np.float64]],
     backend: Backend,
-    x: np.ndarray,
-    N: np.ndarray,
+    x: NDArray[np.float64],
+    N: NDArray[np.float64],
     constraints: Constraints,
     curvature: Curvature | None,
     rank_tol: float,
     shift: float,
     last: bool,
-) -> tuple[np.ndarray, np.ndarray | None] | None:
+) -> tuple[NDArray[np.float64], NDArray[np.float64] | None] | None:
     """One lower level within ``x + range(N)``.
 
     Returns ``(x, N)`` after it (the point and the directions it leaves free; None for the
@@ -564,30 +595,30 @@ def _solve_lower_level(
                 return x, None
             return x, N @ free_directions(np.array([[h]]), np.array([g]), rank_tol, shift)
     try:
-        z, Hz, cz = _reduced_level(H_k, c_k, x, N, constraints, curvature, backend)
+        reduced_step, Hz, cz = _reduced_level(H_k, c_k, x, N, constraints, curvature, backend)
     except (BackendError, InfeasibleProblem):
         return None
-    x = x + N @ z
+    x = x + N @ reduced_step
     return x, None if last else N @ free_directions(Hz, cz, rank_tol, shift)
 
 
 def solve_lexicographic(
-    objectives: Sequence[tuple[np.ndarray, np.ndarray]],
+    objectives: Sequence[tuple[NDArray[np.float64], NDArray[np.float64]]],
     backends: Sequence[Backend],
-    lb: np.ndarray | None = None,
-    ub: np.ndarray | None = None,
-    C: np.ndarray | None = None,
-    l: np.ndarray | None = None,
-    u: np.ndarray | None = None,
+    lb: NDArray[np.float64] | None = None,
+    ub: NDArray[np.float64] | None = None,
+    C: NDArray[np.float64] | None = None,
+    l: NDArray[np.float64] | None = None,
+    u: NDArray[np.float64] | None = None,
     damping: float | Sequence[float] = 0.0,
     rank_tol: float = 1e-10,
-    stats: dict | None = None,
-    rows0: np.ndarray | None = None,
-    kernel0: np.ndarray | None = None,
+    stats: dict[str, int] | None = None,
+    rows0: NDArray[np.float64] | None = None,
+    kernel0: NDArray[np.float64] | None = None,
     curvature1: Curvature | None = None,
-    rhs0: np.ndarray | None = None,
+    rhs0: NDArray[np.float64] | None = None,
     ranked: Sequence[Ranked] = (),
-) -> np.ndarray:
+) -> NDArray[np.float64]:
     """Solve the levels ``objectives`` (highest first) lexicographically; returns ``x``.
 
     Args:
@@ -631,7 +662,11 @@ def solve_lexicographic(
     Raises:
         InfeasibleProblem, BackendError: from the back-end of level 0.
     """
-    shifts = [damping] * len(objectives) if np.isscalar(damping) else list(damping)
+    shifts = (
+        [float(damping)] * len(objectives)
+        if isinstance(damping, int | float | np.integer | np.floating)
+        else [float(shift) for shift in damping]
+    )
     ranked = list(ranked)
     n = objectives[0][1].shape[0]
     constraints = _rank_before_level0(ranked, Constraints(lb, ub, C, l, u), n, shifts[0])
@@ -657,7 +692,8 @@ def solve_lexicographic(
         if solved is None:
             _skipped(stats)
             break
-        x, N = solved
-        if N is None:
+        x, directions = solved
+        if directions is None:
             break
+        N = directions
     return x

@@ -36,10 +36,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING, Any, TypeGuard
 
 import mink
 import numpy as np
+from mink.tasks import BaseTask
+from mink.tasks import Task as MinkTask
+from numpy.typing import NDArray
 from scipy.optimize import nnls
 
 from redik.core.exceptions import InfeasibleProblem, InvalidInput
@@ -57,13 +61,22 @@ from redik.limits import (
 from redik.limits.ball_joint_limit import limited_ball_joints
 from redik.qp.assembly import Assembly
 from redik.qp.backends import Backend, make_backend
+from redik.qp.compiled import compiled_plan
 from redik.qp.curvature import CURVATURE_STEP, bound_multipliers, on_free_face
-from redik.qp.hierarchy import kernel_directions, row_null_space, solve_lexicographic
+from redik.qp.hierarchy import (
+    Curvature,
+    kernel_directions,
+    row_null_space,
+    solve_lexicographic,
+)
 from redik.tasks.foreign import foreign_call
 from redik.tasks.joint_space_task import JointSpaceTask
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.single_frame_task import SingleFrameTask
 from redik.tasks.task import ResidualTask, Task
+
+if TYPE_CHECKING:
+    from mink.limits import Limit as MinkLimitBase
 
 ACTIVE_TOL = 1e-6
 """A bound on ``Δq`` within this (rad or m) of zero, or a row with ``h`` within it, is active:
@@ -100,38 +113,40 @@ class Measurement:
     admitted: bool
 
 
-def _is_real(value) -> bool:
+def _is_real(value: object) -> TypeGuard[float]:
     return isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool)
 
 
-def _check_dt(dt) -> None:
+def _check_dt(dt: object) -> None:
     if dt is not None:
         positive(dt, "dt", unit="s")
 
 
-def _as_list(items, name: str, marker: str) -> list:
+def _as_list(items: object, name: str, marker: str) -> list[Any]:
     """``items`` as a list; one object having ``marker`` (a task, a limit) is the list of it."""
     if hasattr(items, marker) or isinstance(items, Limit):
         return [items]
-    try:
-        if isinstance(items, str | bytes):
-            raise TypeError
-        return list(items)
-    except TypeError:  # None, a number, a 0-d array
-        raise InvalidInput(f"{name} must be a list (or a single one), got {items!r}") from None
+    if isinstance(items, Iterable) and not isinstance(items, str | bytes):
+        try:
+            return list(items)
+        except TypeError:  # a 0-d array
+            pass
+    raise InvalidInput(f"{name} must be a list (or a single one), got {items!r}")
 
 
-def _checked_tasks(tasks) -> list:
-    tasks = _as_list(tasks, "tasks", "compute_qp_objective")
-    if not tasks:
+def _checked_tasks(tasks: object) -> list[BaseTask]:
+    checked = _as_list(tasks, "tasks", "compute_qp_objective")
+    if not checked:
         raise InvalidInput("a Problem needs at least one task")
-    for task in tasks:
+    for task in checked:
         if not hasattr(task, "compute_qp_objective"):
             raise InvalidInput(f"{task!r} is not a task (no compute_qp_objective)")
-    return tasks
+    return checked
 
 
-def _check_settings(damping, step_damping, rank_tol, backend_options) -> None:
+def _check_settings(
+    damping: object, step_damping: object, rank_tol: object, backend_options: object
+) -> None:
     non_negative(damping, "damping")
     non_negative(step_damping, "step_damping")
     if not _is_real(rank_tol) or not (np.isfinite(rank_tol) and 0.0 <= rank_tol < 1.0):
@@ -140,14 +155,15 @@ def _check_settings(damping, step_damping, rank_tol, backend_options) -> None:
         raise InvalidInput(f"backend_options must be a dict, got {backend_options!r}")
 
 
-def _bound_limits(robot: Robot, limits, tolerance: float) -> list[Limit]:
+def _bound_limits(robot: Robot, limits: object, tolerance: float) -> list[Limit]:
     """The limits (default: the robot's own ranges), mink's wrapped, bound to ``robot``."""
+    given: list[Any]
     if limits is None:
-        limits = [ConfigurationLimit()] + ([BallJointLimit()] if limited_ball_joints(robot) else [])
+        given = [ConfigurationLimit()] + ([BallJointLimit()] if limited_ball_joints(robot) else [])
     else:
-        limits = _as_list(limits, "limits", "compute_qp_inequalities")
+        given = _as_list(limits, "limits", "compute_qp_inequalities")
     bound = []
-    for limit in limits:
+    for limit in given:
         if not isinstance(limit, Limit):
             if not hasattr(limit, "compute_qp_inequalities"):
                 raise InvalidInput(f"{limit!r} is not a limit")
@@ -156,7 +172,12 @@ def _bound_limits(robot: Robot, limits, tolerance: float) -> list[Limit]:
     return bound
 
 
-def _is_target(task) -> bool:
+def _cost(task: BaseTask) -> NDArray[np.float64]:
+    """A target's cost ``w``: mink's tasks carry one (redik's residual tasks are mink's), 1 else."""
+    return np.asarray(task.cost if isinstance(task, MinkTask) else 1.0, dtype=float)
+
+
+def _is_target(task: BaseTask) -> bool:
     """A task with a target.
 
     A residual task that is not a joint-space regulariser, or a mink task (what "level 0 is met"
@@ -190,6 +211,18 @@ class Problem:
         backend_options: Settings passed to the back-end.
         step_damping: Levenberg–Marquardt scale ``μ ≥ 0`` of :meth:`step` (default 0): level
             0's Hessian gets ``λ = μ‖b₀‖²``, ``b₀`` its stacked weighted residual.
+        compiled: Let :meth:`step` and :meth:`static_step` (without its curvature term) run
+            the compiled plan when the stack allows it (default); False forces the general
+            path.
+
+    With ``backend="daqp"`` (the default) or ``"quadprog"`` and a stack of frame and position
+    tasks, posture, joint-limit avoidance and damping on one level or two, and configuration,
+    velocity and collision limits, :meth:`step` runs a compiled plan
+    (:mod:`redik.qp.compiled`): box-constrained steps are solved by redik's compiled
+    active-set method, steps whose collision rows bind by DAQP called directly. It answers
+    what the general path answers, up to round-off; anything else (mink tasks, ranked or
+    acceleration limits, other back-ends, three levels, ``step_damping``) takes the general
+    path, chosen once per problem (:attr:`compiled`).
 
     Attributes:
         robot: The robot.
@@ -202,30 +235,32 @@ class Problem:
             task); without, level 0 is a regulariser optimised like the lower levels.
         stats: Counters; ``"skipped_levels"``: lower levels whose back-end failed
             (:mod:`redik.qp.hierarchy`).
+        compiled: Whether :meth:`step` and :meth:`static_step` run the compiled plan.
     """
 
     def __init__(
         self,
         robot: Robot,
-        tasks: Sequence,
-        limits: Sequence | None = None,
+        tasks: BaseTask | Sequence[BaseTask],
+        limits: Limit | MinkLimitBase | Sequence[Limit | MinkLimitBase] | None = None,
         backend: str | Sequence[str] | Backend = "daqp",
         *,
         damping: float = 1e-6,
         rank_tol: float = 1e-10,
-        backend_options: dict | None = None,
+        backend_options: dict[str, Any] | None = None,
         step_damping: float = 0.0,
-    ):
+        compiled: bool = True,
+    ) -> None:
         if not isinstance(robot, Robot):
             raise InvalidInput(f"robot must be a redik.Robot, got {type(robot).__name__}")
-        tasks = _checked_tasks(tasks)
+        checked = _checked_tasks(tasks)
         _check_settings(damping, step_damping, rank_tol, backend_options)
         self.robot = robot
-        self.tasks = tasks
+        self.tasks: list[Any] = checked  # redik's tasks and mink's
         self.damping = float(damping)
         self.rank_tol = float(rank_tol)
         self.step_damping = float(step_damping)
-        self._assembly = Assembly(robot, tasks, self.damping)
+        self._assembly = Assembly(robot, checked, self.damping)
         self.levels = [level.priority for level in self._assembly.levels]
         self._make_backends(backend, backend_options or {})
         self.limits = _bound_limits(robot, limits, max(b.tolerance for b in self.backends))
@@ -238,14 +273,23 @@ class Problem:
             getattr(limit, "needs_configuration", False) for limit in self.limits
         ):
             self._configuration = mink.Configuration(robot.model)
-        self._qpos_at = np.full(robot.model.nq, np.nan)  # the qpos the state was built at
+        self._at = (b"", b"")  # the q and qpos the state was built at, as bytes
         self._lb = np.full(robot.dof, -np.inf)
         self._ub = np.full(robot.dof, np.inf)
+        self._plan = None
+        if compiled and self._configuration is None:
+            self._plan = compiled_plan(
+                robot, self._state, self._assembly.levels, self.limits, self.backends,
+                damping=self.damping, rank_tol=self.rank_tol, step_damping=self.step_damping,
+            )  # fmt: skip
+        self.compiled = self._plan is not None
 
     # ----------------------------------------------------------------------------------
     # Construction
 
-    def _make_backends(self, backend, options: dict) -> None:
+    def _make_backends(
+        self, backend: str | Sequence[str] | Backend, options: dict[str, Any]
+    ) -> None:
         if isinstance(backend, Backend) and (len(self.levels) > 1 or options):
             raise InvalidInput(
                 f"a Backend instance ({backend.name!r}) keeps one QP's state and its own "
@@ -254,7 +298,7 @@ class Problem:
             )
         self.backends = [make_backend(backend, **options) for _ in self.levels]
 
-    def _sort_limits(self, backend, options: dict) -> None:
+    def _sort_limits(self, backend: str | Sequence[str] | Backend, options: dict[str, Any]) -> None:
         """Hard boxes, hard rows, ranked groups, and the limits that shorten driver steps."""
         hard = [limit for limit in self.limits if limit.priority is None]
         # The acceleration box yields to the position and velocity boxes: applied after them.
@@ -267,7 +311,7 @@ class Problem:
         self._static_boxes = [b for b in self._boxes if not isinstance(b, AccelerationLimit)]
         self._rows = [limit for limit in hard if isinstance(limit, InequalityLimit)]
         self._clip = any(isinstance(limit, ConfigurationLimit) for limit in hard)
-        priorities = sorted({limit.priority for limit in self.limits} - {None})
+        priorities = sorted({limit.priority for limit in self.limits if limit.priority is not None})
         if priorities and isinstance(backend, Backend):
             raise InvalidInput(
                 f"a Backend instance ({backend.name!r}) keeps one QP's state: it cannot also "
@@ -316,11 +360,22 @@ class Problem:
             for task in self._targets
             if isinstance(task, ResidualTask)
         }
+        # What measure asks of each target: its error buffer (None: a mink task) and its
+        # pose_errors (None: judged by ‖W e‖), looked up once.
+        # (target, its error buffer when it is redik's, its pose_errors when it has one)
+        self._measured: list[tuple[Any, NDArray[np.float64] | None, Any]] = [
+            (
+                task,
+                self._target_buffers[id(task)][0] if id(task) in self._target_buffers else None,
+                getattr(task, "pose_errors", None) if isinstance(task, Task) else None,
+            )
+            for task in self._targets
+        ]
 
     # ----------------------------------------------------------------------------------
     # Online control
 
-    def step(self, q: np.ndarray, dt: float | None = None) -> np.ndarray:
+    def step(self, q: NDArray[np.float64], dt: float | None = None) -> NDArray[np.float64]:
         r"""The joint step ``Δq`` of one control tick at ``q``.
 
         The lexicographic QP of the module docstring with every hard limit, motion limits
@@ -351,6 +406,10 @@ class Problem:
             BackendError: the back-end (every back-end of a chain) failed.
             TaskError: a foreign (mink) task or limit raised.
         """
+        if self._plan is not None:
+            dq = self._plan.step(q, dt)
+            if dq is not None:
+                return dq
         q = self.robot.check_q(q, "q")
         _check_dt(dt)
         self._update(q)
@@ -359,7 +418,7 @@ class Problem:
             limit.advance(dq, dt)
         return dq
 
-    def reset(self, velocity: np.ndarray | None = None) -> None:
+    def reset(self, velocity: NDArray[np.float64] | None = None) -> None:
         """Start a new motion from joint velocity ``velocity`` (None: at rest).
 
         Every limit and task forgets what earlier :meth:`step` calls recorded (an
@@ -397,19 +456,21 @@ class Problem:
         """
         for backend in [*self.backends, *(backend for *_, backend in self._ranked)]:
             backend.reset()
+        if self._plan is not None:
+            self._plan.reset()
 
     # ----------------------------------------------------------------------------------
     # What a driver asks at a configuration
 
     def static_step(
         self,
-        q: np.ndarray,
+        q: NDArray[np.float64],
         dt: float | None = None,
         *,
         lm_damping: float = 0.0,
         second_order: bool = False,
         max_step: float | None = None,
-    ) -> np.ndarray:
+    ) -> NDArray[np.float64]:
         r"""The step ``Δq`` towards a static solution at ``q``: :meth:`step` without motion.
 
         Motion limits (:class:`~redik.limits.AccelerationLimit`, a bound between control
@@ -432,11 +493,15 @@ class Problem:
             ``Δq`` (``robot.dof``,).
         """
         self._goto(q)
+        if self._plan is not None and not (second_order and len(self.levels) > 1):
+            dq = self._plan.static_step(q, dt, lm_damping, max_step)
+            if dq is not None:
+                return dq
         return self._solve_step(
             q, dt, lm_damping=lm_damping, second_order=second_order, max_step=max_step
         )
 
-    def measure(self, q: np.ndarray, pos_tol: float, rot_tol: float) -> Measurement:
+    def measure(self, q: NDArray[np.float64], pos_tol: float, rot_tol: float) -> Measurement:
         """Forward kinematics at ``q`` and what level 0's targets say of it.
 
         Args:
@@ -451,22 +516,28 @@ class Problem:
         self._goto(q)
         converged, squared = True, 0.0
         worst: list[float | None] = [None, None]
-        for task in self._targets:
-            weighted = self._weighted_error(task)
-            norm2 = float(weighted @ weighted)
-            squared += norm2
-            if isinstance(task, Task) and hasattr(task, "pose_errors"):
-                errors = task.pose_errors(self._state)
-                for i, (value, tol) in enumerate(zip(errors, (pos_tol, rot_tol), strict=True)):
-                    if value is not None:
-                        converged = converged and value <= tol
-                        worst[i] = value if worst[i] is None else max(worst[i], value)
+        for task, e, pose_errors in self._measured:
+            if e is not None:
+                task.error_into(self._state, e)
+                weighted = np.multiply(task.cost, e, out=e)
             else:
+                weighted = self._weighted_error(task)
+            norm2 = float(weighted.dot(weighted))
+            squared += norm2
+            if pose_errors is None:
                 converged = converged and math.sqrt(norm2) <= pos_tol
+                continue
+            errors = zip(pose_errors(self._state), (pos_tol, rot_tol), strict=True)
+            for i, (value, tol) in enumerate(errors):
+                if value is not None:
+                    converged = converged and value <= tol
+                    worst[i] = value if worst[i] is None else max(worst[i], value)
         admitted = all(limit.admits() for limit in self._admitting)
         return Measurement(converged, math.sqrt(squared), worst[0], worst[1], admitted)
 
-    def target_rows(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def target_rows(
+        self, q: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         r"""Level 0's targets as least squares at ``q``: ``(A, b)`` with ``A = W J``, ``b = −W e``.
 
         The stacked cost-weighted Jacobians and errors of every target of level 0 (redik
@@ -484,14 +555,16 @@ class Problem:
         rows, rhs = [], []
         for task in self._targets:
             e, J = self._error_and_jacobian(task)
-            cost = np.asarray(task.cost, dtype=float)
+            cost = _cost(task)
             rows.append(cost[:, None] * J)
             rhs.append(-cost * e)
         if not rows:
             return np.empty((0, self.robot.dof)), np.empty(0)
         return np.vstack(rows), np.concatenate(rhs)
 
-    def step_bounds(self, q: np.ndarray, dt: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def step_bounds(
+        self, q: NDArray[np.float64], dt: float | None = None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The box the static limits put on ``Δq`` at ``q`` (position, velocity; ±inf else).
 
         Args:
@@ -507,7 +580,7 @@ class Problem:
             limit.bounds_into(q_box, dt, lb, ub)
         return lb, ub
 
-    def stationarity(self, q: np.ndarray, dt: float | None = None) -> list[float]:
+    def stationarity(self, q: NDArray[np.float64], dt: float | None = None) -> list[float]:
         r"""Per optimised level, the norm of its projected gradient at ``q``.
 
         The optimised levels are those below level 0's targets: levels 1… when level 0 has
@@ -533,7 +606,9 @@ class Problem:
         """
         return [float(np.linalg.norm(d)) for d, _ in self._projected_gradients(q, dt)]
 
-    def descent_steps(self, q: np.ndarray, dt: float | None = None) -> list[np.ndarray]:
+    def descent_steps(
+        self, q: NDArray[np.float64], dt: float | None = None
+    ) -> list[NDArray[np.float64]]:
         r"""Per optimised level, its projected steepest-descent (Cauchy) step at ``q``.
 
         :math:`d_k = N_{k-1} P_T(-N_{k-1}^\top g_k)` (the projection of :meth:`stationarity`)
@@ -555,7 +630,9 @@ class Problem:
             steps.append(d * (float(d @ d) / curvature) if curvature > 0.0 else d)
         return steps
 
-    def _projected_gradients(self, q, dt) -> list[tuple[np.ndarray, np.ndarray]]:
+    def _projected_gradients(
+        self, q: NDArray[np.float64], dt: float | None
+    ) -> list[tuple[NDArray[np.float64], NDArray[np.float64]]]:
         """``(d_k, H_k)`` per optimised level.
 
         The projected steepest-descent direction (:meth:`stationarity`'s projection, in ``Δq``) and
@@ -580,7 +657,7 @@ class Problem:
                 N = N @ kernel_directions(N.T @ H_k @ N, self.rank_tol, self.damping)
         return found
 
-    def objective_values(self, q: np.ndarray) -> list[float]:
+    def objective_values(self, q: NDArray[np.float64]) -> list[float]:
         """Per optimised level (see :meth:`stationarity`), the value its tasks descend at ``q``.
 
         ``½‖W e‖²`` per residual task, mink's ``½‖cost ⊙ e‖²`` per mink task,
@@ -600,7 +677,7 @@ class Problem:
             level.value(self._state, self._configuration) for level in self._assembly.levels[start:]
         ]
 
-    def feasible(self, q: np.ndarray) -> bool:
+    def feasible(self, q: NDArray[np.float64]) -> bool:
         """Whether ``q`` meets every inequality limit no task outranks (``h ≥ 0`` at ``Δq = 0``).
 
         A collision distance below its minimum, a ball joint outside its cone: a driver's
@@ -622,7 +699,7 @@ class Problem:
                 return False
         return True
 
-    def integrate(self, q: np.ndarray, dq: np.ndarray) -> np.ndarray:
+    def integrate(self, q: NDArray[np.float64], dq: NDArray[np.float64]) -> NDArray[np.float64]:
         """``q ⊕ Δq`` (``robot.integrate``), full-turn joints of periodic limits turned back.
 
         Args:
@@ -634,7 +711,7 @@ class Problem:
         """
         return self._wrapped(self.robot.integrate(q, dq))
 
-    def clip(self, q: np.ndarray) -> np.ndarray:
+    def clip(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """``q`` into the joint limits a hard :class:`~redik.limits.ConfigurationLimit` holds.
 
         Args:
@@ -653,28 +730,27 @@ class Problem:
     # ----------------------------------------------------------------------------------
     # The stages of a step
 
-    def _update(self, q: np.ndarray) -> None:
+    def _update(self, q: NDArray[np.float64]) -> None:
         """Forward kinematics at ``q`` (and the mink configuration, when one is kept)."""
         self._state.update(q)
         if self._configuration is not None:
             self._configuration.update(self.robot.state.data.qpos)
 
-    def _goto(self, q: np.ndarray) -> None:
+    def _goto(self, q: NDArray[np.float64]) -> None:
         """:meth:`_update`, skipped when the state is at ``q`` already.
 
         A driver asks several questions at one configuration. The robot's whole ``qpos`` is compared
         too, so a forward kinematics run elsewhere on the robot's data (``robot.fk``) is noticed.
         """
-        if not (
-            np.array_equal(q, self._state.q)
-            and np.array_equal(self.robot.state.data.qpos, self._qpos_at)
-        ):
+        # Bytes compare in a fraction of np.array_equal's time; equal bytes are equal values.
+        qpos = self.robot.state.data.qpos
+        if q.tobytes() != self._at[0] or qpos.tobytes() != self._at[1]:
             self._update(q)
-            self._qpos_at[:] = self.robot.state.data.qpos
+            self._at = (q.tobytes(), qpos.tobytes())
 
     def _solve_step(
         self,
-        q: np.ndarray,
+        q: NDArray[np.float64],
         dt: float | None,
         *,
         motion: bool = False,
@@ -682,7 +758,7 @@ class Problem:
         error_damping: float = 0.0,
         second_order: bool = False,
         max_step: float | None = None,
-    ) -> np.ndarray:
+    ) -> NDArray[np.float64]:
         """The step at the current state (``q``): assemble, bound, solve, clip."""
         objectives = self._assembly.objectives(self._state, self._configuration)
         damping = self._level0_damping(lm_damping, error_damping)
@@ -721,7 +797,9 @@ class Problem:
         self._assembly.levels[0].add_to_diagonal(lm_damping)
         return [self.damping + lm_damping] + [self.damping] * (len(self.levels) - 1)
 
-    def _bounds(self, q, dt, motion: bool, max_step) -> tuple[np.ndarray | None, ...]:
+    def _bounds(
+        self, q: NDArray[np.float64], dt: float | None, motion: bool, max_step: float | None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | tuple[None, None]:
         """The box on ``Δq`` (None, None without one)."""
         boxes = self._boxes if motion else self._static_boxes
         if not boxes and max_step is None:
@@ -742,7 +820,7 @@ class Problem:
             np.minimum(ub, max_step, out=ub)
         return lb, ub
 
-    def _raise_empty_box(self, q_box: np.ndarray, dt) -> None:
+    def _raise_empty_box(self, q_box: NDArray[np.float64], dt: float | None) -> None:
         bad = np.flatnonzero(self._lb > self._ub)
         names = [self.robot.dof_names[i] for i in bad]
         raise InfeasibleProblem(
@@ -751,42 +829,51 @@ class Problem:
             f"{q_box[bad].tolist()} (dt = {dt})"
         )
 
-    def _inequality_rows(self, dt) -> tuple[np.ndarray | None, ...]:
+    def _inequality_rows(
+        self, dt: float | None
+    ) -> (
+        tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
+        | tuple[None, None, None]
+    ):
         """The hard rows ``C Δq ≤ u`` at the current state (None, None, None without)."""
         if not self._rows:
             return None, None, None
-        blocks = [limit.inequalities(self._configuration, dt) for limit in self._rows]
-        blocks = [block for block in blocks if block is not None]
+        evaluated = [limit.inequalities(self._configuration, dt) for limit in self._rows]
+        blocks = [block for block in evaluated if block is not None]
         if not blocks:
             return None, None, None
         up = np.concatenate([h for _, h in blocks])
         return np.vstack([G for G, _ in blocks]), np.full_like(up, -np.inf), up
 
-    def _ranked_groups(self, q, dt, motion: bool) -> list:
+    def _ranked_groups(
+        self, q: NDArray[np.float64], dt: float | None, motion: bool
+    ) -> list[tuple[int, NDArray[np.float64], NDArray[np.float64], Backend]]:
         """``(k, G, h, backend)`` of every ranked group with rows at the current state."""
         groups = []
         for _, index, limits, backend in self._ranked:
             G, h = self._ranked_rows(limits, q, dt, motion)
-            if G is not None:
+            if G is not None and h is not None:
                 groups.append((index, G, h, backend))
         return groups
 
-    def _ranked_rows(self, limits: list[Limit], q, dt, motion: bool = False):
+    def _ranked_rows(
+        self, limits: list[Limit], q: NDArray[np.float64], dt: float | None, motion: bool = False
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | tuple[None, None]:
         """``(G, h)`` of ranked ``limits`` at the current state.
 
         ``(G, h)`` of ranked ``limits`` at the current state, boxes as ``±Δq_i`` rows of their
         finite bounds; ``(None, None)`` when none is active. Acceleration limits count only in a
         ``motion``.
         """
-        blocks = []
+        evaluated = []
         for limit in limits:
             if isinstance(limit, AccelerationLimit) and not motion:
                 continue
             if isinstance(limit, BoxLimit):
-                blocks.append(_box_rows(limit, self.robot.scalar_values(q), dt))
-            else:
-                blocks.append(limit.inequalities(self._configuration, dt))
-        blocks = [block for block in blocks if block is not None]
+                evaluated.append(_box_rows(limit, self.robot.scalar_values(q), dt))
+            elif isinstance(limit, InequalityLimit):
+                evaluated.append(limit.inequalities(self._configuration, dt))
+        blocks = [block for block in evaluated if block is not None]
         if not blocks:
             return None, None
         return np.vstack([G for G, _ in blocks]), np.concatenate([h for _, h in blocks])
@@ -794,10 +881,12 @@ class Problem:
     # ----------------------------------------------------------------------------------
     # Level 0's targets, its null space and the curvature of its optimal set
 
-    def _error_and_jacobian(self, task) -> tuple[np.ndarray, np.ndarray]:
+    def _error_and_jacobian(
+        self, task: BaseTask
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """A target's error and Jacobian (over ``robot.dof``) at the current state."""
         buffers = self._target_buffers.get(id(task))
-        if buffers is not None:
+        if buffers is not None and isinstance(task, ResidualTask):
             e, J = buffers
             task.residual_into(self._state, e, J)
             return e, J
@@ -806,28 +895,36 @@ class Problem:
         J = np.atleast_2d(foreign_call(task, "compute_jacobian", configuration))
         return e, J[:, self.robot.dof_indices]
 
-    def _weighted_error(self, task) -> np.ndarray:
+    def _weighted_error(self, task: BaseTask) -> NDArray[np.float64]:
         """``W e`` of a target at the current state.
 
         ``W e`` of a target at the current state (mink's ``W = diag(cost)``: a component of zero
         cost, the height of a ``ComTask``, is no part of its target).
         """
         buffers = self._target_buffers.get(id(task))
-        if buffers is not None:
+        if buffers is not None and isinstance(task, ResidualTask):
             e = buffers[0]
             task.error_into(self._state, e)
         else:
             e = np.atleast_1d(foreign_call(task, "compute_error", self._configuration))
-        return np.asarray(task.cost, dtype=float) * e
+        weighted: NDArray[np.float64] = _cost(task) * e
+        return weighted
 
-    def _level0_kernel(self, objectives) -> np.ndarray:
+    def _level0_kernel(
+        self, objectives: Sequence[tuple[NDArray[np.float64], NDArray[np.float64]]]
+    ) -> NDArray[np.float64]:
         """Orthonormal basis of level 0's null space at the current state."""
         N = None if self._rows0 is None else row_null_space(self._rows0, self.rank_tol)
         if N is None:
             N = kernel_directions(objectives[0][0], self.rank_tol, self.damping)
         return N
 
-    def _curvature(self, q, dt, objectives):
+    def _curvature(
+        self,
+        q: NDArray[np.float64],
+        dt: float | None,
+        objectives: Sequence[tuple[NDArray[np.float64], NDArray[np.float64]]],
+    ) -> Curvature | None:
         """Level 1's curvature term ``N ↦ NᵀMN`` at ``q``, or None where it does not apply.
 
         Level 1's curvature term ``N ↦ NᵀMN`` at ``q``, or None where it does not apply (not a
@@ -841,8 +938,12 @@ class Problem:
         return lambda N: self._level1_curvature(q, c1, N, active)
 
     def _level1_curvature(
-        self, q: np.ndarray, c1: np.ndarray, N: np.ndarray, active: np.ndarray
-    ) -> np.ndarray:
+        self,
+        q: NDArray[np.float64],
+        c1: NDArray[np.float64],
+        N: NDArray[np.float64],
+        active: NDArray[np.bool_],
+    ) -> NDArray[np.float64]:
         r"""``NᵀMN``, :math:`M = \sum_i λ_i ∇^2 r_i`, with the bounds ``active`` at ``q``.
 
         :math:`MN` is the derivative of :math:`A^\top λ` along each column of :math:`N`, by a
@@ -868,7 +969,7 @@ class Problem:
     # ----------------------------------------------------------------------------------
     # Active limits of the stationarity test
 
-    def _active_rows(self, q, dt) -> list[np.ndarray]:
+    def _active_rows(self, q: NDArray[np.float64], dt: float | None) -> list[NDArray[np.float64]]:
         """The hard limits active at ``q`` as rows ``a_i`` of ``a_i·Δq ≤ 0``."""
         active = []
         if self._static_boxes:
@@ -884,7 +985,9 @@ class Problem:
                 active.append(G[h <= ACTIVE_TOL])
         return active
 
-    def _ranked_active(self, q, dt) -> list[tuple[int, np.ndarray]]:
+    def _ranked_active(
+        self, q: NDArray[np.float64], dt: float | None
+    ) -> list[tuple[int, NDArray[np.float64]]]:
         """Ranked rows active at ``q``, each with the first level it binds.
 
         Ranked rows active at ``q`` with the index of the first level they bind (violated rows count
@@ -893,11 +996,11 @@ class Problem:
         found = []
         for _, index, limits, _ in self._ranked:
             G, h = self._ranked_rows(limits, q, dt)
-            if G is not None:
+            if G is not None and h is not None:
                 found.append((index, G[h <= ACTIVE_TOL]))
         return found
 
-    def _wrapped(self, q: np.ndarray) -> np.ndarray:
+    def _wrapped(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """``q`` with the full-turn joints of periodic position limits turned into range."""
         for limit in self._wraps:
             q = limit.wrap(q)
@@ -911,7 +1014,9 @@ class Problem:
         )
 
 
-def _box_rows(limit: BoxLimit, q_box: np.ndarray, dt) -> tuple[np.ndarray, np.ndarray] | None:
+def _box_rows(
+    limit: BoxLimit, q_box: NDArray[np.float64], dt: float | None
+) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
     """A box limit's finite bounds as rows ``±Δq_i ≤ h``."""
     n = q_box.shape[0]
     lower, upper = np.full(n, -np.inf), np.full(n, np.inf)
@@ -923,13 +1028,15 @@ def _box_rows(limit: BoxLimit, q_box: np.ndarray, dt) -> tuple[np.ndarray, np.nd
     return np.vstack([eye[up], -eye[low]]), np.concatenate([upper[up], -lower[low]])
 
 
-def _projected_descent(c: np.ndarray, N: np.ndarray, active: list[np.ndarray]) -> np.ndarray:
+def _projected_descent(
+    c: NDArray[np.float64], N: NDArray[np.float64], active: list[NDArray[np.float64]]
+) -> NDArray[np.float64]:
     """``P_T(−g)`` of :meth:`Problem.stationarity` for one level.
 
     ``P_T(−g)`` of :meth:`Problem.stationarity` for one level, in the coordinates of ``N`` (``g =
     Nᵀc``; empty without free direction).
     """
-    g = c @ N
+    g: NDArray[np.float64] = c @ N
     if N.shape[1] == 0:
         return g
     rows = np.vstack(active) @ N if active else np.empty((0, N.shape[1]))
@@ -938,4 +1045,5 @@ def _projected_descent(c: np.ndarray, N: np.ndarray, active: list[np.ndarray]) -
     # P_T(−g) = argmin_{z: rows z ≤ 0} ½‖z + g‖² = −(g + rowsᵀλ) with λ the non-negative
     # least-squares solution of rowsᵀλ ≈ −g (its dual).
     multipliers, _ = nnls(rows.T, -g)
-    return -(g + rows.T @ multipliers)
+    descent: NDArray[np.float64] = -(g + rows.T @ multipliers)
+    return descent

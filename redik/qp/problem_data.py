@@ -16,26 +16,46 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+from numpy.typing import NDArray
+
+from redik.core.exceptions import InvalidInput
 
 
 @dataclasses.dataclass
 class QP:
-    """One convex QP. ``H`` must be symmetric positive semi-definite (definite for daqp)."""
+    """One convex QP. ``H`` must be symmetric positive semi-definite (definite for daqp).
 
-    H: np.ndarray
-    c: np.ndarray
-    lb: np.ndarray | None = None
-    ub: np.ndarray | None = None
-    C: np.ndarray | None = None
-    l: np.ndarray | None = None
-    u: np.ndarray | None = None
-    A: np.ndarray | None = None
-    b: np.ndarray | None = None
+    The bounds ``lb ≤ x ≤ ub``, the rows ``l ≤ C x ≤ u`` and the equalities ``A x = b`` are
+    each given whole or not at all.
+
+    Raises:
+        InvalidInput: A part of the bounds, rows or equalities is given without the rest.
+    """
+
+    H: NDArray[np.float64]
+    c: NDArray[np.float64]
+    lb: NDArray[np.float64] | None = None
+    ub: NDArray[np.float64] | None = None
+    C: NDArray[np.float64] | None = None
+    l: NDArray[np.float64] | None = None
+    u: NDArray[np.float64] | None = None
+    A: NDArray[np.float64] | None = None
+    b: NDArray[np.float64] | None = None
+
+    def __post_init__(self) -> None:
+        for names, parts in (
+            ("lb, ub", (self.lb, self.ub)),
+            ("C, l, u", (self.C, self.l, self.u)),
+            ("A, b", (self.A, self.b)),
+        ):
+            given = [part is not None for part in parts]
+            if any(given) and not all(given):
+                raise InvalidInput(f"a QP's {names} are given together or not at all")
 
     @property
     def n(self) -> int:
         """Number of variables."""
-        return self.c.shape[0]
+        return int(self.c.shape[0])
 
     @property
     def n_rows(self) -> int:
@@ -55,18 +75,21 @@ class QP:
             f"{self.n_eq} equalities"
         )
 
-    def one_sided(self, bounds: bool = False) -> tuple[np.ndarray | None, np.ndarray | None]:
+    def one_sided(
+        self, bounds: bool = False
+    ) -> tuple[NDArray[np.float64] | None, NDArray[np.float64] | None]:
         """``(G, h)``: the rows (and bounds) as one-sided rows ``G x ≤ h``.
 
         ``(G, h)`` of the rows ``l ≤ C x ≤ u`` (and of the bounds, if ``bounds``) as ``G x ≤ h``,
         finite sides only.
         """
-        blocks, sides = [], []
-        if bounds and self.lb is not None:
+        blocks: list[NDArray[np.float64]] = []
+        sides: list[NDArray[np.float64]] = []
+        if bounds and self.lb is not None and self.ub is not None:
             eye = np.eye(self.n)
             blocks += [eye, -eye]
             sides += [self.ub, -self.lb]
-        if self.C is not None:
+        if self.C is not None and self.l is not None and self.u is not None:
             blocks += [self.C, -self.C]
             sides += [self.u, -self.l]
         if not blocks:
@@ -77,16 +100,16 @@ class QP:
             return None, None
         return G[finite], h[finite]
 
-    def max_violation(self, x: np.ndarray) -> float:
+    def max_violation(self, x: NDArray[np.float64]) -> float:
         """Largest violation of any constraint at ``x`` (0 when feasible)."""
         violation = 0.0
-        if self.lb is not None:
+        if self.lb is not None and self.ub is not None:
             violation = max(violation, float(np.max(self.lb - x, initial=0.0)))
             violation = max(violation, float(np.max(x - self.ub, initial=0.0)))
-        if self.C is not None:
+        if self.C is not None and self.l is not None and self.u is not None:
             Cx = self.C @ x
             violation = max(violation, float(np.max(self.l - Cx, initial=0.0)))
             violation = max(violation, float(np.max(Cx - self.u, initial=0.0)))
-        if self.A is not None:
+        if self.A is not None and self.b is not None:
             violation = max(violation, float(np.max(np.abs(self.A @ x - self.b), initial=0.0)))
         return violation

@@ -11,6 +11,7 @@ joint-space task (:mod:`redik.tasks.joint_space_task`) with :math:`d = 1` and
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from redik.kinematics.robot import Robot
 from redik.tasks.joint_space_task import JointSpaceTask
@@ -25,7 +26,7 @@ class DampingTask(JointSpaceTask):
         priority: Priority level, 0 highest.
     """
 
-    def __init__(self, cost=1.0, priority: int = 1):
+    def __init__(self, cost: ArrayLike = 1.0, priority: int = 1):
         super().__init__(cost, gain=0.0, priority=priority)
 
     def bind(self, robot: Robot) -> DampingTask:
@@ -36,7 +37,9 @@ class DampingTask(JointSpaceTask):
         self.reference = np.zeros(robot.dof) if robot.flat else robot.home.copy()
         return self
 
-    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+    def residual_into(
+        self, state: KinematicState, e: NDArray[np.float64], J: NDArray[np.float64]
+    ) -> None:
         """Write the error into ``e`` and its Jacobian into ``J`` (module docstring)."""
         super().residual_into(state, e, J)
         e[:] = 0.0  # no reference to chase: the desired step is zero

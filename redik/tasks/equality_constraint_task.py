@@ -28,6 +28,7 @@ from collections.abc import Sequence
 
 import mujoco
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.robot import Robot
@@ -53,12 +54,12 @@ def _equality_ids(model: mujoco.MjModel, equalities: Sequence[int | str] | None)
     return sorted(ids)
 
 
-def _equality_id(model: mujoco.MjModel, item) -> int:
+def _equality_id(model: mujoco.MjModel, item: object) -> int:
     if isinstance(item, str):
         index = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, item)
         if index < 0:
             raise InvalidInput(f"the model has no equality constraint named {item!r}")
-        return index
+        return int(index)
     if (
         isinstance(item, bool)
         or not isinstance(item, int | np.integer)
@@ -80,13 +81,13 @@ def _check_equality(model: mujoco.MjModel, i: int) -> None:
         raise InvalidInput(f"{name!r} is not active in the model (eq_active0)")
 
 
-def _quat_product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def _quat_product(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
     out = np.empty(4)
     mujoco.mju_mulQuat(out, a, b)
     return out
 
 
-def _conjugate(q: np.ndarray) -> np.ndarray:
+def _conjugate(q: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.array([q[0], -q[1], -q[2], -q[3]])
 
 
@@ -114,7 +115,7 @@ class EqualityConstraintTask(ResidualTask):
     def __init__(
         self,
         model: mujoco.MjModel,
-        cost=1.0,
+        cost: ArrayLike = 1.0,
         equalities: Sequence[int | str] | None = None,
         gain: float = 1.0,
         lm_damping: float = 0.0,
@@ -138,7 +139,7 @@ class EqualityConstraintTask(ResidualTask):
         super().__init__(1.0, gain, priority, sum(self._widths), lm_damping=lm_damping)
         self.set_cost(cost)
 
-    def set_cost(self, cost) -> None:
+    def set_cost(self, cost: ArrayLike) -> None:
         """Replace the cost: a scalar, or one value per constraint in ``equalities`` order."""
         per_constraint = as_cost(cost, len(self.equalities), "EqualityConstraintTask cost")
         sorted_costs = np.empty(len(self.equalities))
@@ -157,16 +158,21 @@ class EqualityConstraintTask(ResidualTask):
             raise InvalidInput(
                 f"EqualityConstraintTask was built on another model than {robot!r}'s"
             )
-        return super().bind(robot)
+        super().bind(robot)
+        return self
 
-    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+    def residual_into(
+        self, state: KinematicState, e: NDArray[np.float64], J: NDArray[np.float64]
+    ) -> None:
         """Write MuJoCo's residual of each constraint and its Jacobian (module docstring)."""
         row = 0
         for i, width in zip(self.equalities, self._widths, strict=True):
             self._constraint_into(state, i, e[row : row + width], J[row : row + width])
             row += width
 
-    def _ends(self, state: KinematicState, i: int) -> tuple[list[int], list[np.ndarray], list]:
+    def _ends(
+        self, state: KinematicState, i: int
+    ) -> tuple[list[int], list[NDArray[np.float64]], list[NDArray[np.float64]]]:
         """The bodies, world points and orientations (quaternions) of constraint ``i``."""
         model, data = state.model, state.data
         data_i = model.eq_data[i]
@@ -194,7 +200,9 @@ class EqualityConstraintTask(ResidualTask):
         ]
         return bodies, points, quats
 
-    def _constraint_into(self, state: KinematicState, i: int, e: np.ndarray, J: np.ndarray) -> None:
+    def _constraint_into(
+        self, state: KinematicState, i: int, e: NDArray[np.float64], J: NDArray[np.float64]
+    ) -> None:
         bodies, points, quats = self._ends(state, i)
         J0 = state.point_jacobian(bodies[0], points[0])
         J1 = state.point_jacobian(bodies[1], points[1])

@@ -10,10 +10,12 @@ original exception chained.
 
 from __future__ import annotations
 
+from typing import Any
+
 from redik.core.exceptions import RedikError, TaskError
 
 
-def foreign_call(owner, method: str, *args):
+def foreign_call(owner: object, method: str, *args: object) -> Any:
     """``owner.method(*args)``, an exception of another library raised as a :class:`TaskError`.
 
     A redik error passes through; any other exception (a mink task's ``ValueError``) is
@@ -41,7 +43,7 @@ def foreign_call(owner, method: str, *args):
         ) from error
 
 
-def describe(owner) -> str:
+def describe(owner: object) -> str:
     """``"task EqualityConstraintTask (mink)"``, with its frame when it has one."""
     kind = "task" if hasattr(owner, "compute_qp_objective") else "limit"
     frame = getattr(owner, "frame_name", None)

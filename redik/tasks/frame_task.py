@@ -27,8 +27,11 @@ Jacobian and to finite differences.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numba
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from redik.core.exceptions import InvalidInput
 from redik.core.rotation_policy import as_pose
@@ -38,8 +41,13 @@ from redik.tasks.kinematics import KinematicState
 from redik.tasks.single_frame_task import SingleFrameTask
 from redik.tasks.task import as_cost
 
+if TYPE_CHECKING:
+    from mink import SE3, Configuration
 
-def as_target_pose(target, name: str = "target", *, strict: bool = False) -> np.ndarray:
+
+def as_target_pose(
+    target: object, name: str = "target", *, strict: bool = False
+) -> NDArray[np.float64]:
     """A 4 × 4 target pose from an array or anything with ``as_matrix()``.
 
     A 4 × 4 target pose from an array or anything with ``as_matrix()`` (``mink.SE3``), under
@@ -57,7 +65,17 @@ _NO_COLUMNS = np.empty((6, 0))
 
 
 @numba.njit(cache=True)
-def pose_residual(R, p, R_d, p_d, J_world, row_scale, error_scale, A, b):
+def pose_residual(
+    R: NDArray[np.float64],
+    p: NDArray[np.float64],
+    R_d: NDArray[np.float64],
+    p_d: NDArray[np.float64],
+    J_world: NDArray[np.float64],
+    row_scale: NDArray[np.float64],
+    error_scale: NDArray[np.float64],
+    A: NDArray[np.float64],
+    b: NDArray[np.float64],
+) -> None:
     """``A = diag(row_scale) J_l⁻¹(e) blockdiag(Rᵀ, Rᵀ) J_w`` and ``b = error_scale ⊙ e``.
 
     ``e = log(T⁻¹ T_d) = (v, ω)`` (module docstring). With ``row_scale = −1`` and
@@ -130,12 +148,12 @@ class FrameTask(SingleFrameTask):
         self,
         frame_name: str,
         frame_type: str | None = None,
-        position_cost=1.0,
-        orientation_cost=1.0,
+        position_cost: ArrayLike = 1.0,
+        orientation_cost: ArrayLike = 1.0,
         gain: float = 1.0,
         lm_damping: float = 0.0,
         *,
-        target=None,
+        target: object = None,
         priority: int = 0,
         strict: bool = False,
     ):
@@ -143,29 +161,29 @@ class FrameTask(SingleFrameTask):
         self.cost[:3] = as_cost(position_cost, 3, "position_cost")
         self.cost[3:] = as_cost(orientation_cost, 3, "orientation_cost")
         self.strict = strict
-        self.target: np.ndarray | None = None
         if target is not None:
             self.set_target(target)
         self._scales_version = -1
+        self._waits = (True, True)  # pose_errors' parts of nonzero cost, per cost version
         self._scratch = np.empty(6)
 
-    def set_position_cost(self, position_cost) -> None:
+    def set_position_cost(self, position_cost: ArrayLike) -> None:
         """Replace the cost of the linear part (scalar or 3 values)."""
         self.cost[:3] = as_cost(position_cost, 3, "position_cost")
         self.version += 1
 
-    def set_orientation_cost(self, orientation_cost) -> None:
+    def set_orientation_cost(self, orientation_cost: ArrayLike) -> None:
         """Replace the cost of the angular part (scalar or 3 values)."""
         self.cost[3:] = as_cost(orientation_cost, 3, "orientation_cost")
         self.version += 1
 
-    def set_target(self, target, *, strict: bool | None = None) -> None:
+    def set_target(self, target: object, *, strict: bool | None = None) -> None:
         """Replace the target pose (validated; ``strict`` defaults to the task's)."""
         self.target = as_target_pose(target, strict=self.strict if strict is None else strict)
         self._R_d = self.target[:3, :3].copy()
         self._p_d = self.target[:3, 3].copy()
 
-    def set_target_from_configuration(self, configuration) -> None:
+    def set_target_from_configuration(self, configuration: Configuration) -> None:
         """The target is the frame's current pose in ``configuration`` (mink's setter).
 
         mink's: the target is the frame's current pose in ``configuration`` (a
@@ -177,15 +195,17 @@ class FrameTask(SingleFrameTask):
                 raise InvalidInput(
                     f"configuration must be a mink.Configuration, got {configuration!r}"
                 )
-            T = configuration.get_transform_frame_to_world(self.frame_name, self.frame_type)
-        else:
-            R, p = self._state(configuration).pose(self.frame)
-            T = np.eye(4)
-            T[:3, :3], T[:3, 3] = R, p
+            self.set_target(
+                configuration.get_transform_frame_to_world(self.frame_name, self.frame_type)
+            )
+            return
+        R, p = self._state(configuration).pose(self.frame)
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = R, p
         self.set_target(T)
 
     @property
-    def transform_target_to_world(self):
+    def transform_target_to_world(self) -> SE3 | None:
         """The target as a ``mink.SE3`` (mink's name), or None before one is set."""
         from mink import SE3  # redik tasks already depend on mink; imported where used
 
@@ -195,9 +215,12 @@ class FrameTask(SingleFrameTask):
         if self._scales_version != self.version:
             self._row_scale = -self.cost
             self._error_scale = -self.gain * self.cost
+            self._waits = (bool(self.cost[:3].any()), bool(self.cost[3:].any()))
             self._scales_version = self.version
 
-    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+    def residual_into(
+        self, state: KinematicState, e: NDArray[np.float64], J: NDArray[np.float64]
+    ) -> None:
         """Write the error into ``e`` and its Jacobian into ``J`` (module docstring)."""
         if self.target is None:
             self._require_target()
@@ -205,14 +228,16 @@ class FrameTask(SingleFrameTask):
         jacobian = state.jacobian(self.frame)
         pose_residual(R, p, self._R_d, self._p_d, jacobian, _MINUS_ONES, _ONES, J, e)
 
-    def error_into(self, state: KinematicState, e: np.ndarray) -> None:
+    def error_into(self, state: KinematicState, e: NDArray[np.float64]) -> None:
         """Write the error ``log(T⁻¹ T_d)`` alone into ``e`` (no Jacobian computed)."""
         if self.target is None:
             self._require_target()
         R, p = state.pose(self.frame)
         pose_residual(R, p, self._R_d, self._p_d, _NO_COLUMNS, _MINUS_ONES, _ONES, _NO_COLUMNS, e)
 
-    def weighted_residual_into(self, state: KinematicState, A: np.ndarray, b: np.ndarray) -> None:
+    def weighted_residual_into(
+        self, state: KinematicState, A: NDArray[np.float64], b: NDArray[np.float64]
+    ) -> None:
         """Write ``A = W J`` and ``b = −α W e`` (the hot path)."""
         if self.target is None:
             self._require_target()
@@ -231,9 +256,7 @@ class FrameTask(SingleFrameTask):
         """
         if self.target is None:
             self._require_target()
+        self._refresh_scales()
         R, p = state.pose(self.frame)
         position, rotation = pose_error(self._R_d, self._p_d, R, p, self._scratch)
-        return (
-            position if self.cost[:3].any() else None,
-            rotation if self.cost[3:].any() else None,
-        )
+        return (position if self._waits[0] else None, rotation if self._waits[1] else None)

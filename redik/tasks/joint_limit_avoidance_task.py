@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from redik import criteria
 from redik.kinematics.robot import Robot
@@ -42,7 +43,7 @@ class JointLimitAvoidanceTask(JointSpaceTask):
         priority: Priority level, 0 highest.
     """
 
-    def __init__(self, cost=1.0, gain: float = 1.0, priority: int = 1):
+    def __init__(self, cost: ArrayLike = 1.0, gain: float = 1.0, priority: int = 1):
         super().__init__(cost, gain, priority)
         self.scale = np.empty(0)
 
@@ -58,20 +59,20 @@ class JointLimitAvoidanceTask(JointSpaceTask):
         return self
 
     @property
-    def middle(self) -> np.ndarray:
+    def middle(self) -> NDArray[np.float64]:
         """``q̄``, the middle of each limited joint's range (0 where unlimited)."""
         return self.reference
 
-    def value(self, q: np.ndarray) -> float:
+    def value(self, q: NDArray[np.float64]) -> float:
         """The potential ``φ(q)``."""
         deviation = self._require_robot().difference(self.reference, q)
-        return criteria.joint_limit_potential(deviation, self.scale)
+        return float(criteria.joint_limit_potential(deviation, self.scale))
 
-    def gradient(self, q: np.ndarray) -> np.ndarray:
+    def gradient(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """``∇φ(q) = 2 s² ⊙ (q − q̄)``."""
         deviation = self._require_robot().difference(self.reference, q)
         return criteria.joint_limit_potential_gradient(deviation, self.scale)
 
-    def hessian(self) -> np.ndarray:
+    def hessian(self) -> NDArray[np.float64]:
         """``∇²φ = 2 diag(s²)`` (constant)."""
         return criteria.joint_limit_potential_hessian(self.scale)

@@ -28,6 +28,7 @@ operations instead of stacking ``n × n`` identity blocks.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from redik.kinematics.robot import Robot
 from redik.tasks.kinematics import KinematicState
@@ -41,7 +42,7 @@ class JointSpaceTask(ResidualTask):
     :meth:`bind` (and bump :attr:`version` when they change them later).
     """
 
-    def __init__(self, cost, gain: float, priority: int):
+    def __init__(self, cost: ArrayLike, gain: float, priority: int):
         super().__init__(cost, gain, priority)
         self.jacobian_diagonal = np.empty(0)
         self.reference = np.empty(0)
@@ -50,9 +51,12 @@ class JointSpaceTask(ResidualTask):
         """Prepare for ``robot`` (the base class's contract); returns self."""
         self._set_size(robot.dof)
         self._rows = np.arange(robot.dof)
-        return super().bind(robot)
+        super().bind(robot)
+        return self
 
-    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+    def residual_into(
+        self, state: KinematicState, e: NDArray[np.float64], J: NDArray[np.float64]
+    ) -> None:
         """Write the error into ``e`` and its Jacobian into ``J`` (module docstring)."""
         if state.robot.flat:
             np.subtract(state.q, self.reference, out=e)
@@ -62,7 +66,7 @@ class JointSpaceTask(ResidualTask):
         J[:] = 0.0
         J[self._rows, state.chain_columns] = self.jacobian_diagonal
 
-    def diagonal_terms(self) -> tuple[np.ndarray, np.ndarray]:
+    def diagonal_terms(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """``(w² d², α w² d²)``: the Hessian diagonal and the factor of ``q ⊖ r`` in ``c``."""
         hessian = (self.cost * self.jacobian_diagonal) ** 2
         return hessian, self.gain * hessian

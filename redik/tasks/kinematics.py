@@ -16,11 +16,17 @@ frame and per update, into preallocated buffers.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput
 from redik.kinematics.robot import Frame, Robot, frame_jacobian, frame_pose_views
+
+if TYPE_CHECKING:
+    from mink import Configuration
 
 
 class KinematicState:
@@ -42,10 +48,10 @@ class KinematicState:
         self.n_columns = model.nv if full else robot.dof
         self.chain_columns = robot.dof_indices if full else np.arange(robot.dof)
         self.q = np.zeros(robot.nq)
-        self._jacobians: dict[Frame, np.ndarray] = {}
+        self._jacobians: dict[Frame, NDArray[np.float64]] = {}
         self._fresh: set[Frame] = set()
         # Views into data (its arrays never move), so reading a pose allocates nothing.
-        self._views: dict[Frame, tuple[np.ndarray, np.ndarray]] = {}
+        self._views: dict[Frame, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
         self._jacp = np.zeros((3, model.nv))
         self._jacr = np.zeros((3, model.nv))
 
@@ -55,7 +61,7 @@ class KinematicState:
         return cls(robot, robot.model, robot.state.data, full=False)
 
     @classmethod
-    def for_configuration(cls, robot: Robot, configuration) -> KinematicState:
+    def for_configuration(cls, robot: Robot, configuration: Configuration) -> KinematicState:
         """A state on a ``mink.Configuration`` (already updated) with ``model.nv`` columns."""
         model = configuration.model
         if model.nq != robot.model.nq or model.nv != robot.model.nv:
@@ -67,20 +73,20 @@ class KinematicState:
         state.q[:] = configuration.data.qpos[robot.qpos_indices]
         return state
 
-    def update(self, q: np.ndarray) -> None:
+    def update(self, q: NDArray[np.float64]) -> None:
         """Run forward kinematics at ``q`` (robot path only; no checks)."""
         self.robot.state.update(q)
         self.q[:] = q
         self._fresh.clear()
 
-    def pose(self, frame: Frame) -> tuple[np.ndarray, np.ndarray]:
+    def pose(self, frame: Frame) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Views ``(R, p)`` of the frame's world rotation (3 × 3) and position (3,)."""
         views = self._views.get(frame)
         if views is None:
             views = self._views[frame] = frame_pose_views(self.data, frame)
         return views
 
-    def point_jacobian(self, body: int, point: np.ndarray) -> np.ndarray:
+    def point_jacobian(self, body: int, point: NDArray[np.float64]) -> NDArray[np.float64]:
         """The world Jacobian (6 × ``n_columns``, fresh) of a point fixed to ``body``.
 
         Rows ``ṗ`` then ``ω`` in world axes (``mj_jac``) at the world point ``point``.
@@ -92,7 +98,7 @@ class KinematicState:
         J[3:] = self._jacr[:, columns]
         return J
 
-    def jacobian(self, frame: Frame) -> np.ndarray:
+    def jacobian(self, frame: Frame) -> NDArray[np.float64]:
         """The world Jacobian (6 × ``n_columns``) of ``frame``; do not modify it."""
         J = self._jacobians.get(frame)
         if J is None:

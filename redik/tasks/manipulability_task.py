@@ -18,6 +18,7 @@ square root is not differentiable) the gradient is taken as zero. Needs ≥ 6 ch
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from redik import criteria
 from redik.core.exceptions import InvalidInput
@@ -34,18 +35,22 @@ class ManipulabilityTask(Task):
         cost: Scalar or per-joint cost ``w`` (the objective scales with ``w²``; default 1).
         gain: Gradient step ``α`` (radians per unit of manipulability gradient), ≥ 0.
         priority: Priority level, 0 highest.
+
+    Attributes:
+        frame: The resolved frame, once bound.
     """
+
+    frame: Frame
 
     def __init__(
         self,
         frame: str | None = None,
-        cost=1.0,
+        cost: ArrayLike = 1.0,
         gain: float = 1.0,
-        priority=1,
+        priority: int = 1,
     ):
         super().__init__(priority)
         self.frame_name = frame
-        self.frame: Frame | None = None
         self._cost_spec = cost
         self.cost = np.empty(0)
         if isinstance(gain, bool) or not isinstance(gain, int | float | np.integer | np.floating):
@@ -68,18 +73,21 @@ class ManipulabilityTask(Task):
             )
         self.frame = robot.frame(self.frame_name)
         self.cost = as_cost(self._cost_spec, robot.dof, "ManipulabilityTask cost")
-        return super().bind(robot)
+        super().bind(robot)
+        return self
 
-    def value_and_gradient(self, state: KinematicState) -> tuple[float, np.ndarray]:
+    def value_and_gradient(self, state: KinematicState) -> tuple[float, NDArray[np.float64]]:
         """``(w, ∇w)`` at ``state``; ``∇w`` over the chain joints (``robot.dof``,)."""
         J = state.jacobian(self.frame)[:, state.chain_columns]
-        return criteria.manipulability(J), criteria.manipulability_gradient(J)
+        return float(criteria.manipulability(J)), criteria.manipulability_gradient(J)
 
     def objective_value(self, state: KinematicState) -> float:
         """``−mean(w²) w(q)``: the manipulability the task ascends, as a value to descend."""
         return -float(np.mean(self.cost**2)) * self.value_and_gradient(state)[0]
 
-    def add_objective(self, state: KinematicState, H: np.ndarray, c: np.ndarray) -> None:
+    def add_objective(
+        self, state: KinematicState, H: NDArray[np.float64], c: NDArray[np.float64]
+    ) -> None:
         """Add ``H = W²`` and ``c = −α W² ∇w`` at ``state`` (module docstring)."""
         _, gradient = self.value_and_gradient(state)
         columns = state.chain_columns

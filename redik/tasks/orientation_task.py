@@ -14,6 +14,7 @@ inverse left Jacobian (:func:`redik.lie.so3_left_jacobian_inverse`; why it appea
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from redik import lie
 from redik.core.exceptions import InvalidRotation
@@ -23,7 +24,7 @@ from redik.tasks.kinematics import KinematicState
 from redik.tasks.single_frame_task import SingleFrameTask
 
 
-def as_target_rotation(target, *, strict: bool = False) -> np.ndarray:
+def as_target_rotation(target: object, *, strict: bool = False) -> NDArray[np.float64]:
     """A 3 × 3 rotation from a matrix, a unit quaternion or ``mink.SO3``.
 
     A 3 × 3 rotation from a matrix, a unit quaternion ``(w, x, y, z)`` or ``mink.SO3``, under
@@ -59,11 +60,11 @@ class OrientationTask(SingleFrameTask):
         self,
         frame_name: str,
         frame_type: str | None = None,
-        cost=1.0,
+        cost: ArrayLike = 1.0,
         gain: float = 1.0,
         lm_damping: float = 0.0,
         *,
-        target=None,
+        target: object = None,
         priority: int = 0,
         strict: bool = False,
     ):
@@ -72,13 +73,15 @@ class OrientationTask(SingleFrameTask):
         if target is not None:
             self.set_target(target)
 
-    def set_target(self, target_rotation, *, strict: bool | None = None) -> None:
+    def set_target(self, target_rotation: object, *, strict: bool | None = None) -> None:
         """Replace the target orientation (validated; ``strict`` defaults to the task's)."""
         self.target = as_target_rotation(
             target_rotation, strict=self.strict if strict is None else strict
         )
 
-    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+    def residual_into(
+        self, state: KinematicState, e: NDArray[np.float64], J: NDArray[np.float64]
+    ) -> None:
         """Write the error into ``e`` and its Jacobian into ``J`` (module docstring)."""
         if self.target is None:
             self._require_target()

@@ -7,6 +7,7 @@ derivative of the origin's world position. The orientation is left free.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from redik.core.validate import as_vector
 from redik.tasks.kinematics import KinematicState
@@ -32,22 +33,24 @@ class PositionTask(SingleFrameTask):
         self,
         frame_name: str,
         frame_type: str | None = None,
-        cost=1.0,
+        cost: ArrayLike = 1.0,
         gain: float = 1.0,
         lm_damping: float = 0.0,
         *,
-        target=None,
+        target: ArrayLike | None = None,
         priority: int = 0,
     ):
         super().__init__(frame_name, frame_type, cost, gain, priority, 3, lm_damping=lm_damping)
         if target is not None:
             self.set_target(target)
 
-    def set_target(self, target_position) -> None:
+    def set_target(self, target_position: ArrayLike) -> None:
         """Replace the target position (validated)."""
         self.target = as_vector(target_position, 3, "target_position").copy()
 
-    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+    def residual_into(
+        self, state: KinematicState, e: NDArray[np.float64], J: NDArray[np.float64]
+    ) -> None:
         """Write the error into ``e`` and its Jacobian into ``J`` (module docstring)."""
         if self.target is None:
             self._require_target()

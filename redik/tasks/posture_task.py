@@ -9,6 +9,7 @@ A joint-space task (:mod:`redik.tasks.joint_space_task`) with :math:`d = 1`,
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from redik.core.validate import as_vector
 from redik.kinematics.robot import Robot
@@ -26,7 +27,13 @@ class PostureTask(JointSpaceTask):
         priority: Priority level, 0 highest.
     """
 
-    def __init__(self, q_nominal=None, cost=1.0, gain: float = 1.0, priority: int = 1):
+    def __init__(
+        self,
+        q_nominal: ArrayLike | None = None,
+        cost: ArrayLike = 1.0,
+        gain: float = 1.0,
+        priority: int = 1,
+    ):
         super().__init__(cost, gain, priority)
         self._q_nominal_given = q_nominal
 
@@ -41,17 +48,17 @@ class PostureTask(JointSpaceTask):
         return self
 
     @property
-    def q_nominal(self) -> np.ndarray:
+    def q_nominal(self) -> NDArray[np.float64]:
         """The nominal posture (once bound)."""
         return self.reference
 
-    def set_target(self, q_nominal) -> None:
+    def set_target(self, q_nominal: ArrayLike) -> None:
         """Replace the nominal posture (validated against the bound robot)."""
         robot = self._require_robot()
         self.reference = _nominal(robot, q_nominal)
         self.version += 1
 
 
-def _nominal(robot: Robot, q_nominal) -> np.ndarray:
+def _nominal(robot: Robot, q_nominal: ArrayLike) -> NDArray[np.float64]:
     """``q_nominal`` checked (shape, finite, no zero quaternion) and clipped into the limits."""
     return robot.clip(robot.check_q(as_vector(q_nominal, robot.nq, "q_nominal"), "q_nominal"))

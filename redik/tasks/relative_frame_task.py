@@ -23,7 +23,10 @@ hand below it (``examples/two_hands_hold_box.py``).
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from redik.core.exceptions import InvalidInput, TargetNotSet
 from redik.kinematics.robot import FRAME_KINDS, Frame, Robot
@@ -32,8 +35,11 @@ from redik.tasks.frame_task import as_target_pose
 from redik.tasks.kinematics import KinematicState
 from redik.tasks.task import ResidualTask, as_cost
 
+if TYPE_CHECKING:
+    from mink import SE3, Configuration
 
-def _frame_argument(name, kind, which: str) -> None:
+
+def _frame_argument(name: object, kind: object, which: str) -> None:
     if not isinstance(name, str):
         raise InvalidInput(f"{which}_name must be the name of a site, body or geom, got {name!r}")
     if kind is not None and kind not in FRAME_KINDS:
@@ -44,14 +50,16 @@ def _resolve(robot: Robot, name: str, kind: str | None) -> Frame:
     return robot.frame(name if kind is None else f"{kind}:{name}")
 
 
-def _pose(state: KinematicState, frame: Frame) -> np.ndarray:
+def _pose(state: KinematicState, frame: Frame) -> NDArray[np.float64]:
     R, p = state.pose(frame)
     T = np.eye(4)
     T[:3, :3], T[:3, 3] = R, p
     return T
 
 
-def _body_jacobian(state: KinematicState, frame: Frame, R: np.ndarray) -> np.ndarray:
+def _body_jacobian(
+    state: KinematicState, frame: Frame, R: NDArray[np.float64]
+) -> NDArray[np.float64]:
     """The body Jacobian ``blockdiag(Rᵀ, Rᵀ) J_w`` of ``frame`` (6 × ``n_columns``)."""
     J = state.jacobian(frame)
     return np.vstack([R.T @ J[:3], R.T @ J[3:]])
@@ -82,18 +90,21 @@ class RelativeFrameTask(ResidualTask):
         target: The target ``T_t`` (4 × 4), or None.
     """
 
+    frame: Frame
+    root: Frame
+
     def __init__(
         self,
         frame_name: str,
         frame_type: str | None,
         root_name: str,
         root_type: str | None,
-        position_cost=1.0,
-        orientation_cost=1.0,
+        position_cost: ArrayLike = 1.0,
+        orientation_cost: ArrayLike = 1.0,
         gain: float = 1.0,
         lm_damping: float = 0.0,
         *,
-        target=None,
+        target: object = None,
         priority: int = 0,
         strict: bool = False,
     ):
@@ -105,9 +116,7 @@ class RelativeFrameTask(ResidualTask):
         self.cost[:3] = as_cost(position_cost, 3, "position_cost")
         self.cost[3:] = as_cost(orientation_cost, 3, "orientation_cost")
         self.strict = strict
-        self.frame: Frame | None = None
-        self.root: Frame | None = None
-        self.target: np.ndarray | None = None
+        self.target: NDArray[np.float64] | None = None
         if target is not None:
             self.set_target(target)
 
@@ -115,13 +124,14 @@ class RelativeFrameTask(ResidualTask):
         """Resolve both frames against ``robot``."""
         self.frame = _resolve(robot, self.frame_name, self.frame_type)
         self.root = _resolve(robot, self.root_name, self.root_type)
-        return super().bind(robot)
+        super().bind(robot)
+        return self
 
-    def set_target(self, target, *, strict: bool | None = None) -> None:
+    def set_target(self, target: object, *, strict: bool | None = None) -> None:
         """Replace the target pose of the frame in the root (validated)."""
         self.target = as_target_pose(target, strict=self.strict if strict is None else strict)
 
-    def set_target_from_configuration(self, configuration) -> None:
+    def set_target_from_configuration(self, configuration: Configuration) -> None:
         """The target is the frame's current pose in the root at ``configuration``.
 
         Args:
@@ -130,30 +140,33 @@ class RelativeFrameTask(ResidualTask):
         state = self._state(configuration)
         self.set_target(inverse(_pose(state, self.root)) @ _pose(state, self.frame))
 
-    def set_target_from_q(self, q: np.ndarray) -> None:
+    def set_target_from_q(self, q: NDArray[np.float64]) -> None:
         """The target is the frame's pose in the root at the bound robot's ``q``."""
         robot = self._require_robot()
         self.set_target(inverse(robot.fk(q, self.root)) @ robot.fk(q, self.frame))
 
     @property
-    def transform_target_to_root(self):
+    def transform_target_to_root(self) -> SE3 | None:
         """The target as a ``mink.SE3`` (mink's name), or None before one is set."""
         from mink import SE3  # redik tasks already depend on mink; imported where used
 
         return None if self.target is None else SE3.from_matrix(self.target)
 
-    def _relative(self, state: KinematicState) -> np.ndarray:
+    def _relative(self, state: KinematicState) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """``(T_rf, T_t)``: the frame's pose in the root at ``state``, and the target."""
         if self.target is None:
             raise TargetNotSet(
                 f"RelativeFrameTask on {self.frame_name!r} in {self.root_name!r} has no target: "
                 "call set_target(...) first"
             )
-        return inverse(_pose(state, self.root)) @ _pose(state, self.frame)
+        return inverse(_pose(state, self.root)) @ _pose(state, self.frame), self.target
 
-    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+    def residual_into(
+        self, state: KinematicState, e: NDArray[np.float64], J: NDArray[np.float64]
+    ) -> None:
         """Write ``e = log(T_t⁻¹ T_rf)`` and its Jacobian (module docstring)."""
-        T_rf = self._relative(state)
-        e[:] = se3_log(inverse(self.target) @ T_rf)
+        T_rf, target = self._relative(state)
+        e[:] = se3_log(inverse(target) @ T_rf)
         J_frame = _body_jacobian(state, self.frame, state.pose(self.frame)[0])
         J_root = _body_jacobian(state, self.root, state.pose(self.root)[0])
         relative = J_frame - adjoint(inverse(T_rf)) @ J_root
@@ -161,9 +174,9 @@ class RelativeFrameTask(ResidualTask):
 
     def pose_errors(self, state: KinematicState) -> tuple[float | None, float | None]:
         """``(‖p_rf − p_t‖, angle(R_tᵀ R_rf))`` at ``state``; None for a part of zero cost."""
-        T_rf = self._relative(state)
-        position = float(np.linalg.norm(T_rf[:3, 3] - self.target[:3, 3]))
-        rotation = rotation_angle(T_rf[:3, :3], self.target[:3, :3])
+        T_rf, target = self._relative(state)
+        position = float(np.linalg.norm(T_rf[:3, 3] - target[:3, 3]))
+        rotation = rotation_angle(T_rf[:3, :3], target[:3, :3])
         return (
             position if self.cost[:3].any() else None,
             rotation if self.cost[3:].any() else None,

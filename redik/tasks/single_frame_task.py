@@ -26,6 +26,10 @@ SE(3) log) is group math: :func:`redik.lie.so3_left_jacobian_inverse` and
 from __future__ import annotations
 
 import abc
+from typing import NoReturn
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from redik.core.exceptions import InvalidInput, TargetNotSet
 from redik.kinematics.robot import FRAME_KINDS, Frame, Robot
@@ -53,11 +57,13 @@ class SingleFrameTask(ResidualTask):
         target: The target, or None until one is set.
     """
 
+    frame: Frame
+
     def __init__(
         self,
         frame_name: str,
         frame_type: str | None,
-        cost,
+        cost: ArrayLike,
         gain: float,
         priority: int,
         size: int,
@@ -73,21 +79,20 @@ class SingleFrameTask(ResidualTask):
             raise InvalidInput(f"frame_type must be one of {FRAME_KINDS}, got {frame_type!r}")
         self.frame_name = frame_name
         self.frame_type = frame_type
-        self.frame: Frame | None = None
-        self.target = None
+        self.target: NDArray[np.float64] | None = None
 
     def bind(self, robot: Robot) -> SingleFrameTask:
         """Prepare for ``robot`` (the base class's contract); returns self."""
         name = self.frame_name
         self.frame = robot.frame(name if self.frame_type is None else f"{self.frame_type}:{name}")
-        return super().bind(robot)
+        super().bind(robot)
+        return self
 
-    def _require_target(self) -> None:
-        if self.target is None:
-            raise TargetNotSet(
-                f"{type(self).__name__} on frame {self.frame_name!r} has no target: call "
-                "set_target(...) first"
-            )
+    def _require_target(self) -> NoReturn:
+        raise TargetNotSet(
+            f"{type(self).__name__} on frame {self.frame_name!r} has no target: call "
+            "set_target(...) first"
+        )
 
     @abc.abstractmethod
     def pose_errors(self, state: KinematicState) -> tuple[float | None, float | None]:

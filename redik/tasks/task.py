@@ -37,15 +37,20 @@ A task names frames, not ids; :meth:`Task.bind` resolves them against a
 from __future__ import annotations
 
 import abc
+from typing import TYPE_CHECKING
 
 import numpy as np
 from mink.tasks import BaseTask, Objective
 from mink.tasks import Task as MinkTask
+from numpy.typing import ArrayLike, NDArray
 
 from redik.core.exceptions import InvalidInput
 from redik.core.validate import integer, non_negative, real_array
 from redik.kinematics.robot import Robot
 from redik.tasks.kinematics import KinematicState
+
+if TYPE_CHECKING:
+    from mink import Configuration
 
 MAX_COST = 1e6
 """Largest task cost accepted. A cost enters the Hessian squared: beyond ``1e6`` (``w² =
@@ -54,7 +59,7 @@ MAX_COST = 1e6
 is what priorities are for."""
 
 
-def as_cost(cost, size: int, name: str) -> np.ndarray:
+def as_cost(cost: object, size: int, name: str) -> NDArray[np.float64]:
     """A finite cost in ``[0, MAX_COST]``, scalar or per component, as a (``size``,) array."""
     array = np.atleast_1d(real_array(cost, name))
     if array.ndim != 1 or array.shape[0] not in (1, size):
@@ -96,7 +101,7 @@ class Task(BaseTask):
         self.robot = robot
         return self
 
-    def reset(self, velocity: np.ndarray | None = None) -> None:
+    def reset(self, velocity: NDArray[np.float64] | None = None) -> None:
         """Forget what earlier steps of a :class:`redik.Problem` left in the task.
 
         The next step starts a new motion with joint velocity ``velocity`` (``robot.dof``,; None: at
@@ -117,11 +122,13 @@ class Task(BaseTask):
             )
         return self.robot
 
-    def _state(self, configuration) -> KinematicState:
+    def _state(self, configuration: Configuration) -> KinematicState:
         return KinematicState.for_configuration(self._require_robot(), configuration)
 
     @abc.abstractmethod
-    def add_objective(self, state: KinematicState, H: np.ndarray, c: np.ndarray) -> None:
+    def add_objective(
+        self, state: KinematicState, H: NDArray[np.float64], c: NDArray[np.float64]
+    ) -> None:
         """Add this task's ``(H, c)`` (``n × n``, ``n``) at ``state`` into ``H`` and ``c``."""
 
     def objective_value(self, state: KinematicState) -> float:
@@ -133,7 +140,7 @@ class Task(BaseTask):
         """
         return 0.0
 
-    def compute_qp_objective(self, configuration) -> Objective:
+    def compute_qp_objective(self, configuration: Configuration) -> Objective:
         """The pair ``(H, c)`` over the model's ``nv`` velocity columns (mink's protocol)."""
         state = self._state(configuration)
         H = np.zeros((state.n_columns, state.n_columns))
@@ -164,7 +171,7 @@ class ResidualTask(Task, MinkTask):
 
     def __init__(
         self,
-        cost,
+        cost: ArrayLike,
         gain: float,
         priority: int,
         size: int | None = None,
@@ -185,6 +192,13 @@ class ResidualTask(Task, MinkTask):
         """The Levenberg–Marquardt scale ``λ`` of mink (read-only: see the class docstring)."""
         return self._lm_damping
 
+    @lm_damping.setter
+    def lm_damping(self, value: float) -> None:
+        raise InvalidInput(
+            f"{type(self).__name__}.lm_damping is fixed at construction (a task with λ > 0 "
+            f"assembles its own objective); got {value!r}: build a new task"
+        )
+
     @property
     def gain(self) -> float:
         """The gain ``α ∈ [0, 1]``."""
@@ -200,7 +214,7 @@ class ResidualTask(Task, MinkTask):
         self.cost = as_cost(self._cost_spec, size, f"{type(self).__name__} cost")
         self.version += 1
 
-    def set_cost(self, cost) -> None:
+    def set_cost(self, cost: ArrayLike) -> None:
         """Replace the cost (scalar or per component).
 
         Use it rather than editing ``cost`` in place: cached products are refreshed through
@@ -210,24 +224,30 @@ class ResidualTask(Task, MinkTask):
         self.version += 1
 
     @abc.abstractmethod
-    def residual_into(self, state: KinematicState, e: np.ndarray, J: np.ndarray) -> None:
+    def residual_into(
+        self, state: KinematicState, e: NDArray[np.float64], J: NDArray[np.float64]
+    ) -> None:
         """Write the error (``k``,) into ``e`` and its Jacobian (``k × n``) into ``J``."""
 
-    def error_into(self, state: KinematicState, e: np.ndarray) -> None:
+    def error_into(self, state: KinematicState, e: NDArray[np.float64]) -> None:
         """Write the error (``k``,) alone into ``e`` (a subclass skips the Jacobian if it can)."""
         J = getattr(self, "_error_scratch", None)
         if J is None or J.shape[1] != state.n_columns:
             J = self._error_scratch = np.empty((self.k, state.n_columns))
         self.residual_into(state, e, J)
 
-    def weighted_residual_into(self, state: KinematicState, A: np.ndarray, b: np.ndarray) -> None:
+    def weighted_residual_into(
+        self, state: KinematicState, A: NDArray[np.float64], b: NDArray[np.float64]
+    ) -> None:
         """Write ``A = W J`` and ``b = −α W e``, the rows of ``½‖A Δq − b‖²`` (hot path)."""
         self.residual_into(state, b, A)
         A *= self.cost[:, None]
         b *= self.cost
         b *= -self.gain
 
-    def add_objective(self, state: KinematicState, H: np.ndarray, c: np.ndarray) -> None:
+    def add_objective(
+        self, state: KinematicState, H: NDArray[np.float64], c: NDArray[np.float64]
+    ) -> None:
         """Add this task's ``(H, c)`` at ``state`` into ``H`` and ``c``."""
         A = np.empty((self.k, state.n_columns))
         b = np.empty(self.k)
@@ -243,26 +263,30 @@ class ResidualTask(Task, MinkTask):
         weighted = self.cost * e
         return 0.5 * float(weighted @ weighted)
 
-    def error_and_jacobian(self, state: KinematicState) -> tuple[np.ndarray, np.ndarray]:
+    def error_and_jacobian(
+        self, state: KinematicState
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Fresh arrays ``(e, J)`` at ``state``."""
         e = np.empty(self.k)
         J = np.empty((self.k, state.n_columns))
         self.residual_into(state, e, J)
         return e, J
 
-    def compute_error(self, configuration) -> np.ndarray:
+    def compute_error(self, configuration: Configuration) -> NDArray[np.float64]:
         """The error :math:`e(q)` at a ``mink.Configuration`` (mink's protocol)."""
         return self.error_and_jacobian(self._state(configuration))[0]
 
-    def compute_jacobian(self, configuration) -> np.ndarray:
+    def compute_jacobian(self, configuration: Configuration) -> NDArray[np.float64]:
         """The Jacobian :math:`J(q)` over the model's ``nv`` columns (mink's protocol)."""
         return self.error_and_jacobian(self._state(configuration))[1]
 
-    def compute_qp_objective(self, configuration) -> Objective:
+    def compute_qp_objective(self, configuration: Configuration) -> Objective:
         """The pair ``(H, c)`` over the model's ``nv`` columns (mink's protocol)."""
         return Task.compute_qp_objective(self, configuration)
 
-    def compute_qp_residual(self, configuration) -> tuple[np.ndarray, np.ndarray, float]:
+    def compute_qp_residual(
+        self, configuration: Configuration
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], float]:
         """The weighted residual mink stacks, ``(W J, −α W e, μ)`` (mink's protocol).
 
         mink protocol: ``(W J, −α W e, μ)``, the weighted residual mink stacks and its

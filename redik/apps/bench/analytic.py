@@ -29,20 +29,25 @@ the time spent waiting for a core. Without ik-geo installed the comparisons prin
 from __future__ import annotations
 
 import argparse
+import functools
+import importlib
 import itertools
 import statistics
 import time
 from collections.abc import Callable
+from types import ModuleType
 from typing import Any
 
 import numpy as np
 
+from redik.apps import measured
 from redik.apps.bench import load_average
 from redik.kinematics.robot import Robot, load
 from redik.lie import wrap_angle
 from redik.models.dh import DHRow
 from redik.solvers.analytic import solver_for
 from redik.solvers.analytic.geometry import Chain, screws_of
+from redik.solvers.analytic.solver import SmallArmSolver
 from redik.solvers.pose import solve_all, solve_pose
 
 SCENES = ("puma560", "ur5e", "planar_2r")
@@ -86,8 +91,9 @@ def run(args: argparse.Namespace) -> int:
     """Print the tables of the module docstring that ``--tables`` names; returns 0."""
     clock = CLOCKS[args.clock]
     print(f"redik bench analytic ({args.clock} clock); {load_average('load')}")
+    ik_geo: ModuleType | None
     try:
-        import ik_geo
+        ik_geo = importlib.import_module("ik_geo")
     except ImportError:
         ik_geo = None
         print("ik-geo is not installed (pip install ik-geo): its columns are skipped")
@@ -338,6 +344,15 @@ def scenes_table(args: argparse.Namespace, clock: Callable[[], float]) -> None:
             f"{name:<10}{single:>9.2f}{batched:>9.2f}{dls:>10.1f}{dls / single:>11.0f}×"
             f"{solutions:>11.2f}"
         )
+        measured.record(
+            "closed form on the bundled scenes",
+            robot=name,
+            single_us=single,
+            batched_us=batched,
+            dls_us=dls,
+            dls_over_single=dls / single,
+            solutions=solutions,
+        )
 
 
 def labelled_table(args: argparse.Namespace, ik_geo: Any, clock: Callable[[], float]) -> None:
@@ -353,12 +368,14 @@ def labelled_table(args: argparse.Namespace, ik_geo: Any, clock: Callable[[], fl
     for name in ("puma560", "ur5e"):
         robot = load(name)
         solver = solver_for(robot)
+        if isinstance(solver, SmallArmSolver):  # no raw form to time
+            continue
         reference = ik_geo_arm(robot, solver.kind, ik_geo)
         rng = np.random.default_rng(args.seed)
         targets = [robot.fk(q) for q in robot.random_q(rng, size=args.n)]
-        calls = {
+        calls: dict[str, Callable[[np.ndarray], object]] = {
             "labelled": solver,
-            "raw": lambda T, solver=solver: solver.raw(T, limits=None),
+            "raw": functools.partial(solver.raw, limits=None),
             "ik-geo": reference,
         }
         for call in calls.values():
@@ -368,6 +385,16 @@ def labelled_table(args: argparse.Namespace, ik_geo: Any, clock: Callable[[], fl
             f"{name:<10}{solver.kind:>33}{m['labelled']:>10.2f}{m['raw']:>8.2f}"
             f"{m['ik-geo']:>8.2f}{m['labelled'] / m['ik-geo']:>16.2f}×"
             f"{m['raw'] / m['ik-geo']:>11.2f}×"
+        )
+        measured.record(
+            "closed form, labelled call beside ik-geo",
+            robot=name,
+            kind=solver.kind,
+            labelled_us=m["labelled"],
+            raw_us=m["raw"],
+            ik_geo_us=m["ik-geo"],
+            labelled_over_ik_geo=m["labelled"] / m["ik-geo"],
+            raw_over_ik_geo=m["raw"] / m["ik-geo"],
         )
 
 
@@ -440,6 +467,20 @@ def classes_table(args: argparse.Namespace, ik_geo: Any, clock: Callable[[], flo
             f"{row['found']:>7.0%}{row['found_ik_geo']:>7.0%}{row['solutions']:>6.2f}"
             f"{row['solutions_ik_geo']:>7.2f}{row['fk_error']:>9.1e}{multi:>11}  {row['method']}"
         )
+        measured.record(
+            "closed form per IK-Geo class beside ik-geo",
+            kind=kind,
+            redik_us=row["redik_us"],
+            ik_geo_us=row["ik_geo_us"],
+            ratio=ratio,
+            found_pct=100 * row["found"],
+            ik_geo_found_pct=100 * row["found_ik_geo"],
+            solutions=row["solutions"],
+            ik_geo_solutions=row["solutions_ik_geo"],
+            fk_error=row["fk_error"],
+            multistart=multi,
+            method=row["method"],
+        )
 
 
 def special_table(args: argparse.Namespace, clock: Callable[[], float]) -> None:
@@ -473,4 +514,14 @@ def special_table(args: argparse.Namespace, clock: Callable[[], float]) -> None:
         print(
             f"{name:<22}{solver.method + ':' + solver.kind:>22}{timed:>9.1f}"
             f"{np.mean([len(x) for x in sols]):>6.2f}{found:>7.0%}{worst:>9.1e}{multi:>11}"
+        )
+        measured.record(
+            "closed form, arms special at both ends",
+            arm=name,
+            method=f"{solver.method}:{solver.kind}",
+            median_us=timed,
+            solutions=float(np.mean([len(x) for x in sols])),
+            found_pct=100 * float(found),
+            fk_error=worst,
+            multistart=multi,
         )

@@ -23,15 +23,19 @@ import argparse
 import statistics
 import time
 from collections.abc import Callable
+from typing import TypeVar
 
 import numba
 import numpy as np
 
+from redik.apps import measured
 from redik.apps.bench import load_average
 from redik.kinematics.robot import Robot, load
 from redik.solvers.batch import Chain, forward_kinematics, solve_batch
 from redik.solvers.batch.engines import default_workers
 from redik.solvers.pose import solve_pose
+
+_T = TypeVar("_T")
 
 TARGET_RATE = 100_000
 TARGET_SUCCESS = 0.9999
@@ -51,7 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0)
 
 
-def _timed(fn) -> tuple[float, float, object]:
+def _timed(fn: Callable[[], _T]) -> tuple[float, float, _T]:
     """``(wall seconds, CPU seconds, fn())``."""
     wall, cpu = time.perf_counter(), time.process_time()
     out = fn()
@@ -114,13 +118,15 @@ def _print_ratios(
         f" / solve_pose loop {1e6 * single['loop'] / len(T_single):.1f} us per target: "
         f"{per_thread:.2f}x (goal ≥ {TARGET_PER_THREAD:g}x; {len(T_single)} targets)"
     )
-    if numba.config.NUMBA_NUM_THREADS < 2:
-        return
-    threads = _alternated({1: batch(T_large, 1), 2: batch(T_large, 2)}, args.repeats, 0)
-    print(
-        f"{name}: solve_batch on 2 threads / 1 thread (wall): {threads[1] / threads[2]:.2f}x "
-        f"(goal ≥ {TARGET_TWO_THREADS:g}x; {len(T_large)} targets)"
-    )
+    two_threads = None
+    if numba.config.NUMBA_NUM_THREADS >= 2:
+        threads = _alternated({1: batch(T_large, 1), 2: batch(T_large, 2)}, args.repeats, 0)
+        two_threads = threads[1] / threads[2]
+        print(
+            f"{name}: solve_batch on 2 threads / 1 thread (wall): {two_threads:.2f}x "
+            f"(goal ≥ {TARGET_TWO_THREADS:g}x; {len(T_large)} targets)"
+        )
+    measured.record("batch ratios", robot=name, per_thread=per_thread, two_threads=two_threads)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -157,12 +163,32 @@ def run(args: argparse.Namespace) -> int:
                 print(
                     f"{name:<8}{size:>8}{label:>20}{rate:>11,.0f}{cpu_text}{100 * success:>9.2f}%"
                 )
+                measured.record(
+                    "batch throughput",
+                    robot=name,
+                    batch=size,
+                    engine=label.split()[-1],
+                    workers=count,
+                    wall_per_s=rate,
+                    cpu_per_s=cpu_rate if in_process else None,
+                    success_pct=100 * success,
+                )
                 if count == workers and success >= TARGET_SUCCESS:
                     best[name] = max(best.get(name, (0.0, 0.0)), (rate, success))
         rate, success = _single_loop(robot, T_all[: args.single], args.seed)
         print(
             f"{name:<8}{args.single:>8}{'solve_pose loop':>20}{rate:>11,.0f}{'':>11}"
             f"{100 * success:>9.2f}%"
+        )
+        measured.record(
+            "batch throughput",
+            robot=name,
+            batch=args.single,
+            engine="solve_pose loop",
+            workers=1,
+            wall_per_s=rate,
+            cpu_per_s=None,
+            success_pct=100 * success,
         )
         _print_ratios(name, robot, chain, T_all, args)
     for name, (rate, success) in best.items():

@@ -14,6 +14,7 @@ import time
 import mujoco
 import numpy as np
 
+from redik.apps import measured
 from redik.kinematics.robot import load
 
 
@@ -70,4 +71,11 @@ def run(args: argparse.Namespace) -> int:
             median = _median_us(fn, args.calls, args.repeats)
             reference = reference or median
             print(f"{name:<8}{label:<38}{median:>11.2f}{median / reference:>8.2f}×")
+            measured.record(
+                "FK + world Jacobian per call",
+                robot=name,
+                case=label,
+                median_us=median,
+                vs_raw=median / reference,
+            )
     return 0

@@ -38,8 +38,10 @@ import mujoco
 import numpy as np
 
 from redik import lie
+from redik.apps import measured
 from redik.apps.bench import load_average
 from redik.kinematics.robot import Robot
+from redik.models.dh import Convention, DHRow
 from redik.solvers.pose import METHODS, solve_pose
 
 ROBOTS = ("panda", "iiwa14", "ur5e")
@@ -104,8 +106,8 @@ def run(args: argparse.Namespace) -> int:
         robot = _load(name)
         solvers = {f"redik {m}": _redik_solver(robot, m) for m in args.methods}
         solvers.update(_reference_solvers(robot, references))
-        solvers = {label: solver for label, solver in solvers.items() if solver is not None}
-        rows += _measure(robot, solvers, n, args.seed)
+        available = {label: solver for label, solver in solvers.items() if solver is not None}
+        rows += _measure(robot, available, n, args.seed)
     _print_table(rows)
     print(load_average("load average at end"))
     return 0
@@ -141,7 +143,7 @@ class Score:
             return False
         self.data.qpos[robot.qpos_indices] = q
         mujoco.mj_kinematics(robot.model, self.data)
-        frame = robot.ee
+        frame = robot.frame(None)
         if frame.kind == "site":
             p, R = self.data.site_xpos[frame.id], self.data.site_xmat[frame.id]
         else:
@@ -201,6 +203,18 @@ def _print_table(rows: list[tuple[str, str, str, float, np.ndarray]]) -> None:
             f"{robot:8s} {mode:7s} {label:14s} {success:9.1f} {median:10.3f} {p95:8.3f} "
             f"{p99:8.3f} {milliseconds.max():8.3f} {ratio}"
         )
+        measured.record(
+            "pose IK, every library on the same targets",
+            robot=robot,
+            seeds=mode,
+            solver=label,
+            success_pct=success,
+            median_ms=median,
+            p95_ms=p95,
+            p99_ms=p99,
+            max_ms=milliseconds.max(),
+            median_over_rtb=median / rtb_median if rtb_median else None,
+        )
 
 
 # --------------------------------------------------------------------------------------
@@ -243,9 +257,10 @@ def _mink_solver(robot: Robot, limit_gain: float, damping: float) -> Solver | No
         print("note: mink not installed; skipped")
         return None
     configuration = mink.Configuration(robot.model)
-    task = mink.FrameTask(robot.ee.name, robot.ee.kind, position_cost=1.0, orientation_cost=1.0)
+    frame = robot.frame(None)
+    task = mink.FrameTask(frame.name, frame.kind, position_cost=1.0, orientation_cost=1.0)
     limits = [mink.ConfigurationLimit(robot.model, gain=limit_gain)]
-    indices, frame = robot.qpos_indices, robot.ee
+    indices = robot.qpos_indices
     data = configuration.data
     if frame.kind == "site":
         position, rotation = data.site_xpos[frame.id], data.site_xmat[frame.id]
@@ -273,7 +288,7 @@ def _mink_solver(robot: Robot, limit_gain: float, damping: float) -> Solver | No
     return solve
 
 
-def _dh_table(robot: Robot) -> tuple[tuple, str, np.ndarray, np.ndarray]:
+def _dh_table(robot: Robot) -> tuple[tuple[DHRow, ...], Convention, np.ndarray, np.ndarray]:
     """``(rows, convention, tool, base)`` of a scene built from a DH table.
 
     ``base`` places the table's frame 0 in the scene: ``robot.fk(q) = base · T_0n(q) · tool``.
@@ -312,7 +327,8 @@ def rtb_ets(robot: Robot):
         elements += [rtb.ET.SE3(constant @ pre), joint]
         constant = post
     elements.append(rtb.ET.SE3(constant @ tool))
-    return rtb.ETS(elements)
+    # roboticstoolbox's package exports the class ETS under the name of its module ETS.
+    return rtb.ETS(elements)  # type: ignore[operator]
 
 
 def _rtb_solver(robot: Robot) -> Solver | None:
@@ -358,7 +374,7 @@ def _tracik_solver(robot: Robot) -> Solver | None:
     return solve
 
 
-def _dh_to_urdf(rows, convention: str, tool: np.ndarray, robot: Robot) -> str:
+def _dh_to_urdf(rows, convention: Convention, tool: np.ndarray, robot: Robot) -> str:
     """A URDF with one joint per DH row: ``origin`` then a motion about the joint's z."""
     from redik.models.dh import split_row
 

@@ -1,5 +1,10 @@
 """QP core: per-step time of every back-end beside mink.solve_ik, and convergence on FK targets.
 
+Part 0 is the control step beside the anchors (:mod:`redik.apps.bench._qp_anchors`): redik's
+weighted and strict steps, PlaCo's (when ``placo`` is importable) and ``mink.solve_ik`` on one
+panda URDF, and redik's and mink's G1 step with 50 collision pairs, interleaved; it prints the
+medians and the ratios redik/PlaCo, strict/weighted and mink/redik.
+
 Part 1 times one differential-IK step of the panda stack (FrameTask + JointLimitAvoidanceTask
 + PostureTask at equal priority, joint position box) for each back-end, and mink's
 ``solve_ik`` on the equivalent stack (``FrameTask``, ``PostureTask``, and a ``PostureTask``
@@ -53,6 +58,8 @@ import mink
 import numpy as np
 
 from redik import lie
+from redik.apps import measured
+from redik.apps.bench import _qp_anchors as qp_anchors
 from redik.core.exceptions import BackendError, InfeasibleProblem
 from redik.kinematics.robot import Robot, load
 from redik.limits import ConfigurationLimit
@@ -81,6 +88,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--latency-targets", type=int, default=200)
     parser.add_argument("--multiframe-robots", nargs="*", default=list(WHOLE_BODIES))
     parser.add_argument("--multiframe-targets", type=int, default=20)
+    parser.add_argument("--anchor-steps", type=int, default=3000, help="panda steps, part 0")
+    parser.add_argument("--g1-steps", type=int, default=1000, help="G1 steps, part 0")
+    parser.add_argument(
+        "--parts", nargs="+", default=list(PARTS), choices=list(PARTS), help="default: all"
+    )
 
 
 class _MinkStack:
@@ -397,7 +409,7 @@ def _multiframe(key: str, args) -> dict:
     runners = {"redik": _redik_whole_body, "mink": _mink_whole_body}
     for run in runners.values():
         run(robot, goals[0], args)  # warm-up: compilation, caches
-    rows = {name: ([], []) for name in runners}
+    rows: dict[str, tuple[list[float], list[float]]] = {name: ([], []) for name in runners}
     for goal in goals:
         for name, run in runners.items():
             start = time.perf_counter()
@@ -414,8 +426,12 @@ def _multiframe(key: str, args) -> dict:
     } | {"robot": robot, "frames": len(frames)}
 
 
+PARTS = ("anchors", "steps", "priorities", "convergence", "latency", "multiframe")
+"""The parts, in the order they run (module docstring: 0, 1, 1b, 2, 3, 4)."""
+
+
 def run(args: argparse.Namespace) -> int:
-    """Run the four parts (module docstring)."""
+    """Run the parts asked for (module docstring)."""
     with warnings.catch_warnings():
         # qpsolvers warns on every dense-to-sparse conversion mink's calls make.
         warnings.simplefilter("ignore")
@@ -423,12 +439,72 @@ def run(args: argparse.Namespace) -> int:
         rng = np.random.default_rng(args.seed)
         targets = [robot.fk(q) for q in robot.random_q(rng, size=args.targets)]
         backends = args.backends or available_backends()
-        _print_steps(robot, backends, args, targets)
-        _print_priorities(robot, backends, args, targets)
-        _print_convergence(robot, args, targets)
-        _print_latency(args)
-        _print_multiframe(args)
+        parts = {
+            "anchors": lambda: _print_anchors(args),
+            "steps": lambda: _print_steps(robot, backends, args, targets),
+            "priorities": lambda: _print_priorities(robot, backends, args, targets),
+            "convergence": lambda: _print_convergence(robot, args, targets),
+            "latency": lambda: _print_latency(args),
+            "multiframe": lambda: _print_multiframe(args),
+        }
+        for name in PARTS:
+            if name in args.parts:
+                parts[name]()
     return 0
+
+
+def _print_anchors(args) -> None:
+    try:
+        import cmeel  # noqa: F401 - example-robot-data's models come with it
+    except ImportError:
+        print("anchors: example-robot-data is not installed (redik[models])\n")
+        return
+    with_placo = qp_anchors.placo_available()
+    print(
+        f"control step beside the anchors: panda URDF tracking a path, {args.anchor_steps} "
+        f"steps, medians (µs), interleaved; load average {_load()}"
+    )
+    medians, agreement = qp_anchors.panda_steps(args.anchor_steps, with_placo)
+    for name, us in medians.items():
+        print(f"  {name:<16}{us:>9.1f}")
+    weighted, strict = medians["redik weighted"], medians["redik strict"]
+    print(f"  redik strict / weighted: {strict / weighted:.2f}")
+    print(f"  mink / redik weighted: {medians['mink weighted'] / weighted:.2f}")
+    if with_placo:
+        print(f"  redik weighted / PlaCo soft hand: {weighted / medians['placo soft']:.2f}")
+        print(f"  redik strict / PlaCo hard hand: {strict / medians['placo hard']:.2f}")
+    else:
+        print("  PlaCo not installed (requirements-placo.txt, CONTRIBUTING.md)")
+    for name, difference in agreement.items():
+        print(f"  max |Δq({name}) − Δq(redik weighted)| = {difference:.1e}")
+    placo_soft, placo_hard = medians.get("placo soft"), medians.get("placo hard")
+    measured.record(
+        "control step beside PlaCo and mink (panda URDF)",
+        redik_weighted_us=weighted,
+        redik_strict_us=strict,
+        placo_soft_us=placo_soft,
+        placo_hard_us=placo_hard,
+        mink_us=medians["mink weighted"],
+        strict_over_weighted=strict / weighted,
+        weighted_over_placo=weighted / placo_soft if placo_soft else None,
+        mink_over_redik=medians["mink weighted"] / weighted,
+    )
+    print(
+        f"\nG1 (4 frame tasks, posture, joint box, {qp_anchors.G1_PAIRS} collision pairs), "
+        f"{args.g1_steps} steps, medians (µs), interleaved; load average {_load()}"
+    )
+    medians, difference = qp_anchors.g1_steps(args.g1_steps)
+    for name, us in medians.items():
+        print(f"  {name:<16}{us:>9.1f}")
+    ratio = medians["mink weighted"] / medians["redik weighted"]
+    print(f"  mink / redik weighted: {ratio:.2f}")
+    print(f"  max |Δq(mink) − Δq(redik)| = {difference:.1e}\n")
+    measured.record(
+        "G1 step beside mink (50 collision pairs)",
+        redik_us=medians["redik weighted"],
+        mink_us=medians["mink weighted"],
+        mink_over_redik=ratio,
+    )
 
 
 def _print_steps(robot, backends, args, targets) -> None:
@@ -447,6 +523,14 @@ def _print_steps(robot, backends, args, targets) -> None:
         if solver:
             ratio = f"{mink_us / redik_us:>7.2f}x"
             print(f"{backend:<16}{solver:<13}{redik_us:>10.1f}{mink_us:>10.1f}{ratio}")
+            measured.record(
+                "QP step beside mink.solve_ik",
+                redik_back_end=backend,
+                mink_solver=solver,
+                redik_us=redik_us,
+                mink_us=mink_us,
+                mink_over_redik=mink_us / redik_us,
+            )
         else:
             print(f"{backend:<16}{'-':<13}{redik_us:>10.1f}{'-':>10}{'-':>8}")
 
@@ -464,6 +548,13 @@ def _print_priorities(robot, backends, args, targets) -> None:
             print(f"{backend:<16}failed: {error}")
             continue
         print(f"{backend:<16}{one_us:>12.1f}{two_us:>13.1f}{two_us / one_us:>7.2f}x")
+        measured.record(
+            "strict priorities: two levels vs one",
+            redik_back_end=backend,
+            one_level_us=one_us,
+            two_levels_us=two_us,
+            ratio=two_us / one_us,
+        )
 
 
 def _print_convergence(robot, args, targets) -> None:
@@ -476,8 +567,11 @@ def _print_convergence(robot, args, targets) -> None:
     for backend in args.converge_backends:
         solver = MINK_SOLVER.get(backend, backend)
         rows = [
-            (f"redik {backend} (weighted 1e-4)", _converge_redik(robot, backend, args, targets, 0)),
-            (f"redik {backend} (strict)", _converge_redik(robot, backend, args, targets, 1)),
+            (
+                f"redik {backend} (weighted 1e-4)",
+                _converge_redik(robot, backend, args, targets, False),
+            ),
+            (f"redik {backend} (strict)", _converge_redik(robot, backend, args, targets, True)),
         ]
         if solver:
             rows.append(
@@ -487,6 +581,14 @@ def _print_convergence(robot, args, targets) -> None:
             print(
                 f"{name:<34}{s['success']:>8.1%}{s['iterations']:>7}{s['time_ms']:>10.2f}"
                 f"{s['overshoot']:>11.1e}"
+            )
+            measured.record(
+                "solve_problem on FK targets beside mink's loop",
+                loop=name,
+                success_pct=100 * s["success"],
+                iterations=s["iterations"],
+                per_solve_ms=s["time_ms"],
+                overshoot=s["overshoot"],
             )
 
 
@@ -509,6 +611,19 @@ def _print_latency(args) -> None:
                 f"{row['p95']:>8.2f}{row['p99']:>8.2f}{row['max']:>8.2f}"
                 f"{row['iterations_p99']:>8.0f}{row['p99_steps']:>9.0f}x"
                 f"{row['wall_p99']:>10.2f}"
+            )
+            measured.record(
+                "solve_pose(method='qp') latency",
+                robot=name,
+                seeds=row["mode"],
+                success_pct=100 * row["success"],
+                p50_ms=row["p50"],
+                p95_ms=row["p95"],
+                p99_ms=row["p99"],
+                max_ms=row["max"],
+                p99_iterations=row["iterations_p99"],
+                p99_in_steps=row["p99_steps"],
+                wall_p99_ms=row["wall_p99"],
             )
 
 
@@ -537,4 +652,16 @@ def _print_multiframe(args) -> None:
             f"{key:<8}{row['frames']:>7}{row['robot'].nq:>5}{redik_row['success']:>7.0%}"
             f"{redik_row['p50']:>9.1f}{redik_row['p95']:>9.1f}{mink_row['success']:>7.0%}"
             f"{mink_row['p50']:>9.1f}{mink_row['p95']:>9.1f}"
+        )
+        measured.record(
+            "multi-frame targets, solve_problem beside mink's loop",
+            robot=key,
+            frames=row["frames"],
+            nq=row["robot"].nq,
+            redik_success_pct=100 * redik_row["success"],
+            redik_p50_ms=redik_row["p50"],
+            redik_p95_ms=redik_row["p95"],
+            mink_success_pct=100 * mink_row["success"],
+            mink_p50_ms=mink_row["p50"],
+            mink_p95_ms=mink_row["p95"],
         )

@@ -16,6 +16,7 @@ import time
 
 import numpy as np
 
+from redik.apps import measured
 from redik.kinematics.robot import load
 from redik.solvers.pose import solve_pose
 from redik.solvers.redundancy import explore_self_motion
@@ -96,6 +97,16 @@ def run(args: argparse.Namespace) -> int:
             f"{name:<10} total {covered}/{solved} covered ({100 * fraction:.1f} %), median "
             f"{np.median([r['time'] for r in rows]):.2f} s/pose, "
             f"{np.median([r['rate'] for r in rows]):.0f} samples/s"
+        )
+        measured.record(
+            "self-motion completeness",
+            robot=name,
+            poses=len(rows),
+            solutions=solved,
+            covered=covered,
+            covered_pct=100 * fraction,
+            median_time_s=np.median([r["time"] for r in rows]),
+            samples_per_s=np.median([r["rate"] for r in rows]),
         )
         if not fraction >= 0.99:
             status = 1

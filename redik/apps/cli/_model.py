@@ -14,6 +14,7 @@ with ``_``, so the CLI's subcommand discovery skips it.
 from __future__ import annotations
 
 import argparse
+import functools
 import re
 import sys
 from pathlib import Path
@@ -154,7 +155,7 @@ def in_flags(message: str) -> str:
     reads ``"--fixed j1 j2"``.
     """
     for pattern, flag in KEYWORD_FLAGS:
-        message = pattern.sub(lambda match, flag=flag: _flag_text(match, flag), message)
+        message = pattern.sub(functools.partial(_flag_text, flag=flag), message)
     return message
 
 

@@ -19,6 +19,7 @@ import argparse
 import inspect
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -70,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
     """Solve the targets, write the ``.npz`` and print the summary and the rate."""
     robot = load_chain(args)
     chain = Chain.from_robot(robot)
-    extra: dict[str, np.ndarray] = {}
+    extra: dict[str, Any] = {}  # arrays, typed Any for savez_compressed's keyword arguments
     q0 = None
     if args.random is not None:
         if args.random < 1:

@@ -122,8 +122,9 @@ def _render(robot, motion, picks, out: Path, args: argparse.Namespace, progress)
 
     progress.set_description("rendering")
     start = progress.n
+    width, height = args.size
     frames = render_frames(
-        robot, motion.samples[picks], *args.size, target=motion.T_target,
+        robot, motion.samples[picks], width, height, target=motion.T_target,
         on_frame=lambda k, total: progress.update(start + k + 1 - progress.n),
     )  # fmt: skip
     progress.set_description("writing frames")

@@ -7,6 +7,8 @@ from enum import Enum
 
 import numpy as np
 
+from redik.core.exceptions import InvalidInput
+
 LISTED_CONTACTS = 5
 """Contacts named in a summary (the deepest first); the result holds them all."""
 
@@ -215,7 +217,7 @@ class SimulationResult:
             f"{self.rms_rotation_error:.2e} rad, final {self.final_position_error * 1e3:.4f} mm"
             f" / {self.final_rotation_error:.2e} rad"
         )
-        if self.reference_position_error is not None:
+        if self.reference_position_error is not None and self.reference_rotation_error is not None:
             line += (
                 f"; IK reference alone max {self.reference_position_error.max() * 1e3:.3f} mm"
                 f" / {self.reference_rotation_error.max():.2e} rad"
@@ -229,14 +231,16 @@ def tracking_diagnosis(name: str, result: SimulationResult) -> str:
     The IK is blamed when its own reference leaves the path by more than half the bound;
     saturation and contacts are named when they happened.
     """
+    if result.error_bound is None:
+        raise InvalidInput("tracking_diagnosis needs a result checked against an error_bound")
     position, rotation = result.error_bound
     message = (
         f"{name}: tracking error exceeds the bound {position * 1e3:g} mm / {rotation:g} rad: "
         f"{result.summary()}."
     )
-    if (
-        result.reference_position_error.max() > 0.5 * position
-        or result.reference_rotation_error.max() > 0.5 * rotation
+    reference = (result.reference_position_error, result.reference_rotation_error)
+    if (reference[0] is not None and reference[0].max() > 0.5 * position) or (
+        reference[1] is not None and reference[1].max() > 0.5 * rotation
     ):
         message += (
             " The IK reference itself leaves the path: the QP cannot follow it there (a "

@@ -14,6 +14,7 @@ from collections.abc import Sequence
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.kinematics.robot.selection import (
     BALL,
@@ -53,23 +54,25 @@ class JointCoordinates:
         free_q: Where a free joint's position starts in ``q``.
     """
 
-    joint_ids: np.ndarray
+    joint_ids: NDArray[np.intp]
     joint_names: tuple[str, ...]
     joint_types: tuple[str, ...]
-    qpos_adr: np.ndarray
-    dof_adr: np.ndarray
+    qpos_adr: NDArray[np.intp]
+    dof_adr: NDArray[np.intp]
     dof_names: tuple[str, ...]
     dof_joints: tuple[str, ...]
-    revolute: np.ndarray
-    lower: np.ndarray
-    upper: np.ndarray
-    scalar_dofs: np.ndarray
-    scalar_q: np.ndarray
+    revolute: NDArray[np.bool_]
+    lower: NDArray[np.float64]
+    upper: NDArray[np.float64]
+    scalar_dofs: NDArray[np.intp]
+    scalar_q: NDArray[np.intp]
     quaternion_q: tuple[int, ...]
     free_q: tuple[int, ...]
 
     @classmethod
-    def of(cls, model: mujoco.MjModel, joint_ids: Sequence[int]) -> JointCoordinates:
+    def of(
+        cls, model: mujoco.MjModel, joint_ids: Sequence[int] | NDArray[np.intp]
+    ) -> JointCoordinates:
         """The coordinates of ``joint_ids`` (in that order) in ``model``."""
         names = tuple(joint_name(model, j) for j in joint_ids)
         types = [int(model.jnt_type[j]) for j in joint_ids]
@@ -85,8 +88,15 @@ class JointCoordinates:
                 for j, t in zip(joint_ids, types, strict=True)
             ]
         ).astype(int)
-        dof_names, dof_joints, revolute, lower, upper = [], [], [], [], []
-        scalar_dofs, scalar_q, quaternion_q, free_q = [], [], [], []
+        dof_names: list[str] = []
+        dof_joints: list[str] = []
+        revolute: list[bool] = []
+        lower: list[float] = []
+        upper: list[float] = []
+        scalar_dofs: list[int] = []
+        scalar_q: list[int] = []
+        quaternion_q: list[int] = []
+        free_q: list[int] = []
         q_offset = 0
         for j, t, name in zip(joint_ids, types, names, strict=True):
             if t == FREE:

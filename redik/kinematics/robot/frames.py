@@ -12,6 +12,7 @@ import dataclasses
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput
 from redik.models import loading
@@ -95,7 +96,9 @@ def frame_body(model: mujoco.MjModel, frame: Frame) -> int:
     return frame.id
 
 
-def frame_pose_views(data: mujoco.MjData, frame: Frame) -> tuple[np.ndarray, np.ndarray]:
+def frame_pose_views(
+    data: mujoco.MjData, frame: Frame
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Views ``(R, p)`` of ``frame``'s world rotation and position inside ``data``."""
     if frame.kind == "site":
         return data.site_xmat[frame.id].reshape(3, 3), data.site_xpos[frame.id]
@@ -105,7 +108,11 @@ def frame_pose_views(data: mujoco.MjData, frame: Frame) -> tuple[np.ndarray, np.
 
 
 def frame_jacobian(
-    model: mujoco.MjModel, data: mujoco.MjData, frame: Frame, jacp: np.ndarray, jacr: np.ndarray
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    frame: Frame,
+    jacp: NDArray[np.float64],
+    jacr: NDArray[np.float64],
 ) -> None:
     """MuJoCo's world Jacobian of ``frame`` (``mj_jacSite``/``mj_jacBody``/``mj_jacGeom``)."""
     FRAME_JACOBIANS[frame.kind](model, data, jacp, jacr, frame.id)

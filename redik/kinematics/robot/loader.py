@@ -13,25 +13,43 @@ holds them as class methods of ``Robot`` (``Robot.from_file``, ``Robot.from_dh``
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
+import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.models import loading, scenes
 from redik.models.builder import dh_to_mjcf, screws_to_mjcf
+from redik.models.dh import RowLike
 
 if TYPE_CHECKING:
     from redik.kinematics.robot.robot import Robot
 
 
+_RobotT = TypeVar("_RobotT", bound="RobotLoading")
+
+
 class RobotLoading:
     """The class methods that build a robot from a description; ``Robot`` derives from it."""
 
+    if TYPE_CHECKING:
+        # The constructor the class methods call: Robot's.
+        def __init__(
+            self,
+            model: mujoco.MjModel,
+            ee: str | None = None,
+            *,
+            name: str | None = None,
+            joints: str | Sequence[str] | None = None,
+            fixed: Sequence[str] | None = None,
+        ) -> None: ...
+
     @classmethod
     def from_file(
-        cls: type[Robot],
+        cls: type[_RobotT],
         path: str | Path,
         ee: str | None = None,
         *,
@@ -39,7 +57,7 @@ class RobotLoading:
         joints: str | Sequence[str] | None = None,
         fixed: Sequence[str] | None = None,
         **options: Any,
-    ) -> Robot:
+    ) -> _RobotT:
         """Load an MJCF (``.xml``) or URDF (``.urdf``) file.
 
         Fixed URDF links stay bodies, so ``tool0`` or ``panda_hand`` can be a frame.
@@ -66,7 +84,7 @@ class RobotLoading:
 
     @classmethod
     def from_xml_string(
-        cls: type[Robot],
+        cls: type[_RobotT],
         xml: str,
         ee: str | None = None,
         name: str | None = None,
@@ -74,7 +92,7 @@ class RobotLoading:
         joints: str | Sequence[str] | None = None,
         fixed: Sequence[str] | None = None,
         **options: Any,
-    ) -> Robot:
+    ) -> _RobotT:
         """Build from an MJCF or URDF string.
 
         Args:
@@ -97,16 +115,16 @@ class RobotLoading:
 
     @classmethod
     def from_dh(
-        cls: type[Robot],
-        rows: Sequence,
+        cls: type[_RobotT],
+        rows: Iterable[RowLike],
         convention: str = "standard",
         limits: Sequence[Sequence[float]] | None = None,
-        tool: np.ndarray | None = None,
+        tool: NDArray[np.float64] | None = None,
         *,
         name: str = "dh_robot",
         home: Sequence[float] | None = None,
         **builder_options: Any,
-    ) -> Robot:
+    ) -> _RobotT:
         """Build from a Denavit–Hartenberg table.
 
         Spong et al., *Robot Modeling and Control*, §3.2 (standard); Craig, *Introduction to
@@ -132,16 +150,16 @@ class RobotLoading:
 
     @classmethod
     def from_screws(
-        cls: type[Robot],
-        screws: np.ndarray,
-        M: np.ndarray,
+        cls: type[_RobotT],
+        screws: NDArray[np.float64],
+        M: NDArray[np.float64],
         frame: str = "space",
         limits: Sequence[Sequence[float]] | None = None,
         *,
         name: str = "poe_robot",
         home: Sequence[float] | None = None,
         **builder_options: Any,
-    ) -> Robot:
+    ) -> _RobotT:
         """Build from a product of exponentials (Modern Robotics §4.1).
 
         ``robot.fk(q) = e^{[S_1] q_1} ⋯ e^{[S_n] q_n} M`` (space screws) or

@@ -52,6 +52,7 @@ from collections.abc import Sequence
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidConfiguration, InvalidInput, ModelError, UnknownFrame
 from redik.core.validate import MAX_COORDINATE, real_array
@@ -276,7 +277,7 @@ class Robot(RobotLoading):
     def chain(
         self,
         frame: str | Frame | None = None,
-        q: np.ndarray | None = None,
+        q: NDArray[np.float64] | None = None,
         *,
         name: str | None = None,
     ) -> Robot:
@@ -315,7 +316,9 @@ class Robot(RobotLoading):
         chain.state.data.qpos[:] = qpos
         return chain
 
-    def embed(self, chain: Robot, q_chain: np.ndarray, q: np.ndarray | None = None) -> np.ndarray:
+    def embed(
+        self, chain: Robot, q_chain: NDArray[np.float64], q: NDArray[np.float64] | None = None
+    ) -> NDArray[np.float64]:
         """Write a chain's solution back into a configuration of this robot.
 
         Args:
@@ -346,7 +349,7 @@ class Robot(RobotLoading):
     # ----------------------------------------------------------------------------------
     # Joint vectors
 
-    def check_q(self, q: np.ndarray, name: str = "q") -> np.ndarray:
+    def check_q(self, q: NDArray[np.float64], name: str = "q") -> NDArray[np.float64]:
         """Check a configuration of this robot.
 
         Args:
@@ -384,7 +387,7 @@ class Robot(RobotLoading):
                     )
         return q
 
-    def scalar_values(self, q: np.ndarray) -> np.ndarray:
+    def scalar_values(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Per tangent coordinate: the hinge and slide values of ``q``, 0 on ball/free dofs.
 
         What a joint position limit (per tangent coordinate) compares with; ``q`` itself
@@ -396,7 +399,9 @@ class Robot(RobotLoading):
         values[self._scalar_dofs] = q[self._scalar_q]
         return values
 
-    def with_scalar_values(self, q: np.ndarray, values: np.ndarray) -> np.ndarray:
+    def with_scalar_values(
+        self, q: NDArray[np.float64], values: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
         """A copy of ``q`` whose hinge and slide entries are taken from ``values`` (``dof``,).
 
         The inverse of :meth:`scalar_values` on those joints; ball and free joints keep
@@ -408,7 +413,7 @@ class Robot(RobotLoading):
         q[self._scalar_q] = values[self._scalar_dofs]
         return q
 
-    def within_limits(self, q: np.ndarray, tol: float = 0.0) -> bool:
+    def within_limits(self, q: NDArray[np.float64], tol: float = 0.0) -> bool:
         """Whether a configuration is inside the joint limits.
 
         Args:
@@ -421,7 +426,7 @@ class Robot(RobotLoading):
         values = self.scalar_values(q)
         return bool(np.all(values >= self.lower - tol) and np.all(values <= self.upper + tol))
 
-    def clip(self, q: np.ndarray) -> np.ndarray:
+    def clip(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Clip a configuration into the joint limits.
 
         Args:
@@ -440,7 +445,7 @@ class Robot(RobotLoading):
             q[start : start + 4] /= np.linalg.norm(q[start : start + 4])
         return q
 
-    def integrate(self, q: np.ndarray, dq: np.ndarray) -> np.ndarray:
+    def integrate(self, q: NDArray[np.float64], dq: NDArray[np.float64]) -> NDArray[np.float64]:
         """The configuration reached by a tangent step: ``q ⊕ Δq``.
 
         ``q + dq`` on a flat robot, else ``mj_integratePos`` (the exponential map of each
@@ -462,7 +467,9 @@ class Robot(RobotLoading):
         mujoco.mj_integratePos(self.model, qpos, qvel, 1.0)
         return qpos[self._qpos_adr]
 
-    def difference(self, q_from: np.ndarray, q_to: np.ndarray) -> np.ndarray:
+    def difference(
+        self, q_from: NDArray[np.float64], q_to: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
         """The tangent step between two configurations: ``q_to ⊖ q_from``.
 
         ``q_to − q_from`` on a flat robot, else ``mj_differentiatePos``; the inverse of
@@ -480,20 +487,21 @@ class Robot(RobotLoading):
         self._qpos_a[self._qpos_adr] = q_from
         self._qpos_b[self._qpos_adr] = q_to
         mujoco.mj_differentiatePos(self.model, self._qvel, 1.0, self._qpos_a, self._qpos_b)
-        return self._qvel[self._dof_adr].copy()
+        step: NDArray[np.float64] = self._qvel[self._dof_adr]
+        return step.copy()
 
     @property
-    def sampling_lower(self) -> np.ndarray:
+    def sampling_lower(self) -> NDArray[np.float64]:
         """Lower bound used for random sampling: the limit, or −π (or −1 m) where unlimited."""
         return np.where(np.isfinite(self.lower), self.lower, np.where(self.revolute, -np.pi, -1.0))
 
     @property
-    def sampling_upper(self) -> np.ndarray:
+    def sampling_upper(self) -> NDArray[np.float64]:
         """Upper bound used for random sampling: the limit, or π (or 1 m) where unlimited."""
         return np.where(np.isfinite(self.upper), self.upper, np.where(self.revolute, np.pi, 1.0))
 
     @property
-    def periodic(self) -> np.ndarray:
+    def periodic(self) -> NDArray[np.bool_]:
         """Per tangent coordinate, True for the rotations taken modulo 2π.
 
         Those whose range spans a full turn (:func:`redik.lie.periodic_coordinates`,
@@ -503,7 +511,7 @@ class Robot(RobotLoading):
 
     def random_q(
         self, rng: np.random.Generator | int | None = None, size: int | None = None
-    ) -> np.ndarray:
+    ) -> NDArray[np.float64]:
         """Draw configurations uniformly within the sampling bounds.
 
         Hinges and slides uniformly in ``[sampling_lower, sampling_upper]``; ball and free
@@ -534,14 +542,14 @@ class Robot(RobotLoading):
         return out[0] if size is None else out
 
     @property
-    def midrange(self) -> np.ndarray:
+    def midrange(self) -> NDArray[np.float64]:
         """The middle of each joint's sampling range (``home`` on ball and free joints)."""
         return self.with_scalar_values(self.home, 0.5 * (self.sampling_lower + self.sampling_upper))
 
     # ----------------------------------------------------------------------------------
     # Kinematics, checked
 
-    def fk(self, q: np.ndarray, frame: str | Frame | None = None) -> np.ndarray:
+    def fk(self, q: NDArray[np.float64], frame: str | Frame | None = None) -> NDArray[np.float64]:
         """Forward kinematics: the pose ``T_wf`` of a frame in the world.
 
         Args:
@@ -561,8 +569,8 @@ class Robot(RobotLoading):
         return self.state.pose_into(resolved, np.eye(4))
 
     def jacobian(
-        self, q: np.ndarray, frame: str | Frame | None = None, reference: str = "space"
-    ) -> np.ndarray:
+        self, q: NDArray[np.float64], frame: str | Frame | None = None, reference: str = "space"
+    ) -> NDArray[np.float64]:
         """The Jacobian of a frame, ``ξ = J q̇`` with ``ξ = (v, ω)``.
 
         Args:
@@ -590,21 +598,21 @@ class Robot(RobotLoading):
         return world_jacobian_to(reference, J, R, p, out=J)
 
     @property
-    def qpos_indices(self) -> np.ndarray:
+    def qpos_indices(self) -> NDArray[np.intp]:
         """Indices of ``q``'s entries in ``model.qpos`` (for embedding ``q`` into a full qpos)."""
         return self._qpos_adr
 
     @property
-    def dof_indices(self) -> np.ndarray:
+    def dof_indices(self) -> NDArray[np.intp]:
         """Indices of the tangent coordinates in the model's velocity space (Jacobian columns)."""
         return self._dof_adr
 
     @property
-    def joint_ids(self) -> np.ndarray:
+    def joint_ids(self) -> NDArray[np.intp]:
         """MuJoCo ids of the moved joints."""
         return self._joint_ids
 
-    def q_of(self, qpos: np.ndarray | None = None) -> np.ndarray:
+    def q_of(self, qpos: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
         """Read this robot's ``q`` from a full ``qpos``.
 
         Args:
@@ -625,11 +633,12 @@ class Robot(RobotLoading):
             raise InvalidConfiguration(
                 f"qpos must have shape ({self.model.nq},) (model.nq), got {qpos.shape}"
             )
-        return qpos[self._qpos_adr].copy()
+        values: NDArray[np.float64] = qpos[self._qpos_adr]
+        return values.copy()
 
-    def full_qpos(self, q: np.ndarray) -> np.ndarray:
+    def full_qpos(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """The model's full ``qpos`` with the robot's joints set to ``q``, the rest as held."""
-        qpos = self.state.data.qpos.copy()
+        qpos: NDArray[np.float64] = self.state.data.qpos.copy()
         qpos[self._qpos_adr] = q
         return qpos
 

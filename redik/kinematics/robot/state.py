@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.kinematics.robot.frames import FRAME_JACOBIANS, Frame, frame_pose_views
 
@@ -43,9 +44,9 @@ class RobotState:
     def __init__(
         self,
         model: mujoco.MjModel,
-        qpos_indices: np.ndarray,
-        dof_indices: np.ndarray,
-        qpos: np.ndarray,
+        qpos_indices: NDArray[np.intp],
+        dof_indices: NDArray[np.intp],
+        qpos: NDArray[np.float64],
     ):
         self.model = model
         self.data = mujoco.MjData(model)
@@ -59,9 +60,9 @@ class RobotState:
         )
         self._jacp = np.zeros((3, model.nv))
         self._jacr = np.zeros((3, model.nv))
-        self._views: dict[Frame, tuple[np.ndarray, np.ndarray]] = {}
+        self._views: dict[Frame, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
 
-    def update(self, q: np.ndarray) -> None:
+    def update(self, q: NDArray[np.float64]) -> None:
         """Write ``q`` into ``data.qpos`` and run forward kinematics, unchecked.
 
         ``mj_kinematics`` places every body, site and geom; ``mj_comPos`` fills the ``cdof``
@@ -74,7 +75,7 @@ class RobotState:
         mujoco.mj_kinematics(self.model, self.data)
         mujoco.mj_comPos(self.model, self.data)
 
-    def pose_views(self, frame: Frame) -> tuple[np.ndarray, np.ndarray]:
+    def pose_views(self, frame: Frame) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Views of a frame's world rotation and position inside ``data``.
 
         Args:
@@ -88,7 +89,7 @@ class RobotState:
             views = self._views[frame] = frame_pose_views(self.data, frame)
         return views
 
-    def pose_into(self, frame: Frame, T: np.ndarray) -> np.ndarray:
+    def pose_into(self, frame: Frame, T: NDArray[np.float64]) -> NDArray[np.float64]:
         """Copy a frame's current pose ``T_wf`` into a caller-owned buffer.
 
         Args:
@@ -103,7 +104,7 @@ class RobotState:
         T[:3, 3] = p
         return T
 
-    def world_jacobian_into(self, frame: Frame, J: np.ndarray) -> np.ndarray:
+    def world_jacobian_into(self, frame: Frame, J: NDArray[np.float64]) -> NDArray[np.float64]:
         """Write a frame's ``"world"`` Jacobian into a caller-owned buffer.
 
         Args:
@@ -124,7 +125,11 @@ class RobotState:
         return J
 
     def kinematics(
-        self, q: np.ndarray, frame: Frame, T: np.ndarray, J: np.ndarray | None = None
+        self,
+        q: NDArray[np.float64],
+        frame: Frame,
+        T: NDArray[np.float64],
+        J: NDArray[np.float64] | None = None,
     ) -> None:
         """One forward kinematics at ``q``: the frame's pose, and its world Jacobian if asked.
 
@@ -140,7 +145,7 @@ class RobotState:
             self.world_jacobian_into(frame, J)
 
 
-def _as_slice(indices: np.ndarray) -> slice | np.ndarray:
+def _as_slice(indices: NDArray[np.intp]) -> slice | NDArray[np.intp]:
     """``indices`` as a slice when they are consecutive, else unchanged."""
     if len(indices) and np.array_equal(indices, np.arange(indices[0], indices[0] + len(indices))):
         return slice(int(indices[0]), int(indices[0]) + len(indices))

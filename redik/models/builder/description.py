@@ -12,6 +12,7 @@ from collections.abc import Sequence
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import ModelError
 from redik.models.dh import DHRow, parse_convention
@@ -25,7 +26,7 @@ POE_SCREWS = "redik_poe_screws"
 POE_HOME = "redik_poe_M"
 
 
-def dh_numerics(table: Sequence[DHRow], tool: np.ndarray) -> dict[str, list[float]]:
+def dh_numerics(table: Sequence[DHRow], tool: NDArray[np.float64]) -> dict[str, list[float]]:
     """The ``<numeric>`` entries of a DH table and its 4×4 ``tool`` (row-major)."""
     a, d, alpha, theta = DH_NUMERICS
     return {
@@ -43,7 +44,7 @@ def dh_texts(convention: str) -> dict[str, str]:
     return {DH_CONVENTION: convention}
 
 
-def screw_numerics(S: np.ndarray, M: np.ndarray) -> dict[str, list[float]]:
+def screw_numerics(S: NDArray[np.float64], M: NDArray[np.float64]) -> dict[str, list[float]]:
     """The ``<numeric>`` entries that store space screws ``S`` and the home pose ``M``.
 
     ``S`` (6 × n) is stored n × 6 row-major, each row ``(ω, v)``; ``M`` row-major.
@@ -51,7 +52,7 @@ def screw_numerics(S: np.ndarray, M: np.ndarray) -> dict[str, list[float]]:
     return {POE_SCREWS: S.T.ravel().tolist(), POE_HOME: M.ravel().tolist()}
 
 
-def read_dh(model: mujoco.MjModel) -> tuple[tuple[DHRow, ...], str, np.ndarray]:
+def read_dh(model: mujoco.MjModel) -> tuple[tuple[DHRow, ...], str, NDArray[np.float64]]:
     """Recover ``(rows, convention, tool)`` from a model made by ``dh_to_mjcf``.
 
     The inverse of :func:`~redik.models.builder.dh_to_mjcf`'s storage.
@@ -71,13 +72,13 @@ def read_dh(model: mujoco.MjModel) -> tuple[tuple[DHRow, ...], str, np.ndarray]:
             f"{error}"
         ) from None
     rows = tuple(
-        DHRow(*values, joint="prismatic" if flag else "revolute")
-        for *values, flag in zip(a, d, alpha, theta, prismatic, strict=True)
+        DHRow(a_i, d_i, alpha_i, theta_i, joint="prismatic" if flag else "revolute")
+        for a_i, d_i, alpha_i, theta_i, flag in zip(a, d, alpha, theta, prismatic, strict=True)
     )
     return rows, convention, tool
 
 
-def read_screws(model: mujoco.MjModel) -> tuple[np.ndarray, np.ndarray]:
+def read_screws(model: mujoco.MjModel) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Recover the space screws ``S`` (6 × n, MR order) and ``M`` of a model.
 
     The inverse of :func:`~redik.models.builder.screws_to_mjcf`'s storage.
@@ -95,7 +96,7 @@ def read_screws(model: mujoco.MjModel) -> tuple[np.ndarray, np.ndarray]:
     return S, M
 
 
-def _numeric(model: mujoco.MjModel, key: str) -> np.ndarray:
+def _numeric(model: mujoco.MjModel, key: str) -> NDArray[np.float64]:
     return np.array(model.numeric(key).data, dtype=float)
 
 

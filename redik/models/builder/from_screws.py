@@ -7,6 +7,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput, ModelError
 from redik.core.rotation_policy import as_pose
@@ -96,7 +97,7 @@ def screws_to_mjcf(
     )
 
 
-def space_screws(screws: Any, M: Any, frame: str) -> np.ndarray:
+def space_screws(screws: Any, M: Any, frame: str) -> NDArray[np.float64]:
     r"""Check screw axes and express them in the space frame.
 
     Body screws are converted by :math:`S_i = [\mathrm{Ad}_M] B_i` (Modern Robotics §4.1.3).
@@ -130,7 +131,7 @@ def space_screws(screws: Any, M: Any, frame: str) -> np.ndarray:
     return S
 
 
-def _screw_array(screws: Any) -> np.ndarray:
+def _screw_array(screws: Any) -> NDArray[np.float64]:
     """``screws`` as a finite float (6, n) array, or :class:`InvalidInput` saying why not."""
     try:
         S = np.array(screws, dtype=float)
@@ -148,7 +149,7 @@ def _screw_array(screws: Any) -> np.ndarray:
     return S
 
 
-def _check_screw(screw: np.ndarray, i: int) -> None:
+def _check_screw(screw: NDArray[np.float64], i: int) -> None:
     """Refuse a helical or non-unit column ``i``; zero a prismatic one's tiny ``ω`` in place."""
     omega, v = screw[:3], screw[3:]
     norm_omega = float(np.linalg.norm(omega))

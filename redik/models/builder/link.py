@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import NDArray
 
 
 @dataclass
@@ -27,8 +28,8 @@ class Link:
             the link's capsule runs from ``anchor`` to it.
     """
 
-    pose: np.ndarray
+    pose: NDArray[np.float64]
     slide: bool
-    axis: np.ndarray
-    anchor: np.ndarray
-    next_anchor: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    axis: NDArray[np.float64]
+    anchor: NDArray[np.float64]
+    next_anchor: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))

@@ -10,6 +10,7 @@ import math
 from collections.abc import Iterable
 
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.lie import quat_from_matrix
 from redik.models.builder.link import Link
@@ -30,7 +31,7 @@ def vec(values: Iterable[float]) -> str:
     return " ".join(fmt(x) for x in values)
 
 
-def pose_attrs(T: np.ndarray) -> str:
+def pose_attrs(T: NDArray[np.float64]) -> str:
     """``pos``/``quat`` attributes of a 4×4 (omitted when zero/identity)."""
     attrs = []
     if np.any(np.abs(T[:3, 3]) >= 1e-14):
@@ -43,9 +44,9 @@ def pose_attrs(T: np.ndarray) -> str:
 
 def document_lines(
     links: list[Link],
-    ee: np.ndarray,
-    ranges: np.ndarray,
-    q_home: np.ndarray,
+    ee: NDArray[np.float64],
+    ranges: NDArray[np.float64],
+    q_home: NDArray[np.float64],
     radius: float,
     reach: float,
     gains: list[float] | None,

@@ -14,6 +14,7 @@ from typing import Any
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from redik.core.exceptions import InvalidInput, ModelError
 from redik.models.builder.link import Link
@@ -25,7 +26,7 @@ _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
 
 def serial_arm_to_mjcf(
     links: list[Link],
-    ee: np.ndarray,
+    ee: NDArray[np.float64],
     *,
     limits: Any,
     name: str,
@@ -91,7 +92,7 @@ def _compile(xml: str) -> str:
     return xml
 
 
-def _limits(limits: Any, n: int) -> np.ndarray:
+def _limits(limits: Any, n: int) -> NDArray[np.float64]:
     """(n, 2) array of ranges, ±inf where unlimited."""
     if limits is None:
         return np.tile([-np.inf, np.inf], (n, 1))
@@ -126,7 +127,7 @@ def _limits(limits: Any, n: int) -> np.ndarray:
     return result
 
 
-def _home(home: Any, ranges: np.ndarray) -> np.ndarray:
+def _home(home: Any, ranges: NDArray[np.float64]) -> NDArray[np.float64]:
     n = len(ranges)
     if home is None:
         q = np.zeros(n)
@@ -136,9 +137,9 @@ def _home(home: Any, ranges: np.ndarray) -> np.ndarray:
     q = np.asarray(home, dtype=float)
     if q.shape != (n,) or not np.all(np.isfinite(q)):
         raise InvalidInput(f"home must be {n} finite joint values, got {home!r}")
-    outside = np.flatnonzero((q < ranges[:, 0]) | (q > ranges[:, 1]))
-    if outside.size:
-        i = int(outside[0])
+    outside_ids = np.flatnonzero((q < ranges[:, 0]) | (q > ranges[:, 1]))
+    if outside_ids.size:
+        i = int(outside_ids[0])
         raise InvalidInput(
             f"home[{i}] = {float(q[i])!r} lies outside the joint range {tuple(ranges[i].tolist())}"
         )
@@ -161,7 +162,7 @@ def _custom(custom: Mapping[str, float | Sequence[float]] | None) -> dict[str, l
     return result
 
 
-def _reach(links: Sequence[Link], ranges: np.ndarray) -> float:
+def _reach(links: Sequence[Link], ranges: NDArray[np.float64]) -> float:
     total = sum(float(np.linalg.norm(link.next_anchor - link.anchor)) for link in links)
     for link, (lower, upper) in zip(links, ranges, strict=True):
         if link.slide:

@@ -6,12 +6,13 @@ import math
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 SERVO_FREQUENCY = 4.0
 """Natural frequency (Hz) of the generated position servos at the ``home`` posture."""
 
 
-def servo_gains(xml: str, nq: int, home: np.ndarray) -> list[float]:
+def servo_gains(xml: str, nq: int, home: NDArray[np.float64]) -> list[float]:
     r"""Stiffness of the ``<position>`` servo of each joint of the model ``xml`` at ``home``.
 
     A critically damped servo (``dampratio="1"``) on joint *i* alone is a second-order system

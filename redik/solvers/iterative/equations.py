@@ -91,10 +91,11 @@ def solve_equations(
         method: ``"newton"``, ``"transpose"`` or ``"hybrid"``.
         jac: ``J(q)`` (``r × n``); None uses :func:`finite_difference_jacobian`.
         tol: The error test: ``‖e‖ ≤ tol``, a pair ``(ε_p, ε_R)`` (module docstring), 0 to
-            run every iteration, or None for none
+            run every iteration the other rules allow, or None for none
             (:mod:`~redik.solvers.iterative.rules`).
-        q_tol: Stop when ``‖q_{k+1} − q_k‖ < q_tol``.
-        rel_tol: Stop when ``‖f(q_{k+1}) − f(q_k)‖ ≤ rel_tol ‖f(q_k)‖``.
+        q_tol: Stop when ``‖q_{k+1} − q_k‖ < q_tol`` (``"converged"`` when ``tol`` is met,
+            0 or None).
+        rel_tol: Stop when ``‖f(q_{k+1}) − f(q_k)‖ ≤ rel_tol ‖f(q_k)‖`` (as ``q_tol``).
         max_iterations: The iteration budget.
         singular_tol: Stop as ``"singular"`` when the singularity test holds before a
             (Newton) step.

@@ -292,9 +292,9 @@ class Iterates:
     def _stop_by_rule(self, message: str) -> None:
         """Stop on the relative change or the increment.
 
-        Converged if the error test holds or none was asked, else stalled.
+        Converged if the error test holds or none was asked (``tol`` None or 0), else stalled.
         """
-        if self.rules.tol is None or self._error_test():
+        if not self.rules.stops_early or self._error_test():
             self.stop(Status.CONVERGED, message)
         else:
             self.stop(Status.STALLED, f"{message}, with ‖e‖ = {self.norm:.3g} above tol")

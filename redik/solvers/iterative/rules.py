@@ -9,21 +9,26 @@ with its own :class:`~redik.core.result.Status`:
     with a position and an orientation part separately (metres and radians do not belong
     in one norm): ``e_p ≤ ε_p`` and ``e_R ≤ ε_R``, the parts being those the residual
     defines (:meth:`Residual.errors`). ``tol = 0`` never stops a run early: every
-    iteration of the budget runs (an iterate table), and the run is ``"converged"`` at the
-    end only if ``e`` is exactly 0. ``tol = None`` asks for no error test: the other rules
-    decide.
+    iteration of the budget runs (an iterate table) unless another rule fires, and at the
+    end of the budget the run is ``"converged"`` only if ``e`` is exactly 0. ``tol = None``
+    asks for no error test: the other rules decide.
 ``rel_tol`` — the relative change of the task value
-    ``‖f(q_{k+1}) − f(q_k)‖ ≤ rel_tol · ‖f(q_k)‖``, ``f`` the task function (``x = f(q)``;
-    the notes' Newton preliminary writes it for the function whose root is sought). Tested
-    after each step.
+    ``‖f(q_{k+1}) − f(q_k)‖ ≤ rel_tol · ‖f(q_k)‖``, tested after each step, ``f`` the task
+    function ``x = f(q)`` of the notes' IK section (000, "Remarks"). The notes' Newton
+    preliminary writes the same ratio for the function whose root is sought, here
+    ``e = x_d − f(q)``; read so it cannot stop a converging run: a step ``λ J⁺ e`` gives
+    ``e_{k+1} ≈ (1 − λ) e_k`` near the root, so ``‖e_{k+1} − e_k‖ / ‖e_k‖ → λ`` (1 for a full
+    Newton step). On the task value the numerator is the same, ``‖e_{k+1} − e_k‖ → 0``, but
+    the denominator tends to ``‖x_d‖``, so the ratio tends to 0 and the rule ends a
+    converging run. For ``x_d = 0`` both readings coincide: use ``tol`` there.
 ``q_tol`` — the joint increment
     ``‖q_{k+1} − q_k‖ < q_tol``, tested after the step is taken (``q_{k+1}`` is kept and
     counted).
     When either of these two fires the run stops: ``"converged"`` if the error test holds
-    or none was asked (``tol = None``: the change or the increment is then the criterion
-    the user chose, as the notes allow), else ``"stalled"`` — a small change or increment
-    does not certify a root, it happens at a local minimum of ``‖e‖`` too. The message names
-    the rule.
+    or none was asked (``tol = None`` or ``0``: the change or the increment is then the
+    criterion the user chose, as the notes allow), else ``"stalled"`` — a small change or
+    increment does not certify a root, it happens at a local minimum of ``‖e‖`` too. The
+    message names the rule.
 ``singular_tol`` — the singularity test, before each step
     ``σ_min(J) ≤ singular_tol`` (``singular_test="sigma_min"``, the smallest of the
     ``min(r, n)`` singular values), or ``|det J| ≤ singular_tol`` (``"det"``, a square ``J``
@@ -179,6 +184,7 @@ def gain_matrix(gain: object, r: int) -> np.ndarray | None:
     if not smallest > 0.0:
         raise InvalidInput(
             f"gain K must be positive definite (xᵀKx > 0: its symmetric part (K + Kᵀ)/2 "
-            f"positive definite), but the smallest eigenvalue of (K + Kᵀ)/2 is {smallest:.3g}"
+            f"positive definite), but the smallest eigenvalue of (K + Kᵀ)/2 is {smallest:.3g} "
+            f"for K = {K.tolist()}"
         )
     return K
