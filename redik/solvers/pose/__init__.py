@@ -26,7 +26,7 @@ returned ``q``: MuJoCo's, or for ``"dls"`` the compiled chain's (equal to MuJoCo
 :func:`solve_all` collects the distinct solutions found from many starts. Frames, twist
 order ``(v, ω)`` and Jacobian references are those of :mod:`redik.core.conventions`.
 
-Methods:
+The methods:
     ``"newton"``
         Modern Robotics' *IKinBody* (Lynch & Park §6.2.2): the body error twist
         ``V_b = log(T_sb⁻¹ T_sd)`` and ``q ← q + J_b⁺ V_b``. With ``form="space"`` it is the
