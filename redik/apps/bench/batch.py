@@ -91,7 +91,8 @@ def _alternated(
     times: dict[object, list[float]] = {label: [] for label in runs}
     for _ in range(repeats):
         for label, fn in runs.items():
-            times[label].append(_timed(fn)[part])
+            wall, cpu, _ = _timed(fn)
+            times[label].append(cpu if part else wall)
     return {label: statistics.median(samples) for label, samples in times.items()}
 
 
@@ -119,7 +120,8 @@ def _print_ratios(
         f"{per_thread:.2f}x (goal ≥ {TARGET_PER_THREAD:g}x; {len(T_single)} targets)"
     )
     two_threads = None
-    if numba.config.NUMBA_NUM_THREADS >= 2:
+    # numba's stubs omit config.NUMBA_NUM_THREADS (the thread pool's size).
+    if numba.config.NUMBA_NUM_THREADS >= 2:  # type: ignore[attr-defined]
         threads = _alternated({1: batch(T_large, 1), 2: batch(T_large, 2)}, args.repeats, 0)
         two_threads = threads[1] / threads[2]
         print(

@@ -8,6 +8,7 @@ expected.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -56,7 +57,7 @@ def nonzero(value: object, name: str) -> float:
     return number
 
 
-def scalar(value: object, name: str) -> float:
+def scalar(value: Any, name: str) -> float:
     """A finite real number.
 
     A finite real number within ``±``:data:`~redik.core.validate.MAX_COORDINATE` (a signed
@@ -66,7 +67,7 @@ def scalar(value: object, name: str) -> float:
         if type(value) is not float and type(value) is not int:  # the fast path: no numpy
             if isinstance(value, bool | str | bytes | complex) or np.ndim(value) != 0:
                 raise TypeError
-        number = float(value)  # type: ignore[arg-type]
+        number = float(value)
     except (TypeError, ValueError, OverflowError):  # a ragged list, an int beyond float
         raise InvalidInput(f"{name} must be a real number, got {value!r}") from None
     if not (math.isfinite(number) and abs(number) <= MAX_COORDINATE):
@@ -140,7 +141,7 @@ def limits(
     """``(lower, upper)`` joint limits, each (n,), ``lower ≤ upper``; ±inf allowed."""
     if value is None:
         return None
-    if len(value) != 2:  # type: ignore[arg-type]
+    if len(value) != 2:
         raise InvalidInput(f"limits must be a pair (lower, upper), got {value!r}")
     try:
         bounds = np.asarray(value, dtype=float)
@@ -155,6 +156,8 @@ def limits(
                     f"limits {name} must be {n_joints} numbers (±inf allowed, no NaN), "
                     f"got {bound!r}"
                 )
+    if bounds is None:  # each bound alone is well formed, yet not the pair
+        raise InvalidInput(f"limits must be two arrays of {n_joints} numbers, got {value!r}")
     lower, upper = bounds
     if (lower > upper).any():
         joints = np.flatnonzero(lower > upper).tolist()

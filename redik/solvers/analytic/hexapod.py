@@ -170,7 +170,7 @@ def _solve(
 
 
 def _leg_solution(
-    knee: np.ndarray,
+    knee: tuple[float, float],
     theta1: float,
     label: str,
     singular: str,

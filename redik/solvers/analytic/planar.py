@@ -33,6 +33,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from redik.solvers.analytic import _checks
 from redik.solvers.analytic._numeric import ARRAY, SCALAR, Numeric, Value
@@ -107,7 +108,7 @@ def two_link_reason(radius: float, l1: float, l2: float, what: str = "target") -
 
 def two_link_candidates(
     solution: TwoLink, l1: float, l2: float, tol: float, labels: tuple[str, str] = ELBOW_LABELS
-) -> list[tuple[np.ndarray, str, str, bool]]:
+) -> list[tuple[tuple[float, float], str, str, bool]]:
     """The distinct 2R solutions of one reachable target as ``(q, label, singular, free)``.
 
     ``free`` is True when θ1 is arbitrary (l1 = l2 and the target at the shoulder).
@@ -132,7 +133,7 @@ def planar_2r(
     l1: float,
     l2: float,
     *,
-    limits: tuple[np.ndarray, np.ndarray] | None = None,
+    limits: tuple[ArrayLike, ArrayLike] | None = None,
     tol: float = DEFAULT_TOL,
 ) -> IKSolutions:
     """Every joint vector ``(θ1, θ2)`` of a planar 2R arm that puts its tip at ``(x, y)``.
@@ -250,7 +251,7 @@ def planar_3r(
         what = f"the wrist point ({wrist_x:.6g}, {wrist_y:.6g}) for φ = {phi:.6g} rad"
         return unreachable(3, two_link_reason(float(solution.radius), l1, l2, what))
 
-    def with_theta3(theta12: np.ndarray) -> np.ndarray:
+    def with_theta3(theta12: tuple[float, float] | np.ndarray) -> np.ndarray:
         return wrap_angle(np.append(theta12, phi - theta12[0] - theta12[1]))
 
     candidates = []

@@ -69,7 +69,9 @@ def rrp_polar(
     reach = float(np.hypot(r, z))  # θ3 + a2
     if reach <= tol:
         text = "target at the shoulder: θ3 + a2 = 0 and θ1, θ2 are arbitrary"
-        family = SolutionFamily((0, 1), text, lambda t1, t2: np.array([*wrap_angle([t1, t2]), -a2]))
+        family = SolutionFamily(
+            (0, 1), text, lambda t1, t2: np.array([wrap_angle(t1), wrap_angle(t2), -a2])
+        )
         candidates = [JointSolution(np.array([0.0, 0.0, -a2]), "front", text, family)]
     elif r <= tol:
         elevation = np.copysign(np.pi / 2.0, z)

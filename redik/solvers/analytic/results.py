@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import NamedTuple, overload
+from typing import Any, NamedTuple, cast, overload
 
 import numpy as np
 
@@ -67,7 +67,7 @@ class JointSolution(np.ndarray):
         if isinstance(obj, JointSolution):
             self.label, self.singular, self.family = obj.label, obj.singular, obj.family
 
-    def __array_wrap__(
+    def __array_wrap__(  # type: ignore[override]  # numpy's stub ties the result to Self's shape
         self, array: np.ndarray, context: object = None, return_scalar: bool = False
     ) -> np.ndarray:
         plain = np.asarray(array)
@@ -76,7 +76,7 @@ class JointSolution(np.ndarray):
     def __reduce__(self) -> tuple:
         # Keep the label through pickling (multiprocessing); a family holds a closure and is
         # not pickled.
-        rebuild, args, state = super().__reduce__()
+        rebuild, args, state = cast(tuple[Any, Any, Any], super().__reduce__())
         return rebuild, args, (state, self.label, self.singular)
 
     def __setstate__(self, state: tuple) -> None:
@@ -167,7 +167,7 @@ class IKSolutions(Sequence[JointSolution]):
         self._families = tuple(s.family for s in solutions)
         self._n_joints, self._reachable = n_joints, reachable
         self._reason, self._preferred = reason, preferred
-        self._solutions = tuple(solutions)
+        self._solutions: tuple[JointSolution, ...] | None = tuple(solutions)
 
     @classmethod
     def from_arrays(

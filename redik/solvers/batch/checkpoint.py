@@ -199,7 +199,7 @@ class Checkpoint:
                 ) from None
         return chunks
 
-    def save(self, first: int, arrays: Mapping[str, np.ndarray]) -> None:
+    def save(self, first: int, arrays: Mapping[str, Any]) -> None:
         """Write a finished chunk atomically (see the module docstring).
 
         Args:

@@ -353,7 +353,8 @@ def _numba_threads(runner: Engine) -> Iterator[bool]:
     threads = numba.get_num_threads()
     count = threads
     if runner.kind == "local":
-        count = min(runner.workers, numba.config.NUMBA_NUM_THREADS)
+        # numba's stubs omit config.NUMBA_NUM_THREADS (the thread pool's size).
+        count = min(runner.workers, numba.config.NUMBA_NUM_THREADS)  # type: ignore[attr-defined]
     numba.set_num_threads(count)
     try:
         with numba.parallel_chunksize(1):

@@ -32,7 +32,7 @@ from redik.solvers.iterative.equations import (
 from redik.solvers.iterative.hybrid import transpose_then_newton
 from redik.solvers.iterative.iterates import Iterates, Residual
 from redik.solvers.iterative.newton import newton_raphson
-from redik.solvers.iterative.pose_residual import PoseResidual, world_error
+from redik.solvers.iterative.pose_residual import PosePoint, PoseResidual, world_error
 from redik.solvers.iterative.rules import (
     MAX_GROWTH,
     StoppingRules,
@@ -58,6 +58,7 @@ __all__ = [
     "RANK_TOLERANCE",
     "EquationResidual",
     "Iterates",
+    "PosePoint",
     "PoseResidual",
     "Residual",
     "StoppingRules",

@@ -24,6 +24,7 @@ exponential coordinates ``‖r_1 − r_2‖``).
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -144,7 +145,7 @@ def solve_equations(
     return _result(run, residual, method)
 
 
-METHODS = {
+METHODS: dict[str, Callable[..., Iterates[Any]]] = {
     "newton": newton_raphson,
     "transpose": jacobian_transpose,
     "hybrid": transpose_then_newton,
@@ -178,7 +179,7 @@ def _result(run: Iterates, residual: EquationResidual, method: str) -> IKResult:
     return IKResult(
         q=run.q.copy(),
         success=run.status == Status.CONVERGED,
-        status=run.status,
+        status=run.final_status,
         iterations=run.iterations,
         error=run.norm,
         position_error=position,

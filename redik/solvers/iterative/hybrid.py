@@ -12,19 +12,19 @@ from __future__ import annotations
 import numpy as np
 
 from redik.solvers.iterative import steps
-from redik.solvers.iterative.iterates import Iterates, Residual
+from redik.solvers.iterative.iterates import Iterates, P, Residual
 from redik.solvers.iterative.rules import Step, StoppingRules
 
 
 def transpose_then_newton(
-    residual: Residual,
+    residual: Residual[P],
     q0: np.ndarray,
     rules: StoppingRules,
     switch_error: float = 0.1,
     transpose_step: Step = "armijo",
     newton_step: Step = 1.0,
     gain: np.ndarray | None = None,
-) -> Iterates:
+) -> Iterates[P]:
     r"""Transpose steps ``α JᵀKe`` while ``‖e‖ > switch_error``, Newton steps ``λ J⁺e`` below.
 
     Args:

@@ -11,7 +11,7 @@ every loop shares lives in :class:`Iterates`: the current point and the history,
 from __future__ import annotations
 
 import math
-from typing import Protocol
+from typing import Any, Generic, Protocol, TypeVar
 
 import numpy as np
 
@@ -28,33 +28,37 @@ class Point(Protocol):
     norm: float
 
 
-class Residual(Protocol):
+P = TypeVar("P", bound=Point)
+"""The point type of one residual (its own fields beside ``q``, ``e`` and ``‖e‖``)."""
+
+
+class Residual(Protocol[P]):
     r"""A residual ``e(q)`` and its Jacobian, as the iterative methods use them.
 
     ``e(q) = x_d − f(q)`` and ``J = ∂f/∂q``, so that the Newton step ``J⁺e`` and the transpose
     step ``Jᵀe`` decrease ``‖e‖`` (Lynch & Park §6.2).
     """
 
-    def start(self, q: np.ndarray) -> Point:
+    def start(self, q: np.ndarray) -> P:
         """The point at the start ``q``; raises when ``q`` cannot be a start."""
 
-    def evaluate(self, q: np.ndarray) -> Point | None:
+    def evaluate(self, q: np.ndarray) -> P | None:
         """The point at ``q``, or None when ``e(q)`` is not finite."""
 
-    def jacobian(self, point: Point) -> np.ndarray | None:
+    def jacobian(self, point: P) -> np.ndarray | None:
         """``J`` (``r × n``) at the point, or None when it is not finite."""
 
-    def errors(self, point: Point) -> tuple[float, float]:
+    def errors(self, point: P) -> tuple[float, float]:
         """The position and orientation parts ``(e_p, e_R)`` tested by a pair ``tol``."""
 
     def project(self, q: np.ndarray) -> np.ndarray:
         """``q`` brought into the feasible set (the joint limits), or ``q`` itself."""
 
-    def task_value(self, point: Point) -> np.ndarray:
+    def task_value(self, point: P) -> np.ndarray:
         """``f(q)`` at the point, for the relative-change rule."""
 
 
-class Iterates:
+class Iterates(Generic[P]):
     """The state and record of one run of an iterative method on a residual.
 
     ``history[0]`` is the start and ``history[k]`` the iterate after step ``k``;
@@ -74,7 +78,7 @@ class Iterates:
 
     def __init__(
         self,
-        residual: Residual,
+        residual: Residual[P],
         q0: np.ndarray,
         rules: StoppingRules,
         gain: np.ndarray | None = None,
@@ -90,12 +94,19 @@ class Iterates:
         self._q_bound = rules.max_growth * max(1.0, float(np.max(np.abs(self.point.q))))
         self._e_bound = rules.max_growth * max(1.0, self.point.norm)
 
-    def __enter__(self) -> Iterates:
+    @property
+    def final_status(self) -> Status:
+        """The status of the finished run (every loop stops with one)."""
+        if self.status is None:
+            raise RuntimeError("the run is still going: it has no final status")
+        return self.status
+
+    def __enter__(self) -> Iterates[P]:
         self._errstate = np.errstate(over="ignore", invalid="ignore")
         self._errstate.__enter__()
         return self
 
-    def __exit__(self, *exc_info: object) -> None:
+    def __exit__(self, *exc_info: Any) -> None:
         self._errstate.__exit__(*exc_info)
 
     @property
@@ -198,18 +209,20 @@ class Iterates:
 
     def _error_test(self) -> bool:
         tol = self.rules.tol
+        if tol is None:  # no error test asked
+            return False
         if isinstance(tol, tuple):
             position, orientation = self.residual.errors(self.point)
             return position <= tol[0] and orientation <= tol[1]
         return self.norm <= tol
 
-    def _merit(self, point: Point) -> float:
+    def _merit(self, point: P) -> float:
         """``F = ½ eᵀWe`` (inf where it overflows: such a trial is never accepted)."""
         if self.weight is None:
             return 0.5 * point.norm * point.norm
         return 0.5 * float(point.e @ (self.weight @ point.e))
 
-    def _trial(self, q: np.ndarray) -> tuple[Point | None, str]:
+    def _trial(self, q: np.ndarray) -> tuple[P | None, str]:
         """The point at ``q`` (projected), or None and why it cannot be used.
 
         ``q`` is tested against the growth bound before the residual sees it.
@@ -235,7 +248,7 @@ class Iterates:
 
     def _line_search(
         self, d: np.ndarray, J: np.ndarray, first_trial: float, descent_only: bool
-    ) -> Point | None:
+    ) -> P | None:
         """The point Armijo's rule accepts along ``d``, or None.
 
         On None the run has stopped, unless ``descent_only``.
@@ -247,7 +260,7 @@ class Iterates:
                 status = Status.STALLED if math.isfinite(slope) else Status.DIVERGED
                 self.stop(status, f"the direction does not decrease the merit (slope {slope:.3g})")
             return None
-        accepted: list[Point | None] = [None]
+        accepted: list[P | None] = [None]
 
         def merit_at(alpha: float) -> float:
             accepted[0] = self._trial(self.q + alpha * d)[0]
@@ -273,7 +286,7 @@ class Iterates:
         norm = float(np.linalg.norm(d))
         return math.inf if norm <= q_tol else q_tol / norm
 
-    def _after_step(self, previous: Point) -> None:
+    def _after_step(self, previous: P) -> None:
         """The relative-change and increment rules, after a step from ``previous``."""
         rules = self.rules
         if rules.rel_tol is not None:

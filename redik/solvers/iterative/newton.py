@@ -14,14 +14,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from redik.solvers.iterative.iterates import Iterates, Residual
+from redik.solvers.iterative.iterates import Iterates, P, Residual
 from redik.solvers.iterative.rules import Step, StoppingRules
 from redik.solvers.iterative.steps import newton_step
 
 
 def newton_raphson(
-    residual: Residual, q0: np.ndarray, rules: StoppingRules, step: Step = 1.0
-) -> Iterates:
+    residual: Residual[P], q0: np.ndarray, rules: StoppingRules, step: Step = 1.0
+) -> Iterates[P]:
     r"""Newton–Raphson from ``q0``: ``q ← q + λ J⁺ e`` until a stopping rule holds.
 
     The steps of Lynch & Park §6.2.2 (*IKinBody*), line by line: initialise with ``e(q_0)``;

@@ -147,7 +147,7 @@ class PoseResidual:
         return self._full(q).copy() if self.free is not None else q
 
     def _full(self, q: np.ndarray) -> np.ndarray:
-        if self.free is None:
+        if self.free is None or self.q_full is None:
             return q
         q_full = self.q_full
         q_full[self.free] = q

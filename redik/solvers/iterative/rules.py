@@ -49,6 +49,7 @@ An Armijo search that finds no decrease of the merit stops the run as ``"stalled
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import numpy as np
 
@@ -102,7 +103,7 @@ class StoppingRules:
             InvalidInput: A negative or non-numeric tolerance, a pair that is not two of
                 them, an unknown singularity test, or a budget that is not a positive integer.
         """
-        checked = {**values}
+        checked: dict[str, Any] = {**values}
         if "tol" in values:
             checked["tol"] = tolerance(values["tol"])
         for name in ("rel_tol", "q_tol", "singular_tol"):

@@ -16,18 +16,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from redik.solvers.iterative.iterates import Iterates, Residual
+from redik.solvers.iterative.iterates import Iterates, P, Residual
 from redik.solvers.iterative.rules import Step, StoppingRules
 from redik.solvers.iterative.steps import linearised_minimiser, transpose_step
 
 
 def jacobian_transpose(
-    residual: Residual,
+    residual: Residual[P],
     q0: np.ndarray,
     rules: StoppingRules,
     step: Step = "armijo",
     gain: np.ndarray | None = None,
-) -> Iterates:
+) -> Iterates[P]:
     r"""The Jacobian transpose from ``q0``: ``q ← q + α JᵀKe`` until a stopping rule holds.
 
     Args:

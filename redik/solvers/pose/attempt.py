@@ -38,6 +38,7 @@ from redik.kinematics.robot import Frame, Robot
 from redik.solvers.iterative import (
     ARMIJO_ATTEMPT_TRIALS,
     Iterates,
+    PosePoint,
     PoseResidual,
     StoppingRules,
     jacobian_transpose,
@@ -81,10 +82,10 @@ class Attempt:
     e: np.ndarray  # world error at q
 
     @classmethod
-    def of(cls, run: Iterates, residual: PoseResidual) -> Attempt:
+    def of(cls, run: Iterates[PosePoint], residual: PoseResidual) -> Attempt:
         """The attempt a finished run made."""
         e, J = residual.world(run.point)
-        return cls(run.q, run.status, run.history, run.errors, float(e @ e), J, e)
+        return cls(run.q, run.final_status, run.history, run.errors, float(e @ e), J, e)
 
 
 AttemptFrom = Callable[[np.ndarray], Attempt]
@@ -107,8 +108,8 @@ def attempt_of(
     """
     form, stop = "world", "pose"
     if method == "newton":
-        form, stop = _choice(options["form"], "form", ("body", "space")), options["stop"]
-        stop = _choice(stop, "stop", ("pose", "twist"), " (Modern Robotics' rule)")
+        form = _choice(options["form"], "form", ("body", "space"))
+        stop = _choice(options["stop"], "stop", ("pose", "twist"), " (Modern Robotics' rule)")
     residual = PoseResidual(
         problem.robot, problem.frame, problem.T_target, form, stop, problem.respect_limits
     )

@@ -22,6 +22,7 @@ old geometry.
 from __future__ import annotations
 
 import threading
+from typing import TYPE_CHECKING, TypeGuard
 
 import numpy as np
 
@@ -29,6 +30,9 @@ from redik.kinematics.robot import Frame, Robot
 from redik.solvers.cache import solver_cache
 from redik.solvers.pose.dls_solver import DLSSolver
 from redik.solvers.pose.frame import PoseFrame
+
+if TYPE_CHECKING:
+    from redik.qp.problem import Problem
 
 _KEY = "pose"
 """The cache's key in :func:`~redik.solvers.cache.solver_cache`."""
@@ -48,7 +52,7 @@ class PoseCache:
         """By resolved :class:`Frame`, and by each frame argument (None, a name) a solve
         has resolved before."""
         self.chains: dict[Frame, tuple[Robot, np.ndarray]] = {}
-        self.qp_problems: dict[tuple, object] = {}
+        self.qp_problems: dict[tuple[object, ...], Problem] = {}
         """``"qp"``'s problems, by (frame argument, respect_limits, damping, gain)."""
         self._lock = threading.RLock()  # around every build-and-insert
         # Views of what the kept state is built from (module docstring): the model's
@@ -78,7 +82,8 @@ class PoseCache:
             robot.lower is lower
             and robot.upper is upper
             and robot.home is home
-            and b"".join(sources) == stamp
+            # ndarray exposes the buffer protocol, which numpy's stubs do not declare.
+            and b"".join(sources) == stamp  # type: ignore[arg-type]
         )
 
     @classmethod
@@ -94,10 +99,10 @@ class PoseCache:
         the cache is out of date: a look-up, the arguments unvalidated.
         """
         cache = solver_cache(robot).get(_KEY)
-        if cache is None or not cache.is_current():  # type: ignore[attr-defined]
+        if cache is None or not cache.is_current():
             return None  # the full path starts a new cache
         try:
-            return cache.dls_solvers.get(frame)  # type: ignore[attr-defined]
+            return cache.dls_solvers.get(frame)
         except TypeError:  # an unhashable frame argument: the full validation refuses it
             return None
 
@@ -160,6 +165,8 @@ class PoseCache:
         return chain, qpos[chain.qpos_indices]
 
 
-def _holds(cached: tuple[Robot, np.ndarray] | None, qpos: np.ndarray) -> bool:
+def _holds(
+    cached: tuple[Robot, np.ndarray] | None, qpos: np.ndarray
+) -> TypeGuard[tuple[Robot, np.ndarray]]:
     """A cached ``(chain, held values)`` holds its other joints at their values in ``qpos``."""
     return cached is not None and np.array_equal(np.delete(qpos, cached[0].qpos_indices), cached[1])

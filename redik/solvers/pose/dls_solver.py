@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import secrets
 import threading
+from typing import TypeGuard
 
 import numpy as np
 
@@ -146,7 +147,9 @@ class DLSSolver:
         """
         if settings is None:
             settings = self._kept(arguments)
-        inputs = None if settings is None else self._inputs(T_target, q0)
+        if settings is None:
+            return None
+        inputs = self._inputs(T_target, q0)
         if inputs is None:
             return None
         T_target, q0 = inputs
@@ -249,7 +252,7 @@ _FLOAT = np.dtype(float)
 _TWO_TO_64 = 2**64
 
 
-def exact_array(value: object, shape: tuple[int, ...]) -> bool:
+def exact_array(value: object, shape: tuple[int, ...]) -> TypeGuard[np.ndarray]:
     """``value`` is a C-contiguous writable float64 array of ``shape``.
 
     That is the type the compiled kernel takes as it is.

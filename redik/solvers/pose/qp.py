@@ -19,8 +19,8 @@ from collections.abc import Iterable
 import numpy as np
 
 from redik.core.exceptions import InvalidInput
-from redik.kinematics.robot import Robot
-from redik.limits import BallJointLimit, ConfigurationLimit
+from redik.kinematics.robot import Frame, Robot
+from redik.limits import BallJointLimit, ConfigurationLimit, Limit
 from redik.limits.ball_joint_limit import limited_ball_joints
 from redik.qp.problem import Problem
 from redik.solvers.pose.cache import PoseCache
@@ -58,7 +58,7 @@ def solve_pose_qp(
     rot_tol: float = 1e-5,
     max_iterations: int = 100,
     respect_limits: bool = True,
-    frame: str | None = None,
+    frame: str | Frame | None = None,
     restarts: int = 0,
     seed: int | None = None,
     **options,
@@ -156,7 +156,7 @@ def _limits(robot: Robot, periodic: bool) -> list:
     The robot's own ranges (:class:`redik.Problem`'s default limits), full-turn joints periodic when
     ``periodic`` (module docstring).
     """
-    limits = [ConfigurationLimit(periodic=periodic)]
+    limits: list[Limit] = [ConfigurationLimit(periodic=periodic)]
     if limited_ball_joints(robot):
         limits.append(BallJointLimit())
     return limits

@@ -10,6 +10,8 @@ of :mod:`redik.solvers.iterative`), ``"qp"`` in :mod:`~redik.solvers.pose.qp`.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from redik.core.result import IKResult, Status
@@ -48,7 +50,7 @@ def solve_pose(
     frame: str | Frame | None = None,
     strict: bool = False,
     diagnose_limits: bool = True,
-    **method_options: object,
+    **method_options: Any,
 ) -> IKResult:
     """Joint values that put ``frame`` at ``T_target`` (see :mod:`redik.solvers.pose`).
 
@@ -298,7 +300,7 @@ def solve_all(
     cluster_tol: float = 1e-3,
     strict: bool = False,
     q0: np.ndarray | None = None,
-    **method_options: object,
+    **method_options: Any,
 ) -> list[IKResult]:
     """The distinct solutions reached from ``n_starts`` starts: ``q0`` if given, then random.
 

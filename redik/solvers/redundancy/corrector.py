@@ -29,11 +29,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from redik.core.exceptions import InvalidInput
 from redik.kinematics.batched import chain_poses, world_jacobian
 from redik.kinematics.chain import Chain
 from redik.lie import pose_errors, rotation_log, wrap_angle
 from redik.solvers.dls import damped_step
-from redik.solvers.iterative import PoseResidual, StoppingRules, newton_raphson
+from redik.solvers.iterative import PosePoint, PoseResidual, StoppingRules, newton_raphson
 from redik.solvers.redundancy.nullspace import nullspace_basis
 
 if TYPE_CHECKING:
@@ -84,7 +85,8 @@ class Corrector:
         self.upper = np.asarray(robot.upper)
         self.residual = PoseResidual(robot, frame, T_target, form="body")
         self._rules: dict[int, StoppingRules] = {}  # by iteration budget
-        self._last: tuple | None = None  # the residual and point correct() returned
+        # The residual and point correct() returned last.
+        self._last: tuple[PoseResidual, PosePoint] | None = None
 
     def pose_errors(self, q: np.ndarray) -> tuple[float, float]:
         """``(‖p_d − p‖, angle(Rᵀ R_d))`` at ``q`` (:func:`redik.lie.pose_errors`)."""
@@ -126,9 +128,15 @@ class Corrector:
         ``q = None`` reuses the Jacobian of the last point :meth:`correct` returned.
         """
         if q is None:
+            if self._last is None:
+                raise InvalidInput("tangent_basis(None) reuses the last point: call correct first")
             residual, point = self._last
         else:
-            residual, point = self.residual, self.residual.evaluate(np.array(q, dtype=float))
+            residual = self.residual
+            evaluated = residual.evaluate(np.array(q, dtype=float))
+            if evaluated is None:
+                raise InvalidInput(f"the pose error is not finite at q = {q!r}")
+            point = evaluated
         return nullspace_basis(residual.jacobian(point), dimension)
 
     def _rules_for(self, max_iterations: int) -> StoppingRules:
@@ -245,7 +253,8 @@ class BatchCorrector:
         tolerances.
         """
         q = np.array(q, dtype=float).reshape(-1, self.dof)
-        if self.chain is None:
+        chain = self.chain
+        if chain is None:
             rows = [
                 self.corrector.correct(x, None if frozen is None else ~frozen[k], max_iterations)
                 for k, x in enumerate(q)
@@ -259,7 +268,7 @@ class BatchCorrector:
         converged = np.zeros(q.shape[1], dtype=bool)
         active = np.arange(q.shape[1])
         for iteration in range(max_iterations + 1):
-            e, J, position, rotation = self._errors(q[:, active])
+            e, J, position, rotation = self._errors(chain, q[:, active])
             last = iteration == max_iterations
             scale = 1.0 if last else _CONVERGED
             done = (position <= scale * c.position_tolerance) & (
@@ -279,15 +288,15 @@ class BatchCorrector:
             active = active[finite]
         return q.T.copy(), converged
 
-    def _errors(self, q: np.ndarray) -> tuple[np.ndarray, ...]:
+    def _errors(self, chain: Chain, q: np.ndarray) -> tuple[np.ndarray, ...]:
         """World error ``e`` (6 × B), world Jacobian (6 × n × B) and the scalar errors."""
-        R, p, axes, origins = chain_poses(self.chain, q)
+        R, p, axes, origins = chain_poses(chain, q)
         e = np.empty((6, q.shape[1]))
         np.subtract(self._pd, p, out=e[:3])
         Rd = np.broadcast_to(self._Rd, R.shape)
         rotation = rotation_log(Rd, R, out=e[3:])
         position = np.sqrt(np.einsum("ib,ib->b", e[:3], e[:3]))
-        return e, world_jacobian(self.chain, p, axes, origins), position, rotation
+        return e, world_jacobian(chain, p, axes, origins), position, rotation
 
     def tangent_bases(self, q: np.ndarray, dimension: int) -> np.ndarray:
         """Orthonormal bases (B × n × dimension) of ``ker J`` at every row of ``q``."""

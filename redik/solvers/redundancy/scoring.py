@@ -80,7 +80,7 @@ class JointLimitMargin(Criterion):
 
     def value(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> float:
         """:func:`redik.criteria.joint_limit_margin` at ``q``."""
-        return joint_limit_margin(q, robot.lower, robot.upper)
+        return float(joint_limit_margin(q, robot.lower, robot.upper))
 
     def values(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
         """:func:`redik.criteria.joint_limit_margin` at every row of ``q``."""
@@ -100,7 +100,7 @@ class Manipulability(Criterion):
 
     def value(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> float:
         """:func:`redik.criteria.manipulability` of ``J``."""
-        return manipulability(J)
+        return float(manipulability(J))
 
     def values(self, robot: Robot, q: np.ndarray, J: np.ndarray) -> np.ndarray:
         """:func:`redik.criteria.manipulability` of every Jacobian of ``J``."""

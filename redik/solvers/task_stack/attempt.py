@@ -253,7 +253,8 @@ def _optimised_levels(problem: Problem) -> int:
 
 
 def _stationary(stationarity: list[float], options: SolveOptions) -> bool:
-    return not stationarity or max(stationarity) <= options.stationarity_tol
+    tol = options.stationarity_tol
+    return not stationarity or (tol is not None and max(stationarity) <= tol)
 
 
 def _next_damping(mu: float, alpha: float) -> float:

@@ -90,7 +90,7 @@ class Chains:
     def start(self, q: np.ndarray, rng: np.random.Generator) -> np.ndarray:
         """``q`` with the base fitted (a floating base), then each chain solved in turn."""
         if self.base is not None:
-            q = self._fit_base(q)
+            q = self._fit_base(self.base, q)
         for task, chain in self.chains:
             q = self._solve_chain(task, chain, q, int(rng.integers(2**32)))
         return q
@@ -113,14 +113,14 @@ class Chains:
             result = self.solve(sub, q_chain, options)
         return robot.embed(chain, result.q, q)
 
-    def _fit_base(self, q: np.ndarray) -> np.ndarray:
+    def _fit_base(self, problem: Problem, q: np.ndarray) -> np.ndarray:
         """``q`` with its free joints at the least-squares fit of every frame target."""
-        robot, base = self.problem.robot, self.base.robot
+        robot, base = self.problem.robot, problem.robot
         base.state.data.qpos[:] = robot.full_qpos(q)
         options = dataclasses.replace(
             self.options, restarts=0, warm_start=False, stationarity_tol=None
         )
-        fitted = self.solve(self.base, base.q_of(), options).q
+        fitted = self.solve(problem, base.q_of(), options).q
         return robot.embed(base, fitted, q)
 
 

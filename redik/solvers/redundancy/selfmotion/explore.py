@@ -164,9 +164,10 @@ def _exact_curves(robot: Robot, T_target: np.ndarray, frame: Frame, spacing: flo
     """The closed-form self-motion loops (``exact=True``), for the robot's end-effector."""
     from redik.solvers.analytic.srs import self_motion_curves
 
-    if frame.name != robot.ee.name:
+    ee = robot.frame(None)  # UnknownFrame, naming the frames, on a robot without one
+    if frame.name != ee.name:
         raise InvalidInput(
-            f"exact=True follows the arm angle of the end-effector {robot.ee.name!r}, "
+            f"exact=True follows the arm angle of the end-effector {ee.name!r}, "
             f"not of {frame.name!r}"
         )
     return self_motion_curves(robot, T_target, spacing=spacing)
@@ -243,7 +244,8 @@ def _seed_solutions(
 
     robot = corrector.robot
     seeds = []
-    closest, closest_error = (None, None), math.inf
+    closest: tuple[float | None, float | None] = (None, None)
+    closest_error = math.inf
     for q0 in [*extra, *robot.random_q(rng, size=n_starts)]:
         result = solve_pose(
             robot, corrector.T_target, q0, restarts=0, respect_limits=False,
@@ -311,7 +313,9 @@ class Explorer(CurveTracing, SurfaceCovering):
             if q is not None and not self.index.within(q, _DISTINCT_SOLUTIONS):
                 self._append(q[None], closed=False, ends=())
 
-    def _append(self, part: np.ndarray | list[np.ndarray], closed: bool, ends: tuple) -> None:
+    def _append(
+        self, part: np.ndarray | list[np.ndarray], closed: bool, ends: tuple[str, ...]
+    ) -> None:
         self.index.extend(part)
         self.parts.append(list(part))
         self.closed.append(closed)

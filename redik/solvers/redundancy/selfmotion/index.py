@@ -8,6 +8,7 @@ and fixed-radius queries over a set that grows while a manifold is traced or cov
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -93,7 +94,7 @@ class SampleIndex:
         """Add one sample."""
         self.extend(q[None])
 
-    def extend(self, qs: np.ndarray) -> None:
+    def extend(self, qs: np.ndarray | Sequence[np.ndarray]) -> None:
         """Add the rows of ``qs``."""
         x = self._embed(np.asarray(qs, dtype=float).reshape(-1, self._points.shape[1]))
         while self._count + len(x) > len(self._points):

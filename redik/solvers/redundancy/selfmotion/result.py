@@ -8,6 +8,7 @@ from __future__ import annotations
 import dataclasses
 import json
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from scipy.sparse import coo_matrix
@@ -200,7 +201,9 @@ class SelfMotion:
 
     def save(self, path: str | Path) -> None:
         """Write the samples, labels, errors and criteria to an ``.npz`` file."""
-        arrays = {f"criterion_{name}": values for name, values in self.criteria.items()}
+        arrays: dict[str, Any] = {
+            f"criterion_{name}": values for name, values in self.criteria.items()
+        }
         np.savez_compressed(
             path,
             samples=self.samples,

@@ -13,11 +13,15 @@ the arcs inside them, each end placed *on* the limit. See
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from redik.lie import wrap_angle
-from redik.solvers.redundancy.selfmotion.index import distance
+from redik.solvers.redundancy.selfmotion.index import SampleIndex, distance
+
+if TYPE_CHECKING:
+    from redik.solvers.redundancy.corrector import BatchCorrector, Corrector
 
 _MIN_TANGENT_COSINE = math.cos(math.radians(45.0))
 _MAX_STRIDE = 0.25  # rad: longest tracing step far outside the joint limits
@@ -34,6 +38,26 @@ class CurveTracing:
     and budget, and appends components through ``_append``.
     """
 
+    if TYPE_CHECKING:  # the explorer's, which this class is mixed into
+        corrector: Corrector
+        spacing: float
+        periodic: np.ndarray
+        torus: np.ndarray
+        traced: SampleIndex
+        batch: BatchCorrector
+        exact_curves: list[np.ndarray]
+
+        @property
+        def budget(self) -> int:
+            """Samples still allowed."""
+
+        def distance(self, a: np.ndarray, b: np.ndarray) -> float:
+            """The joint-space distance of two configurations, periodic joints modulo 2π."""
+
+        def _append(
+            self, part: np.ndarray | list[np.ndarray], closed: bool, ends: tuple[str, ...]
+        ) -> None: ...
+
     def _add_curve(self, seed: np.ndarray) -> None:
         """Trace the whole curve through ``seed``, then keep the arcs inside the limits.
 
@@ -43,6 +67,7 @@ class CurveTracing:
         Tracing through the limits finds every arc of a loop from one seed anywhere on it,
         so seeds outside the limits (most of them, for a Panda) still count.
         """
+        ends: tuple[str, ...]
         if self.exact_curves:
             nearest = min(self.exact_curves, key=lambda c: _torus_distance(c, seed).min())
             curve, closed, ends = list(nearest), True, ("closed",)
@@ -53,7 +78,7 @@ class CurveTracing:
         shifted = [self.corrector.into_limits(q) for q in curve]
         valid = np.array([q is not None for q in shifted])
         if valid.all():
-            self._append(shifted, closed, ends)
+            self._append([q for q in shifted if q is not None], closed, ends)
             return
         n = len(curve)
         # Walk a loop from just after an invalid sample, so that no arc wraps around the end.
@@ -115,14 +140,16 @@ class CurveTracing:
         ends: tuple[str, ...],
     ) -> None:
         """One arc inside the limits, extended onto the limit at each cut end."""
-        arc = [shifted[k] for k in run]
+        arc = [q for q in (shifted[k] for k in run) if q is not None]  # a run is all valid
         end_reasons = []
-        for side, outside, inside in ((0, before, run[0]), (1, after, run[-1])):
+        for side, outside, inside, q_in in (
+            (0, before, run[0], arc[0]),
+            (1, after, run[-1], arc[-1]),
+        ):
             if outside is None:
                 end_reasons.append(ends[side] if len(ends) == 2 else ends[0])
                 continue
             end_reasons.append("joint_limit")
-            q_in = shifted[inside]
             q_out = curve[outside] + (q_in - curve[inside])  # the same 2π shifts
             q_end = self.corrector.limit_point(q_in, q_out)
             if q_end is not None and self.distance(q_in, q_end) <= self.spacing:
