@@ -221,11 +221,21 @@ def test_reset_makes_a_persistent_backend_answer_as_a_fresh_one(names, rng):
     qps = random_ik_qps(rng, 30)[1::3]  # one size (box, rows): the workspace is updated
     fresh = [make_backend(names).solve(qp) for qp in qps]
     backend = make_backend(names)
+    # proxsuite's own answers to one problem differ from run to run by ~1e-17 (its threads sum
+    # in varying order): a reset answer must then be as close to the fresh one as a second
+    # fresh answer is, and closer than the warm-started answers, so that reset had work to do.
+    noise = max(
+        np.abs(make_backend(names).solve(qp) - x).max() for qp, x in zip(qps, fresh, strict=True)
+    )
     used = []  # answers after another problem: warm-started, equal to round-off only
+    reset = []
     for qp, x in zip(qps, fresh, strict=True):
         backend.solve(qps[-1])
         used.append(np.abs(backend.solve(qp) - x).max())
         backend.solve(qps[-1])
         backend.reset()
-        np.testing.assert_array_equal(backend.solve(qp), x)
-    assert max(used) > 0.0  # the warm start did change an answer: reset had work to do
+        reset.append(np.abs(backend.solve(qp) - x).max())
+    if names == ["daqp"]:
+        assert max(reset) == 0.0  # daqp is deterministic: bit for bit
+    assert max(reset) <= max(4 * noise, 1e-16)
+    assert max(used) > max(reset)  # the warm start did change an answer: reset had work to do
