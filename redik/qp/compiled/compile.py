@@ -12,12 +12,11 @@ installing, as an install step would.
 
 from __future__ import annotations
 
-import sys
-import time
 from collections.abc import Callable
 
 import mujoco
 
+from redik.core import compile_ahead
 from redik.kinematics.robot import Robot, load
 from redik.limits import CollisionAvoidanceLimit, ConfigurationLimit, VelocityLimit
 from redik.qp.problem import Problem
@@ -85,24 +84,9 @@ STEPS: dict[str, Callable[[], object]] = {
 
 
 def compile_all(report: Callable[[str], None] = print) -> dict[str, float]:
-    """Run every step of :data:`STEPS` once.
-
-    Args:
-        report: Called with a line per step (its name and seconds).
-
-    Returns:
-        Each step's seconds: compilation, or loading from the cache when it is warm.
-    """
-    seconds = {}
-    for name, step in STEPS.items():
-        start = time.perf_counter()
-        step()
-        seconds[name] = time.perf_counter() - start
-        report(f"{name:<40}{seconds[name]:>8.2f} s")
-    return seconds
+    """Run every step of :data:`STEPS` once (:func:`redik.core.compile_ahead.compile_all`)."""
+    return compile_ahead.compile_all(STEPS, report)
 
 
 if __name__ == "__main__":
-    total = sum(compile_all().values())
-    print(f"{'total':<40}{total:>8.2f} s")
-    sys.exit(0)
+    compile_ahead.main(STEPS)

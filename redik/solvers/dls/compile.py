@@ -13,10 +13,9 @@ correctness: a cold first call compiles the same code, and a warm one loads it f
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
+from redik.core import compile_ahead
 from redik.kinematics.chain import Chain
 from redik.kinematics.robot import load
 from redik.solvers.dls.kernel import batch_results, solve_parallel, solve_serial
@@ -35,15 +34,13 @@ def main() -> None:
         chain.kernel_arrays(), np.array([*centre, radius]), T[None].copy(), robot.home[None].copy(),
         np.int64(0), np.uint64(0), settings, counts, batch_results(1, chain.dof),
     )  # fmt: skip
-    steps = (
-        ("solve_one (solve_pose)", lambda: solve_pose(robot, T, seed=0)),
-        ("solve_serial (solve_batch's workers)", lambda: solve_serial(*batch)),
-        ("solve_parallel (solve_batch in this process)", lambda: solve_parallel(*batch)),
+    compile_ahead.main(
+        {
+            "solve_one (solve_pose)": lambda: solve_pose(robot, T, seed=0),
+            "solve_serial (solve_batch's workers)": lambda: solve_serial(*batch),
+            "solve_parallel (solve_batch in this process)": lambda: solve_parallel(*batch),
+        }
     )
-    for label, step in steps:
-        start = time.perf_counter()
-        step()
-        print(f"{label}: {time.perf_counter() - start:.1f} s")
 
 
 if __name__ == "__main__":
