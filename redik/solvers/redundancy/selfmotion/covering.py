@@ -11,49 +11,25 @@ the limits are kept, with points placed on the limits, and split into patches. S
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from redik.lie import wrap_angle
 from redik.solvers.redundancy.selfmotion.index import SampleIndex, distances, spread
-
-if TYPE_CHECKING:
-    from redik.solvers.redundancy.corrector import BatchCorrector, Corrector
+from redik.solvers.redundancy.selfmotion.part import ExplorerPart
 
 _COVER_STEP = 0.7  # prediction distance of the surface covering, × spacing
 _COVER_EXCLUSION = 0.75  # a prediction this close (× step) to a sample is already covered
 _MAX_COVER_STRIDE = 0.6  # rad: longest covering step far outside the joint limits
 
 
-class SurfaceCovering:
+class SurfaceCovering(ExplorerPart):
     """The 2-D growth of an :class:`~redik.solvers.redundancy.selfmotion.explore.Explorer`.
 
     This class is mixed into the explorer: it reads the explorer's corrector, batch corrector,
     spacing, indices and budget, and appends components through ``_append``.
     """
-
-    if TYPE_CHECKING:  # the explorer's, which this class is mixed into
-        corrector: Corrector
-        spacing: float
-        periodic: np.ndarray
-        torus: np.ndarray
-        traced: SampleIndex
-        batch: BatchCorrector
-        exact_curves: list[np.ndarray]
-
-        @property
-        def budget(self) -> int:
-            """Samples still allowed."""
-
-        def distance(self, a: np.ndarray, b: np.ndarray) -> float:
-            """The joint-space distance of two configurations, periodic joints modulo 2π."""
-
-        def _append(
-            self, part: np.ndarray | list[np.ndarray], closed: bool, ends: tuple[str, ...]
-        ) -> None: ...
 
     def _cover_strides(self, q: np.ndarray) -> np.ndarray:
         """Prediction distance of the covering from each row of ``q``.

@@ -13,15 +13,12 @@ the arcs inside them, each end placed *on* the limit. See
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from redik.lie import wrap_angle
-from redik.solvers.redundancy.selfmotion.index import SampleIndex, distance
-
-if TYPE_CHECKING:
-    from redik.solvers.redundancy.corrector import BatchCorrector, Corrector
+from redik.solvers.redundancy.selfmotion.index import distance
+from redik.solvers.redundancy.selfmotion.part import ExplorerPart
 
 _MIN_TANGENT_COSINE = math.cos(math.radians(45.0))
 _MAX_STRIDE = 0.25  # rad: longest tracing step far outside the joint limits
@@ -31,32 +28,12 @@ def _torus_distance(curve: np.ndarray, q: np.ndarray) -> np.ndarray:
     return np.abs(wrap_angle(curve - q)).max(axis=1)
 
 
-class CurveTracing:
+class CurveTracing(ExplorerPart):
     """The 1-D growth of an :class:`~redik.solvers.redundancy.selfmotion.explore.Explorer`.
 
     This class is mixed into the explorer: it reads the explorer's corrector, spacing, indices
     and budget, and appends components through ``_append``.
     """
-
-    if TYPE_CHECKING:  # the explorer's, which this class is mixed into
-        corrector: Corrector
-        spacing: float
-        periodic: np.ndarray
-        torus: np.ndarray
-        traced: SampleIndex
-        batch: BatchCorrector
-        exact_curves: list[np.ndarray]
-
-        @property
-        def budget(self) -> int:
-            """Samples still allowed."""
-
-        def distance(self, a: np.ndarray, b: np.ndarray) -> float:
-            """The joint-space distance of two configurations, periodic joints modulo 2π."""
-
-        def _append(
-            self, part: np.ndarray | list[np.ndarray], closed: bool, ends: tuple[str, ...]
-        ) -> None: ...
 
     def _add_curve(self, seed: np.ndarray) -> None:
         """Trace the whole curve through ``seed``, then keep the arcs inside the limits.
