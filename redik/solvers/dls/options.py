@@ -53,7 +53,7 @@ class DLSOptions:
     pos_tol: float = 1e-6
     rot_tol: float = 1e-5
     max_iterations: int = 60
-    restarts: int = 100
+    restarts: int = 200
     damping: float = 0.1
     min_damping: float = 1e-9
     max_damping: float = 1e6

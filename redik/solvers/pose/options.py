@@ -18,10 +18,12 @@ from redik.solvers.dls import DLSOptions
 METHODS = ("newton", "transpose", "hybrid", "dls", "qp")
 """The methods of :func:`~redik.solvers.pose.solve_pose`."""
 
-MAX_ITERATIONS = {"newton": 100, "transpose": 2000, "hybrid": 200, "dls": 60, "qp": 200}
+MAX_ITERATIONS = {
+    "newton": 100, "transpose": 2000, "hybrid": 200, "dls": DLSOptions.max_iterations, "qp": 200,
+}  # fmt: skip
 """Default iteration budget per attempt, by method."""
 
-RESTARTS = {"newton": 20, "transpose": 5, "hybrid": 20, "dls": 200, "qp": 20}
+RESTARTS = {"newton": 20, "transpose": 5, "hybrid": 20, "dls": DLSOptions.restarts, "qp": 20}
 """Default number of random restarts after the first attempt, by method."""
 
 DLS_OPTIONS = {
