@@ -266,7 +266,7 @@ class SmallArmSolver:
         Returns:
             ``q`` (B, S, n) by label, a (B, S) ``valid`` mask and a (B, S) ``singular`` mask.
         """
-        T = np.linalg.solve(self.base, _checks.poses(T, "T", strict=strict))
+        T = self._base_inverse @ _checks.poses(T, "T", strict=strict)
         bounds = _checks.resolve_limits(limits, (self.lower, self.upper), len(self.lower))
         if self.arm.kind == "planar_2r":
             reason = np.abs(T[:, 2, 3]) > tol  # off the arm's plane
