@@ -225,7 +225,8 @@ def three_parallel(T, G, fix_joint, fix_value, tol, q, status, free, stage):
 
 
 # --------------------------------------------------------------------------------------
-# Entries: one compiled call per class, compiled on first use.
+# Entries: one compiled call per class, compiled on first use; written out per class for
+# numba's cache (the note in kernels/__init__.py).
 
 
 @numba.njit(**COMPILE)

@@ -246,7 +246,8 @@ def spherical_two_intersecting_prismatic(T, G, fix_joint, fix_value, tol, q, sta
 
 
 # --------------------------------------------------------------------------------------
-# Entries: one compiled call per class, compiled on first use.
+# Entries: one compiled call per class, compiled on first use; written out per class for
+# numba's cache (the note in kernels/__init__.py).
 
 
 @numba.njit(**COMPILE)
