@@ -74,12 +74,6 @@ def test_the_one_home_table_names_functions_and_tests_that_exist():
             assert f"def {test}(" in source, f"docs name {file}::{test}, which does not exist"
 
 
-def test_the_files_with_known_docstring_issues_exist():
-    """An entry whose file is gone would hide nothing: delete it then."""
-    for path in _hook().KNOWN_DOCSTRING_ISSUES:
-        assert (ROOT / path).is_file(), f"{path} is gone: drop it from KNOWN_DOCSTRING_ISSUES"
-
-
 def test_every_public_module_has_its_own_reference_page():
     hook = _hook()
     modules = hook.public_modules()

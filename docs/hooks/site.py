@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import concurrent.futures
 import hashlib
-import logging
 import os
 import re
 import subprocess
@@ -44,9 +43,6 @@ LAYERS = ("core", "lie", "models", "kinematics", "criteria", "tasks", "limits", 
 RUN_REFERENCE = re.compile(r"runs/([A-Za-z0-9_]+)/")
 COURSE_MARKER = re.compile(r"<!-- course-examples (\d{3}) -->")
 RUN_TIMEOUT = 600
-KNOWN_DOCSTRING_ISSUES: dict[str, str] = {}
-"""Files whose griffe warnings are shown but do not fail the build, with the reason; the docs
-tests fail when a listed file is gone (delete its entry then), so the list stays true."""
 
 
 # --------------------------------------------------------------------------------------
@@ -263,25 +259,6 @@ def course_readme() -> str:
 
 # --------------------------------------------------------------------------------------
 # Hooks
-
-
-class _KnownIssues(logging.Filter):
-    """Turns griffe's warnings on :data:`KNOWN_DOCSTRING_ISSUES` into notes."""
-
-    def filter(self, record: logging.LogRecord) -> bool:
-        message = record.getMessage().removeprefix("griffe: ")
-        if record.levelno == logging.WARNING and any(
-            message.startswith(f"{path}:") for path in KNOWN_DOCSTRING_ISSUES
-        ):
-            record.levelno, record.levelname = logging.INFO, "INFO"
-        return True
-
-
-def on_startup(command: str, dirty: bool) -> None:
-    """Install the filter of known docstring issues on griffe's logger."""
-    logger = logging.getLogger("mkdocs.plugins.griffe")
-    if not any(isinstance(f, _KnownIssues) for f in logger.filters):
-        logger.addFilter(_KnownIssues())
 
 
 def on_config(config: MkDocsConfig) -> MkDocsConfig:
