@@ -9,6 +9,7 @@ import pytest
 
 import redik
 from redik import SolveOptions, lie, solve_problem
+from redik.apps.bench import _whole_body as whole_body
 from redik.core.exceptions import InvalidInput
 from redik.qp import Problem
 from redik.solvers.pose.qp import solve_pose_qp
@@ -262,23 +263,6 @@ def test_the_driver_is_exported_and_documented():
 
 # Multi-frame targets on whole-body models (issue 20, item 2)
 
-WHOLE_BODIES = {
-    "g1": ("g1", True, "all", None,
-           ("left_rubber_hand", "right_rubber_hand", "left_ankle_roll_link",
-            "right_ankle_roll_link")),
-    "talos": ("talos_box", True, "all", ["gripper_*", "head_*"],
-              ("gripper_left_base_link", "gripper_right_base_link", "left_sole_link",
-               "right_sole_link")),
-    "baxter": ("baxter", False, ["left_[sew][0-9]", "right_[sew][0-9]"], None,
-               ("left_gripper", "right_gripper")),
-    "pr2": ("pr2", False,
-            ["torso_lift_joint", "[rl]_shoulder_*", "[rl]_upper_arm*", "[rl]_elbow*",
-             "[rl]_forearm_roll*", "[rl]_wrist_*"],
-            None, ("r_gripper_tool_frame", "l_gripper_tool_frame")),
-}  # fmt: skip
-"""The whole-body models the tests load (``test_third_party_models.py``): example-robot-data
-name, floating base, joints moved, joints held, frames given pose tasks."""
-
 
 def _third_party(name, floating, joints, fixed) -> redik.Robot:
     pytest.importorskip("cmeel")
@@ -292,32 +276,28 @@ def _third_party(name, floating, joints, fixed) -> redik.Robot:
 def _success_rate(key: str, count: int, seed: int) -> float:
     """Strict success (1e-6 m, 1e-5 rad, inside the limits) from home on ``count`` targets:
     every frame's pose at a configuration drawn inside the limits."""
-    name, floating, joints, fixed, frames = WHOLE_BODIES[key]
-    robot = _third_party(name, floating, joints, fixed)
+    pytest.importorskip("cmeel")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # meshes dropped with a warning
+        robot, frames = whole_body.whole_body(key)
     rng = np.random.default_rng(seed)
     reached = 0
     for _ in range(count):
-        q_target = robot.random_q(rng)
-        goal = {frame: robot.fk(q_target, frame) for frame in frames}
-        tasks = [FrameTask(frame, target=T) for frame, T in goal.items()]
-        result = solve_problem(Problem(robot, [*tasks, PostureTask(priority=1)]), robot.home)
-        strict = robot.within_limits(result.q) and all(
-            max(lie.pose_errors(robot.fk(result.q, frame), T)[i] / tol
-                for i, tol in ((0, 1e-6), (1, 1e-5))) <= 1.0
-            for frame, T in goal.items()
-        )  # fmt: skip
+        goal = whole_body.goal(robot, frames, rng)
+        result = solve_problem(whole_body.stack(robot, goal), robot.home)
+        strict = whole_body.reaches(robot, result.q, goal, 1e-6, 1e-5)
         reached += strict
         assert strict == result.success, result.message  # the status tells the truth
     return reached / count
 
 
-@pytest.mark.parametrize("key", list(WHOLE_BODIES))
+@pytest.mark.parametrize("key", list(whole_body.WHOLE_BODIES))
 def test_multi_frame_targets_from_home_are_reached(key):
     assert _success_rate(key, count=4, seed=2) == 1.0
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("key", list(WHOLE_BODIES))
+@pytest.mark.parametrize("key", list(whole_body.WHOLE_BODIES))
 def test_multi_frame_success_rate_is_at_least_95_percent(key):
     assert _success_rate(key, count=100, seed=3) >= 0.95
 

@@ -60,6 +60,7 @@ import numpy as np
 from redik import lie
 from redik.apps import measured
 from redik.apps.bench import _qp_anchors as qp_anchors
+from redik.apps.bench import _whole_body as whole_body
 from redik.core.exceptions import BackendError, InfeasibleProblem
 from redik.kinematics.robot import Robot, load
 from redik.limits import ConfigurationLimit
@@ -86,7 +87,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--latency-robots", nargs="*", default=["panda", "iiwa14", "ur5e"])
     parser.add_argument("--latency-targets", type=int, default=200)
-    parser.add_argument("--multiframe-robots", nargs="*", default=list(WHOLE_BODIES))
+    parser.add_argument("--multiframe-robots", nargs="*", default=list(whole_body.WHOLE_BODIES))
     parser.add_argument("--multiframe-targets", type=int, default=20)
     parser.add_argument("--anchor-steps", type=int, default=3000, help="panda steps, part 0")
     parser.add_argument("--g1-steps", type=int, default=1000, help="G1 steps, part 0")
@@ -308,66 +309,15 @@ def _load() -> str:
     return " ".join(f"{value:.2f}" for value in os.getloadavg())
 
 
-# Part 4: multi-frame targets on whole-body models
-
-WHOLE_BODIES = {
-    "g1": ("g1", True, "all", None,
-           ("left_rubber_hand", "right_rubber_hand", "left_ankle_roll_link",
-            "right_ankle_roll_link")),
-    "talos": ("talos_box", True, "all", ["gripper_*", "head_*"],
-              ("gripper_left_base_link", "gripper_right_base_link", "left_sole_link",
-               "right_sole_link")),
-    "baxter": ("baxter", False, ["left_[sew][0-9]", "right_[sew][0-9]"], None,
-               ("left_gripper", "right_gripper")),
-    "pr2": ("pr2", False,
-            ["torso_lift_joint", "[rl]_shoulder_*", "[rl]_upper_arm*", "[rl]_elbow*",
-             "[rl]_forearm_roll*", "[rl]_wrist_*"],
-            None, ("r_gripper_tool_frame", "l_gripper_tool_frame")),
-}  # fmt: skip
-"""Part 4's models: example-robot-data name, floating base, joints moved, joints held, and the
-frames given pose tasks (those ``tests/test_task_stack.py`` solves)."""
+# Part 4: multi-frame targets on whole-body models (models and stacks: ._whole_body)
 
 MINK_ITERATIONS = 500
 """The budget of mink's plain loop in part 4."""
 
 
-def _whole_body(key: str) -> tuple[Robot, tuple[str, ...]]:
-    """The reduced model of ``WHOLE_BODIES[key]``, its robot and its frames.
-
-    The joints redik does not move are deleted, so that mink moves the same ones; the robot
-    moves all of the rest.
-    """
-    from redik.models import example_robot_data
-    from redik.models.loading import compile_spec, load_spec
-
-    name, floating, joints, fixed, frames = WHOLE_BODIES[key]
-    path = example_robot_data(name)
-    full = Robot(compile_spec(load_spec(path, meshes=False, floating_base=floating)),
-                 joints=joints, fixed=fixed)  # fmt: skip
-    spec = load_spec(path, meshes=False, floating_base=floating)
-    for joint in [j for j in spec.joints if j.name not in set(full.joint_names)]:
-        spec.delete(joint)
-    for equality in list(spec.equalities):  # some name the joints just deleted
-        spec.delete(equality)
-    return Robot(compile_spec(spec), joints="all"), frames
-
-
-def _strict(robot: Robot, q: np.ndarray, goal: dict, args) -> bool:
-    """Every frame within the tolerances, ``q`` inside the limits (by forward kinematics)."""
-    if not robot.within_limits(q):
-        return False
-    for frame, T in goal.items():
-        p_err, r_err = lie.pose_errors(robot.fk(q, frame), T)
-        if p_err > args.pos_tol or r_err > args.rot_tol:
-            return False
-    return True
-
-
 def _redik_whole_body(robot: Robot, goal: dict, args) -> np.ndarray:
-    tasks = [FrameTask(frame, target=T) for frame, T in goal.items()]
     options = SolveOptions(args.pos_tol, args.rot_tol)
-    problem = Problem(robot, [*tasks, PostureTask(priority=1)])
-    return solve_problem(problem, robot.home, options).q
+    return solve_problem(whole_body.stack(robot, goal), robot.home, options).q
 
 
 def _mink_kind(model, frame: str) -> str:
@@ -388,7 +338,7 @@ def _mink_whole_body(robot: Robot, goal: dict, args) -> np.ndarray:
     limits = [mink.ConfigurationLimit(model)]
     for _ in range(MINK_ITERATIONS):
         q = robot.q_of(configuration.q)
-        if _strict(robot, q, goal, args):
+        if whole_body.reaches(robot, q, goal, args.pos_tol, args.rot_tol):
             break
         try:
             velocity = mink.solve_ik(configuration, tasks, 1.0, "daqp", 1e-3, limits=limits)
@@ -400,12 +350,9 @@ def _mink_whole_body(robot: Robot, goal: dict, args) -> np.ndarray:
 
 def _multiframe(key: str, args) -> dict:
     """Success and time of both loops on the same targets, interleaved target by target."""
-    robot, frames = _whole_body(key)
+    robot, frames = whole_body.whole_body(key, reduced=True)
     rng = np.random.default_rng(args.seed)
-    goals = []
-    for _ in range(args.multiframe_targets):
-        q = robot.random_q(rng)
-        goals.append({frame: robot.fk(q, frame) for frame in frames})
+    goals = [whole_body.goal(robot, frames, rng) for _ in range(args.multiframe_targets)]
     runners = {"redik": _redik_whole_body, "mink": _mink_whole_body}
     for run in runners.values():
         run(robot, goals[0], args)  # warm-up: compilation, caches
@@ -415,7 +362,7 @@ def _multiframe(key: str, args) -> dict:
             start = time.perf_counter()
             q = run(robot, goal, args)
             rows[name][1].append(time.perf_counter() - start)
-            rows[name][0].append(_strict(robot, q, goal, args))
+            rows[name][0].append(whole_body.reaches(robot, q, goal, args.pos_tol, args.rot_tol))
     return {
         name: {
             "success": float(np.mean(ok)),
