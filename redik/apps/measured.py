@@ -220,12 +220,17 @@ HEADLINES: dict[str, tuple[Headline, ...]] = {
 
 
 def format_number(value: float | int | str | None) -> str:
-    """A cell: integers as they are, other numbers to about three significant digits."""
+    """A cell: whole numbers as integers, other numbers to about three significant digits.
+
+    A whole float is an exact figure (a count, a percentage of a small sample, a percentile
+    of iteration counts, a reference's ratio to itself), so it is shown without the zeros
+    that would claim a precision; a measured time or ratio is never whole in practice.
+    """
     if value is None:
         return "—"
     if isinstance(value, str):
         return value
-    if isinstance(value, int) or (abs(value) >= 1000 and float(value).is_integer()):
+    if isinstance(value, int) or float(value).is_integer():
         return f"{value:,.0f}"
     magnitude = abs(value)
     if magnitude >= 1000:
