@@ -114,19 +114,43 @@ def reference_index() -> str:
 
 
 def _source_key(script: Path) -> str:
-    """A digest of the script and every source file of redik: a run's validity."""
+    """A digest of what a run depends on: its validity.
+
+    The script, the helpers beside it (``_*.py``), every source file of redik and the bundled
+    scenes, so that a run kept under an unchanged key is the run the tests would make.
+    """
     digest = hashlib.sha256(script.read_bytes())
-    for path in sorted((ROOT / "redik").rglob("*.py")):
+    scenes = sorted(path for path in (ROOT / "scenes").rglob("*") if path.is_file())
+    sources = [*sorted(script.parent.glob("_*.py")), *sorted((ROOT / "redik").rglob("*.py"))]
+    for path in [*sources, *scenes]:
         digest.update(path.read_bytes())
     return digest.hexdigest()
 
 
-def run_example(script: Path, out: Path) -> None:
-    """Run ``script`` headless into ``out`` (its figures, and ``output.txt``) unless current."""
-    key = _source_key(script)
+def run_directory(script: Path) -> Path:
+    """Where the site keeps a script's run: ``runs/STEM``, ``runs/course_STEM`` for the course."""
+    prefix = "course_" if script.parent == COURSE else ""
+    return RUNS / f"{prefix}{script.stem}"
+
+
+def current_run(script: Path) -> Path | None:
+    """The kept run of ``script`` when it is still valid (its key unchanged), else None.
+
+    A valid run finished without error (only a finished run writes its key), so the example
+    tests take it instead of running the script again after ``make docs``.
+    """
+    out = run_directory(script)
     stamp = out / ".key"
-    if stamp.exists() and stamp.read_text() == key:
+    if stamp.exists() and stamp.read_text() == _source_key(script):
+        return out
+    return None
+
+
+def run_example(script: Path) -> None:
+    """Run ``script`` headless into its run directory (figures, ``output.txt``) unless current."""
+    if current_run(script) is not None:
         return
+    out, key = run_directory(script), _source_key(script)
     out.mkdir(parents=True, exist_ok=True)
     env = {
         **os.environ,
@@ -152,7 +176,7 @@ def run_example(script: Path, out: Path) -> None:
         )
     output = completed.stdout.replace(f"{out}{os.sep}", "").replace(str(out), ".")
     (out / "output.txt").write_text(output)
-    stamp.write_text(key)
+    (out / ".key").write_text(key)
 
 
 def requested_runs(docs_dir: Path) -> dict[str, Path]:
@@ -162,7 +186,7 @@ def requested_runs(docs_dir: Path) -> dict[str, Path]:
         for stem in RUN_REFERENCE.findall(page.read_text(encoding="utf-8")):
             scripts[stem] = ROOT / "examples" / f"{stem}.py"
     for script in course_scripts():
-        scripts[f"course_{script.stem}"] = script
+        scripts[run_directory(script).name] = script
     missing = [str(path.relative_to(ROOT)) for path in scripts.values() if not path.exists()]
     if missing:
         raise PluginError(f"the docs show the runs of examples that do not exist: {missing}")
@@ -173,7 +197,7 @@ def run_examples(docs_dir: Path) -> None:
     """Run every requested example, two at a time (the examples are single-threaded)."""
     scripts = requested_runs(docs_dir)
     with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
-        futures = [pool.submit(run_example, path, RUNS / stem) for stem, path in scripts.items()]
+        futures = [pool.submit(run_example, path) for path in scripts.values()]
         for future in futures:
             future.result()
 
