@@ -127,3 +127,13 @@ def test_a_course_page_shows_each_script_of_its_document_in_order(course):
     assert '--8<-- "examples/course/_shared.py"' in hook.course_helpers()
     scripts = ["003_a_newton.py", "003_b_table.py", "004_other.py"]
     assert [path.name for path in hook.course_scripts()] == scripts
+
+
+def test_the_course_readme_links_each_document_to_its_page():
+    hook = _hook()
+    text = hook.course_readme()
+    links = re.findall(r"^\| \[(\d{3})\]\(([^)]+)\) \|", text, flags=re.MULTILINE)
+    assert [document for document, _ in links] == ["000", "001", "002", "003", "004"]
+    for document, page in links:
+        assert page.startswith(f"{document}-") and (DOCS / "course" / page).is_file(), page
+    assert "| document |" not in (DOCS / "course" / "index.md").read_text(encoding="utf-8")

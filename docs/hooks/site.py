@@ -8,11 +8,12 @@
 - **Example runs**: a page that includes ``runs/STEM/…`` (``--8<-- "runs/STEM/output.txt"`` for
   what ``examples/STEM.py`` prints, ``![…](../runs/STEM/FILE.png)`` for a figure it writes) makes
   the build run that example headless with ``REDIK_OUT`` set, into ``out/docs/runs/STEM/``. A run
-  is reused while the example and redik's sources are unchanged.
+  is reused, by the build and by the example tests, while what it depends on is unchanged.
 - **Course**: ``<!-- course-examples NNN -->`` on a course page becomes every
   ``examples/course/NNN_*.py`` (NNN: the lecture-notes document), its docstring, its code and
-  what it prints; ``<!-- course-readme -->`` becomes ``examples/course/README.md`` and
-  ``<!-- course-helpers -->`` the modules the scripts share (``examples/course/_*.py``).
+  what it prints; ``<!-- course-readme -->`` becomes ``examples/course/README.md`` (its table of
+  documents linked to their pages) and ``<!-- course-helpers -->`` the modules the scripts
+  share (``examples/course/_*.py``).
 - **MathJax** is copied from its Python package (``django-static-mathjax``), so equations
   render with no network.
 """
@@ -273,12 +274,23 @@ def course_helpers() -> str:
 
 
 def course_readme() -> str:
-    """``examples/course/README.md`` with its headings one level down (empty when absent)."""
+    """``examples/course/README.md`` for the course's index page (empty when absent).
+
+    Its headings go one level down (under the page's own title), and each document number
+    that opens a row of its table of documents links to that document's page
+    (``docs/course/NNN-*.md``), so that the table is written once, in the README.
+    """
     readme = COURSE / "README.md"
     if not readme.exists():
         return ""
-    text = readme.read_text(encoding="utf-8")
-    return re.sub(r"^#", "##", text, flags=re.MULTILINE)  # under the page's own title
+    text = re.sub(r"^#", "##", readme.read_text(encoding="utf-8"), flags=re.MULTILINE)
+    pages = {page.name[:3]: page.name for page in (ROOT / "docs" / "course").glob("[0-9]*.md")}
+
+    def link(row: re.Match) -> str:
+        document = row.group(1)
+        return f"| [{document}]({pages[document]}) |" if document in pages else row.group(0)
+
+    return re.sub(r"^\| (\d{3}) \|", link, text, flags=re.MULTILINE)
 
 
 # --------------------------------------------------------------------------------------
