@@ -9,51 +9,13 @@ from scipy.optimize import least_squares
 
 import redik
 from redik.core.exceptions import InvalidInput, InvalidPose
-from redik.models.dh import DHRow, forward, forward_all, row_transform
+from redik.models.dh import forward, forward_all, row_transform
 from redik.solvers.analytic import solver_for, wrap_angle
+from tests.dh_tables import PUMA560, UR5E, puma_rows, stanford_rows, ur_rows
 
-HALF = np.pi / 2
 FULL = [(-np.pi, np.pi)] * 6
 
 
-def puma_rows(a2, a3, d3, d4):
-    """The PUMA-type table (Spong, Hutchinson & Vidyasagar §3.3; Craig §3.7 in standard form)."""
-    return [
-        DHRow(0.0, 0.0, -HALF),
-        DHRow(a2, 0.0, 0.0),
-        DHRow(a3, d3, HALF),
-        DHRow(0.0, d4, -HALF),
-        DHRow(0.0, 0.0, HALF),
-        DHRow(0.0, 0.0, 0.0),
-    ]
-
-
-def ur_rows(d1, a2, a3, d4, d5, d6):
-    """Universal Robots' published table."""
-    return [
-        DHRow(0.0, d1, HALF),
-        DHRow(a2, 0.0, 0.0),
-        DHRow(a3, 0.0, 0.0),
-        DHRow(0.0, d4, HALF),
-        DHRow(0.0, d5, -HALF),
-        DHRow(0.0, d6, 0.0),
-    ]
-
-
-def stanford_rows(d2, d6, d1=0.0):
-    """The Stanford arm (Spong, Hutchinson & Vidyasagar §3.3.5); row 3 slides, q3 = d3."""
-    return [
-        DHRow(0.0, d1, -HALF),
-        DHRow(0.0, d2, HALF),
-        DHRow(0.0, 0.0, 0.0, 0.0, "prismatic"),
-        DHRow(0.0, 0.0, -HALF),
-        DHRow(0.0, 0.0, HALF),
-        DHRow(0.0, d6, 0.0),
-    ]
-
-
-PUMA560 = (0.4318, 0.01905, 0.1254, 0.4318)
-UR5E = (0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996)
 PUMA_VARIANTS = [PUMA560, (-0.4, 0.05, -0.15, 0.43), (0.4, -0.02, 0.0, 0.3)]
 UR_VARIANTS = [UR5E, (0.089, 0.425, 0.392, -0.109, 0.095, -0.082)]
 STANFORD_VARIANTS = [(0.154, 0.263, 0.0), (-0.1, 0.0, 0.4)]

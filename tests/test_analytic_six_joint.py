@@ -20,32 +20,7 @@ from redik.solvers.analytic import wrap_angle
 from redik.solvers.analytic.geometry import Chain, screws_of
 from redik.solvers.analytic.six_joint import entry
 from redik.solvers.pose import solve_all
-
-HALF = np.pi / 2
-UR5E = (0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996)
-
-
-def puma_rows(a2, a3, d3, d4):
-    return (
-        DHRow(0.0, 0.0, -HALF),
-        DHRow(a2, 0.0, 0.0),
-        DHRow(a3, d3, HALF),
-        DHRow(0.0, d4, -HALF),
-        DHRow(0.0, 0.0, HALF),
-        DHRow(0.0, 0.0, 0.0),
-    )
-
-
-def ur_rows(d1, a2, a3, d4, d5, d6):
-    return (
-        DHRow(0.0, d1, HALF),
-        DHRow(a2, 0.0, 0.0),
-        DHRow(a3, 0.0, 0.0),
-        DHRow(0.0, d4, HALF),
-        DHRow(0.0, d5, -HALF),
-        DHRow(0.0, d6, 0.0),
-    )
-
+from tests.dh_tables import UR5E, puma_rows, ur_rows
 
 FULL_TURN = [(-np.pi, np.pi)] * 6
 FK_TOL = 1e-9
