@@ -34,7 +34,7 @@ from redik.solvers.analytic.results import (
     DUPLICATE_TOL,
     IKSolutions,
     SolutionFamily,
-    limit_representatives,
+    outside_limits,
     unreachable,
 )
 
@@ -100,16 +100,7 @@ class GeneralSolver:
         q = np.ascontiguousarray(rows[:, :6])
         keep = select_rows(q, REVOLUTE, lower, upper, False, DUPLICATE_TOL)
         if not keep.any():
-            _, inside = limit_representatives(rows[:, :6], lower, upper, REVOLUTE)
-            outside = np.flatnonzero(~inside.all(axis=0)).tolist()
-            return IKSolutions.from_arrays(
-                np.empty((0, 6)),
-                (),
-                reason=(
-                    f"none of the {len(q)} solutions lies within the joint limits (joints out "
-                    f"of range in some solution: {outside})"
-                ),
-            )
+            return outside_limits(q, lower, upper, REVOLUTE)
         kept = np.flatnonzero(keep)
         texts = [_singular_text(ratio) for ratio in rows[kept, 6]]
         families: list[SolutionFamily | None] = [None] * len(kept)

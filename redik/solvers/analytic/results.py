@@ -444,12 +444,7 @@ def _outside_reason(
         difference[..., revolute] = wrap_angle(difference[..., revolute])
         same = np.all(np.abs(difference) < DUPLICATE_TOL, axis=-1)
         distinct = ~np.any(np.tril(same, k=-1), axis=1)
-    _, inside = limit_representatives(wrapped, limits[0], limits[1], revolute)
-    return (
-        f"none of the {int(distinct.sum())} solutions lies within the joint limits "
-        f"(joints out of range in some solution: "
-        f"{np.flatnonzero(~inside[distinct].all(axis=0)).tolist()})"
-    )
+    return outside_limits(wrapped[distinct], limits[0], limits[1], revolute).reason
 
 
 def _kept(
@@ -471,6 +466,23 @@ def _kept(
         reason=reason,
         preferred=preferred,
     )
+
+
+def outside_limits(
+    q: np.ndarray, lower: np.ndarray, upper: np.ndarray, revolute: np.ndarray
+) -> IKSolutions:
+    """The empty result when every solution ``q`` (k, n) lies outside the joint limits.
+
+    Its reason counts the solutions and names the joints out of range in some of them (after
+    :func:`limit_representatives`' turns by 2π).
+    """
+    _, inside = limit_representatives(q, lower, upper, revolute)
+    outside = np.flatnonzero(~inside.all(axis=0)).tolist()
+    reason = (
+        f"none of the {len(q)} solutions lies within the joint limits "
+        f"(joints out of range in some solution: {outside})"
+    )
+    return IKSolutions.from_arrays(np.empty((0, q.shape[-1])), (), reason=reason)
 
 
 def unreachable(n_joints: int, reason: str) -> IKSolutions:

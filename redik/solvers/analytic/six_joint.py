@@ -48,7 +48,7 @@ from redik.solvers.analytic.results import (
     BatchSolutions,
     IKSolutions,
     SolutionFamily,
-    limit_representatives,
+    outside_limits,
     unreachable,
 )
 
@@ -313,15 +313,4 @@ class SixJointSolver:
         if self.reversed:
             revolute = revolute[::-1]
         q = solved[:, :6]
-        _, inside = limit_representatives(
-            q, plan[LOWER : LOWER + 6], plan[UPPER : UPPER + 6], revolute
-        )
-        outside = np.flatnonzero(~inside.all(axis=0)).tolist()
-        return IKSolutions.from_arrays(
-            np.empty((0, 6)),
-            (),
-            reason=(
-                f"none of the {len(q)} solutions lies within the joint limits (joints out of "
-                f"range in some solution: {outside})"
-            ),
-        )
+        return outside_limits(q, plan[LOWER : LOWER + 6], plan[UPPER : UPPER + 6], revolute)
