@@ -18,6 +18,7 @@ from redik.limits import (
 )
 from redik.qp import Problem
 from redik.qp.compiled.box_qp import box_qp
+from redik.qp.compiled.collision import near_pairs
 from redik.qp.compiled.frames import dof_chain, point_jacobian
 from redik.qp.compiled.lower_level import null_space
 from redik.qp.hierarchy import row_null_space
@@ -176,6 +177,29 @@ def test_collision_rows_that_bind_are_the_general_paths(torso):
         q = torso.integrate(q, b)
     assert binding > 0  # the test reached the rows
     assert worst <= WEIGHTED_TOL
+
+
+@pytest.mark.parametrize("distance", [0.02, 0.1, 0.3])
+def test_near_pairs_keeps_every_pair_closer_than_the_distance(torso, distance):
+    """The bounding spheres and boxes skip a pair only when ``mj_geomDistance`` does too."""
+    limit = CollisionAvoidanceLimit(minimum_distance=0.0).bind(torso)
+    model, data = torso.model, torso.state.data
+    pairs = np.ascontiguousarray(limit.pairs, dtype=np.int64)
+    rbound = model.geom_rbound
+    radii = rbound[pairs[:, 0]] + rbound[pairs[:, 1]]
+    bounded = (rbound[pairs[:, 0]] > 0.0) & (rbound[pairs[:, 1]] > 0.0)
+    candidates = np.zeros(len(pairs), dtype=np.int64)
+    rng, fromto, skipped = np.random.default_rng(4), np.zeros(6), 0
+    for _ in range(200):
+        torso.state.update(torso.random_q(rng))
+        count = near_pairs(data.geom_xpos, data.geom_xmat, pairs, radii, bounded,
+                           model.geom_aabb, distance, candidates)  # fmt: skip
+        near = set(candidates[:count].tolist())
+        for i, (a, b) in enumerate(pairs):
+            d = mujoco.mj_geomDistance(model, data, a, b, distance, fromto)
+            assert i in near or d >= distance
+        skipped += len(pairs) - count
+    assert skipped > 0  # the bounds did skip pairs
 
 
 def test_changed_costs_gains_and_targets_reach_the_plan(panda):

@@ -199,8 +199,6 @@ class CompiledPlan:
         self._kinematics = (poses, data.cdof, data.subtree_com)
         self._q = np.zeros(robot.nq)
         self._flat = robot.flat
-        rows = self._C.shape[0]
-        self._upper, self._lower = np.zeros(n + rows), np.full(n + rows, -np.inf)
         self._row_qps: DaqpWorkspaces | BackendSolves = BackendSolves(backends)
         first = backends[0]
         if isinstance(first, DaqpBackend) and all(
@@ -423,16 +421,18 @@ class CompiledPlan:
         return m
 
     def _level0_qp(self, m: int) -> bool:
-        """Level 0's QP with its rows, by DAQP; False when DAQP fails (the general path raises)."""
-        n = self._n
-        upper, lower = self._upper[: n + m], self._lower[: n + m]
-        upper[:n], lower[:n], upper[n:] = self._ub, self._lb, self._u[:m]
-        solution = self._row_qps.solve((0, m), self._H[0], self._c[0], upper, lower, self._C[:m])
+        """Level 0's QP with its rows, by DAQP; False when DAQP fails (the general path raises).
+
+        The kernel has written its bounds (box, then rows) into ``rows_lower``, ``rows_upper``.
+        """
+        k = self._n + m
+        solution = self._row_qps.solve(
+            (0, m), self._H[0], self._c[0], self._rows_upper[:k], self._rows_lower[:k],
+            self._C[:m],
+        )  # fmt: skip
         if solution is None:
             return False
         self._x[:] = solution
-        # Rows active at the solution: the next step's likely bind too (step module docstring).
-        self._settings[4] = float(m > 0 and np.any(self._C[:m] @ solution >= self._u[:m] - 1e-9))
         return True
 
     def _reduced_qp(self, m: int) -> bool:

@@ -246,6 +246,33 @@ def _level0(
 
 
 @numba.njit(**COMPILE)
+def _level0_qp_bounds(m: int, floats: tuple[NDArray[np.float64], ...]) -> None:
+    """Write level 0's QP bounds for DAQP into ``rows_lower``, ``rows_upper``: box, then rows.
+
+    Level 1's reduced rows use the same arrays only after level 0 is solved.
+    """
+    lb, ub, _, _, u = floats[8:13]
+    lower, upper = floats[18], floats[19]
+    n = lb.shape[0]
+    lower[:n], upper[:n] = lb, ub
+    lower[n : n + m] = -np.inf
+    upper[n : n + m] = u[:m]
+
+
+@numba.njit(**COMPILE)
+def _rows_bind(m: int, floats: tuple[NDArray[np.float64], ...]) -> float:
+    """1.0 when a row of level 0 is active at ``x`` (to 1e-9), else 0.0."""
+    x, C, u = floats[10], floats[11], floats[12]
+    for i in range(m):
+        value = 0.0
+        for j in range(x.shape[0]):
+            value += C[i, j] * x[j]
+        if value >= u[i] - 1e-9:
+            return 1.0
+    return 0.0
+
+
+@numba.njit(**COMPILE)
 def _level1(
     m: int,
     clip: bool,
@@ -301,8 +328,12 @@ def solve_step(
         flat = table[H_FLAT] != 0
         _objectives(q, poses, cdof, subtree_com, flat, levels, frames, chains, columns, floats)
         status = _level0(q, dt, m, table, levels, scalar_q, floats)
+        if status == LEVEL0_QP:
+            _level0_qp_bounds(m, floats)
         if status != _CONTINUE:
             return status
+    elif stage == AFTER_LEVEL0_QP:
+        floats[20][4] = _rows_bind(m, floats)
     lb, ub, x, N, z = floats[8], floats[9], floats[10], floats[13], floats[16]
     if stage == AFTER_REDUCED_QP:
         add_direction(x, N, z)
