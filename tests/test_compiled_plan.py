@@ -21,6 +21,7 @@ from redik.qp.compiled.box_qp import box_qp
 from redik.qp.compiled.collision import near_pairs
 from redik.qp.compiled.frames import dof_chain, point_jacobian
 from redik.qp.compiled.lower_level import null_space
+from redik.qp.compiled.rows_qp import rows_qp
 from redik.qp.hierarchy import row_null_space
 from redik.tasks import (
     DampingTask,
@@ -161,7 +162,7 @@ def test_static_steps_are_the_general_paths(panda, strict):
 
 
 def test_collision_rows_that_bind_are_the_general_paths(torso):
-    """The hand driven into the table: the rows bind and DAQP solves level 0 with them."""
+    """The hand driven into the table: the rows bind and the rows' QP solves level 0 with them."""
     fast, general = _both_paths(torso, _torso_stack, False, "collision")
     q = torso.home.copy()
     worst, binding = 0.0, 0
@@ -332,6 +333,48 @@ def test_box_qp_is_daqps_minimiser(degenerate):
         assert exitflag == 1
         scale = 1.0 + np.abs(reference).max()
         assert np.max(np.abs(x - reference)) / scale < 1e-6
+
+
+@pytest.mark.parametrize("dependent", [False, True])
+def test_rows_qp_is_daqps_minimiser(dependent):
+    """Rows only (the box wide): the dual method's minimiser and active rows are DAQP's."""
+    rng = np.random.default_rng(12)
+    solved = 0
+    for _ in range(400):
+        n, m = int(rng.integers(2, 36)), int(rng.integers(1, 12))
+        M = rng.standard_normal((n, n))
+        H, c = M @ M.T + 0.1 * np.eye(n), rng.standard_normal(n)
+        C, u = rng.standard_normal((m, n)), rng.uniform(-0.5, 1.0, m)
+        if dependent and m > 2:  # a row that is a combination of two others: degenerate vertices
+            C[2] = 0.5 * C[0] + 0.5 * C[1]
+            u[2] = 0.5 * u[0] + 0.5 * u[1]
+        lb, ub = np.full(n, -1e3), np.full(n, 1e3)
+        x = np.zeros(n)
+        active = rows_qp(H, c, C, u, m, lb, ub, 1e-9, x)
+        reference, _, exitflag, info = daqp.solve(
+            H, c, C, np.concatenate([ub, u]), np.concatenate([lb, np.full(m, -1e30)]),
+            np.zeros(n + m, np.int32),
+        )  # fmt: skip
+        if exitflag != 1:  # rows that cannot all hold
+            assert active < 0
+            continue
+        assert active == np.count_nonzero(info["lam"][n:])
+        assert np.all(C @ x <= u + 1e-9)
+        scale = 1.0 + np.abs(reference).max()
+        assert np.max(np.abs(x - reference)) / scale < 1e-9
+        solved += 1
+    assert solved > 300
+
+
+def test_rows_qp_refuses_a_broken_box_and_rows_that_cannot_hold():
+    H, c = np.eye(2), np.array([-1.0, -1.0])
+    rows, bounds = np.array([[1.0, 1.0]]), np.array([1.5])  # x₁ + x₂ ≤ 1.5: at (0.75, 0.75)
+    x = np.zeros(2)
+    assert rows_qp(H, c, rows, bounds, 1, np.full(2, -1.0), np.full(2, 2.0), 0.0, x) == 1
+    assert np.allclose(x, [0.75, 0.75])
+    assert rows_qp(H, c, rows, bounds, 1, np.full(2, -1.0), np.full(2, 0.5), 0.0, x) == -1
+    opposite, apart = np.array([[1.0, 0.0], [-1.0, 0.0]]), np.array([-1.0, -1.0])  # x₁ ≤ −1, x₁ ≥ 1
+    assert rows_qp(H, c, opposite, apart, 2, np.full(2, -9.0), np.full(2, 9.0), 0.0, x) == -1
 
 
 def test_box_qp_reports_rows_it_breaks_and_non_definite_blocks():

@@ -191,7 +191,7 @@ class CompiledPlan:
             if isinstance(limit, CollisionAvoidanceLimit)
         ]
         self._build_table(robot, column_of, limits)
-        self._build_work(limits, damping, rank_tol)
+        self._build_work(limits, backends, damping, rank_tol)
         self._watch_tasks()
         data = robot.state.data
         poses = (data.xpos, data.xmat, data.site_xpos, data.site_xmat, data.geom_xpos,
@@ -257,7 +257,9 @@ class CompiledPlan:
         self._frame_kinds = frames[:, 4].tolist()
         self._tasks = tasks
 
-    def _build_work(self, limits: Sequence[Limit], damping: float, rank_tol: float) -> None:
+    def _build_work(
+        self, limits: Sequence[Limit], backends: Sequence[Backend], damping: float, rank_tol: float
+    ) -> None:
         """The float buffer (:mod:`redik.qp.compiled.step`) and the views Python writes."""
         self._work = np.zeros(self._work_size)
         (self._targets, self._joint, self._gradients, _, _, self._H, self._c, box, self._lb,
@@ -274,7 +276,9 @@ class CompiledPlan:
                 np.minimum(box[2], limit.max_velocity, out=box[2])
         self._clip = any(isinstance(limit, ConfigurationLimit) for limit in limits)
         self._velocity = any(isinstance(limit, VelocityLimit) for limit in limits)
-        self._settings[:] = damping, rank_tol, 0.0, math.inf, 0.0
+        daqp = [backend for backend in backends if isinstance(backend, DaqpBackend)]
+        primal_tol = float(daqp[0].settings.get("primal_tol", 0.0)) if daqp else 0.0
+        self._settings[:] = damping, rank_tol, 0.0, math.inf, 0.0, primal_tol
 
     def _watch_tasks(self) -> None:
         """What :meth:`_refresh` compares each step: targets, versions, joint-space sums."""
@@ -347,7 +351,6 @@ class CompiledPlan:
                 level.joint_gradient_into(self._state, self._gradients[index])
         m = self._collision_rows() if self._collisions else 0
         status = self._solve(kernel.START, duration, m)
-        self._settings[4] = 0.0
         if status == kernel.LEVEL0_QP:
             if not self._level0_qp(m):
                 return None
