@@ -20,6 +20,7 @@ from redik.qp import Problem
 from redik.qp.compiled.box_qp import box_qp
 from redik.qp.compiled.collision import near_pairs
 from redik.qp.compiled.frames import dof_chain, point_jacobian
+from redik.qp.compiled.joint_gradient import rotation_difference
 from redik.qp.compiled.lower_level import null_space
 from redik.qp.compiled.rows_qp import rows_qp
 from redik.qp.hierarchy import row_null_space
@@ -375,6 +376,19 @@ def test_rows_qp_refuses_a_broken_box_and_rows_that_cannot_hold():
     assert rows_qp(H, c, rows, bounds, 1, np.full(2, -1.0), np.full(2, 0.5), 0.0, x) == -1
     opposite, apart = np.array([[1.0, 0.0], [-1.0, 0.0]]), np.array([-1.0, -1.0])  # x₁ ≤ −1, x₁ ≥ 1
     assert rows_qp(H, c, opposite, apart, 2, np.full(2, -9.0), np.full(2, 9.0), 0.0, x) == -1
+
+
+def test_rotation_difference_is_mujocos(torso):
+    """``q ⊖ r`` across a free joint's orientation: ``mj_differentiatePos``'s, to round-off."""
+    rng, work = np.random.default_rng(6), np.zeros(11)
+    for k in range(300):
+        r, q = torso.random_q(rng), torso.random_q(rng)
+        q[3:7] *= [1.0, 0.5, 2.0, 1e-9][k % 4]  # quaternions that are not unit
+        if k % 5 == 0:
+            q[3:7] = -r[3:7]  # the same rotation: the angle wraps to zero
+        rotation_difference(q, r, 3, work)
+        reference = torso.difference(r, q)[3:6]
+        assert np.max(np.abs(work[8:11] - reference)) <= 1e-13
 
 
 def test_box_qp_reports_rows_it_breaks_and_non_definite_blocks():

@@ -59,6 +59,7 @@ from redik.qp.backends import Backend, DaqpBackend, QpsolversBackend
 from redik.qp.compiled import step as kernel
 from redik.qp.compiled.collision import CollisionRows
 from redik.qp.compiled.frames import FRAME_KINDS, POSE, POSITION, pack_chains
+from redik.qp.compiled.joint_gradient import joint_gradients
 from redik.qp.compiled.workspaces import BackendSolves, DaqpWorkspaces
 from redik.tasks import (
     DampingTask,
@@ -254,6 +255,19 @@ class CompiledPlan:
         scalar_q[:] = -1
         scalar_q[coordinates.scalar_dofs] = coordinates.scalar_q
         quaternions[:] = coordinates.quaternion_q
+        self._linear_q = np.full(n, -1, dtype=np.int64)
+        self._linear_q[coordinates.scalar_dofs] = coordinates.scalar_q
+        rotations, q_at, dof_at = [], 0, 0
+        for kind in coordinates.joint_types:  # ball and free joints: (quaternion, its dofs)
+            if kind == "free":
+                self._linear_q[dof_at : dof_at + 3] = q_at + np.arange(3)
+                q_at, dof_at = q_at + 3, dof_at + 3
+            if kind in ("free", "ball"):
+                rotations.append((q_at, dof_at))
+                q_at, dof_at = q_at + 4, dof_at + 3
+            else:
+                q_at, dof_at = q_at + 1, dof_at + 1
+        self._rotations = np.array(rotations, dtype=np.int64).reshape(-1, 2)
         self._frame_kinds = frames[:, 4].tolist()
         self._tasks = tasks
 
@@ -292,6 +306,11 @@ class CompiledPlan:
         self._seen: list[object] = [_NOT_SEEN] * len(self._tasks)
         self._versions = [-1] * len(self._tasks)
         self._joint_tasks = [task for level in self._levels for task in level.joint_tasks]
+        count = len(self._joint_tasks)
+        self._references = np.zeros((count, self._robot.nq))
+        self._factors = np.zeros((count, self._n))
+        self._level_of = np.zeros(count, dtype=np.int64)
+        self._differences = 0
         self._joint_versions: list[int] | None = None
 
     # ----------------------------------------------------------------------------------
@@ -347,8 +366,10 @@ class CompiledPlan:
     def _solve_all(self, duration: float) -> NDArray[np.float64] | None:
         """The stages of a step at the current kinematics (module docstring)."""
         if not self._flat:
-            for index, level in enumerate(self._levels):
-                level.joint_gradient_into(self._state, self._gradients[index])
+            joint_gradients(
+                self._q, self._references, self._factors, self._level_of, self._differences,
+                self._linear_q, self._rotations, self._gradients,
+            )  # fmt: skip
         m = self._collision_rows() if self._collisions else 0
         status = self._solve(kernel.START, duration, m)
         if status == kernel.LEVEL0_QP:
@@ -411,10 +432,25 @@ class CompiledPlan:
                 self._versions[f] = task.version
         versions = [task.version for task in self._joint_tasks]
         if versions != self._joint_versions:
-            for index, level in enumerate(self._levels):
-                self._joint[index] = level.joint_terms()
+            self._pack_joint_terms()
             self._joint_versions = versions
         return True
+
+    def _pack_joint_terms(self) -> None:
+        """Copy the levels' joint-space sums; on a robot that is not flat, the tasks' terms.
+
+        Each joint-space task's ``(r, α w²d²)`` and level (:mod:`.joint_gradient`).
+        """
+        for index, level in enumerate(self._levels):
+            self._joint[index] = level.joint_terms()
+        if self._flat:
+            return
+        t = 0
+        for index, level in enumerate(self._levels):
+            for reference, factor in level.joint_differences():
+                self._references[t], self._factors[t], self._level_of[t] = reference, factor, index
+                t += 1
+        self._differences = t
 
     def _collision_rows(self) -> int:
         """Write the active collision rows into ``C``, ``u``; return their number."""
