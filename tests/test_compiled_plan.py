@@ -351,7 +351,7 @@ def test_rows_qp_is_daqps_minimiser(dependent):
             u[2] = 0.5 * u[0] + 0.5 * u[1]
         lb, ub = np.full(n, -1e3), np.full(n, 1e3)
         x = np.zeros(n)
-        active = rows_qp(H, c, C, u, m, lb, ub, 1e-9, x)
+        active = rows_qp(np.linalg.cholesky(H), c, C, u, m, lb, ub, 1e-9, x)
         reference, _, exitflag, info = daqp.solve(
             H, c, C, np.concatenate([ub, u]), np.concatenate([lb, np.full(m, -1e30)]),
             np.zeros(n + m, np.int32),
@@ -368,14 +368,14 @@ def test_rows_qp_is_daqps_minimiser(dependent):
 
 
 def test_rows_qp_refuses_a_broken_box_and_rows_that_cannot_hold():
-    H, c = np.eye(2), np.array([-1.0, -1.0])
+    L, c = np.eye(2), np.array([-1.0, -1.0])  # H = I
     rows, bounds = np.array([[1.0, 1.0]]), np.array([1.5])  # x₁ + x₂ ≤ 1.5: at (0.75, 0.75)
     x = np.zeros(2)
-    assert rows_qp(H, c, rows, bounds, 1, np.full(2, -1.0), np.full(2, 2.0), 0.0, x) == 1
+    assert rows_qp(L, c, rows, bounds, 1, np.full(2, -1.0), np.full(2, 2.0), 0.0, x) == 1
     assert np.allclose(x, [0.75, 0.75])
-    assert rows_qp(H, c, rows, bounds, 1, np.full(2, -1.0), np.full(2, 0.5), 0.0, x) == -1
+    assert rows_qp(L, c, rows, bounds, 1, np.full(2, -1.0), np.full(2, 0.5), 0.0, x) == -1
     opposite, apart = np.array([[1.0, 0.0], [-1.0, 0.0]]), np.array([-1.0, -1.0])  # x₁ ≤ −1, x₁ ≥ 1
-    assert rows_qp(H, c, opposite, apart, 2, np.full(2, -9.0), np.full(2, 9.0), 0.0, x) == -1
+    assert rows_qp(L, c, opposite, apart, 2, np.full(2, -9.0), np.full(2, 9.0), 0.0, x) == -1
 
 
 def test_rotation_difference_is_mujocos(torso):

@@ -149,7 +149,7 @@ def _add_row(
 
 @numba.njit(**COMPILE)
 def rows_qp(
-    H: NDArray[np.float64],
+    L: NDArray[np.float64],
     c: NDArray[np.float64],
     C: NDArray[np.float64],
     u: NDArray[np.float64],
@@ -162,7 +162,7 @@ def rows_qp(
     """Solve the QP of the rows by the dual method (module docstring), the box checked after.
 
     Args:
-        H: The Hessian (n × n), positive definite (its lower triangle is read).
+        L: The Cholesky factor of the Hessian, ``H = LLᵀ`` (n × n, lower triangle read).
         c: The linear term (n,).
         C: The rows (≥ m × n).
         u: Their upper bounds.
@@ -173,14 +173,11 @@ def rows_qp(
         x: Written: the minimiser.
 
     Returns:
-        The number of active rows at the minimiser, or −1 when the method cannot answer: ``H``
-        or the active rows' ``C H⁻¹ Cᵀ`` not positive definite, rows that cannot all hold, a
-        box bound broken (``x`` is then undefined).
+        The number of active rows at the minimiser, or −1 when the method cannot answer: the
+        active rows' ``C H⁻¹ Cᵀ`` not positive definite, rows that cannot all hold, a box bound
+        broken (``x`` is then undefined).
     """
     n = x.shape[0]
-    L = np.empty((n, n))
-    if not cholesky(H, np.arange(n), n, L):
-        return -1
     x[:] = -c
     substitute(L, n, x)
     Y = np.empty((m, n))

@@ -238,7 +238,8 @@ def _level0(
     shift = settings[0] + settings[2]
     for i in range(x.shape[0]):
         H[0, i, i] += settings[2]
-    status = level0_point(H[0], c[0], A0, b0, least_squares, shift, lb, ub, C, u, m, x)
+    L = np.empty((x.shape[0], x.shape[0]))
+    status = level0_point(H[0], c[0], A0, b0, least_squares, shift, lb, ub, C, u, m, x, L)
     if status == NOT_DEFINITE:
         return GENERAL
     rows_bound, settings[4] = settings[4] != 0.0, 0.0
@@ -250,7 +251,7 @@ def _level0(
     ):
         return _CONTINUE
     if m > 0 and not least_squares:
-        active = rows_qp(H[0], c[0], C, u, m, lb, ub, settings[5], x)
+        active = rows_qp(L, c[0], C, u, m, lb, ub, settings[5], x)
         if active >= 0:
             settings[4] = 1.0 if active > 0 else 0.0
             return _CONTINUE
