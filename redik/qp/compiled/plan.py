@@ -257,12 +257,13 @@ class CompiledPlan:
         quaternions[:] = coordinates.quaternion_q
         self._linear_q = np.full(n, -1, dtype=np.int64)
         self._linear_q[coordinates.scalar_dofs] = coordinates.scalar_q
-        rotations, q_at, dof_at = [], 0, 0
-        for kind in coordinates.joint_types:  # ball and free joints: (quaternion, its dofs)
-            if kind == "free":
+        rotations: list[tuple[int, int]] = []
+        q_at = dof_at = 0
+        for joint_type in coordinates.joint_types:  # ball and free: (quaternion, its dofs)
+            if joint_type == "free":
                 self._linear_q[dof_at : dof_at + 3] = q_at + np.arange(3)
                 q_at, dof_at = q_at + 3, dof_at + 3
-            if kind in ("free", "ball"):
+            if joint_type in ("free", "ball"):
                 rotations.append((q_at, dof_at))
                 q_at, dof_at = q_at + 4, dof_at + 3
             else:
