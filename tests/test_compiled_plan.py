@@ -18,8 +18,11 @@ from redik.limits import (
 )
 from redik.qp import Problem
 from redik.qp.compiled.box_qp import box_qp
+from redik.qp.compiled.collision import near_pairs
 from redik.qp.compiled.frames import dof_chain, point_jacobian
+from redik.qp.compiled.joint_gradient import rotation_difference
 from redik.qp.compiled.lower_level import null_space
+from redik.qp.compiled.rows_qp import rows_qp
 from redik.qp.hierarchy import row_null_space
 from redik.tasks import (
     DampingTask,
@@ -160,7 +163,7 @@ def test_static_steps_are_the_general_paths(panda, strict):
 
 
 def test_collision_rows_that_bind_are_the_general_paths(torso):
-    """The hand driven into the table: the rows bind and DAQP solves level 0 with them."""
+    """The hand driven into the table: the rows bind and the rows' QP solves level 0 with them."""
     fast, general = _both_paths(torso, _torso_stack, False, "collision")
     q = torso.home.copy()
     worst, binding = 0.0, 0
@@ -176,6 +179,29 @@ def test_collision_rows_that_bind_are_the_general_paths(torso):
         q = torso.integrate(q, b)
     assert binding > 0  # the test reached the rows
     assert worst <= WEIGHTED_TOL
+
+
+@pytest.mark.parametrize("distance", [0.02, 0.1, 0.3])
+def test_near_pairs_keeps_every_pair_closer_than_the_distance(torso, distance):
+    """The bounding spheres and boxes skip a pair only when ``mj_geomDistance`` does too."""
+    limit = CollisionAvoidanceLimit(minimum_distance=0.0).bind(torso)
+    model, data = torso.model, torso.state.data
+    pairs = np.ascontiguousarray(limit.pairs, dtype=np.int64)
+    rbound = model.geom_rbound
+    radii = rbound[pairs[:, 0]] + rbound[pairs[:, 1]]
+    bounded = (rbound[pairs[:, 0]] > 0.0) & (rbound[pairs[:, 1]] > 0.0)
+    candidates = np.zeros(len(pairs), dtype=np.int64)
+    rng, fromto, skipped = np.random.default_rng(4), np.zeros(6), 0
+    for _ in range(200):
+        torso.state.update(torso.random_q(rng))
+        count = near_pairs(data.geom_xpos, data.geom_xmat, pairs, radii, bounded,
+                           model.geom_aabb, distance, candidates)  # fmt: skip
+        near = set(candidates[:count].tolist())
+        for i, (a, b) in enumerate(pairs):
+            d = mujoco.mj_geomDistance(model, data, a, b, distance, fromto)
+            assert i in near or d >= distance
+        skipped += len(pairs) - count
+    assert skipped > 0  # the bounds did skip pairs
 
 
 def test_changed_costs_gains_and_targets_reach_the_plan(panda):
@@ -308,6 +334,61 @@ def test_box_qp_is_daqps_minimiser(degenerate):
         assert exitflag == 1
         scale = 1.0 + np.abs(reference).max()
         assert np.max(np.abs(x - reference)) / scale < 1e-6
+
+
+@pytest.mark.parametrize("dependent", [False, True])
+def test_rows_qp_is_daqps_minimiser(dependent):
+    """Rows only (the box wide): the dual method's minimiser and active rows are DAQP's."""
+    rng = np.random.default_rng(12)
+    solved = 0
+    for _ in range(400):
+        n, m = int(rng.integers(2, 36)), int(rng.integers(1, 12))
+        M = rng.standard_normal((n, n))
+        H, c = M @ M.T + 0.1 * np.eye(n), rng.standard_normal(n)
+        C, u = rng.standard_normal((m, n)), rng.uniform(-0.5, 1.0, m)
+        if dependent and m > 2:  # a row that is a combination of two others: degenerate vertices
+            C[2] = 0.5 * C[0] + 0.5 * C[1]
+            u[2] = 0.5 * u[0] + 0.5 * u[1]
+        lb, ub = np.full(n, -1e3), np.full(n, 1e3)
+        x = np.zeros(n)
+        active = rows_qp(np.linalg.cholesky(H), c, C, u, m, lb, ub, 1e-9, x)
+        reference, _, exitflag, info = daqp.solve(
+            H, c, C, np.concatenate([ub, u]), np.concatenate([lb, np.full(m, -1e30)]),
+            np.zeros(n + m, np.int32),
+        )  # fmt: skip
+        if exitflag != 1:  # rows that cannot all hold
+            assert active < 0
+            continue
+        assert active == np.count_nonzero(info["lam"][n:])
+        assert np.all(C @ x <= u + 1e-9)
+        scale = 1.0 + np.abs(reference).max()
+        assert np.max(np.abs(x - reference)) / scale < 1e-9
+        solved += 1
+    assert solved > 300
+
+
+def test_rows_qp_refuses_a_broken_box_and_rows_that_cannot_hold():
+    L, c = np.eye(2), np.array([-1.0, -1.0])  # H = I
+    rows, bounds = np.array([[1.0, 1.0]]), np.array([1.5])  # x₁ + x₂ ≤ 1.5: at (0.75, 0.75)
+    x = np.zeros(2)
+    assert rows_qp(L, c, rows, bounds, 1, np.full(2, -1.0), np.full(2, 2.0), 0.0, x) == 1
+    assert np.allclose(x, [0.75, 0.75])
+    assert rows_qp(L, c, rows, bounds, 1, np.full(2, -1.0), np.full(2, 0.5), 0.0, x) == -1
+    opposite, apart = np.array([[1.0, 0.0], [-1.0, 0.0]]), np.array([-1.0, -1.0])  # x₁ ≤ −1, x₁ ≥ 1
+    assert rows_qp(L, c, opposite, apart, 2, np.full(2, -9.0), np.full(2, 9.0), 0.0, x) == -1
+
+
+def test_rotation_difference_is_mujocos(torso):
+    """``q ⊖ r`` across a free joint's orientation: ``mj_differentiatePos``'s, to round-off."""
+    rng, work = np.random.default_rng(6), np.zeros(11)
+    for k in range(300):
+        r, q = torso.random_q(rng), torso.random_q(rng)
+        q[3:7] *= [1.0, 0.5, 2.0, 1e-9][k % 4]  # quaternions that are not unit
+        if k % 5 == 0:
+            q[3:7] = -r[3:7]  # the same rotation: the angle wraps to zero
+        rotation_difference(q, r, 3, work)
+        reference = torso.difference(r, q)[3:6]
+        assert np.max(np.abs(work[8:11] - reference)) <= 1e-13
 
 
 def test_box_qp_reports_rows_it_breaks_and_non_definite_blocks():

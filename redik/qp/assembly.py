@@ -156,6 +156,15 @@ class LevelAssembly:
         self._refresh_joint_terms()
         return self._joint_terms
 
+    def joint_differences(self) -> list[tuple[NDArray[np.float64], NDArray[np.float64]]]:
+        """On a robot that is not flat, each joint-space task's ``(r, α w²d²)`` (refreshed).
+
+        The gradient is then ``Σ α w²d² ⊙ (q ⊖ r)`` over them (:meth:`joint_gradient_into`);
+        tasks whose factor is zero are left out.
+        """
+        self._refresh_joint_terms()
+        return [(task.reference, factor) for task, factor in self._joint_factors]
+
     def joint_gradient_into(self, state: KinematicState, c: NDArray[np.float64]) -> None:
         """Write the joint-space tasks' gradient ``Σ α w²d² ⊙ (q ⊖ r)`` at ``state`` into ``c``.
 

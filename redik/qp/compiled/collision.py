@@ -8,8 +8,9 @@ points :math:`p_1, p_2` and unit normal :math:`n`,
 
     n^\top \bigl(J_{p_1} - J_{p_2}\bigr) Δq \;\le\; ξ\, (d - d_s),
 
-in pair order. The bounding-sphere test that skips far pairs (MuJoCo's broad phase,
-``geom_rbound``) and the rows themselves are compiled, the point Jacobians taken from
+in pair order. The bounds that skip far pairs (bounding spheres, MuJoCo's broad phase
+``geom_rbound``, then oriented bounding boxes ``geom_aabb``) and the rows themselves are
+compiled, the point Jacobians taken from
 ``cdof`` (:func:`redik.qp.compiled.frames.point_jacobian`); the distance queries stay
 MuJoCo's ``mj_geomDistance``, whose time is in its own C code.
 """
@@ -30,36 +31,119 @@ from redik.qp.compiled.frames import pack_chains, point_jacobian
 
 
 @numba.njit(**COMPILE)
+def _box_gap(
+    centre_a: NDArray[np.float64],
+    centre_b: NDArray[np.float64],
+    R_a: NDArray[np.float64],
+    R_b: NDArray[np.float64],
+    half_a: NDArray[np.float64],
+    half_b: NDArray[np.float64],
+    axis: NDArray[np.float64],
+) -> float:
+    r"""The gap of two oriented boxes along ``axis`` (unit): a lower bound on their distance.
+
+    The projections of the boxes onto ``axis`` are intervals of radius
+    :math:`\sum_k h_k |R_{:,k}^\top a|` about the projected centres; the distance of two sets is at
+    least the gap between their projections on any unit axis (the separating axis theorem's
+    bound, Ericson, *Real-Time Collision Detection*, §4.4.1).
+    """
+    t = 0.0
+    radius = 0.0
+    for i in range(3):
+        t += (centre_b[i] - centre_a[i]) * axis[i]
+    for k in range(3):
+        projection_a = R_a[0, k] * axis[0] + R_a[1, k] * axis[1] + R_a[2, k] * axis[2]
+        projection_b = R_b[0, k] * axis[0] + R_b[1, k] * axis[1] + R_b[2, k] * axis[2]
+        radius += half_a[k] * abs(projection_a) + half_b[k] * abs(projection_b)
+    return abs(t) - radius
+
+
+@numba.njit(**COMPILE)
+def _boxes_apart(
+    a: int,
+    b: int,
+    geom_xpos: NDArray[np.float64],
+    geom_xmat: NDArray[np.float64],
+    aabb: NDArray[np.float64],
+    distance: float,
+    work: NDArray[np.float64],
+) -> bool:
+    """Whether the bounding boxes of geoms ``a``, ``b`` are at least ``distance`` apart.
+
+    Each geom's box is ``geom_aabb`` (centre and half-sizes in the geom's frame) placed by
+    ``geom_xpos``, ``geom_xmat``; the axes tried are the six face normals and the line of the
+    centres (:func:`_box_gap`). ``work`` is scratch (≥ 6).
+    """
+    R_a, R_b = geom_xmat[a].reshape(3, 3), geom_xmat[b].reshape(3, 3)
+    centre_a, centre_b = work[0:3], work[3:6]
+    for i in range(3):
+        centre_a[i] = geom_xpos[a, i]
+        centre_b[i] = geom_xpos[b, i]
+        for k in range(3):
+            centre_a[i] += R_a[i, k] * aabb[a, k]
+            centre_b[i] += R_b[i, k] * aabb[b, k]
+    half_a, half_b = aabb[a, 3:], aabb[b, 3:]
+    axis = work[6:9]
+    for i in range(3):
+        axis[i] = centre_b[i] - centre_a[i]
+    norm = math.sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2])
+    if norm > 0.0:
+        axis /= norm
+        if _box_gap(centre_a, centre_b, R_a, R_b, half_a, half_b, axis) >= distance:
+            return True
+    for R in (R_a, R_b):
+        for k in range(3):
+            axis[0], axis[1], axis[2] = R[0, k], R[1, k], R[2, k]
+            if _box_gap(centre_a, centre_b, R_a, R_b, half_a, half_b, axis) >= distance:
+                return True
+    return False
+
+
+@numba.njit(**COMPILE)
 def near_pairs(
     geom_xpos: NDArray[np.float64],
+    geom_xmat: NDArray[np.float64],
     pairs: NDArray[np.int64],
     radii: NDArray[np.float64],
     bounded: NDArray[np.bool_],
+    aabb: NDArray[np.float64],
     distance: float,
     candidates: NDArray[np.int64],
 ) -> int:
-    """Write the pairs whose bounding spheres are closer than ``distance`` into ``candidates``.
+    """Write the pairs whose bounds are closer than ``distance`` into ``candidates``.
+
+    A pair is skipped when its bounding spheres (MuJoCo's broad phase, ``geom_rbound``) or
+    its bounding boxes (``geom_aabb``, :func:`_boxes_apart`) are at least ``distance`` apart:
+    both contain the geoms (a mesh's convex hull, which ``mj_geomDistance`` measures), so the
+    pair's distance is at least ``distance`` too and it gives no row.
 
     Args:
         geom_xpos: ``data.geom_xpos``.
+        geom_xmat: ``data.geom_xmat``.
         pairs: The geom pairs (P × 2).
         radii: Per pair, the sum of the two ``geom_rbound``.
-        bounded: Per pair, whether both geoms have a bounding sphere (a plane has none).
+        bounded: Per pair, whether both geoms are bounded (a plane is not).
+        aabb: ``model.geom_aabb``.
         distance: The distance below which a pair is a candidate.
         candidates: Written with the candidates' indices, ascending.
 
     Returns:
         The number of candidates.
     """
+    work = np.empty(9)
     count = 0
     for i in range(pairs.shape[0]):
         a, b = pairs[i, 0], pairs[i, 1]
-        dx = geom_xpos[a, 0] - geom_xpos[b, 0]
-        dy = geom_xpos[a, 1] - geom_xpos[b, 1]
-        dz = geom_xpos[a, 2] - geom_xpos[b, 2]
-        if not bounded[i] or math.sqrt(dx * dx + dy * dy + dz * dz) - radii[i] < distance:
-            candidates[count] = i
-            count += 1
+        if bounded[i]:
+            dx = geom_xpos[a, 0] - geom_xpos[b, 0]
+            dy = geom_xpos[a, 1] - geom_xpos[b, 1]
+            dz = geom_xpos[a, 2] - geom_xpos[b, 2]
+            if math.sqrt(dx * dx + dy * dy + dz * dz) - radii[i] >= distance:
+                continue
+            if _boxes_apart(a, b, geom_xpos, geom_xmat, aabb, distance, work):
+                continue
+        candidates[count] = i
+        count += 1
     return count
 
 
@@ -212,8 +296,9 @@ class CollisionRows:
         """
         data, model, detection = self._data, self._model, self._settings[1]
         count = near_pairs(
-            data.geom_xpos, self.pairs, self._radii, self._bounded, detection, self._candidates
-        )
+            data.geom_xpos, data.geom_xmat, self.pairs, self._radii, self._bounded,
+            model.geom_aabb, detection, self._candidates,
+        )  # fmt: skip
         distances, fromto, pair_list = self._distances, self._fromto, self._pair_list
         for i in self._candidates[:count].tolist():
             a, b = pair_list[i]

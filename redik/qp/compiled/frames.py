@@ -246,14 +246,34 @@ def frame_rows(
 
 
 @numba.njit(**COMPILE)
+def _nonzero_rows(A: NDArray[np.float64], first: NDArray[np.int64], end: NDArray[np.int64]) -> None:
+    """Per column of ``A``, the range ``[first, end)`` of rows outside which it is zero."""
+    m, n = A.shape
+    for i in range(n):
+        first[i], end[i] = m, 0
+        for k in range(m):
+            if A[k, i] != 0.0:
+                first[i] = min(first[i], k)
+                end[i] = k + 1
+
+
+@numba.njit(**COMPILE)
 def _gram(
     A: NDArray[np.float64],
     b: NDArray[np.float64],
     H: NDArray[np.float64],
     c: NDArray[np.float64],
 ) -> None:
-    """``H = AᵀA`` (both triangles) and ``c = −Aᵀb``."""
+    """``H = AᵀA`` (both triangles) and ``c = −Aᵀb``.
+
+    A frame's rows are zero outside its chain's columns, so two columns of a whole body
+    (an arm's and a leg's) often share no non-zero row: each product sums over the rows where
+    both columns may be non-zero only. The terms left out are exact zeros, so every entry is
+    the full sum's (a zero's sign aside).
+    """
     m, n = A.shape
+    first, end = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
+    _nonzero_rows(A, first, end)
     for i in range(n):
         total = 0.0
         for k in range(m):
@@ -261,7 +281,7 @@ def _gram(
         c[i] = -total
         for j in range(i + 1):
             total = 0.0
-            for k in range(m):
+            for k in range(max(first[i], first[j]), min(end[i], end[j])):
                 total += A[k, i] * A[k, j]
             H[i, j] = total
             H[j, i] = total

@@ -24,7 +24,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from redik.kinematics.compiled import COMPILE
-from redik.qp.compiled.linalg import least_squares_point, newton_point, rows_hold, within_box
+from redik.qp.compiled.linalg import (
+    cholesky,
+    least_squares_point,
+    rows_hold,
+    substitute,
+    within_box,
+)
 
 SOLVED = 0
 """:func:`level0_point`: ``x`` is level 0's minimiser."""
@@ -98,6 +104,7 @@ def level0_point(
     u: NDArray[np.float64],
     m: int,
     x: NDArray[np.float64],
+    L: NDArray[np.float64],
 ) -> int:
     """Write level 0's unconstrained minimiser into ``x`` and say whether it is the solution.
 
@@ -114,6 +121,7 @@ def level0_point(
         u: Their upper bounds.
         m: How many rows of ``C`` count.
         x: Written (n,).
+        L: Written (n × n) on a weighted level: the Cholesky factor of ``H`` (``H = LLᵀ``).
 
     Returns:
         :data:`SOLVED`, :data:`BINDS` or :data:`NOT_DEFINITE`.
@@ -121,7 +129,10 @@ def level0_point(
     if least_squares:
         defined = least_squares_point(A, b, damping, x)
     else:
-        defined = newton_point(H, c, x)
+        defined = cholesky(H, np.arange(x.shape[0]), x.shape[0], L)
+        if defined:
+            x[:] = -c
+            substitute(L, x.shape[0], x)
     if not defined:
         return NOT_DEFINITE
     if within_box(x, lb, ub) and rows_hold(C, u, m, x):

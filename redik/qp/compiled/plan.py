@@ -59,6 +59,7 @@ from redik.qp.backends import Backend, DaqpBackend, QpsolversBackend
 from redik.qp.compiled import step as kernel
 from redik.qp.compiled.collision import CollisionRows
 from redik.qp.compiled.frames import FRAME_KINDS, POSE, POSITION, pack_chains
+from redik.qp.compiled.joint_gradient import joint_gradients
 from redik.qp.compiled.workspaces import BackendSolves, DaqpWorkspaces
 from redik.tasks import (
     DampingTask,
@@ -191,7 +192,7 @@ class CompiledPlan:
             if isinstance(limit, CollisionAvoidanceLimit)
         ]
         self._build_table(robot, column_of, limits)
-        self._build_work(limits, damping, rank_tol)
+        self._build_work(limits, backends, damping, rank_tol)
         self._watch_tasks()
         data = robot.state.data
         poses = (data.xpos, data.xmat, data.site_xpos, data.site_xmat, data.geom_xpos,
@@ -201,8 +202,6 @@ class CompiledPlan:
         self._flat = robot.flat
         # Two entries, so that a plan of one level never compiles level 1's kernels.
         self._kernel = kernel.solve_step if len(levels) == 1 else kernel.solve_two_level_step
-        rows = self._C.shape[0]
-        self._upper, self._lower = np.zeros(n + rows), np.full(n + rows, -np.inf)
         self._row_qps: DaqpWorkspaces | BackendSolves = BackendSolves(backends)
         first = backends[0]
         if isinstance(first, DaqpBackend) and all(
@@ -258,10 +257,26 @@ class CompiledPlan:
         scalar_q[:] = -1
         scalar_q[coordinates.scalar_dofs] = coordinates.scalar_q
         quaternions[:] = coordinates.quaternion_q
+        self._linear_q = np.full(n, -1, dtype=np.int64)
+        self._linear_q[coordinates.scalar_dofs] = coordinates.scalar_q
+        rotations: list[tuple[int, int]] = []
+        q_at = dof_at = 0
+        for joint_type in coordinates.joint_types:  # ball and free: (quaternion, its dofs)
+            if joint_type == "free":
+                self._linear_q[dof_at : dof_at + 3] = q_at + np.arange(3)
+                q_at, dof_at = q_at + 3, dof_at + 3
+            if joint_type in ("free", "ball"):
+                rotations.append((q_at, dof_at))
+                q_at, dof_at = q_at + 4, dof_at + 3
+            else:
+                q_at, dof_at = q_at + 1, dof_at + 1
+        self._rotations = np.array(rotations, dtype=np.int64).reshape(-1, 2)
         self._frame_kinds = frames[:, 4].tolist()
         self._tasks = tasks
 
-    def _build_work(self, limits: Sequence[Limit], damping: float, rank_tol: float) -> None:
+    def _build_work(
+        self, limits: Sequence[Limit], backends: Sequence[Backend], damping: float, rank_tol: float
+    ) -> None:
         """The float buffer (:mod:`redik.qp.compiled.step`) and the views Python writes."""
         self._work = np.zeros(self._work_size)
         (self._targets, self._joint, self._gradients, _, _, self._H, self._c, box, self._lb,
@@ -278,7 +293,9 @@ class CompiledPlan:
                 np.minimum(box[2], limit.max_velocity, out=box[2])
         self._clip = any(isinstance(limit, ConfigurationLimit) for limit in limits)
         self._velocity = any(isinstance(limit, VelocityLimit) for limit in limits)
-        self._settings[:] = damping, rank_tol, 0.0, math.inf, 0.0
+        daqp = [backend for backend in backends if isinstance(backend, DaqpBackend)]
+        primal_tol = float(daqp[0].settings.get("primal_tol", 0.0)) if daqp else 0.0
+        self._settings[:] = damping, rank_tol, 0.0, math.inf, 0.0, primal_tol
 
     def _watch_tasks(self) -> None:
         """What :meth:`_refresh` compares each step: targets, versions, joint-space sums."""
@@ -292,6 +309,11 @@ class CompiledPlan:
         self._seen: list[object] = [_NOT_SEEN] * len(self._tasks)
         self._versions = [-1] * len(self._tasks)
         self._joint_tasks = [task for level in self._levels for task in level.joint_tasks]
+        count = len(self._joint_tasks)
+        self._references = np.zeros((count, self._robot.nq))
+        self._factors = np.zeros((count, self._n))
+        self._level_of = np.zeros(count, dtype=np.int64)
+        self._differences = 0
         self._joint_versions: list[int] | None = None
 
     # ----------------------------------------------------------------------------------
@@ -347,11 +369,12 @@ class CompiledPlan:
     def _solve_all(self, duration: float) -> NDArray[np.float64] | None:
         """The stages of a step at the current kinematics (module docstring)."""
         if not self._flat:
-            for index, level in enumerate(self._levels):
-                level.joint_gradient_into(self._state, self._gradients[index])
+            joint_gradients(
+                self._q, self._references, self._factors, self._level_of, self._differences,
+                self._linear_q, self._rotations, self._gradients,
+            )  # fmt: skip
         m = self._collision_rows() if self._collisions else 0
         status = self._solve(kernel.START, duration, m)
-        self._settings[4] = 0.0
         if status == kernel.LEVEL0_QP:
             if not self._level0_qp(m):
                 return None
@@ -412,10 +435,25 @@ class CompiledPlan:
                 self._versions[f] = task.version
         versions = [task.version for task in self._joint_tasks]
         if versions != self._joint_versions:
-            for index, level in enumerate(self._levels):
-                self._joint[index] = level.joint_terms()
+            self._pack_joint_terms()
             self._joint_versions = versions
         return True
+
+    def _pack_joint_terms(self) -> None:
+        """Copy the levels' joint-space sums; on a robot that is not flat, the tasks' terms.
+
+        Each joint-space task's ``(r, α w²d²)`` and level (:mod:`.joint_gradient`).
+        """
+        for index, level in enumerate(self._levels):
+            self._joint[index] = level.joint_terms()
+        if self._flat:
+            return
+        t = 0
+        for index, level in enumerate(self._levels):
+            for reference, factor in level.joint_differences():
+                self._references[t], self._factors[t], self._level_of[t] = reference, factor, index
+                t += 1
+        self._differences = t
 
     def _collision_rows(self) -> int:
         """Write the active collision rows into ``C``, ``u``; return their number."""
@@ -425,16 +463,18 @@ class CompiledPlan:
         return m
 
     def _level0_qp(self, m: int) -> bool:
-        """Level 0's QP with its rows, by DAQP; False when DAQP fails (the general path raises)."""
-        n = self._n
-        upper, lower = self._upper[: n + m], self._lower[: n + m]
-        upper[:n], lower[:n], upper[n:] = self._ub, self._lb, self._u[:m]
-        solution = self._row_qps.solve((0, m), self._H[0], self._c[0], upper, lower, self._C[:m])
+        """Level 0's QP with its rows, by DAQP; False when DAQP fails (the general path raises).
+
+        The kernel has written its bounds (box, then rows) into ``rows_lower``, ``rows_upper``.
+        """
+        k = self._n + m
+        solution = self._row_qps.solve(
+            (0, m), self._H[0], self._c[0], self._rows_upper[:k], self._rows_lower[:k],
+            self._C[:m],
+        )  # fmt: skip
         if solution is None:
             return False
         self._x[:] = solution
-        # Rows active at the solution: the next step's likely bind too (step module docstring).
-        self._settings[4] = float(m > 0 and np.any(self._C[:m] @ solution >= self._u[:m] - 1e-9))
         return True
 
     def _reduced_qp(self, m: int) -> bool:

@@ -33,6 +33,7 @@ from redik.qp.compiled.linalg import clip_into
 from redik.qp.compiled.lower_level import DONE as LEVEL1_DONE
 from redik.qp.compiled.lower_level import REDUCED_QP as LEVEL1_REDUCED_QP
 from redik.qp.compiled.lower_level import add_direction, lower_level
+from redik.qp.compiled.rows_qp import rows_qp
 
 H_N, H_LEVELS, H_FRAMES, H_ROWS, H_COLLISION_ROWS, H_FREE, H_WIDTH, H_QUATERNIONS = range(8)
 """Header indices of ``table``: tangent coordinates, levels, frame tasks, their rows, the
@@ -75,7 +76,7 @@ def buffer_sizes(
     work = np.array([
         frames * TARGET_WIDTH, levels * 3 * n, levels * n, rows * n, rows, levels * n * n,
         levels * n, 3 * n, n, n, n, collision * n, collision, n * free, free * free, free,
-        free, (n + collision) * free, n + collision, n + collision, 5,
+        free, (n + collision) * free, n + collision, n + collision, 6,
     ])  # fmt: skip
     return table_size, work
 
@@ -107,11 +108,13 @@ def float_views(
         and ``c``; the box ``(q_min, q_max, v_max)``; the step's bounds and the step; the
         collision rows and bounds (M × n, M); level 1's null-space basis, reduced Hessian,
         linear term and solution; the reduced rows and their bounds; ``(ε, rank_tol, λ,
-        max_step, rows_bound)``: the regularisation, the null space's threshold, the
+        max_step, rows_bound, primal_tol)``: the regularisation, the null space's threshold, the
         Levenberg–Marquardt term added to level 0's Hessian and the trust region
-        ``|Δq_i| ≤ max_step`` (inf: none) of a static step, and 1 when hard rows bound the
-        last step (level 0 then goes to DAQP directly when a constraint binds: its rows
-        usually bind again, and the box QP would be solved for nothing).
+        ``|Δq_i| ≤ max_step`` (inf: none) of a static step, 1 when hard rows bound the
+        last step (level 0 then goes to the rows' QP directly when a constraint binds: its
+        rows usually bind again, and the box QP would be solved for nothing), and the
+        violation above which the rows' QP counts a row as broken (DAQP's ``primal_tol``; 0
+        for quadprog, which holds every row exactly).
     """
     n, levels, frames = table[H_N], table[H_LEVELS], table[H_FRAMES]
     rows, collision, free = table[H_ROWS], table[H_COLLISION_ROWS], table[H_FREE]
@@ -235,14 +238,51 @@ def _level0(
     shift = settings[0] + settings[2]
     for i in range(x.shape[0]):
         H[0, i, i] += settings[2]
-    status = level0_point(H[0], c[0], A0, b0, least_squares, shift, lb, ub, C, u, m, x)
+    L = np.empty((x.shape[0], x.shape[0]))
+    status = level0_point(H[0], c[0], A0, b0, least_squares, shift, lb, ub, C, u, m, x, L)
     if status == NOT_DEFINITE:
         return GENERAL
-    if status == BINDS and m > 0 and settings[4] != 0.0:
-        return LEVEL0_QP
-    if status == BINDS and box_qp(H[0], c[0], lb, ub, C, u, m, x, 4 * x.shape[0] + 10) <= 0:
-        return LEVEL0_QP
-    return _CONTINUE
+    rows_bound, settings[4] = settings[4] != 0.0, 0.0
+    if status != BINDS:
+        return _CONTINUE
+    if (
+        not (m > 0 and rows_bound)
+        and box_qp(H[0], c[0], lb, ub, C, u, m, x, 4 * x.shape[0] + 10) > 0
+    ):
+        return _CONTINUE
+    if m > 0 and not least_squares:
+        active = rows_qp(L, c[0], C, u, m, lb, ub, settings[5], x)
+        if active >= 0:
+            settings[4] = 1.0 if active > 0 else 0.0
+            return _CONTINUE
+    return LEVEL0_QP
+
+
+@numba.njit(**COMPILE)
+def _level0_qp_bounds(m: int, floats: tuple[NDArray[np.float64], ...]) -> None:
+    """Write level 0's QP bounds for DAQP into ``rows_lower``, ``rows_upper``: box, then rows.
+
+    Level 1's reduced rows use the same arrays only after level 0 is solved.
+    """
+    lb, ub, _, _, u = floats[8:13]
+    lower, upper = floats[18], floats[19]
+    n = lb.shape[0]
+    lower[:n], upper[:n] = lb, ub
+    lower[n : n + m] = -np.inf
+    upper[n : n + m] = u[:m]
+
+
+@numba.njit(**COMPILE)
+def _rows_bind(m: int, floats: tuple[NDArray[np.float64], ...]) -> float:
+    """1.0 when a row of level 0 is active at ``x`` (to 1e-9), else 0.0."""
+    x, C, u = floats[10], floats[11], floats[12]
+    for i in range(m):
+        value = 0.0
+        for j in range(x.shape[0]):
+            value += C[i, j] * x[j]
+        if value >= u[i] - 1e-9:
+            return 1.0
+    return 0.0
 
 
 @numba.njit(**COMPILE)
@@ -280,7 +320,10 @@ def _start(
         return GENERAL
     flat = table[H_FLAT] != 0
     _objectives(q, poses, cdof, subtree_com, flat, levels, frames, chains, columns, floats)
-    return _level0(q, dt, m, table, levels, scalar_q, floats)
+    status = _level0(q, dt, m, table, levels, scalar_q, floats)
+    if status == LEVEL0_QP:
+        _level0_qp_bounds(m, floats)
+    return status
 
 
 @numba.njit(**COMPILE)
@@ -320,6 +363,8 @@ def solve_step(
         status = _start(q, dt, m, poses, cdof, subtree_com, table, floats)
         if status != _CONTINUE:
             return status
+    elif stage == AFTER_LEVEL0_QP:
+        floats[20][4] = _rows_bind(m, floats)
     if table[H_POSITION] != 0:
         clip_into(floats[10], floats[8], floats[9])
     return DONE
@@ -358,6 +403,8 @@ def solve_two_level_step(
         status = _start(q, dt, m, poses, cdof, subtree_com, table, floats)
         if status != _CONTINUE:
             return status
+    elif stage == AFTER_LEVEL0_QP:
+        floats[20][4] = _rows_bind(m, floats)
     if stage != AFTER_REDUCED_QP:
         return _level1(m, table[H_POSITION] != 0, int_views(table)[0], floats)
     x, lb, ub, N, z = floats[10], floats[8], floats[9], floats[13], floats[16]
