@@ -22,14 +22,15 @@ export PYOPENGL_PLATFORM ?= egl
 env: $(STAMP)
 
 # PIP_CONSTRAINT (not only -c) so that the isolated build of redik's own wheel (hatchling and
-# its dependencies) is pinned too. The last step compiles the damped least-squares kernel that
-# solve_pose, solve_batch and the task stack's warm start call into numba's cache, so that
-# the first solve does not compile (tools/first_run.py times both).
+# its dependencies) is pinned too. The last step compiles into numba's cache what the first
+# solve_pose, solve_problem and `redik demo` call (the damped least-squares kernel and the QP
+# plan, one process each, in parallel), so that they do not compile (tools/first_run.py times
+# both); `python -m redik.core.compile_ahead --all` adds solve_batch's and the closed forms'.
 $(STAMP): pyproject.toml $(LOCK)
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	PIP_CONSTRAINT=$(CURDIR)/$(LOCK) $(BIN)/python -m pip install --quiet pip
 	PIP_CONSTRAINT=$(CURDIR)/$(LOCK) $(BIN)/python -m pip install --quiet -e ".[test]"
-	$(BIN)/python -m redik.solvers.dls.compile
+	$(BIN)/python -m redik.core.compile_ahead
 	touch $(STAMP)
 
 demo: $(STAMP)

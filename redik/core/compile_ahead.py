@@ -1,16 +1,32 @@
 """Run named compile-ahead steps and report each one's seconds.
 
-The compile-ahead modules (``python -m redik.solvers.dls.compile``,
-``redik.qp.compiled.compile``, ``redik.solvers.analytic.compile``) each call a few entries
-of their numba kernels once with the argument types their callers pass, so that numba
-compiles and caches them (``cache=True``) before a user's first solve. This is their one
-runner.
+A compile-ahead module (``python -m redik.solvers.dls.compile``,
+``redik.solvers.batch.compile``, ``redik.qp.compiled.compile``,
+``redik.solvers.analytic.compile``) calls a few entries of its numba kernels once with the
+argument types their callers pass, so that numba compiles and caches them (``cache=True``)
+before a user's first call. :func:`compile_all` runs one module's steps; this module run as a
+program (``python -m redik.core.compile_ahead [MODULE ...]``) runs whole modules, each in a
+process of its own and as many at once as there are cores: their kernels are disjoint and
+numba writes each to its own cache file, and compiling is single-threaded, so the modules
+take the time of the longest one instead of their sum.
 """
 
 from __future__ import annotations
 
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
+
+INSTALL = ("redik.solvers.dls.compile", "redik.qp.compiled.compile")
+"""What ``make env`` compiles: what :func:`redik.solve_pose`, :func:`redik.solve_problem`
+and ``redik demo`` call first."""
+
+EVERY = (*INSTALL, "redik.solvers.batch.compile", "redik.solvers.analytic.compile")
+"""Every compile-ahead module (``--all``)."""
 
 
 def compile_all(
@@ -38,3 +54,80 @@ def main(steps: Mapping[str, Callable[[], object]]) -> None:
     """Run :func:`compile_all` on ``steps`` and print the total."""
     total = sum(compile_all(steps).values())
     print(f"{'total':<45}{total:>8.2f} s")
+
+
+def run_modules(
+    modules: Sequence[str], jobs: int, report: Callable[[str], None] = print
+) -> dict[str, float]:
+    """Run each compile-ahead module as ``python -m MODULE``, ``jobs`` processes at a time.
+
+    Args:
+        modules: The modules' names, started in this order.
+        jobs: How many run at once.
+        report: Called with each module's output and seconds when it ends.
+
+    Returns:
+        Each module's wall seconds.
+
+    Raises:
+        subprocess.CalledProcessError: A module failed (its output is in the exception).
+    """
+    waiting = list(modules)
+    running: dict[str, tuple[subprocess.Popen[bytes], float]] = {}
+    seconds: dict[str, float] = {}
+    with tempfile.TemporaryDirectory() as folder:
+        while waiting or running:
+            while waiting and len(running) < jobs:
+                module = waiting.pop(0)
+                # A file, not a pipe: a module that prints much would block on a full pipe.
+                with open(os.path.join(folder, module), "wb") as log:
+                    process = subprocess.Popen(
+                        [sys.executable, "-m", module], stdout=log, stderr=subprocess.STDOUT
+                    )
+                running[module] = process, time.perf_counter()
+            module = _wait_any(running)
+            process, start = running.pop(module)
+            seconds[module] = time.perf_counter() - start
+            with open(os.path.join(folder, module), encoding="utf-8", errors="replace") as log:
+                output = log.read()
+            _check(process, output)
+            report(f"python -m {module}: {seconds[module]:.2f} s\n{output.rstrip()}")
+    return seconds
+
+
+def _check(process: subprocess.Popen[bytes], output: str) -> None:
+    """Raise :class:`subprocess.CalledProcessError` when ``process`` failed."""
+    if process.returncode != 0:
+        raise subprocess.CalledProcessError(process.returncode, process.args, output)
+
+
+def _wait_any(running: Mapping[str, tuple[subprocess.Popen[bytes], float]]) -> str:
+    """The first of the running modules to end (polled: a few ends per run)."""
+    while True:
+        for module, (process, _) in running.items():
+            if process.poll() is not None:
+                return module
+        time.sleep(0.05)
+
+
+def _arguments(argv: Sequence[str] | None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(
+        prog="python -m redik.core.compile_ahead", description=__doc__.splitlines()[0]
+    )
+    parser.add_argument("modules", nargs="*", help=f"default: {' '.join(INSTALL)}")
+    parser.add_argument("--all", action="store_true", help="every compile-ahead module")
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="default: cores")
+    return parser.parse_args(argv)
+
+
+def run(argv: Sequence[str] | None = None) -> None:
+    """The program: the modules named (or :data:`INSTALL`, or :data:`EVERY` with ``--all``)."""
+    arguments = _arguments(argv)
+    modules = EVERY if arguments.all else arguments.modules or INSTALL
+    start = time.perf_counter()
+    run_modules(modules, max(1, arguments.jobs))
+    print(f"compiled ahead in {time.perf_counter() - start:.2f} s ({arguments.jobs} at once)")
+
+
+if __name__ == "__main__":
+    run()

@@ -1,13 +1,15 @@
 """Compile the plan's kernels into numba's on-disk cache before they are first used.
 
 ``python -m redik.qp.compiled.compile`` steps a panda stack (frame task, posture, joint
-position and velocity boxes: the objective, the box QP and, on two levels, the lower level)
-and a whole-model torso whose arm keeps clear of a table (collision rows, a free and a ball
-joint), so that numba compiles each compiled entry and its callees once and caches them
-(``cache=True``: next to the sources, or under ``NUMBA_CACHE_DIR``). Nothing here is needed
-for correctness — every kernel compiles on its first call anyway — but a cold first step costs
-seconds of compilation, and a warm one loads it from the cache. Run it once per machine after
-installing, as an install step would.
+position and velocity boxes: the objective and the box QP on one level, and the lower level
+on two, each an entry of its own), a whole-model torso whose arm keeps clear of a table
+(collision rows, a free and a ball joint), and the panda stack on the general path (the frame
+task's compiled residual, which :func:`redik.solve_problem` evaluates too), so that numba
+compiles each compiled entry and its callees once and caches them (``cache=True``: next to the
+sources, or under ``NUMBA_CACHE_DIR``). Nothing here is needed for correctness — every kernel
+compiles on its first call anyway — but a cold first step costs seconds of compilation, and a
+warm one loads it from the cache. ``make env`` runs it as a step of installing
+(:mod:`redik.core.compile_ahead`).
 """
 
 from __future__ import annotations
@@ -48,14 +50,15 @@ _TORSO = """
 """
 
 
-def _panda(strict: bool) -> Callable[[], object]:
+def _panda(strict: bool, compiled: bool = True) -> Callable[[], object]:
     def step() -> object:
         robot = load("panda")
         tasks = [
             FrameTask("ee", target=robot.fk(robot.home + 0.5)),
             PostureTask(cost=0.1, priority=1 if strict else 0),
         ]
-        problem = Problem(robot, tasks, [ConfigurationLimit(), VelocityLimit(1.0)])
+        limits = [ConfigurationLimit(), VelocityLimit(1.0)]
+        problem = Problem(robot, tasks, limits, compiled=compiled)
         problem.static_step(robot.home, 0.01, lm_damping=1e-3, max_step=0.5)
         return problem.step(robot.home, 0.01)
 
@@ -80,6 +83,7 @@ STEPS: dict[str, Callable[[], object]] = {
     "weighted step (objective, box QP)": _panda(strict=False),
     "strict step (the lower level)": _panda(strict=True),
     "whole model with collision rows": _torso,
+    "general path (the frame task's residual)": _panda(strict=False, compiled=False),
 }
 
 

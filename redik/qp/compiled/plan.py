@@ -200,6 +200,8 @@ class CompiledPlan:
         self._kinematics = (poses, data.cdof, data.subtree_com)
         self._q = np.zeros(robot.nq)
         self._flat = robot.flat
+        # Two entries, so that a plan of one level never compiles level 1's kernels.
+        self._kernel = kernel.solve_step if len(levels) == 1 else kernel.solve_two_level_step
         self._row_qps: DaqpWorkspaces | BackendSolves = BackendSolves(backends)
         first = backends[0]
         if isinstance(first, DaqpBackend) and all(
@@ -389,7 +391,7 @@ class CompiledPlan:
 
     def _solve(self, stage: int, dt: float, m: int) -> int:
         poses, cdof, subtree_com = self._kinematics
-        status: int = kernel.solve_step(
+        status: int = self._kernel(
             stage, self._q, dt, m, poses, cdof, subtree_com, self._table, self._work
         )
         return status

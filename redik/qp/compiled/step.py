@@ -1,10 +1,10 @@
 r"""One compiled call per step: every level's objective, the box, level 0, level 1.
 
-:func:`solve_step` runs the stages of :mod:`redik.qp.compiled.plan` in one call, and returns
-to Python only where DAQP must solve a QP with rows (:data:`LEVEL0_QP`, :data:`REDUCED_QP`),
-to be called again at the next stage. Calling a compiled function costs about a microsecond
-plus a tenth per argument, a good part of a step, so the plan keeps its arrays as views
-into two buffers that a call passes whole:
+:func:`solve_step` (one level) and :func:`solve_two_level_step` (two) run the stages of
+:mod:`redik.qp.compiled.plan` in one call, and return to Python only where DAQP must solve a
+QP with rows (:data:`LEVEL0_QP`, :data:`REDUCED_QP`), to be called again at the next stage.
+Calling a compiled function costs about a microsecond plus a tenth per argument, a good part
+of a step, so the plan keeps its arrays as views into two buffers that a call passes whole:
 
 - ``table`` (int64): a header of sizes and flags (the ``H_*`` indices), the offsets of the
   views of ``work`` (:data:`OFFSETS`), then per level
@@ -304,6 +304,29 @@ def _level1(
 
 
 @numba.njit(**COMPILE)
+def _start(
+    q: NDArray[np.float64],
+    dt: float,
+    m: int,
+    poses: tuple[NDArray[np.float64], ...],
+    cdof: NDArray[np.float64],
+    subtree_com: NDArray[np.float64],
+    table: NDArray[np.int64],
+    floats: tuple[NDArray[np.float64], ...],
+) -> int:
+    """Every level's objective, the box and level 0; :data:`_CONTINUE` when level 0 is solved."""
+    levels, frames, chains, columns, scalar_q, quaternions = int_views(table)
+    if not valid_configuration(q, quaternions):
+        return GENERAL
+    flat = table[H_FLAT] != 0
+    _objectives(q, poses, cdof, subtree_com, flat, levels, frames, chains, columns, floats)
+    status = _level0(q, dt, m, table, levels, scalar_q, floats)
+    if status == LEVEL0_QP:
+        _level0_qp_bounds(m, floats)
+    return status
+
+
+@numba.njit(**COMPILE)
 def solve_step(
     stage: int,
     q: NDArray[np.float64],
@@ -315,10 +338,13 @@ def solve_step(
     table: NDArray[np.int64],
     work: NDArray[np.float64],
 ) -> int:
-    """Run a step from ``stage`` (module docstring); ``x`` (in ``work``) receives it.
+    """Run a step of one level from ``stage`` (module docstring); ``x`` (in ``work``) receives it.
+
+    A plan of two levels runs :func:`solve_two_level_step` instead: this entry leaves level 1's
+    kernels out, so that a plan of one level never compiles them.
 
     Args:
-        stage: :data:`START`, or where to resume after DAQP.
+        stage: :data:`START`, or :data:`AFTER_LEVEL0_QP` to resume after DAQP.
         q: The configuration (nq,).
         dt: The step's duration (s; 0 without a velocity limit).
         m: The number of collision rows in ``C``, ``u``.
@@ -330,28 +356,59 @@ def solve_step(
         work: The plan's float buffer.
 
     Returns:
-        :data:`DONE`, :data:`LEVEL0_QP`, :data:`REDUCED_QP` or :data:`GENERAL`.
+        :data:`DONE`, :data:`LEVEL0_QP` or :data:`GENERAL`.
     """
     floats = float_views(work, table)
-    levels, frames, chains, columns, scalar_q, quaternions = int_views(table)
-    clip = table[H_POSITION] != 0
     if stage == START:
-        if not valid_configuration(q, quaternions):
-            return GENERAL
-        flat = table[H_FLAT] != 0
-        _objectives(q, poses, cdof, subtree_com, flat, levels, frames, chains, columns, floats)
-        status = _level0(q, dt, m, table, levels, scalar_q, floats)
-        if status == LEVEL0_QP:
-            _level0_qp_bounds(m, floats)
+        status = _start(q, dt, m, poses, cdof, subtree_com, table, floats)
         if status != _CONTINUE:
             return status
     elif stage == AFTER_LEVEL0_QP:
         floats[20][4] = _rows_bind(m, floats)
-    lb, ub, x, N, z = floats[8], floats[9], floats[10], floats[13], floats[16]
-    if stage == AFTER_REDUCED_QP:
-        add_direction(x, N, z)
-    elif levels.shape[0] == 2:
-        return _level1(m, clip, levels, floats)
-    if clip:
+    if table[H_POSITION] != 0:
+        clip_into(floats[10], floats[8], floats[9])
+    return DONE
+
+
+@numba.njit(**COMPILE)
+def solve_two_level_step(
+    stage: int,
+    q: NDArray[np.float64],
+    dt: float,
+    m: int,
+    poses: tuple[NDArray[np.float64], ...],
+    cdof: NDArray[np.float64],
+    subtree_com: NDArray[np.float64],
+    table: NDArray[np.int64],
+    work: NDArray[np.float64],
+) -> int:
+    """Run a step of two levels from ``stage``: :func:`solve_step`, then level 1.
+
+    Args:
+        stage: :data:`START`, or where to resume after DAQP.
+        q: The configuration (nq,).
+        dt: The step's duration (s; 0 without a velocity limit).
+        m: The number of collision rows in ``C``, ``u``.
+        poses: As :func:`solve_step`'s.
+        cdof: ``data.cdof``.
+        subtree_com: ``data.subtree_com``.
+        table: The plan's int buffer.
+        work: The plan's float buffer.
+
+    Returns:
+        :data:`DONE`, :data:`LEVEL0_QP`, :data:`REDUCED_QP` or :data:`GENERAL`.
+    """
+    floats = float_views(work, table)
+    if stage == START:
+        status = _start(q, dt, m, poses, cdof, subtree_com, table, floats)
+        if status != _CONTINUE:
+            return status
+    elif stage == AFTER_LEVEL0_QP:
+        floats[20][4] = _rows_bind(m, floats)
+    if stage != AFTER_REDUCED_QP:
+        return _level1(m, table[H_POSITION] != 0, int_views(table)[0], floats)
+    x, lb, ub, N, z = floats[10], floats[8], floats[9], floats[13], floats[16]
+    add_direction(x, N, z)
+    if table[H_POSITION] != 0:
         clip_into(x, lb, ub)
     return DONE
