@@ -39,6 +39,8 @@ def test_a_row_with_other_columns_than_the_first_is_refused():
 def test_the_command_line_drops_only_the_record_option():
     argv = ["bench", "pose", "--record", "x.json", "--quick", "--record=y.json"]
     assert measured.command_line(argv) == "redik bench pose --quick"
+    tool = measured.command_line(["--runs", "3", "--record", "x.json"], "python tools/first_run.py")
+    assert tool == "python tools/first_run.py --runs 3"
 
 
 def test_a_recorded_run_round_trips_with_its_command(tmp_path):
@@ -100,8 +102,10 @@ def test_readme_measured_table_is_rendered_from_the_recorded_files():
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     block = measured.render_readme(recorded)
     assert measured.replace_block(readme, block) == readme, "run `make measured`"
+    tools = {"first_run": "python tools/first_run.py"}  # recorded by a script of tools/
     for run in measured.load(recorded):
-        assert run["command"].startswith(f"redik bench {run['benchmark']}")
+        program = tools.get(run["benchmark"], f"redik bench {run['benchmark']}")
+        assert run["command"].startswith(program)
         assert run["tables"], run["benchmark"]
 
 

@@ -23,7 +23,7 @@ pip's own install time is that step and the demo after it.
 
 Usage::
 
-    python tools/first_run.py [--repository PATH_OR_URL] [--runs 7] [--keep]
+    python tools/first_run.py [--repository PATH_OR_URL] [--runs 7] [--keep] [--record FILE]
 """
 
 from __future__ import annotations
@@ -37,6 +37,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+from redik.apps import measured
 
 INSTALL_STEP = ["-m", "redik.core.compile_ahead"]
 """What ``make env`` runs after pip: the compile-ahead of what the first calls use."""
@@ -74,7 +76,12 @@ def main() -> int:
     parser.add_argument("--repository", default=str(Path(__file__).resolve().parents[1]))
     parser.add_argument("--runs", type=int, default=7, help="interleaved import runs")
     parser.add_argument("--keep", action="store_true", help="keep the temporary folder")
+    parser.add_argument(
+        "--record", metavar="FILE", help="also write the figures as JSON (docs/measured/)"
+    )
     args = parser.parse_args()
+    measured.start()
+    load = os.getloadavg()
     folder = Path(tempfile.mkdtemp(prefix="redik-first-run-"))
     try:
         clone = folder / "redik"
@@ -87,6 +94,9 @@ def main() -> int:
             print(f"kept {folder}")
         else:
             shutil.rmtree(folder, ignore_errors=True)
+    if args.record:
+        argv = sys.argv[1:]
+        measured.write(args.record, "first_run", argv, load, program="python tools/first_run.py")
     return int(missed)
 
 
@@ -95,6 +105,10 @@ def _report(clone: Path, folder: Path, runs: int) -> bool:
     redik_time, mink_time = _imports(clone, folder, runs)
     ratio = redik_time / mink_time
     missed = ratio > GOALS["import"]
+    measured.record(
+        "import redik beside import mink",
+        redik_s=redik_time, mink_s=mink_time, ratio=ratio, goal=GOALS["import"],
+    )  # fmt: skip
     print(
         f"import redik {redik_time:.2f} s / import mink {mink_time:.2f} s = {ratio:.2f} "
         f"(goal ≤ {GOALS['import']}; medians of {runs})"
@@ -105,10 +119,14 @@ def _report(clone: Path, folder: Path, runs: int) -> bool:
     output = _python(clone, folder, None, INSTALL_STEP, installed)
     install = time.perf_counter() - start
     print(f"install step {' '.join(INSTALL_STEP)}: {install:.2f} s")
+    measured.record(
+        "first run on a fresh clone", figure="install step", time_s=install, goal_s=None
+    )
     print("  " + output.replace("\n", "\n  "))
     missed, demo = _firsts(clone, folder, installed, "after the install step")
-    label = "make demo beyond pip (install step + redik demo)"
-    return missed | _line(label, install + demo, "make demo")
+    return missed | _line(
+        "make demo beyond pip", install + demo, "make demo", "install step + redik demo"
+    )
 
 
 def _firsts(clone: Path, folder: Path, cache: Path | None, label: str) -> tuple[bool, float]:
@@ -120,18 +138,19 @@ def _firsts(clone: Path, folder: Path, cache: Path | None, label: str) -> tuple[
     missed = False
     for name, code in (("solve_pose", FIRST_SOLVE_POSE), ("solve_problem", FIRST_SOLVE_PROBLEM)):
         seconds, success = _python(clone, folder, code, None, cache).splitlines()[-1].split()
-        missed |= _line(f"first {name} ({label}), success {success}", float(seconds), name)
+        missed |= _line(f"first {name}, {label}", float(seconds), name, f"success {success}")
     start = time.perf_counter()
     _python(clone, folder, None, ["-m", "redik", "demo", "--out", str(folder / "demo")], cache)
     seconds = time.perf_counter() - start
-    return missed | _line(f"redik demo ({label})", seconds, "demo"), seconds
+    return missed | _line(f"redik demo, {label}", seconds, "demo"), seconds
 
 
-def _line(label: str, seconds: float, goal_name: str) -> bool:
-    """Print one figure beside its goal; True when it misses it."""
+def _line(label: str, seconds: float, goal_name: str, note: str = "") -> bool:
+    """Print (and record) one figure beside its goal; True when it misses it."""
     goal = GOALS[goal_name]
     verdict = "" if goal is None else f" (goal ≤ {goal:g} s)"
-    print(f"{label}: {seconds:.2f} s{verdict}")
+    print(f"{label}{' (' + note + ')' if note else ''}: {seconds:.2f} s{verdict}")
+    measured.record("first run on a fresh clone", figure=label, time_s=seconds, goal_s=goal)
     return goal is not None and seconds > goal
 
 

@@ -83,8 +83,8 @@ def start() -> None:
     _tables.clear()
 
 
-def command_line(argv: Sequence[str]) -> str:
-    """``redik bench …`` as typed, without the ``--record FILE`` that asked for the file."""
+def command_line(argv: Sequence[str], program: str = "redik") -> str:
+    """``program …`` (``redik bench …``) as typed, without the ``--record FILE`` it was given."""
     words, skip = [], False
     for word in argv:
         if skip:
@@ -93,7 +93,7 @@ def command_line(argv: Sequence[str]) -> str:
             skip = True
         elif not word.startswith("--record="):
             words.append(word)
-    return shlex.join(["redik", *words])
+    return shlex.join([*shlex.split(program), *words])
 
 
 def _revision() -> str | None:
@@ -112,14 +112,21 @@ def _revision() -> str | None:
     return completed.stdout.strip() or None
 
 
-def write(path: str | os.PathLike, benchmark: str, argv: Sequence[str], load: Sequence) -> Path:
+def write(
+    path: str | os.PathLike,
+    benchmark: str,
+    argv: Sequence[str],
+    load: Sequence,
+    program: str = "redik",
+) -> Path:
     """Write the rows kept since :func:`start` to ``path`` as one recorded run; return the path.
 
     Args:
         path: the JSON file (its folder is created).
         benchmark: the benchmark's name (``pose``).
-        argv: the command's arguments after ``redik`` (``["bench", "pose", "--quick"]``).
+        argv: the command's arguments after ``program`` (``["bench", "pose", "--quick"]``).
         load: the load averages (1, 5, 15 min) when the benchmark started.
+        program: the command that took ``argv`` (``python tools/first_run.py`` for a tool).
     """
     from redik.solvers.batch.checkpoint import redik_version  # not on the CLI's start-up path
 
@@ -127,7 +134,7 @@ def write(path: str | os.PathLike, benchmark: str, argv: Sequence[str], load: Se
     path.parent.mkdir(parents=True, exist_ok=True)
     document = {
         "benchmark": benchmark,
-        "command": command_line(argv),
+        "command": command_line(argv, program),
         "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
         "cores": os.cpu_count(),
         "machine": f"{platform.machine()} {platform.system()}, Python {platform.python_version()}",
@@ -204,12 +211,44 @@ HEADLINES: dict[str, tuple[Headline, ...]] = {
         Headline("mink", "mink success %"),
         Headline("redik p50", "redik p50 ms"),
     ),
+    "control step beside PlaCo and mink (panda URDF)": (
+        Headline("**weighted / PlaCo**", "weighted over placo"),
+        Headline("**strict / weighted**", "strict over weighted"),
+        Headline("**mink / redik**", "mink over redik"),
+        Headline("redik weighted", "redik weighted µs"),
+    ),
+    "G1 step beside mink (50 collision pairs)": (
+        Headline("**mink / redik**", "mink over redik"),
+        Headline("redik", "redik µs"),
+    ),
     "closed form, labelled call beside ik-geo": (
-        Headline("**redik/ik-geo** (raw)", "raw over ik geo"),
+        Headline("**labelled / ik-geo**", "labelled over ik geo"),
+        Headline("**raw / ik-geo**", "raw over ik geo"),
+    ),
+    "closed form per IK-Geo class beside ik-geo": (
+        Headline("**redik / ik-geo** over the classes", "ratio"),
+        Headline("generating q found", "found %"),
     ),
     "batch throughput": (
         Headline("all cores", "wall /s", {"engine": "threads"}),
         Headline("success", "success %", {"engine": "threads"}),
+    ),
+    "batch ratios": (
+        Headline("**per thread / solve_pose loop**", "per thread"),
+        Headline("**two threads / one**", "two threads"),
+    ),
+    "import redik beside import mink": (Headline("**redik / mink**", "ratio"),),
+    "first run on a fresh clone": (
+        Headline(
+            "first solve_pose, empty cache", "time s", {"figure": "first solve_pose, empty cache"}
+        ),
+        Headline("install step", "time s", {"figure": "install step"}),
+        Headline(
+            "first solve_pose after it",
+            "time s",
+            {"figure": "first solve_pose, after the install step"},
+        ),
+        Headline("make demo beyond pip", "time s", {"figure": "make demo beyond pip"}),
     ),
     "self-motion completeness": (
         Headline("covered", "covered %"),
