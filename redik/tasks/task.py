@@ -54,9 +54,9 @@ if TYPE_CHECKING:
 
 MAX_COST = 1e6
 """Largest task cost accepted. A cost enters the Hessian squared: beyond ``1e6`` (``w² =
-1e12``) a cost-1 task beside it is lost to rounding and active-set back-ends fail
-(quadprog's Cholesky at 1e8, daqp's set-up at 1e20, measured on panda). Strict precedence
-is what priorities are for."""
+1e12``) a cost-1 task beside it is within a few digits of double precision's rounding
+(``ε ≈ 2.2e-16``), and the Hessian's condition number is past what the active-set back-ends'
+factorisations hold. Strict precedence is what priorities are for."""
 
 
 def as_cost(cost: object, size: int, name: str) -> NDArray[np.float64]:
