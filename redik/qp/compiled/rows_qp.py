@@ -119,10 +119,14 @@ def _add_row(
     rows: NDArray[np.int64],
     k: int,
     max_steps: int,
+    S: NDArray[np.float64],
+    r: NDArray[np.float64],
+    z: NDArray[np.float64],
 ) -> int:
-    """Make row ``j`` active (module docstring); return the new number of active rows, or −1."""
-    S = np.empty((C.shape[0], C.shape[0]))
-    r, z = np.empty(C.shape[0]), np.empty(x.shape[0])
+    """Make row ``j`` active (module docstring); return the new number of active rows, or −1.
+
+    ``S`` (≥ m × m), ``r`` (≥ m) and ``z`` (n) are the caller's scratch.
+    """
     for _ in range(max_steps):
         if not _direction(C, Y, rows, k, j, S, r, z):
             return -1
@@ -186,13 +190,14 @@ def rows_qp(
         substitute(L, n, Y[i])
     active, rows = np.zeros(m, dtype=np.bool_), np.empty(m, dtype=np.int64)
     multipliers = np.zeros(m)
+    S, r, z = np.empty((m, m)), np.empty(m), np.empty(n)
     k = 0
     for _ in range(2 * m + 2):
         j = _most_violated(C, u, m, x, active, tolerance)
         if j < 0:
             held = _most_violated(C, u, m, x, np.zeros(m, dtype=np.bool_), tolerance) < 0
             return k if held and within_box(x, lb, ub) else -1
-        k = _add_row(C[:m], u, Y, j, x, multipliers, active, rows, k, 2 * m + 2)
+        k = _add_row(C[:m], u, Y, j, x, multipliers, active, rows, k, 2 * m + 2, S, r, z)
         if k < 0:
             return -1
     return -1
