@@ -14,10 +14,10 @@ take the time of the longest one instead of their sum.
 from __future__ import annotations
 
 import argparse
+import concurrent.futures
 import os
 import subprocess
 import sys
-import tempfile
 import time
 from collections.abc import Callable, Mapping, Sequence
 
@@ -72,42 +72,30 @@ def run_modules(
     Raises:
         subprocess.CalledProcessError: A module failed (its output is in the exception).
     """
-    waiting = list(modules)
-    running: dict[str, tuple[subprocess.Popen[bytes], float]] = {}
     seconds: dict[str, float] = {}
-    with tempfile.TemporaryDirectory() as folder:
-        while waiting or running:
-            while waiting and len(running) < jobs:
-                module = waiting.pop(0)
-                # A file, not a pipe: a module that prints much would block on a full pipe.
-                with open(os.path.join(folder, module), "wb") as log:
-                    process = subprocess.Popen(
-                        [sys.executable, "-m", module], stdout=log, stderr=subprocess.STDOUT
-                    )
-                running[module] = process, time.perf_counter()
-            module = _wait_any(running)
-            process, start = running.pop(module)
-            seconds[module] = time.perf_counter() - start
-            with open(os.path.join(folder, module), encoding="utf-8", errors="replace") as log:
-                output = log.read()
-            _check(process, output)
+    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+        runs = {pool.submit(_run_module, module): module for module in modules}
+        for done in concurrent.futures.as_completed(runs):
+            module = runs[done]
+            seconds[module], output = done.result()
             report(f"python -m {module}: {seconds[module]:.2f} s\n{output.rstrip()}")
     return seconds
 
 
-def _check(process: subprocess.Popen[bytes], output: str) -> None:
-    """Raise :class:`subprocess.CalledProcessError` when ``process`` failed."""
-    if process.returncode != 0:
-        raise subprocess.CalledProcessError(process.returncode, process.args, output)
-
-
-def _wait_any(running: Mapping[str, tuple[subprocess.Popen[bytes], float]]) -> str:
-    """The first of the running modules to end (polled: a few ends per run)."""
-    while True:
-        for module, (process, _) in running.items():
-            if process.poll() is not None:
-                return module
-        time.sleep(0.05)
+def _run_module(module: str) -> tuple[float, str]:
+    """``python -m module`` to its end: its wall seconds and output (stdout and stderr)."""
+    start = time.perf_counter()
+    done = subprocess.run(
+        [sys.executable, "-m", module],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        errors="replace",
+        check=False,
+    )
+    if done.returncode != 0:
+        raise subprocess.CalledProcessError(done.returncode, done.args, done.stdout)
+    return time.perf_counter() - start, done.stdout
 
 
 def _arguments(argv: Sequence[str] | None) -> argparse.Namespace:
