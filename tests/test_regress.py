@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import io
 import json
 import sys
@@ -111,6 +112,7 @@ def test_a_crashing_spec_is_a_regression(tmp_path):
     report = run_regression(specs, fast=True)
     assert report.regressed
     assert "ZeroDivisionError" in report.table()
+    assert gc.get_freeze_count() == 0  # the warm-up's objects are frozen during the specs only
 
 
 def test_comparison_rules():
