@@ -140,7 +140,8 @@ def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
     ``errors[k]`` is ``‖e‖`` after iteration ``k`` and, when ``record``, ``history[k]`` the
     iterate (the caller records ``history[0]``). The loop is one function on purpose: a
     compiled call that takes arrays pays their reference counts at every iteration, and a
-    solve is made of few, cheap iterations; only the clamping loop is a call.
+    solve is made of few, cheap iterations; only the clamping loop is a call (the 2π wrap
+    before it is inlined by numba).
 
     Returns:
         ``(status, iterations, ‖e‖², ‖Jᵀe‖ at the end without the components that push
@@ -177,7 +178,8 @@ def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
             qt[j] = qc[j] + dq[j]
             outside = True if qt[j] < lower[j] or qt[j] > upper[j] else outside
         if bounded and outside:
-            _into_limits(J, ec, damping, qc, qt, lower, upper, periodic, ws)
+            _wrap_periodic(qt, lower, upper, periodic)
+            _clamp(J, ec, damping, qc, qt, lower, upper, ws)
         chain_kinematics(base, links, revolute, qt, Rt, pt, at, ot)
         trial_position, trial_angle = pose_error(Rd, pd, Rt, pt, et)
         E_trial = trial_position * trial_position + trial_angle * trial_angle
@@ -208,17 +210,15 @@ def _attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
     return CONVERGED if met else status, iterations, E, _limit_gradient(J, ec, qc, lower, upper)
 
 
-@numba.njit(**COMPILE)
-def _into_limits(J, e, damping, q, trial, lower, upper, periodic, ws):
-    """Bring ``trial``, a damped step from ``q``, into the joint limits.
+@numba.njit(inline="always", **COMPILE)
+def _wrap_periodic(trial, lower, upper, periodic):
+    """Wrap by 2π each hinge of ``trial`` that left a range spanning a full turn (same pose).
 
-    A hinge whose range spans a full turn is wrapped by 2π (the same pose); any other joint
-    that would leave its range stops at the limit (:func:`_clamp`).
+    :func:`_clamp` then stops every other joint that left its range at the limit.
     """
-    for j in range(q.shape[0]):
+    for j in range(trial.shape[0]):
         if periodic[j] and (trial[j] < lower[j] or trial[j] > upper[j]):
             trial[j] = lower[j] + np.mod(trial[j] - lower[j], 2.0 * np.pi)
-    _clamp(J, e, damping, q, trial, lower, upper, ws)
 
 
 @numba.njit(**COMPILE)
@@ -259,7 +259,8 @@ def _polish(chain, Rd, pd, settings, counts, ws, errors, history, record, iterat
         for j in range(q.shape[1]):
             q[1, j] = q[0, j] + dq[j]
         if counts[BOUNDED] != 0:
-            _into_limits(J, e[0], damping, q[0], q[1], lower, upper, periodic, ws)
+            _wrap_periodic(q[1], lower, upper, periodic)
+            _clamp(J, e[0], damping, q[0], q[1], lower, upper, ws)
         E_trial = _backtrack(chain, Rd, pd, ws, E)
         if not E_trial < E:
             break
@@ -354,20 +355,6 @@ def _limit_gradient(J, e, q, lower, upper):
 
 
 @numba.njit(**COMPILE)
-def _polished_attempt(chain, Rd, pd, settings, counts, ws, errors, history, record):
-    """:func:`_attempt`, then :func:`_polish` when it ended within ``POLISH_ERROR`` unsolved."""
-    status, iterations, E, gradient = _attempt(
-        chain, Rd, pd, settings, counts, ws, errors, history, record
-    )
-    if (status == STALLED or status == EXHAUSTED) and E <= settings[POLISH_ERROR] ** 2:
-        met, iterations, E, gradient = _polish(
-            chain, Rd, pd, settings, counts, ws, errors, history, record, iterations
-        )
-        status = CONVERGED if met else status
-    return status, iterations, E, gradient
-
-
-@numba.njit(**COMPILE)
 def _kind(attempt, best_E, settings):
     """The kind of start of restart ``attempt`` (:func:`_restart_seed`).
 
@@ -441,9 +428,14 @@ def _solve_target(chain, Rd, pd, q0, state, settings, counts, ws, out, history, 
             _restart_seed(chain, Rd, pd, state, _kind(attempts, best_E, settings), counts, out, ws)
         if record:
             work_history[0] = q[0]
-        status, iterations, E, gradient = _polished_attempt(
+        status, iterations, E, gradient = _attempt(
             chain, Rd, pd, settings, counts, ws, work_errors, work_history, record
         )
+        if (status == STALLED or status == EXHAUSTED) and E <= settings[POLISH_ERROR] ** 2:
+            met, iterations, E, gradient = _polish(
+                chain, Rd, pd, settings, counts, ws, work_errors, work_history, record, iterations
+            )
+            status = CONVERGED if met else status
         attempts += 1
         total += iterations
         error = math.sqrt(E)
