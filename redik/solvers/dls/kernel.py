@@ -558,7 +558,7 @@ def _solve_range(chain, reach, T, q0, first, key, settings, counts, start, stop,
         position_error[t], rotation_error[t] = position, angle
 
 
-@numba.njit(**COMPILE)
+@numba.njit(inline="always", **COMPILE)
 def _check(chain, Rd, pd, q, ws):
     """``(position error, rotation error, inside the limits)`` of ``q`` by a fresh FK.
 
