@@ -38,6 +38,12 @@ def test_each_robot_has_its_own_cache_which_goes_with_it():
     del robot, cache
     gc.collect()
     assert gone() is None
+    for _ in range(20):  # a new robot, often at the address of the last, starts empty
+        robot = redik.Robot.from_xml_string(ARM_XML)
+        assert "key" not in solver_cache(robot)
+        solver_cache(robot)["key"] = object()
+        del robot
+        gc.collect()
 
 
 def test_racing_threads_get_one_cache_per_robot():

@@ -3,9 +3,11 @@
 A solver that needs per-robot preparation (the compiled chain and buffers of
 :func:`redik.solve_pose`'s ``"dls"`` kernel, the chain a whole-model robot is solved on, the
 closed-form solver of a robot) keeps it in :func:`solver_cache` ``(robot)`` under a key of its
-own. The caches are held by a :class:`weakref.WeakKeyDictionary` keyed by the robot, so each
-lives and dies with its robot, and two robots never share one. :meth:`SolverCache.get_or_build`
-builds an entry at most once however many threads ask for it at the same moment.
+own. Each cache lives and dies with its robot (a :func:`weakref.finalize` drops it when the robot
+is collected, so the ``id`` it is found under is never a later robot's), and two robots never
+share one. :meth:`SolverCache.get_or_build` builds an entry at most once however many threads
+ask for it at the same moment. Both look-ups are plain dictionary reads: :func:`redik.solve_pose`
+makes them on every call.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from redik.kinematics.robot import Robot
 
 T = TypeVar("T")
 
-_CACHES: weakref.WeakKeyDictionary[Robot, SolverCache] = weakref.WeakKeyDictionary()
+_CACHES: dict[int, SolverCache] = {}
 _CACHES_LOCK = threading.Lock()
 
 
@@ -33,12 +35,13 @@ def solver_cache(robot: Robot) -> SolverCache:
         Its :class:`SolverCache`; every call for one robot returns the same one, whichever
         thread asks first.
     """
-    cache = _CACHES.get(robot)
+    cache = _CACHES.get(id(robot))
     if cache is None:
         with _CACHES_LOCK:
-            cache = _CACHES.get(robot)
+            cache = _CACHES.get(id(robot))
             if cache is None:
-                cache = _CACHES[robot] = SolverCache()
+                cache = _CACHES[id(robot)] = SolverCache()
+                weakref.finalize(robot, _CACHES.pop, id(robot), None)
     return cache
 
 
@@ -78,6 +81,10 @@ class SolverCache(MutableMapping[Hashable, Any]):
             if entry is None or (valid is not None and not valid(entry)):
                 entry = self._entries[key] = build()
             return entry
+
+    def get(self, key: Hashable, default: Any = None) -> Any:
+        """The entry under ``key``, or ``default``: one dictionary read, no lock."""
+        return self._entries.get(key, default)
 
     def __getitem__(self, key: Hashable) -> Any:
         return self._entries[key]
