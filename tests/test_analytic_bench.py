@@ -12,13 +12,12 @@ from redik.apps.bench.analytic import (
     CLASSES,
     ik_geo_arm,
     jaco,
-    random_arm,
     robot_of,
     shadow_first_finger,
     two_special_arms,
 )
 from redik.solvers.analytic import solver_for
-from redik.solvers.analytic.geometry import Chain, screws_of
+from redik.solvers.analytic.geometry import Chain, random_arm, screws_of
 
 
 @pytest.mark.parametrize("kind", CLASSES)

@@ -184,7 +184,8 @@ def test_skew_arms_with_a_spherical_wrist_use_sp5():
 def test_random_ik_geo_arms_of_the_sp5_and_sp6_classes(kind):
     """Arms made as ik-geo's setups make them (unit axes, offsets in [−1, 1]³): the class of
     each is found from its screws and every target's generating configuration is returned."""
-    from redik.apps.bench.analytic import random_arm, robot_of
+    from redik.apps.bench.analytic import robot_of
+    from redik.solvers.analytic.geometry import random_arm
 
     rng = np.random.default_rng(15)
     for index in range(4):
@@ -196,7 +197,8 @@ def test_random_ik_geo_arms_of_the_sp5_and_sp6_classes(kind):
 @pytest.mark.slow
 @pytest.mark.parametrize("kind", ["spherical", "three_parallel"])
 def test_sp5_and_sp6_arms_lack_no_root_of_a_600_start_multistart(kind):
-    from redik.apps.bench.analytic import random_arm, robot_of
+    from redik.apps.bench.analytic import robot_of
+    from redik.solvers.analytic.geometry import random_arm
 
     robot = robot_of(*random_arm(kind, np.random.default_rng(16)))
     solver = analytic.solver_for(robot)

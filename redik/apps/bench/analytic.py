@@ -46,7 +46,7 @@ from redik.kinematics.robot import Robot, load
 from redik.lie import wrap_angle
 from redik.models.dh import DHRow
 from redik.solvers.analytic import solver_for
-from redik.solvers.analytic.geometry import Chain, screws_of
+from redik.solvers.analytic.geometry import Chain, arm_screws, random_arm, screws_of
 from redik.solvers.analytic.solver import SmallArmSolver
 from redik.solvers.pose import solve_all, solve_pose
 
@@ -204,36 +204,9 @@ def two_special_arms(seed: int = 12) -> list[tuple[str, Robot]]:
     return arms
 
 
-def random_arm(kind: str, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-    """A random arm of an IK-Geo class, as ik-geo's own setups make one.
-
-    ``(h, p)`` of a random arm of an IK-Geo class, as ik-geo's setups make them: unit axes
-    ``h`` (6, 3) and offsets ``p`` (7, 3) uniform in [−1, 1]³ (axis i through
-    ``p_0 + … + p_{i−1}``).
-    """
-    h = rng.normal(size=(6, 3))
-    h /= np.linalg.norm(h, axis=1)[:, None]
-    p = rng.uniform(-1.0, 1.0, (7, 3))
-    if kind in ("spherical_two_parallel", "two_parallel"):
-        h[2] = h[1]
-    if kind.startswith("three_parallel"):
-        h[2] = h[3] = h[1]
-    if kind.startswith("spherical"):
-        p[4] = p[5] = 0.0
-    if kind == "spherical_two_intersecting":
-        p[1] = 0.0
-    if kind in ("three_parallel_two_intersecting", "two_intersecting"):
-        p[5] = 0.0
-    return h, p
-
-
 def robot_of(h: np.ndarray, p: np.ndarray, name: str = "ik_geo_arm") -> Robot:
     """The :class:`~redik.Robot` of an IK-Geo arm ``(h, p)`` (home rotation the identity)."""
-    points = np.cumsum(p[:6], axis=0)
-    S = np.vstack([h.T, np.cross(-h, points).T])
-    M = np.eye(4)
-    M[:3, 3] = p.sum(axis=0)
-    return Robot.from_screws(S, M, limits=FULL_TURN, name=name)
+    return Robot.from_screws(*arm_screws(h, p), limits=FULL_TURN, name=name)
 
 
 def ik_geo_arm(robot: Robot, kind: str, ik_geo: Any) -> Callable[[np.ndarray], list]:

@@ -18,36 +18,14 @@ import numpy as np
 from redik.core import compile_ahead
 from redik.lie import se3_exp
 from redik.solvers.analytic.elimination import Elimination
-from redik.solvers.analytic.geometry import KINDS, Chain, classify
+from redik.solvers.analytic.geometry import KINDS, Chain, arm_screws, classify, random_arm
 from redik.solvers.analytic.planar import planar_2r
 from redik.solvers.analytic.six_joint import SixJointSolver
 
 
 def _arm(kind: str, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-    """Screws ``S`` and home ``M`` of a random arm of a class.
-
-    Unit axes and offsets in [−1, 1]³, with the zero offsets and equal axes the class needs.
-    """
-    h = rng.normal(size=(6, 3))
-    h /= np.linalg.norm(h, axis=1)[:, None]
-    p = rng.uniform(-1.0, 1.0, (7, 3))
-    if kind in ("spherical_two_parallel", "two_parallel"):
-        h[2] = h[1]
-    if kind.startswith("three_parallel"):
-        h[2] = h[3] = h[1]
-    if kind.startswith("spherical"):
-        p[4] = p[5] = 0.0
-    if kind.startswith("spherical_two_intersecting"):
-        p[1] = 0.0
-    if kind == "three_parallel_two_intersecting":
-        p[5] = 0.0
-    points = np.cumsum(p[:6], axis=0)
-    S = np.vstack([h.T, np.cross(-h, points).T])
-    if kind.endswith("prismatic"):  # joint 3 slides along its axis
-        S[:, 2] = np.r_[np.zeros(3), h[2]]
-    M = np.eye(4)
-    M[:3, 3] = p.sum(axis=0)
-    return S, M
+    """Screws ``S`` and home ``M`` of a random arm of a class (:func:`.geometry.random_arm`)."""
+    return arm_screws(*random_arm(kind, rng), prismatic=kind.endswith("prismatic"))
 
 
 def _target(S: np.ndarray, M: np.ndarray, rng: np.random.Generator) -> np.ndarray:

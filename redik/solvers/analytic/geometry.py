@@ -279,3 +279,42 @@ def screws_of(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
                 f"axes at q = 0 (poses differ by {mismatch:.3g})"
             )
     return S, M
+
+
+def random_arm(kind: str, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """A random arm of class ``kind``, as ik-geo's own setups make one.
+
+    Unit axes ``h`` (6 × 3) and offsets ``p`` (7 × 3) uniform in [−1, 1]³, axis ``i`` through
+    ``p_0 + … + p_{i−1}``, with the equal axes and zero offsets the class needs (:data:`KINDS`,
+    and ik-geo's searched classes ``two_parallel``, ``two_intersecting`` and ``gen_six_dof``).
+    """
+    h = rng.normal(size=(6, 3))
+    h /= np.linalg.norm(h, axis=1)[:, None]
+    p = rng.uniform(-1.0, 1.0, (7, 3))
+    if kind in ("spherical_two_parallel", "two_parallel"):
+        h[2] = h[1]
+    if kind.startswith("three_parallel"):
+        h[2] = h[3] = h[1]
+    if kind.startswith("spherical"):
+        p[4] = p[5] = 0.0
+    if kind.startswith("spherical_two_intersecting"):
+        p[1] = 0.0
+    if kind in ("three_parallel_two_intersecting", "two_intersecting"):
+        p[5] = 0.0
+    return h, p
+
+
+def arm_screws(
+    h: np.ndarray, p: np.ndarray, prismatic: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
+    """Screws ``S`` (6 × 6, columns ``(ω, v)``) and home pose ``M`` of the arm ``(h, p)``.
+
+    The home rotation is the identity; with ``prismatic``, joint 3 slides along its axis.
+    """
+    points = np.cumsum(p[:6], axis=0)
+    S = np.vstack([h.T, np.cross(-h, points).T])
+    if prismatic:
+        S[:, 2] = np.r_[np.zeros(3), h[2]]
+    M = np.eye(4)
+    M[:3, 3] = p.sum(axis=0)
+    return S, M
