@@ -27,7 +27,6 @@ PACKAGE = Path(__file__).resolve().parent.parent
 """The directory of the ``redik`` package."""
 
 
-
 def _import_pattern(package: str) -> re.Pattern[str]:
     """``from package… import`` and ``import package…`` at the top level of a module."""
     name = rf"({re.escape(package)}(?:\.\w+)*)"
