@@ -81,6 +81,16 @@ def test_the_stamp_covers_the_top_level_imports_transitively(tmp_path, monkeypat
     caller, callee = package / "caller.py", package / "callee.py"
     assert kernel_cache.dependencies(caller) == (callee, caller)
     assert kernel_cache.dependencies(package / "lazy.py") == (package / "lazy.py",)
+    (package / "relative.py").write_text("from .callee import value\n")
+    (package / "by_name.py").write_text("from kpkg import (  # the module itself\n    callee,\n)\n")
+    init = package / "__init__.py"
+    for importer in ("relative.py", "by_name.py"):
+        assert callee in kernel_cache.dependencies(package / importer)
+    assert kernel_cache.dependencies(package / "by_name.py") == (
+        init,
+        package / "by_name.py",
+        callee,
+    )
     before = kernel_cache.source_stamp(caller)
     callee.write_text(CALLEE.format(value=2))
     kernel_cache.source_stamp.cache_clear()

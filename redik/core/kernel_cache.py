@@ -27,33 +27,51 @@ PACKAGE = Path(__file__).resolve().parent.parent
 """The directory of the ``redik`` package."""
 
 
-def _import_pattern(package: str) -> re.Pattern[str]:
-    """``from package… import`` and ``import package…`` at the top level of a module."""
-    name = rf"({re.escape(package)}(?:\.\w+)*)"
-    return re.compile(rf"^(?:from\s+{name}\s+import|import\s+{name})", re.M)
+_FROM = re.compile(r"^from\s+(\.*[\w.]*)\s+import\s+(\([^)]*\)|[^\n]*)", re.M)
+_IMPORT = re.compile(r"^import\s+([\w.]+)", re.M)
 
 
 def _module_file(module: str) -> Path | None:
     """The source file of module ``module`` of the package, or None if it has none."""
-    path = PACKAGE.parent.joinpath(*module.split("."))
+    parts = module.split(".")
+    if parts[0] != PACKAGE.name:
+        return None
+    path = PACKAGE.parent.joinpath(*parts)
     for candidate in (path.with_suffix(".py"), path / "__init__.py"):
         if candidate.is_file():
             return candidate
     return None
 
 
+def _absolute(module: str, path: Path) -> str:
+    """``module`` as written in ``path`` (``.x``, ``..x``, or absolute) made absolute."""
+    dots = len(module) - len(module.lstrip("."))
+    if dots == 0:
+        return module
+    package = path.parent.relative_to(PACKAGE.parent).parts
+    base = package[: len(package) - dots + 1]
+    return ".".join([*base, module[dots:]] if module[dots:] else base)
+
+
 @cache
 def _imports(path: Path) -> tuple[Path, ...]:
     """The package's source files that ``path`` imports at its top level.
 
-    Those are where the names a kernel calls or reads are defined (or re-exported from);
-    imports inside functions and under ``if TYPE_CHECKING:`` are indented, and not followed.
+    Those are where the names a kernel calls or reads are defined (or re-exported from): the
+    module of each ``import`` and ``from … import`` (relative ones too), and each imported
+    name that is itself a module. Imports inside functions and under ``if TYPE_CHECKING:``
+    are indented, and not followed.
     """
-    found = set()
-    for match in _import_pattern(PACKAGE.name).finditer(path.read_text(encoding="utf-8")):
-        module_file = _module_file(match.group(1) or match.group(2))
-        if module_file is not None:
-            found.add(module_file)
+    text = path.read_text(encoding="utf-8")
+    modules = [match.group(1) for match in _IMPORT.finditer(text)]
+    for match in _FROM.finditer(text):
+        module = _absolute(match.group(1), path)
+        modules.append(module)
+        names = re.sub(r"#[^\n]*", "", match.group(2)).strip("()")
+        for name in names.split(","):
+            if name.split():
+                modules.append(f"{module}.{name.split()[0]}")
+    found = {found for module in modules if (found := _module_file(module)) is not None}
     found.discard(path)
     return tuple(sorted(found))
 
