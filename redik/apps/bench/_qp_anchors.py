@@ -283,22 +283,24 @@ def panda_steps(steps: int, with_placo: bool) -> tuple[dict, dict]:
     return medians, agreement
 
 
-def _g1_pairs(robot: Robot) -> list[tuple[int, int]]:
-    """:data:`G1_PAIRS` geom pairs, arm geoms against body geoms, evenly from redik's list."""
+def g1_pairs(robot: Robot, count: int = G1_PAIRS) -> list[tuple[int, int]]:
+    """``count`` geom pairs, arm geoms against body geoms, evenly from redik's list.
+
+    All of them when ``count`` is at least their number, none for 0.
+    """
     pairs = CollisionAvoidanceLimit([(_ARMS, _BODY)]).bind(robot).pairs.tolist()
-    return [tuple(pairs[int(i * len(pairs) / G1_PAIRS)]) for i in range(G1_PAIRS)]
+    count = min(count, len(pairs))
+    return [tuple(pairs[int(i * len(pairs) / count)]) for i in range(count)]
 
 
-def _g1_contestants(robot: Robot) -> dict:
-    pairs = _g1_pairs(robot)
+def _g1_contestants(robot: Robot, pairs: list[tuple[int, int]]) -> dict:
     tasks = [FrameTask(frame, "body", target=robot.fk(robot.home, frame))
              for frame in G1_HANDS + G1_FEET]  # fmt: skip
     cost = np.full(robot.dof, COST)
     cost[:6] = 0.0
-    limits = [
-        ConfigurationLimit(),
-        CollisionAvoidanceLimit([([a], [b]) for a, b in pairs], **_COLLISION),
-    ]
+    limits: list = [ConfigurationLimit()]
+    if pairs:
+        limits.append(CollisionAvoidanceLimit([([a], [b]) for a, b in pairs], **_COLLISION))
     problem = Problem(robot, [*tasks, PostureTask(cost=cost, priority=0)], limits, damping=1e-6)
     model = robot.model
     configuration = mink.Configuration(model, robot.full_qpos(robot.home))
@@ -309,16 +311,17 @@ def _g1_contestants(robot: Robot) -> dict:
         frames.append(task)
     posture = mink.PostureTask(model, cost=COST)
     posture.set_target(robot.full_qpos(robot.home))
-    mink_limits = [
-        mink.ConfigurationLimit(model, gain=1.0),
-        mink.CollisionAvoidanceLimit(
-            model,
-            [([a], [b]) for a, b in pairs],
-            gain=_COLLISION["gain"],
-            minimum_distance_from_collisions=_COLLISION["minimum_distance"],
-            collision_detection_distance=_COLLISION["detection_distance"],
-        ),
-    ]
+    mink_limits: list = [mink.ConfigurationLimit(model, gain=1.0)]
+    if pairs:
+        mink_limits.append(
+            mink.CollisionAvoidanceLimit(
+                model,
+                [([a], [b]) for a, b in pairs],
+                gain=_COLLISION["gain"],
+                minimum_distance_from_collisions=_COLLISION["minimum_distance"],
+                collision_detection_distance=_COLLISION["detection_distance"],
+            )
+        )
 
     def redik_step(q, targets):
         for task, T in zip(problem.tasks[:2], targets, strict=True):
@@ -357,10 +360,16 @@ def _g1_targets(robot: Robot, count: int) -> list[list[np.ndarray]]:
     return targets
 
 
-def g1_steps(steps: int) -> tuple[dict, float]:
-    """Medians (µs) of redik's and mink's G1 step, and the largest step difference."""
+def g1_steps(steps: int, pairs: int = G1_PAIRS) -> tuple[dict, float, int]:
+    """Medians (µs) of redik's and mink's G1 step, the largest step difference, the pairs.
+
+    With ``pairs`` collision pairs (:func:`g1_pairs`: 0 for none, at most all of them); the
+    last value is how many there were.
+    """
     robot = load(G1, joints="all", floating_base=True)
     targets = _g1_targets(robot, steps + 100)
-    medians, dqs = _interleaved(_g1_contestants(robot), robot.home, targets, robot.integrate)
+    chosen = g1_pairs(robot, pairs)
+    contestants = _g1_contestants(robot, chosen)
+    medians, dqs = _interleaved(contestants, robot.home, targets, robot.integrate)
     difference = np.array(dqs["mink weighted"]) - np.array(dqs["redik weighted"])
-    return medians, float(np.max(np.abs(difference)))
+    return medians, float(np.max(np.abs(difference))), len(chosen)

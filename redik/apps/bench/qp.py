@@ -2,8 +2,9 @@
 
 Part 0 is the control step beside the anchors (:mod:`redik.apps.bench._qp_anchors`): redik's
 weighted and strict steps, PlaCo's (when ``placo`` is importable) and ``mink.solve_ik`` on one
-panda URDF, and redik's and mink's G1 step with 50 collision pairs, interleaved; it prints the
-medians and the ratios redik/PlaCo, strict/weighted and mink/redik.
+panda URDF, and redik's and mink's G1 step with 50 collision pairs (``--g1-pairs``: 0 for none,
+or all 162), interleaved; it prints the medians and the ratios redik/PlaCo, strict/weighted and
+mink/redik.
 
 Part 1 times one differential-IK step of the panda stack (FrameTask + JointLimitAvoidanceTask
 + PostureTask at equal priority, joint position box) for each back-end, and mink's
@@ -78,19 +79,29 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--robot", default="panda")
     parser.add_argument("--backends", nargs="+", default=None, help="default: all installed")
     parser.add_argument("--steps", type=int, default=400, help="timed steps per back-end")
-    parser.add_argument("--targets", type=int, default=500, help="FK targets for part 2")
+    parser.add_argument("--targets", type=int, default=500, help="FK targets (part 2, convergence)")
     parser.add_argument("--converge-backends", nargs="*", default=["daqp", "proxsuite", "quadprog"])
     parser.add_argument("--max-iterations", type=int, default=200)
     parser.add_argument("--pos-tol", type=float, default=1e-6)
     parser.add_argument("--rot-tol", type=float, default=1e-5)
-    parser.add_argument("--cost", type=float, default=1e-2, help="posture/limit cost, part 1")
+    parser.add_argument(
+        "--cost", type=float, default=1e-2, help="posture/limit cost (part 1, steps)"
+    )
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--latency-robots", nargs="*", default=["panda", "iiwa14", "ur5e"])
     parser.add_argument("--latency-targets", type=int, default=200)
     parser.add_argument("--multiframe-robots", nargs="*", default=list(whole_body.WHOLE_BODIES))
     parser.add_argument("--multiframe-targets", type=int, default=20)
-    parser.add_argument("--anchor-steps", type=int, default=3000, help="panda steps, part 0")
-    parser.add_argument("--g1-steps", type=int, default=1000, help="G1 steps, part 0")
+    parser.add_argument(
+        "--anchor-steps", type=int, default=3000, help="panda steps (part 0, anchors)"
+    )
+    parser.add_argument("--g1-steps", type=int, default=1000, help="G1 steps (part 0, anchors)")
+    parser.add_argument(
+        "--g1-pairs",
+        type=int,
+        default=qp_anchors.G1_PAIRS,
+        help="G1 collision pairs (part 0, anchors; 0: none, more than there are: all)",
+    )
     parser.add_argument(
         "--parts", nargs="+", default=list(PARTS), choices=list(PARTS), help="default: all"
     )
@@ -436,18 +447,21 @@ def _print_anchors(args) -> None:
         weighted_over_placo=weighted / placo_soft if placo_soft else None,
         mink_over_redik=medians["mink weighted"] / weighted,
     )
+    medians, difference, pairs = qp_anchors.g1_steps(args.g1_steps, args.g1_pairs)
     print(
-        f"\nG1 (4 frame tasks, posture, joint box, {qp_anchors.G1_PAIRS} collision pairs), "
+        f"\nG1 (4 frame tasks, posture, joint box, {pairs} collision pairs), "
         f"{args.g1_steps} steps, medians (µs), interleaved; load average {_load()}"
     )
-    medians, difference = qp_anchors.g1_steps(args.g1_steps)
     for name, us in medians.items():
         print(f"  {name:<16}{us:>9.1f}")
     ratio = medians["mink weighted"] / medians["redik weighted"]
     print(f"  mink / redik weighted: {ratio:.2f}")
-    print(f"  max |Δq(mink) − Δq(redik)| = {difference:.1e}\n")
+    print(f"  max |Δq(mink) − Δq(redik)| = {difference:.1e}")
+    if pairs:  # the limits differ on purpose there (redik.limits.collision_avoidance_limit)
+        print("  (where a pair is inside the minimum distance, redik pushes it out, mink holds it)")
+    print()
     measured.record(
-        "G1 step beside mink (50 collision pairs)",
+        f"G1 step beside mink ({pairs} collision pairs)",
         redik_us=medians["redik weighted"],
         mink_us=medians["mink weighted"],
         mink_over_redik=ratio,
