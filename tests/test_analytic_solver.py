@@ -136,11 +136,12 @@ def test_arms_without_a_closed_form_are_refused_by_what_their_axes_are():
 def test_compile_ahead_runs_every_class_once():
     """python -m redik.solvers.analytic.compile: one step per 6-joint class, the two splits
     of the elimination and the small solvers' selection, each solving its generated arm."""
-    from redik.solvers.analytic.compile import STEPS, compile_all
+    from redik.core.compile_ahead import compile_all
+    from redik.solvers.analytic.compile import STEPS
     from redik.solvers.analytic.geometry import KINDS
 
     lines = []
-    seconds = compile_all(report=lines.append)
+    seconds = compile_all(STEPS, report=lines.append)
     assert set(seconds) == set(STEPS) and set(KINDS) <= set(seconds)
     assert len(lines) == len(STEPS) and all(value >= 0.0 for value in seconds.values())
 

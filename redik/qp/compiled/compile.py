@@ -78,18 +78,13 @@ def _torso() -> object:
     return problem.step(q, 0.01)
 
 
-#: What :func:`compile_all` runs, by name.
+#: What :func:`redik.core.compile_ahead.compile_all` runs, by name.
 STEPS: dict[str, Callable[[], object]] = {
     "weighted step (objective, box QP)": _panda(strict=False),
     "strict step (the lower level)": _panda(strict=True),
     "whole model with collision rows": _torso,
     "general path (the frame task's residual)": _panda(strict=False, compiled=False),
 }
-
-
-def compile_all(report: Callable[[str], None] = print) -> dict[str, float]:
-    """Run every step of :data:`STEPS` once (:func:`redik.core.compile_ahead.compile_all`)."""
-    return compile_ahead.compile_all(STEPS, report)
 
 
 if __name__ == "__main__":

@@ -65,18 +65,13 @@ def _unbounded() -> tuple[np.ndarray, np.ndarray]:
     return np.full(6, -np.inf), np.full(6, np.inf)
 
 
-#: What :func:`compile_all` runs, by name.
+#: What :func:`redik.core.compile_ahead.compile_all` runs, by name.
 STEPS: dict[str, Callable[[], object]] = {
     **{kind: _closed_form(kind) for kind in KINDS},
     "elimination (standard split)": _elimination("standard"),
     "elimination (re-based split)": _elimination("rebased"),
     "small solvers' selection": lambda: planar_2r(1.0, 0.5, 1.0, 1.0, limits=([-3, -3], [3, 3])),
 }
-
-
-def compile_all(report: Callable[[str], None] = print) -> dict[str, float]:
-    """Run every step of :data:`STEPS` once (:func:`redik.core.compile_ahead.compile_all`)."""
-    return compile_ahead.compile_all(STEPS, report)
 
 
 if __name__ == "__main__":

@@ -35,16 +35,11 @@ def _arguments() -> tuple[object, ...]:
     )  # fmt: skip
 
 
-#: What :func:`compile_all` runs, by name.
+#: What :func:`redik.core.compile_ahead.compile_all` runs, by name.
 STEPS: dict[str, Callable[[], object]] = {
     "solve_serial (solve_batch's workers)": lambda: solve_serial(*_arguments()),
     "solve_parallel (solve_batch in this process)": lambda: solve_parallel(*_arguments()),
 }
-
-
-def compile_all(report: Callable[[str], None] = print) -> dict[str, float]:
-    """Run every step of :data:`STEPS` once (:func:`redik.core.compile_ahead.compile_all`)."""
-    return compile_ahead.compile_all(STEPS, report)
 
 
 if __name__ == "__main__":

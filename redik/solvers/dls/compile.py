@@ -25,13 +25,8 @@ def _solve_pose() -> object:
     return solve_pose(robot, robot.fk(robot.home), seed=0)
 
 
-#: What :func:`compile_all` runs, by name.
+#: What :func:`redik.core.compile_ahead.compile_all` runs, by name.
 STEPS: dict[str, Callable[[], object]] = {"solve_one (solve_pose)": _solve_pose}
-
-
-def compile_all(report: Callable[[str], None] = print) -> dict[str, float]:
-    """Run every step of :data:`STEPS` once (:func:`redik.core.compile_ahead.compile_all`)."""
-    return compile_ahead.compile_all(STEPS, report)
 
 
 if __name__ == "__main__":
