@@ -346,8 +346,8 @@ def run_regression(
         progress.set_postfix_str("warm-up: loading (or compiling) the numba kernels")
         warm_up()
         # Compiling leaves hundreds of thousands of objects behind; the first full collection
-        # would traverse them all (~0.15 s) inside whichever spec triggers it. Collected and
-        # frozen here, the collections during the specs see only the specs' own objects.
+        # would traverse them all inside whichever spec triggers it. Collected and frozen
+        # here, the collections during the specs see only the specs' own objects.
         gc.collect()
         gc.freeze()
         progress.update()
