@@ -51,7 +51,9 @@ class JointCoordinates:
             range, and on ball and free joints).
         scalar_dofs, scalar_q: The hinge and slide joints' tangent coordinate and index in q.
         quaternion_q: Where a ball or free joint's quaternion starts in ``q``.
+        quaternion_dofs: The tangent coordinate where its rotation vector starts.
         free_q: Where a free joint's position starts in ``q``.
+        free_dofs: The tangent coordinate where it starts.
     """
 
     joint_ids: NDArray[np.intp]
@@ -67,7 +69,9 @@ class JointCoordinates:
     scalar_dofs: NDArray[np.intp]
     scalar_q: NDArray[np.intp]
     quaternion_q: tuple[int, ...]
+    quaternion_dofs: tuple[int, ...]
     free_q: tuple[int, ...]
+    free_dofs: tuple[int, ...]
 
     @classmethod
     def of(
@@ -96,13 +100,17 @@ class JointCoordinates:
         scalar_dofs: list[int] = []
         scalar_q: list[int] = []
         quaternion_q: list[int] = []
+        quaternion_dofs: list[int] = []
         free_q: list[int] = []
+        free_dofs: list[int] = []
         q_offset = 0
         for j, t, name in zip(joint_ids, types, names, strict=True):
             if t == FREE:
                 free_q.append(q_offset)
+                free_dofs.append(len(dof_names))
             if t in (FREE, BALL):
                 quaternion_q.append(q_offset + (3 if t == FREE else 0))
+                quaternion_dofs.append(len(dof_names) + (3 if t == FREE else 0))
             if t in CHAIN_JOINT_TYPES:
                 scalar_dofs.append(len(dof_names))
                 scalar_q.append(q_offset)
@@ -134,7 +142,9 @@ class JointCoordinates:
             scalar_dofs=np.array(scalar_dofs, dtype=int),
             scalar_q=np.array(scalar_q, dtype=int),
             quaternion_q=tuple(quaternion_q),
+            quaternion_dofs=tuple(quaternion_dofs),
             free_q=tuple(free_q),
+            free_dofs=tuple(free_dofs),
         )
         for array in (coordinates.lower, coordinates.upper, coordinates.revolute):
             array.setflags(write=False)

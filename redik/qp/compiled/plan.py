@@ -257,20 +257,16 @@ class CompiledPlan:
         scalar_q[:] = -1
         scalar_q[coordinates.scalar_dofs] = coordinates.scalar_q
         quaternions[:] = coordinates.quaternion_q
+        # Where q ⊖ r is a difference of coordinates (hinges, slides, free positions), and
+        # where it is a rotation vector (ball and free orientations: quaternion, tangent).
         self._linear_q = np.full(n, -1, dtype=np.int64)
         self._linear_q[coordinates.scalar_dofs] = coordinates.scalar_q
-        rotations: list[tuple[int, int]] = []
-        q_at = dof_at = 0
-        for joint_type in coordinates.joint_types:  # ball and free: (quaternion, its dofs)
-            if joint_type == "free":
-                self._linear_q[dof_at : dof_at + 3] = q_at + np.arange(3)
-                q_at, dof_at = q_at + 3, dof_at + 3
-            if joint_type in ("free", "ball"):
-                rotations.append((q_at, dof_at))
-                q_at, dof_at = q_at + 4, dof_at + 3
-            else:
-                q_at, dof_at = q_at + 1, dof_at + 1
-        self._rotations = np.array(rotations, dtype=np.int64).reshape(-1, 2)
+        for q_at, dof_at in zip(coordinates.free_q, coordinates.free_dofs, strict=True):
+            self._linear_q[dof_at : dof_at + 3] = q_at + np.arange(3)
+        self._rotations = np.array(
+            list(zip(coordinates.quaternion_q, coordinates.quaternion_dofs, strict=True)),
+            dtype=np.int64,
+        ).reshape(-1, 2)
         self._frame_kinds = frames[:, 4].tolist()
         self._tasks = tasks
 
