@@ -20,6 +20,7 @@ and the wall-clock rate of two threads over one on the largest batch (goal ≥ 1
 from __future__ import annotations
 
 import argparse
+import functools
 import statistics
 import time
 from collections.abc import Callable
@@ -62,34 +63,30 @@ def _timed(fn: Callable[[], _T]) -> tuple[float, float, _T]:
     return time.perf_counter() - wall, time.process_time() - cpu, out
 
 
-def _median_rate(fn, repeats: int) -> tuple[float, float, float]:
-    """``(median wall rate, median CPU rate, success fraction)`` of ``fn() -> BatchResult``."""
+def _median_rate(solve: Callable[[], np.ndarray], repeats: int) -> tuple[float, float, float]:
+    """``(median wall rate, median CPU rate, success fraction)`` of ``repeats`` runs.
+
+    ``solve()`` returns the strict success mask of its targets; a rate counts the solved ones.
+    The median, because one run is easily slowed by a garbage collection or another process.
+    """
     walls, cpus, success = [], [], 0.0
     for _ in range(repeats):
-        wall, cpu, result = _timed(fn)
-        solved = int(result.success.sum())
+        wall, cpu, mask = _timed(solve)
+        solved = int(mask.sum())
         walls.append(solved / wall)
         cpus.append(solved / cpu if cpu > 0 else float("nan"))
-        success = result.success_rate
+        success = solved / mask.size if mask.size else 0.0
     return statistics.median(walls), statistics.median(cpus), success
 
 
-def _single_loop(robot, T: np.ndarray, seed: int, repeats: int) -> tuple[float, float, float]:
-    """``(median wall rate, median CPU rate, success)`` of a ``solve_pose`` loop over ``T``.
+def _batch_success(chain: Chain, T: np.ndarray, seed: int, engine: str, workers: int) -> np.ndarray:
+    """The success mask of ``solve_batch`` over ``T`` on ``engine`` with ``workers``."""
+    return solve_batch(chain, T, seed=seed, engine=engine, workers=workers).success
 
-    The median of ``repeats`` runs, as for the batch rows: one run is easily slowed by a
-    garbage collection or another process.
-    """
-    solve_pose(robot, T[0], seed=seed)  # load the compiled kernel before timing
-    walls, cpus, solved = [], [], 0
-    for _ in range(repeats):
-        wall, cpu, results = _timed(
-            lambda: [solve_pose(robot, Ti, seed=seed + i) for i, Ti in enumerate(T)]
-        )
-        solved = sum(r.success for r in results)
-        walls.append(solved / wall)
-        cpus.append(solved / cpu if cpu > 0 else float("nan"))
-    return statistics.median(walls), statistics.median(cpus), solved / len(T)
+
+def _loop_success(robot: Robot, T: np.ndarray, seed: int) -> np.ndarray:
+    """The success mask of a ``solve_pose`` loop over ``T`` (target ``i`` with ``seed + i``)."""
+    return np.array([solve_pose(robot, Ti, seed=seed + i).success for i, Ti in enumerate(T)])
 
 
 def _alternated(
@@ -117,8 +114,8 @@ def _print_ratios(
     def batch(T: np.ndarray, threads: int) -> Callable[[], object]:
         return lambda: solve_batch(chain, T, seed=args.seed, engine="local", workers=threads)
 
-    def loop() -> list[object]:
-        return [solve_pose(robot, Ti, seed=args.seed + i) for i, Ti in enumerate(T_single)]
+    def loop() -> np.ndarray:
+        return _loop_success(robot, T_single, args.seed)
 
     single = _alternated({"batch": batch(T_single, 1), "loop": loop}, args.repeats, 1)
     per_thread = single["loop"] / single["batch"]
@@ -163,9 +160,7 @@ def run(args: argparse.Namespace) -> int:
             T = T_all[:size]
             for engine, count, label in runs:
                 rate, cpu_rate, success = _median_rate(
-                    lambda chain=chain, engine=engine, count=count, T=T: solve_batch(
-                        chain, T, seed=args.seed, engine=engine, workers=count
-                    ),
+                    functools.partial(_batch_success, chain, T, args.seed, engine, count),
                     args.repeats,
                 )
                 in_process = engine == "local" or count == 1
@@ -185,7 +180,11 @@ def run(args: argparse.Namespace) -> int:
                 )
                 if count == workers and success >= TARGET_SUCCESS:
                     best[name] = max(best.get(name, (0.0, 0.0)), (rate, success))
-        rate, cpu_rate, success = _single_loop(robot, T_all[: args.single], args.seed, args.repeats)
+        T_single = T_all[: args.single]
+        solve_pose(robot, T_single[0], seed=args.seed)  # load the compiled kernel before timing
+        rate, cpu_rate, success = _median_rate(
+            functools.partial(_loop_success, robot, T_single, args.seed), args.repeats
+        )
         print(
             f"{name:<8}{args.single:>8}{'solve_pose loop':>20}{rate:>11,.0f}{cpu_rate:>11,.0f}"
             f"{100 * success:>9.2f}%"
