@@ -114,9 +114,7 @@ def _print_ratios(
     def batch(T: np.ndarray, threads: int) -> Callable[[], object]:
         return lambda: solve_batch(chain, T, seed=args.seed, engine="local", workers=threads)
 
-    def loop() -> np.ndarray:
-        return _loop_success(robot, T_single, args.seed)
-
+    loop = functools.partial(_loop_success, robot, T_single, args.seed)
     single = _alternated({"batch": batch(T_single, 1), "loop": loop}, args.repeats, 1)
     per_thread = single["loop"] / single["batch"]
     print(
