@@ -3,8 +3,8 @@ r"""One compiled call per step: every level's objective, the box, level 0, level
 :func:`solve_step` (one level) and :func:`solve_two_level_step` (two) run the stages of
 :mod:`redik.qp.compiled.plan` in one call, and return to Python only where DAQP must solve a
 QP with rows (:data:`LEVEL0_QP`, :data:`REDUCED_QP`), to be called again at the next stage.
-Calling a compiled function costs about a microsecond plus a tenth per argument, a good part
-of a step, so the plan keeps its arrays as views into two buffers that a call passes whole:
+A compiled call unboxes each of its arguments every time, a cost of the order of a small
+step's work, so the plan keeps its arrays as views into two buffers that a call passes whole:
 
 - ``table`` (int64): a header of sizes and flags (the ``H_*`` indices), the offsets of the
   views of ``work`` (:data:`OFFSETS`), then per level

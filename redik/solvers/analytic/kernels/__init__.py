@@ -11,6 +11,6 @@ they share and :mod:`.slots` holds the slot conventions. Each class has one comp
 # Each class's ``solve_<class>`` and ``batch_<class>`` are written out rather than made by one
 # driver that takes the kernel and its label rule: numba keys its on-disk cache of a closure
 # (or of a function taking a kernel as an argument) on the captured dispatchers' per-process
-# ids, so such a driver is compiled again in every process (seconds a class), and a driver that
-# selects the kernel by a ``numba.literally`` class code pays the literal dispatch on each call
-# (milliseconds, against the microseconds of a closed form).
+# ids, so such a driver is compiled again in every process, and a driver that selects the
+# kernel by a ``numba.literally`` class code pays the literal dispatch, which costs more than the
+# closed form itself, on each call.
