@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import dataclasses
 import gc
+import importlib
 import json
 import math
 import statistics
@@ -46,6 +47,7 @@ import numpy as np
 
 from redik.apps.progress import progress_bar
 from redik.apps.specs import Context, SpecOutcome, discover, format_table, format_value, run_spec
+from redik.core import compile_ahead
 from redik.core.exceptions import InvalidInput
 
 RATE_DROP = 0.02
@@ -283,33 +285,26 @@ def write_baseline(path: Path, outcome: SpecOutcome, time_ratio: float) -> None:
 def warm_up() -> None:
     """Load (or compile, once per machine) the numba kernels before anything is timed.
 
-    ``solve_pose`` and ``solve_batch`` run kernels compiled on first use and cached on disk:
-    tens of seconds on a fresh machine, then a fraction of a second per process. That is a
-    cost of the machine, not of a spec, and must not land in a spec's time ratio. Kernel
-    signatures do not depend on the robot, so a generated 2R arm compiles them all: the
-    single-target, the threaded and the serial batch kernel, and the QP pose residual. The
-    closed forms' kernels (subproblem decomposition, labelled and raw) are compiled through
-    the bundled PUMA 560 and UR5e, whose solvers take the revolute and the three-parallel
-    paths.
+    ``solve_pose``, ``solve_problem``, ``solve_batch`` and the closed forms run kernels
+    compiled on first use and cached on disk: tens of seconds on a fresh machine or after an
+    edit to a module a kernel imports (:mod:`redik.core.kernel_cache`), then a fraction of a
+    second per process. That is a cost of the machine, not of a spec, and must not land in a
+    spec's time ratio. The kernels are those the compile-ahead modules call
+    (:data:`redik.core.compile_ahead.EVERY`), each step run once in this process; then
+    ``solve_batch``'s shared process pool is started, as a spec would find it.
     """
-    from redik.kinematics.robot import Robot, load
-    from redik.qp import Problem
-    from redik.solvers.analytic import solver_for
+    from redik.kinematics.robot import Robot
     from redik.solvers.batch import solve_batch
-    from redik.solvers.pose import solve_pose
-    from redik.tasks import FrameTask
 
+    for module in compile_ahead.EVERY:
+        compile_ahead.compile_all(importlib.import_module(module).STEPS, report=_silent)
     robot = Robot.from_dh([(1.0, 0.0, 0.0), (1.0, 0.0, 0.0)], name="warm_up")
     targets = np.stack([robot.fk(robot.home)] * 2)
-    solve_pose(robot, targets[0])
-    Problem(robot, [FrameTask("ee", target=targets[0])]).step(robot.home)
-    solve_batch(robot, targets, engine="local", seed=0)
     solve_batch(robot, targets, engine="process", workers=1, seed=0)
-    for scene in ("puma560", "ur5e"):
-        arm = load(scene)
-        closed_form = solver_for(arm)
-        closed_form(arm.fk(arm.home), limits=None)
-        closed_form(arm.fk(arm.home))
+
+
+def _silent(line: str) -> None:
+    """A report that prints nothing."""
 
 
 def run_regression(
