@@ -26,14 +26,15 @@ Jacobians and a small least-squares solve on a built-in 7-joint chain) measured 
 run, before and after the specs, so a slower or faster machine leaves it unchanged; the
 factor 3 absorbs scheduler noise on loaded CI machines while still catching a solver that
 becomes several times slower, and the slack of two reference workloads keeps specs that
-take a fraction of a second from flagging jitter.
+take a fraction of a second from flagging jitter. Every spec runs once in fast mode before
+anything is timed (:func:`warm_up`), so that a first run's compilation, imports and cache
+loads are not part of any spec's time.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import gc
-import importlib
 import json
 import math
 import statistics
@@ -47,7 +48,6 @@ import numpy as np
 
 from redik.apps.progress import progress_bar
 from redik.apps.specs import Context, SpecOutcome, discover, format_table, format_value, run_spec
-from redik.core import compile_ahead
 from redik.core.exceptions import InvalidInput
 
 RATE_DROP = 0.02
@@ -282,29 +282,18 @@ def write_baseline(path: Path, outcome: SpecOutcome, time_ratio: float) -> None:
     path.write_text(json.dumps(stored, indent=2, sort_keys=True) + "\n")
 
 
-def warm_up() -> None:
-    """Load (or compile, once per machine) the numba kernels before anything is timed.
+def warm_up(paths: list[Path], seed: int, scratch: Path) -> None:
+    """Run every spec once, in fast mode and untimed, before anything is timed.
 
-    ``solve_pose``, ``solve_problem``, ``solve_batch`` and the closed forms run kernels
-    compiled on first use and cached on disk: tens of seconds on a fresh machine or after an
-    edit to a module a kernel imports (:mod:`redik.core.kernel_cache`), then a fraction of a
-    second per process. That is a cost of the machine, not of a spec, and must not land in a
-    spec's time ratio. The kernels are those the compile-ahead modules call
-    (:data:`redik.core.compile_ahead.EVERY`), each step run once in this process; then
-    ``solve_batch``'s shared process pool is started, as a spec would find it.
+    A spec's first run in a process pays costs of the machine, not of the spec: numba kernels
+    compiled (once per machine, and again after an edit to a module a kernel imports,
+    :mod:`redik.core.kernel_cache`) or loaded from the disk cache, modules imported on first
+    use, ``solve_batch``'s process pool started. They must not land in a spec's time ratio.
+    The fast mode calls the same kernels as the full one; a crash here is reported by the
+    timed run.
     """
-    from redik.kinematics.robot import Robot
-    from redik.solvers.batch import solve_batch
-
-    for module in compile_ahead.EVERY:
-        compile_ahead.compile_all(importlib.import_module(module).STEPS, report=_silent)
-    robot = Robot.from_dh([(1.0, 0.0, 0.0), (1.0, 0.0, 0.0)], name="warm_up")
-    targets = np.stack([robot.fk(robot.home)] * 2)
-    solve_batch(robot, targets, engine="process", workers=1, seed=0)
-
-
-def _silent(line: str) -> None:
-    """A report that prints nothing."""
+    for path in paths:
+        run_spec(path, Context(fast=True, seed=seed, out=scratch / "warm-up" / path.stem))
 
 
 def run_regression(
@@ -338,8 +327,8 @@ def run_regression(
         total=len(paths) + 3, desc="regress", unit="step", enabled=show_progress
     )
     with progress, tempfile.TemporaryDirectory(prefix="redik-regress-") as scratch:
-        progress.set_postfix_str("warm-up: loading (or compiling) the numba kernels")
-        warm_up()
+        progress.set_postfix_str("warm-up: every spec once, untimed")
+        warm_up(paths, seed, Path(scratch))
         # Compiling leaves hundreds of thousands of objects behind; the first full collection
         # would traverse them all inside whichever spec triggers it. Collected and frozen
         # here, the collections during the specs see only the specs' own objects.
